@@ -1,0 +1,102 @@
+//! The history carried per integration point between steps.
+
+use crate::tensor::{self, Sym};
+
+/// Bit flags describing a point's condition after an update.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StateFlags(pub u32);
+
+impl StateFlags {
+    /// The point yielded in the last step.
+    pub const PLASTIC: u32 = 1;
+    /// Damage reached 1: the point carries no shear and no tension from now on.
+    pub const FAILED: u32 = 2;
+    /// The host should erode (delete) the element.
+    pub const ERODE: u32 = 4;
+    /// Pressure was held at the tensile cut-off in the last step.
+    pub const PRESSURE_CUTOFF: u32 = 8;
+
+    /// `true` if `flag` is set.
+    #[inline]
+    pub fn contains(self, flag: u32) -> bool {
+        self.0 & flag != 0
+    }
+
+    /// Set `flag`.
+    #[inline]
+    pub fn insert(&mut self, flag: u32) {
+        self.0 |= flag;
+    }
+
+    /// Clear `flag`.
+    #[inline]
+    pub fn remove(&mut self, flag: u32) {
+        self.0 &= !flag;
+    }
+}
+
+/// State of one integration point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MaterialState {
+    /// Cauchy stress (Pa), Voigt `xx yy zz xy yz zx`, tension positive.
+    pub stress: Sym,
+    /// Equivalent plastic strain `eps_p` (-).
+    pub plastic_strain: f64,
+    /// Equivalent plastic strain rate of the last step `deps_p` (1/s).
+    pub plastic_strain_rate: f64,
+    /// Temperature `T` (K).
+    pub temperature: f64,
+    /// Damage `D` in `[0, 1]`.
+    pub damage: f64,
+    /// Relative volume `V/V0 = rho0/rho`.
+    pub relative_volume: f64,
+    /// Internal energy per unit reference volume `E` (J/m^3).
+    pub internal_energy: f64,
+    /// Internal variable of a history-dependent EoS (e.g. P-alpha distension); 0 otherwise.
+    pub eos_history: f64,
+    /// Condition flags, see [`StateFlags`].
+    pub flags: StateFlags,
+}
+
+impl MaterialState {
+    /// Undeformed, stress-free state at temperature `temperature` (K).
+    pub const fn initial(temperature: f64) -> Self {
+        Self {
+            stress: tensor::ZERO,
+            plastic_strain: 0.0,
+            plastic_strain_rate: 0.0,
+            temperature,
+            damage: 0.0,
+            relative_volume: 1.0,
+            internal_energy: 0.0,
+            eos_history: 0.0,
+            flags: StateFlags(0),
+        }
+    }
+
+    /// Pressure `p = -tr(sigma)/3`.
+    #[inline]
+    pub fn pressure(&self) -> f64 {
+        tensor::pressure(&self.stress)
+    }
+
+    /// von Mises equivalent stress.
+    #[inline]
+    pub fn equivalent_stress(&self) -> f64 {
+        tensor::von_mises(&tensor::deviator(&self.stress))
+    }
+
+    /// `true` if every stored value is finite.
+    pub fn is_finite(&self) -> bool {
+        tensor::all_finite(&self.stress)
+            && self.plastic_strain.is_finite()
+            && self.plastic_strain_rate.is_finite()
+            && self.temperature.is_finite()
+            && self.damage.is_finite()
+            && self.relative_volume.is_finite()
+            && self.internal_energy.is_finite()
+            && self.eos_history.is_finite()
+    }
+}

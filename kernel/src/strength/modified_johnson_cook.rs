@@ -1,0 +1,87 @@
+//! Modified Johnson-Cook (MJC, seed 000): power plus two Voce hardening terms, power-law rate
+//! `(1 + e*)^beta`, JC thermal softening:
+//! `(A + B eps^n + Q1(1-exp(-c1 eps)) + Q2(1-exp(-c2 eps))) (1 + e*)^beta (1 - T*^m)`.
+
+use super::{ComposedStrength, Hardening, ParameterBound, RateTerm, Strength, ThermalTerm};
+use crate::error::ParameterError;
+
+/// MJC constants (SI).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ModifiedJohnsonCook {
+    /// Yield stress `A` (Pa).
+    pub yield_stress: f64,
+    /// Hardening modulus `B` (Pa).
+    pub hardening_modulus: f64,
+    /// Hardening exponent `n` (-).
+    pub hardening_exponent: f64,
+    /// First Voce saturation stress `Q1` (Pa).
+    pub saturation_stress_1: f64,
+    /// First Voce rate `c1` (-).
+    pub saturation_rate_1: f64,
+    /// Second Voce saturation stress `Q2` (Pa).
+    pub saturation_stress_2: f64,
+    /// Second Voce rate `c2` (-).
+    pub saturation_rate_2: f64,
+    /// Rate exponent `beta` (-).
+    pub rate_exponent: f64,
+    /// Reference rate `e0` (1/s).
+    pub reference_rate: f64,
+    /// Thermal exponent `m` (-).
+    pub thermal_exponent: f64,
+    /// Reference temperature `Tr` (K).
+    pub reference_temperature: f64,
+    /// Melting temperature `Tm` (K).
+    pub melting_temperature: f64,
+}
+
+impl ModifiedJohnsonCook {
+    /// Optimisation bounds, seed 000 section 4.1. The text lost the exponent of the Q bounds;
+    /// stoss uses `[0, 3 GPa]` as for A and B.
+    pub const BOUNDS: [ParameterBound; 9] = [
+        ParameterBound::new("yield_stress", 0.0, 3.0e9, "Pa"),
+        ParameterBound::new("hardening_modulus", 0.0, 3.0e9, "Pa"),
+        ParameterBound::new("hardening_exponent", 0.0, 1.0, "-"),
+        ParameterBound::new("saturation_stress_1", 0.0, 3.0e9, "Pa"),
+        ParameterBound::new("saturation_rate_1", 0.0, 2000.0, "-"),
+        ParameterBound::new("saturation_stress_2", 0.0, 3.0e9, "Pa"),
+        ParameterBound::new("saturation_rate_2", 0.0, 2000.0, "-"),
+        ParameterBound::new("rate_exponent", 0.0, 0.1, "-"),
+        ParameterBound::new("thermal_exponent", 0.5, 1.5, "-"),
+    ];
+
+    /// The composed form of this model.
+    pub const fn composed(&self) -> ComposedStrength {
+        ComposedStrength {
+            hardening: Hardening::PowerVoce2 {
+                yield_stress: self.yield_stress,
+                hardening_modulus: self.hardening_modulus,
+                exponent: self.hardening_exponent,
+                saturation_stress_1: self.saturation_stress_1,
+                saturation_rate_1: self.saturation_rate_1,
+                saturation_stress_2: self.saturation_stress_2,
+                saturation_rate_2: self.saturation_rate_2,
+            },
+            rate: RateTerm::Power {
+                exponent: self.rate_exponent,
+                reference_rate: self.reference_rate,
+            },
+            thermal: ThermalTerm::HomologousPower {
+                exponent: self.thermal_exponent,
+                reference_temperature: self.reference_temperature,
+                melting_temperature: self.melting_temperature,
+            },
+        }
+    }
+
+    /// Reject non-physical constants.
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        self.composed().validate()
+    }
+}
+
+impl From<ModifiedJohnsonCook> for Strength {
+    fn from(model: ModifiedJohnsonCook) -> Self {
+        Strength::Composed(model.composed())
+    }
+}

@@ -1,0 +1,159 @@
+//! Zerilli-Armstrong dislocation-mechanics model (Zerilli & Armstrong 1987), as in seed 000:
+//!
+//! - BCC: `sigma_y = sigma_a + C1 exp(-C3 T + C4 T ln e*) + C5 eps_p^n`
+//! - FCC: `sigma_y = sigma_a + C2 eps_p^(1/2) exp(-C3 T + C4 T ln e*)`
+//!
+//! with `e* = deps_p / e0`, `e0 = 1 /s`. Temperature enters as absolute `T` (K), coupled with
+//! rate, so this model is not a product of independent terms. Below
+//! [`ZerilliArmstrong::MINIMUM_RATE_RATIO`] the rate ratio is held at that floor, so the
+//! zero-rate (elastic-check) flow stress is finite and continuous.
+
+use super::{FlowStress, ParameterBound};
+use crate::error::{check, ParameterError};
+use crate::math::{exp, ln, pow, sqrt};
+
+/// Lattice structure selecting the ZA form.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CrystalStructure {
+    /// Body-centred cubic (steels): thermal part independent of strain.
+    Bcc,
+    /// Face-centred cubic (copper, austenite): thermal part scales with `eps_p^(1/2)`.
+    Fcc,
+}
+
+/// Zerilli-Armstrong constants (SI).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ZerilliArmstrong {
+    /// BCC or FCC form.
+    pub structure: CrystalStructure,
+    /// Athermal stress `sigma_a` including Hall-Petch `k d^-1/2` (Pa).
+    pub athermal_stress: f64,
+    /// `C1` (Pa), BCC thermal-activation stress.
+    pub c1: f64,
+    /// `C2` (Pa), FCC thermal-activation stress.
+    pub c2: f64,
+    /// `C3` (1/K).
+    pub c3: f64,
+    /// `C4` (1/K).
+    pub c4: f64,
+    /// `C5` (Pa), BCC strain-hardening modulus.
+    pub c5: f64,
+    /// `n` (-), BCC strain-hardening exponent.
+    pub exponent: f64,
+    /// Reference rate `e0` (1/s).
+    pub reference_rate: f64,
+}
+
+impl ZerilliArmstrong {
+    /// Floor of `e* = deps_p / e0` inside `ln` (quasi-static limit).
+    pub const MINIMUM_RATE_RATIO: f64 = 1e-6;
+
+    /// Optimisation bounds (seed 000 section 4.1, BCC). The extracted text lost the
+    /// exponents of C3 and C4; stoss uses `[0, 1e-2] /K` and `[0, 1e-3] /K`, which bracket
+    /// published BCC steel values (e.g. Zerilli-Armstrong 1987 Armco iron: C3 = 0.00698 /K,
+    /// C4 = 0.000415 /K).
+    pub const BOUNDS: [ParameterBound; 6] = [
+        ParameterBound::new("athermal_stress", 0.0, 3.0e9, "Pa"),
+        ParameterBound::new("c1", 0.5e9, 3.0e9, "Pa"),
+        ParameterBound::new("c3", 0.0, 1.0e-2, "1/K"),
+        ParameterBound::new("c4", 0.0, 1.0e-3, "1/K"),
+        ParameterBound::new("c5", 0.0, 3.0e9, "Pa"),
+        ParameterBound::new("exponent", 0.01, 1.5, "-"),
+    ];
+
+    /// Flow stress and its strain and rate derivatives at fixed temperature.
+    #[inline]
+    pub fn flow_stress(
+        &self,
+        plastic_strain: f64,
+        plastic_strain_rate: f64,
+        temperature: f64,
+    ) -> FlowStress {
+        let raw_ratio = plastic_strain_rate / self.reference_rate;
+        let (ratio, ratio_active) = if raw_ratio > Self::MINIMUM_RATE_RATIO {
+            (raw_ratio, true)
+        } else {
+            (Self::MINIMUM_RATE_RATIO, false)
+        };
+        let activation = exp(-self.c3 * temperature + self.c4 * temperature * ln(ratio));
+        // d activation / d rate = activation * C4 T / rate (zero on the floor).
+        let d_activation = if ratio_active {
+            activation * self.c4 * temperature / plastic_strain_rate
+        } else {
+            0.0
+        };
+        let eps = if plastic_strain > 0.0 {
+            plastic_strain
+        } else {
+            0.0
+        };
+        match self.structure {
+            CrystalStructure::Bcc => {
+                let (hardening, slope) = if self.c5 == 0.0 {
+                    (0.0, 0.0)
+                } else if eps == 0.0 {
+                    (
+                        0.0,
+                        if self.exponent < 1.0 {
+                            f64::INFINITY
+                        } else {
+                            0.0
+                        },
+                    )
+                } else {
+                    let powered = pow(eps, self.exponent);
+                    (self.c5 * powered, self.c5 * self.exponent * powered / eps)
+                };
+                FlowStress {
+                    value: self.athermal_stress + self.c1 * activation + hardening,
+                    d_plastic_strain: slope,
+                    d_rate: self.c1 * d_activation,
+                }
+            }
+            CrystalStructure::Fcc => {
+                let root = sqrt(eps);
+                let slope = if eps == 0.0 {
+                    f64::INFINITY
+                } else {
+                    0.5 * self.c2 * activation / root
+                };
+                FlowStress {
+                    value: self.athermal_stress + self.c2 * root * activation,
+                    d_plastic_strain: if self.c2 == 0.0 { 0.0 } else { slope },
+                    d_rate: self.c2 * root * d_activation,
+                }
+            }
+        }
+    }
+
+    /// Reject non-physical constants: stresses and C3, C4 non-negative, positive yield.
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        check::non_negative("athermal_stress", self.athermal_stress)?;
+        check::non_negative("c1", self.c1)?;
+        check::non_negative("c2", self.c2)?;
+        check::non_negative("c3", self.c3)?;
+        check::non_negative("c4", self.c4)?;
+        check::non_negative("c5", self.c5)?;
+        check::range("exponent", self.exponent, 0.0, 2.0)?;
+        check::positive("reference_rate", self.reference_rate)?;
+        let initial = match self.structure {
+            CrystalStructure::Bcc => self.athermal_stress + self.c1,
+            CrystalStructure::Fcc => self.athermal_stress,
+        };
+        if initial <= 0.0 && self.structure == CrystalStructure::Bcc {
+            return Err(ParameterError::NotPositive {
+                field: "athermal_stress",
+                value: initial,
+            });
+        }
+        if self.structure == CrystalStructure::Fcc && self.athermal_stress <= 0.0 {
+            return Err(ParameterError::NotPositive {
+                field: "athermal_stress",
+                value: self.athermal_stress,
+            });
+        }
+        Ok(())
+    }
+}

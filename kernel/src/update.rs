@@ -1,0 +1,399 @@
+//! The stress update for one integration point and one step.
+//!
+//! Order of operations (per step, given the strain increment `deps`, `dt` and the new relative
+//! volume `V1` from the host):
+//! 1. elastic predictor on the deviator, `s_trial = s_n + 2G dev(deps)`;
+//! 2. if `q_trial > sigma_y(eps_p, 0, T_n)`, J2 radial return. The plastic multiplier `dl`
+//!    solves, **implicitly in strain and rate** (seed 001 eq. 3.8, Westerling 2001),
+//!    `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n) = 0` by safeguarded Newton (bracket
+//!    `[0, q_trial/3G]`, bisection fallback, at most [`MAX_RETURN_ITERATIONS`]). The
+//!    [`RateTreatment::Lagged`] variant uses `sigma_y(eps_p, deps_p_n, T_n)` (eq. 3.7);
+//! 3. adiabatic heating `dT = chi sigma_y dl / (rho c_p)`;
+//! 4. EoS pressure at `mu = 1/V1 - 1` with the energy equation solved in closed form
+//!    (`E1 = E0 + W_dev - (p0 + p1)/2 (V1 - V0)`, trapezoidal pressure work);
+//! 5. Johnson-Cook damage `dD = dl / eps_f(sigma*, deps_p, T)`; at `D = 1` the point fails:
+//!    zero deviator, no tension; erosion flags for the host; pressure cut-off;
+//! 6. longitudinal wave speed `sqrt(c_bulk^2 + 4G/(3 rho))` for the host's time step, and,
+//!    on request, the consistent (algorithmic) tangent of Simo & Hughes (1998, box 3.2).
+
+use crate::error::UpdateError;
+use crate::material::{Material, RateTreatment};
+use crate::math::sqrt;
+use crate::state::{MaterialState, StateFlags};
+use crate::strength::FlowStress;
+use crate::tensor::{self, Matrix6, Sym};
+
+/// Bound on return-mapping iterations. Bisection alone shrinks the bracket by 2^-100, far
+/// below double precision, so the bound is never the reason for a result.
+pub const MAX_RETURN_ITERATIONS: u32 = 100;
+
+/// Relative residual `|g| / q_trial` at which the return mapping stops.
+pub const RETURN_TOLERANCE: f64 = 1e-14;
+
+/// What the host gives for one step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StepInput {
+    /// Strain increment, Voigt order, **tensor** shear (Jaumann/Green-Naghdi-rotated by the host).
+    pub strain_increment: Sym,
+    /// Time step (s), `> 0`.
+    pub dt: f64,
+    /// Relative volume `V/V0` at the end of the step, `> 0`.
+    pub relative_volume: f64,
+}
+
+/// Per-step results besides the updated state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StepOutput {
+    /// Longitudinal wave speed (m/s) for the host's CFL time step.
+    pub wave_speed: f64,
+    /// Plastic multiplier `dl` = equivalent plastic strain increment of this step.
+    pub plastic_increment: f64,
+    /// Flow stress used in the return (Pa); the current flow stress if elastic.
+    pub yield_stress: f64,
+    /// Return-mapping iterations (0 if elastic or lagged).
+    pub iterations: u32,
+}
+
+/// Update `state` over one step. On error, `state` is unchanged.
+pub fn update(
+    material: &Material,
+    state: &mut MaterialState,
+    input: &StepInput,
+) -> Result<StepOutput, UpdateError> {
+    let step = compute(material, state, input)?;
+    *state = step.state;
+    Ok(step.output)
+}
+
+/// [`update`] that also writes the consistent tangent `d sigma_{n+1} / d deps` (Voigt, tensor
+/// shear columns) into `tangent`. The volumetric column assumes the host's volume update
+/// `V1 = V0 exp(tr deps)` and neglects the energy coupling of the deviatoric work.
+pub fn update_with_tangent(
+    material: &Material,
+    state: &mut MaterialState,
+    input: &StepInput,
+    tangent: &mut Matrix6,
+) -> Result<StepOutput, UpdateError> {
+    let step = compute(material, state, input)?;
+    *tangent = step.tangent(material);
+    *state = step.state;
+    Ok(step.output)
+}
+
+/// Everything one step computed, before it is committed.
+struct Step {
+    state: MaterialState,
+    output: StepOutput,
+    /// Bulk tangent `-dp / d tr(deps)`.
+    bulk_tangent: f64,
+    /// Unit normal `s_trial / |s_trial|` (zero if elastic).
+    normal: Sym,
+    /// `3G dl / q_trial`.
+    return_fraction: f64,
+    /// Hardening modulus seen by the return, `d sigma_y/d eps_p + d sigma_y/d rate / dt`.
+    plastic_modulus: f64,
+    plastic: bool,
+    failed: bool,
+}
+
+impl Step {
+    fn tangent(&self, material: &Material) -> Matrix6 {
+        let shear = material.shear_modulus;
+        let mut c = [[0.0; 6]; 6];
+        for row in c.iter_mut().take(3) {
+            for entry in row.iter_mut().take(3) {
+                *entry = self.bulk_tangent;
+            }
+        }
+        if self.failed {
+            return c;
+        }
+        let theta = 1.0 - self.return_fraction;
+        let two_g_theta = 2.0 * shear * theta;
+        for (i, row) in c.iter_mut().enumerate() {
+            if i < 3 {
+                for (j, entry) in row.iter_mut().enumerate().take(3) {
+                    let identity = if i == j { 1.0 } else { 0.0 };
+                    *entry += two_g_theta * (identity - 1.0 / 3.0);
+                }
+            } else {
+                row[i] += two_g_theta;
+            }
+        }
+        if self.plastic {
+            let theta_bar =
+                1.0 / (1.0 + self.plastic_modulus / (3.0 * shear)) - self.return_fraction;
+            for (i, row) in c.iter_mut().enumerate() {
+                for (j, entry) in row.iter_mut().enumerate() {
+                    let shear_weight = if j < 3 { 1.0 } else { 2.0 };
+                    *entry -=
+                        2.0 * shear * theta_bar * self.normal[i] * self.normal[j] * shear_weight;
+                }
+            }
+        }
+        c
+    }
+}
+
+fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
+    if !tensor::all_finite(&input.strain_increment)
+        || !input.dt.is_finite()
+        || !input.relative_volume.is_finite()
+    {
+        return Err(UpdateError::NonFiniteInput);
+    }
+    if input.dt <= 0.0 {
+        return Err(UpdateError::NonPositiveTimeStep);
+    }
+    if input.relative_volume <= 0.0 {
+        return Err(UpdateError::NonPositiveVolume);
+    }
+    if !state.is_finite() || state.relative_volume <= 0.0 {
+        return Err(UpdateError::NonFiniteState);
+    }
+    Ok(())
+}
+
+/// Solve `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T) = 0` for `dl` (seed 001 eq. 3.8).
+/// Requires `g(0) > 0`. Returns `(dl, flow stress at dl, iterations)`.
+fn implicit_return(
+    material: &Material,
+    trial_equivalent: f64,
+    plastic_strain: f64,
+    temperature: f64,
+    dt: f64,
+) -> Result<(f64, FlowStress, u32), UpdateError> {
+    let three_g = 3.0 * material.shear_modulus;
+    let residual = |dl: f64| -> (f64, f64, FlowStress) {
+        let flow = material
+            .strength
+            .flow_stress(plastic_strain + dl, dl / dt, temperature);
+        let g = trial_equivalent - three_g * dl - flow.value;
+        let dg = -three_g - flow.d_plastic_strain - flow.d_rate / dt;
+        (g, dg, flow)
+    };
+    let tolerance = RETURN_TOLERANCE * trial_equivalent;
+    let mut lower = 0.0_f64;
+    let mut upper = trial_equivalent / three_g;
+    // Perfectly plastic estimate: an upper bound of the root for non-softening models.
+    let (g0, _, _) = residual(0.0);
+    let mut dl = g0 / three_g;
+    if dl > upper {
+        dl = upper;
+    }
+    for iteration in 1..=MAX_RETURN_ITERATIONS {
+        let (g, dg, flow) = residual(dl);
+        if !g.is_finite() {
+            return Err(UpdateError::NonFiniteResult);
+        }
+        if g.abs() <= tolerance {
+            return Ok((dl, flow, iteration));
+        }
+        if g > 0.0 {
+            lower = dl;
+        } else {
+            upper = dl;
+        }
+        let newton = dl - g / dg;
+        let next = if dg.is_finite() && dg < 0.0 && newton > lower && newton < upper {
+            newton
+        } else {
+            0.5 * (lower + upper)
+        };
+        if next == dl || upper - lower <= f64::EPSILON * upper {
+            // Bracket exhausted at double precision: dl is the root to round-off.
+            return Ok((dl, flow, iteration));
+        }
+        dl = next;
+    }
+    Err(UpdateError::ReturnMappingDiverged)
+}
+
+fn compute(
+    material: &Material,
+    state: &MaterialState,
+    input: &StepInput,
+) -> Result<Step, UpdateError> {
+    check_input(state, input)?;
+    let shear = material.shear_modulus;
+    let dt = input.dt;
+    let mut next = *state;
+    next.flags
+        .remove(StateFlags::PLASTIC | StateFlags::PRESSURE_CUTOFF);
+    let failed_before = state.flags.contains(StateFlags::FAILED);
+
+    // 1-2. Deviatoric predictor and return.
+    let deviatoric_increment = tensor::deviator(&input.strain_increment);
+    let old_deviator = tensor::deviator(&state.stress);
+    let trial = tensor::add(
+        &old_deviator,
+        &tensor::scale(&deviatoric_increment, 2.0 * shear),
+    );
+    let trial_equivalent = tensor::von_mises(&trial);
+
+    let mut plastic_increment = 0.0;
+    let mut iterations = 0;
+    let mut plastic_modulus = 0.0;
+    let mut return_fraction = 0.0;
+    let mut normal = tensor::ZERO;
+    let mut plastic = false;
+    let yield_stress;
+    let new_deviator;
+
+    if failed_before {
+        yield_stress = 0.0;
+        new_deviator = tensor::ZERO;
+    } else {
+        let check_rate = match material.rate_treatment {
+            RateTreatment::Implicit => 0.0,
+            RateTreatment::Lagged => state.plastic_strain_rate,
+        };
+        let flow_now =
+            material
+                .strength
+                .flow_stress(state.plastic_strain, check_rate, state.temperature);
+        if trial_equivalent > flow_now.value {
+            plastic = true;
+            let flow = match material.rate_treatment {
+                RateTreatment::Implicit => {
+                    let (dl, flow, count) = implicit_return(
+                        material,
+                        trial_equivalent,
+                        state.plastic_strain,
+                        state.temperature,
+                        dt,
+                    )?;
+                    plastic_increment = dl;
+                    iterations = count;
+                    plastic_modulus = flow.d_plastic_strain + flow.d_rate / dt;
+                    flow
+                }
+                RateTreatment::Lagged => {
+                    plastic_increment = (trial_equivalent - flow_now.value) / (3.0 * shear);
+                    flow_now
+                }
+            };
+            yield_stress = flow.value;
+            return_fraction = 3.0 * shear * plastic_increment / trial_equivalent;
+            let trial_norm = sqrt(tensor::contract(&trial, &trial));
+            normal = tensor::scale(&trial, 1.0 / trial_norm);
+            new_deviator = tensor::scale(&trial, 1.0 - return_fraction);
+            next.flags.insert(StateFlags::PLASTIC);
+        } else {
+            yield_stress = flow_now.value;
+            new_deviator = trial;
+        }
+    }
+    let plastic_strain_rate = plastic_increment / dt;
+    next.plastic_strain = state.plastic_strain + plastic_increment;
+    next.plastic_strain_rate = plastic_strain_rate;
+
+    // 3. Heating, with the current density rho = rho0 / V1.
+    if plastic_increment > 0.0 {
+        let density = material.density / input.relative_volume;
+        let heat_fraction = material.heating.heat_fraction(plastic_strain_rate);
+        next.temperature = state.temperature
+            + heat_fraction * yield_stress * plastic_increment / (density * material.specific_heat);
+    }
+
+    // 4. EoS and energy.
+    let volume_change = input.relative_volume - state.relative_volume;
+    let mid_volume = 0.5 * (input.relative_volume + state.relative_volume);
+    let mu = 1.0 / input.relative_volume - 1.0;
+    let (terms, eos_history) = material.eos.evaluate(mu, state.eos_history);
+    let old_pressure = state.pressure();
+    let mean_deviator = tensor::scale(&tensor::add(&old_deviator, &new_deviator), 0.5);
+    let deviatoric_work = tensor::contract(&mean_deviator, &deviatoric_increment) * mid_volume;
+    let energy_before_pressure_work = state.internal_energy + deviatoric_work;
+    let mut energy = (energy_before_pressure_work
+        - 0.5 * (old_pressure + terms.base) * volume_change)
+        / (1.0 + 0.5 * terms.energy_coefficient * volume_change);
+    let mut pressure = terms.pressure(energy);
+    let mut bulk_tangent = (1.0 + mu) * terms.d_pressure_d_mu(energy)
+        + terms.energy_coefficient * pressure * input.relative_volume;
+
+    // 5. Damage, failure, erosion, cut-offs.
+    let mut deviator = new_deviator;
+    let mut failed = failed_before;
+    if !failed && plastic_increment > 0.0 {
+        if let Some(jc) = &material.failure.johnson_cook {
+            let equivalent = tensor::von_mises(&deviator);
+            let triaxiality = if equivalent > 0.0 {
+                -pressure / equivalent
+            } else {
+                0.0
+            };
+            let failure_strain =
+                jc.failure_strain(triaxiality, plastic_strain_rate, state.temperature);
+            next.damage = state.damage + plastic_increment / failure_strain;
+            if next.damage >= 1.0 {
+                next.damage = 1.0;
+                failed = true;
+                next.flags.insert(StateFlags::FAILED);
+                if material.failure.erode_on_failure {
+                    next.flags.insert(StateFlags::ERODE);
+                }
+            }
+        }
+    }
+    if let Some(limit) = material.failure.erosion_plastic_strain {
+        if next.plastic_strain >= limit {
+            next.flags.insert(StateFlags::ERODE);
+        }
+    }
+    let mut pressure_floor = material.failure.pressure_cutoff;
+    if failed {
+        deviator = tensor::ZERO;
+        pressure_floor = Some(0.0);
+    }
+    if let Some(floor) = pressure_floor {
+        if pressure < floor {
+            pressure = floor;
+            bulk_tangent = 0.0;
+            next.flags.insert(StateFlags::PRESSURE_CUTOFF);
+            energy = energy_before_pressure_work - 0.5 * (old_pressure + pressure) * volume_change;
+        }
+    }
+
+    next.stress = tensor::from_deviator_and_pressure(&deviator, pressure);
+    next.relative_volume = input.relative_volume;
+    next.internal_energy = energy;
+    next.eos_history = eos_history;
+
+    // 6. Wave speed.
+    let density = material.density / input.relative_volume;
+    let bulk_sound_squared = crate::eos::Eos::sound_speed_squared(
+        &terms,
+        mu,
+        energy,
+        terms.pressure(energy),
+        material.density,
+    );
+    let bulk_sound_squared = if bulk_sound_squared > 0.0 {
+        bulk_sound_squared
+    } else {
+        0.0
+    };
+    let wave_speed = sqrt(bulk_sound_squared + 4.0 * shear / (3.0 * density));
+
+    if !next.is_finite() || !wave_speed.is_finite() {
+        return Err(UpdateError::NonFiniteResult);
+    }
+    Ok(Step {
+        state: next,
+        output: StepOutput {
+            wave_speed,
+            plastic_increment,
+            yield_stress,
+            iterations,
+        },
+        bulk_tangent,
+        normal,
+        return_fraction,
+        plastic_modulus,
+        plastic: plastic && !failed,
+        failed,
+    })
+}
