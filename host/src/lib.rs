@@ -1,1 +1,7 @@
-//! stoss host crate.
+//! # stoss
+//!
+//! Host side of stoss: verification of the kernel, and (as the project grows) meshes, the
+//! explicit solver, the functional experiments, calibration and diagnosis.
+
+pub mod cli;
+pub mod verify;

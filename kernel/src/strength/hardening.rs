@@ -138,7 +138,7 @@ impl Hardening {
             } => {
                 check::positive("yield_stress", yield_stress)?;
                 check::non_negative("hardening_modulus", hardening_modulus)?;
-                check::range("exponent", exponent, 0.0, 2.0)
+                check::range("hardening_exponent", exponent, 0.0, 2.0)
             }
             Hardening::Voce2 {
                 yield_stress,
@@ -164,7 +164,7 @@ impl Hardening {
             } => {
                 check::positive("yield_stress", yield_stress)?;
                 check::non_negative("hardening_modulus", hardening_modulus)?;
-                check::range("exponent", exponent, 0.0, 2.0)?;
+                check::range("hardening_exponent", exponent, 0.0, 2.0)?;
                 check::non_negative("saturation_stress_1", saturation_stress_1)?;
                 check::non_negative("saturation_rate_1", saturation_rate_1)?;
                 check::non_negative("saturation_stress_2", saturation_stress_2)?;

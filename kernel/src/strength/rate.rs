@@ -126,7 +126,7 @@ impl RateTerm {
                 exponent,
                 reference_rate,
             } => {
-                check::range("exponent", exponent, 0.0, 1.0)?;
+                check::range("rate_exponent", exponent, 0.0, 1.0)?;
                 check::positive("reference_rate", reference_rate)
             }
             RateTerm::TwoPart {
@@ -135,9 +135,9 @@ impl RateTerm {
                 exponent_2,
                 reference_rate_2,
             } => {
-                check::range("exponent_1", exponent_1, 0.0, 1.0)?;
+                check::range("rate_exponent_1", exponent_1, 0.0, 1.0)?;
                 check::positive("reference_rate_1", reference_rate_1)?;
-                check::range("exponent_2", exponent_2, 0.0, 1.0)?;
+                check::range("rate_exponent_2", exponent_2, 0.0, 1.0)?;
                 check::positive("reference_rate_2", reference_rate_2)
             }
             RateTerm::CowperSymonds {
@@ -145,7 +145,7 @@ impl RateTerm {
                 exponent,
             } => {
                 check::positive("rate_constant", rate_constant)?;
-                check::positive("exponent", exponent)
+                check::positive("cowper_symonds_exponent", exponent)
             }
         }
     }

@@ -80,7 +80,7 @@ impl ThermalTerm {
                 reference_temperature,
                 melting_temperature,
             } => {
-                check::range("exponent", exponent, 1e-3, 10.0)?;
+                check::range("thermal_exponent", exponent, 1e-3, 10.0)?;
                 (reference_temperature, melting_temperature)
             }
             ThermalTerm::Linear {

@@ -1,0 +1,30 @@
+//! The `stoss` command line.
+
+mod verify;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// stoss: calibrate and diagnose high strain-rate material models from functional experiments.
+#[derive(Debug, Parser)]
+#[command(name = "stoss", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Sub-commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Verify the material kernel against closed forms, published numbers and the golden
+    /// bit-exact histories.
+    Verify(verify::VerifyArgs),
+}
+
+/// Run the parsed command line.
+pub fn run(cli: Cli) -> ExitCode {
+    match cli.command {
+        Command::Verify(args) => verify::run(&args),
+    }
+}

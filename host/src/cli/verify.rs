@@ -1,0 +1,94 @@
+//! `stoss verify`: print the check table; compare (or, with `--bless`, rewrite) the golden
+//! histories.
+
+use crate::verify::{self, golden};
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Arguments of `stoss verify`.
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    /// Rewrite the golden histories from the current kernel instead of comparing them. Commit
+    /// the result with a message that says why the bits changed.
+    #[arg(long)]
+    pub bless: bool,
+    /// Directory of the golden histories.
+    #[arg(long, default_value = "fixtures/golden")]
+    pub golden_dir: PathBuf,
+}
+
+/// Run `stoss verify`.
+pub fn run(args: &VerifyArgs) -> ExitCode {
+    let rows = verify::run_all();
+    println!(
+        "{:<26} {:<38} {:<46} {:>11} {:>11}  result",
+        "material", "check", "quantity", "max error", "tolerance"
+    );
+    let mut failures = 0;
+    for row in &rows {
+        let relation = match row.expectation {
+            verify::Expectation::AtMost => "<=",
+            verify::Expectation::AtLeast => ">=",
+        };
+        let verdict = if row.passed() { "pass" } else { "FAIL" };
+        if !row.passed() {
+            failures += 1;
+        }
+        println!(
+            "{:<26} {:<38} {:<46} {:>11.3e} {relation}{:>9.1e}  {verdict}",
+            row.subject, row.check, row.quantity, row.max_error, row.tolerance
+        );
+    }
+    println!();
+    println!("seed 001 sec. 3.4.1 tension check, 4340 JC (A 792 MPa, B 510 MPa, n 0.26, C 0.014), true strain 0.2:");
+    println!(
+        "{:>8} {:>8} {:>16} {:>16} {:>16}",
+        "rate/s", "eps_p", "JC analytical", "implicit (3.8)", "lagged (3.7)"
+    );
+    for row in verify::checks::seed001_table() {
+        println!(
+            "{:>8} {:>8.4} {:>12.1} MPa {:>12.1} MPa {:>12.1} MPa",
+            row.rate,
+            row.plastic_strain,
+            row.analytical / 1e6,
+            row.implicit / 1e6,
+            row.lagged / 1e6
+        );
+    }
+    println!();
+    if args.bless {
+        match golden::bless(&args.golden_dir) {
+            Ok(count) => println!(
+                "blessed {count} golden histories in {}",
+                args.golden_dir.display()
+            ),
+            Err(error) => {
+                eprintln!("error: {error}");
+                return ExitCode::FAILURE;
+            }
+        }
+    } else {
+        let cases = golden::cases();
+        let mut golden_failures = 0;
+        for case in &cases {
+            if let Err(error) = golden::compare(&args.golden_dir, case) {
+                golden_failures += 1;
+                eprintln!("golden: {error}");
+            }
+        }
+        println!(
+            "golden histories: {} of {} bit-identical ({})",
+            cases.len() - golden_failures,
+            cases.len(),
+            args.golden_dir.display()
+        );
+        failures += golden_failures;
+    }
+    println!("{} checks, {} failed", rows.len(), failures);
+    if failures == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}

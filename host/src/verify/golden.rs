@@ -1,0 +1,376 @@
+//! Golden histories: driver outputs of every reference material stored as exact IEEE-754
+//! binary64 bit patterns (hex), compared bit for bit. They catch *change*; correctness is the
+//! job of [`super::checks`].
+//!
+//! File format (`fixtures/golden/<material>__<driver>.golden`, text):
+//! ```text
+//! # stoss golden history v1
+//! # material: jc-4340
+//! # driver: uniaxial-stress
+//! # columns: time strain_xx ... flags
+//! 3e45798ee2308c3a 0000000000000000 ...   <- one line per step, 23 hex words
+//! ```
+//! Regenerate with `stoss verify --bless`; every commit that changes a golden file says why.
+
+use super::history::History;
+use super::materials::reference_materials;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use stoss_kernel::drivers::{
+    hydrostatic, simple_shear, strain_path, uniaxial_strain, uniaxial_stress, DriverError,
+    HydrostaticLoading, PathPoint, Record, SimpleShearLoading, UniaxialStrainLoading,
+    UniaxialStressLoading,
+};
+use stoss_kernel::{Material, MaterialState};
+
+const HEADER: &str = "# stoss golden history v1";
+
+/// A single-element driver run whose history is kept bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GoldenDriver {
+    /// Uniaxial tension, 1000 /s to 0.1, 100 steps.
+    UniaxialStress,
+    /// Uniaxial-strain compression, 1e4 /s to -0.05, 100 steps.
+    UniaxialStrain,
+    /// Hydrostatic compression to 3 % and release, 50 + 50 steps.
+    Hydrostatic,
+    /// Simple shear, 500 /s to eps_xy 0.1, 100 steps.
+    SimpleShear,
+    /// Non-proportional path (tension, then shear, then compression) with an imposed
+    /// temperature ramp 298 K -> 700 K, 3 x 40 steps.
+    StrainPathWithTemperature,
+}
+
+impl GoldenDriver {
+    /// Every driver.
+    pub const ALL: [GoldenDriver; 5] = [
+        GoldenDriver::UniaxialStress,
+        GoldenDriver::UniaxialStrain,
+        GoldenDriver::Hydrostatic,
+        GoldenDriver::SimpleShear,
+        GoldenDriver::StrainPathWithTemperature,
+    ];
+
+    /// File-name identifier.
+    pub fn name(self) -> &'static str {
+        match self {
+            GoldenDriver::UniaxialStress => "uniaxial-stress",
+            GoldenDriver::UniaxialStrain => "uniaxial-strain",
+            GoldenDriver::Hydrostatic => "hydrostatic",
+            GoldenDriver::SimpleShear => "simple-shear",
+            GoldenDriver::StrainPathWithTemperature => "strain-path-temperature",
+        }
+    }
+
+    /// Run the driver on `material` from a fresh state at 298 K.
+    pub fn run(self, material: &Material) -> Result<Vec<Record>, DriverError> {
+        let mut state = MaterialState::initial(298.0);
+        let mut history = History::default();
+        match self {
+            GoldenDriver::UniaxialStress => uniaxial_stress(
+                material,
+                &mut state,
+                &UniaxialStressLoading {
+                    strain_rate: 1000.0,
+                    final_strain: 0.1,
+                    steps: 100,
+                },
+                &mut history,
+            ),
+            GoldenDriver::UniaxialStrain => uniaxial_strain(
+                material,
+                &mut state,
+                &UniaxialStrainLoading {
+                    strain_rate: 1.0e4,
+                    final_strain: -0.05,
+                    steps: 100,
+                },
+                &mut history,
+            ),
+            GoldenDriver::Hydrostatic => hydrostatic(
+                material,
+                &mut state,
+                &HydrostaticLoading {
+                    peak_compression: 0.03,
+                    strain_rate: 1000.0,
+                    loading_steps: 50,
+                    unloading_steps: 50,
+                },
+                &mut history,
+            ),
+            GoldenDriver::SimpleShear => simple_shear(
+                material,
+                &mut state,
+                &SimpleShearLoading {
+                    shear_rate: 500.0,
+                    final_shear_strain: 0.1,
+                    steps: 100,
+                },
+                &mut history,
+            ),
+            GoldenDriver::StrainPathWithTemperature => {
+                let point = |time: f64, strain: [f64; 6], temperature: f64| PathPoint {
+                    time,
+                    strain,
+                    temperature: Some(temperature),
+                };
+                let path = [
+                    point(0.0, [0.0; 6], 298.0),
+                    point(1.0e-4, [0.05, -0.025, -0.025, 0.0, 0.0, 0.0], 400.0),
+                    point(2.0e-4, [0.05, -0.025, -0.025, 0.04, 0.0, 0.02], 550.0),
+                    point(3.0e-4, [-0.02, 0.01, 0.01, 0.04, 0.01, 0.02], 700.0),
+                ];
+                strain_path(material, &mut state, &path, 40, &mut history)
+            }
+        }?;
+        Ok(history.0)
+    }
+}
+
+/// One golden case: a reference material through one driver.
+#[derive(Clone, Copy, Debug)]
+pub struct GoldenCase {
+    /// Reference material name.
+    pub material_name: &'static str,
+    /// The material.
+    pub material: Material,
+    /// The driver.
+    pub driver: GoldenDriver,
+}
+
+impl GoldenCase {
+    /// File name under the golden directory.
+    pub fn file_name(&self) -> String {
+        format!("{}__{}.golden", self.material_name, self.driver.name())
+    }
+}
+
+/// Every golden case, in a fixed order.
+pub fn cases() -> Vec<GoldenCase> {
+    reference_materials()
+        .into_iter()
+        .flat_map(|reference| {
+            GoldenDriver::ALL.into_iter().map(move |driver| GoldenCase {
+                material_name: reference.name,
+                material: reference.material,
+                driver,
+            })
+        })
+        .collect()
+}
+
+/// What went wrong with a golden file.
+#[derive(Debug)]
+pub enum GoldenError {
+    /// The driver itself failed.
+    Driver {
+        /// Golden file name.
+        case: String,
+        /// The driver error.
+        error: DriverError,
+    },
+    /// Reading or writing the file failed.
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// The I/O error.
+        error: std::io::Error,
+    },
+    /// The file is malformed.
+    Parse {
+        /// File path.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The stored and computed histories differ.
+    Mismatch {
+        /// File path.
+        path: PathBuf,
+        /// 1-based line of the first differing record.
+        line: usize,
+        /// Name of the first differing column.
+        column: &'static str,
+        /// Stored value.
+        expected: f64,
+        /// Computed value.
+        actual: f64,
+    },
+    /// The stored and computed histories have different lengths.
+    Length {
+        /// File path.
+        path: PathBuf,
+        /// Records stored.
+        expected: usize,
+        /// Records computed.
+        actual: usize,
+    },
+}
+
+impl std::fmt::Display for GoldenError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            GoldenError::Driver { case, error } => write!(f, "{case}: driver failed: {error}"),
+            GoldenError::Io { path, error } => write!(f, "{}: {error}", path.display()),
+            GoldenError::Parse {
+                path,
+                line,
+                message,
+            } => write!(f, "{}:{line}: {message}", path.display()),
+            GoldenError::Mismatch {
+                path,
+                line,
+                column,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "{}:{line}: column {column}: stored {expected:e} ({:016x}), computed {actual:e} ({:016x})",
+                path.display(),
+                expected.to_bits(),
+                actual.to_bits()
+            ),
+            GoldenError::Length {
+                path,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "{}: {expected} records stored, {actual} computed",
+                path.display()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for GoldenError {}
+
+/// Render a history in the golden format.
+pub fn render(case: &GoldenCase, records: &[Record]) -> String {
+    let mut text = String::new();
+    let _ = writeln!(text, "{HEADER}");
+    let _ = writeln!(text, "# material: {}", case.material_name);
+    let _ = writeln!(text, "# driver: {}", case.driver.name());
+    let _ = writeln!(text, "# columns: {}", Record::VALUE_NAMES.join(" "));
+    for record in records {
+        let words: Vec<String> = record
+            .values()
+            .iter()
+            .map(|v| format!("{:016x}", v.to_bits()))
+            .collect();
+        let _ = writeln!(text, "{}", words.join(" "));
+    }
+    text
+}
+
+/// Parse a golden file into rows of values; errors name the file and line.
+pub fn parse(path: &Path, text: &str) -> Result<Vec<[f64; Record::VALUE_COUNT]>, GoldenError> {
+    let mut rows = Vec::new();
+    let mut lines = text.lines().enumerate();
+    match lines.next() {
+        Some((_, first)) if first == HEADER => {}
+        _ => {
+            return Err(GoldenError::Parse {
+                path: path.into(),
+                line: 1,
+                message: format!("expected header {HEADER:?}"),
+            })
+        }
+    }
+    for (index, line) in lines {
+        if line.starts_with('#') || line.trim().is_empty() {
+            continue;
+        }
+        let mut row = [0.0; Record::VALUE_COUNT];
+        let mut count = 0;
+        for word in line.split_whitespace() {
+            let bits = u64::from_str_radix(word, 16).map_err(|_| GoldenError::Parse {
+                path: path.into(),
+                line: index + 1,
+                message: format!("column {}: {word:?} is not a 16-digit hex word", count + 1),
+            })?;
+            if count < Record::VALUE_COUNT {
+                row[count] = f64::from_bits(bits);
+            }
+            count += 1;
+        }
+        if count != Record::VALUE_COUNT {
+            return Err(GoldenError::Parse {
+                path: path.into(),
+                line: index + 1,
+                message: format!("{count} values, expected {}", Record::VALUE_COUNT),
+            });
+        }
+        rows.push(row);
+    }
+    Ok(rows)
+}
+
+fn run_case(case: &GoldenCase) -> Result<Vec<Record>, GoldenError> {
+    case.driver
+        .run(&case.material)
+        .map_err(|error| GoldenError::Driver {
+            case: case.file_name(),
+            error,
+        })
+}
+
+/// Compare one case with its stored file, bit for bit.
+pub fn compare(directory: &Path, case: &GoldenCase) -> Result<usize, GoldenError> {
+    let path = directory.join(case.file_name());
+    let text = std::fs::read_to_string(&path).map_err(|error| GoldenError::Io {
+        path: path.clone(),
+        error,
+    })?;
+    let stored = parse(&path, &text)?;
+    let computed = run_case(case)?;
+    if stored.len() != computed.len() {
+        return Err(GoldenError::Length {
+            path,
+            expected: stored.len(),
+            actual: computed.len(),
+        });
+    }
+    // Data lines start after the four header lines.
+    for (index, (row, record)) in stored.iter().zip(&computed).enumerate() {
+        let values = record.values();
+        for (column, (expected, actual)) in row.iter().zip(values.iter()).enumerate() {
+            if expected.to_bits() != actual.to_bits() {
+                return Err(GoldenError::Mismatch {
+                    path,
+                    line: index + 5,
+                    column: Record::VALUE_NAMES[column],
+                    expected: *expected,
+                    actual: *actual,
+                });
+            }
+        }
+    }
+    Ok(computed.len())
+}
+
+/// Write every golden file (atomically: a temporary file renamed into place).
+pub fn bless(directory: &Path) -> Result<usize, GoldenError> {
+    std::fs::create_dir_all(directory).map_err(|error| GoldenError::Io {
+        path: directory.into(),
+        error,
+    })?;
+    let all = cases();
+    // Run everything first, so that a failing case leaves no file half-updated.
+    let mut rendered = Vec::with_capacity(all.len());
+    for case in &all {
+        rendered.push((case.file_name(), render(case, &run_case(case)?)));
+    }
+    for (name, text) in &rendered {
+        let path = directory.join(name);
+        let temporary = directory.join(format!(".{name}.tmp"));
+        std::fs::write(&temporary, text).map_err(|error| GoldenError::Io {
+            path: temporary.clone(),
+            error,
+        })?;
+        std::fs::rename(&temporary, &path).map_err(|error| GoldenError::Io { path, error })?;
+    }
+    Ok(rendered.len())
+}

@@ -1,0 +1,14 @@
+//! A growable history for the kernel drivers (the kernel itself has no heap).
+
+use stoss_kernel::drivers::{DriverError, HistorySink, Record};
+
+/// Driver records collected in a `Vec`.
+#[derive(Clone, Debug, Default)]
+pub struct History(pub Vec<Record>);
+
+impl HistorySink for History {
+    fn push(&mut self, record: Record) -> Result<(), DriverError> {
+        self.0.push(record);
+        Ok(())
+    }
+}
