@@ -6,9 +6,19 @@
 //! energy equation `E1 = E0 + W_dev - (p0 + p1)/2 (V1 - V0)` in closed form (no iteration),
 //! exactly as explicit hydrocodes do.
 
+mod jwl;
 mod linear;
+mod mie_gruneisen;
+mod p_alpha;
+mod polynomial;
+mod tabulated_compaction;
 
+pub use jwl::Jwl;
 pub use linear::LinearEos;
+pub use mie_gruneisen::MieGruneisen;
+pub use p_alpha::{PAlpha, MAX_DISTENSION_ITERATIONS};
+pub use polynomial::Polynomial;
+pub use tabulated_compaction::{CompactionPoint, TabulatedCompaction, MAX_COMPACTION_POINTS};
 
 use crate::error::ParameterError;
 
@@ -40,11 +50,30 @@ impl EnergyLinearPressure {
 }
 
 /// An equation of state.
+///
+/// History-dependent variants keep their internal variable in
+/// [`crate::MaterialState::eos_history`]: the maximum volumetric strain for
+/// [`Eos::TabulatedCompaction`], the distension `alpha` for [`Eos::PAlpha`]. For those, the
+/// derivatives in [`EnergyLinearPressure`] are taken at the updated (frozen) history, i.e. they
+/// are the elastic unloading stiffness, which is what the bulk sound speed needs.
+// The tabulated curve is a fixed array (no heap in the kernel), so that variant is larger
+// than the others; boxing it is not an option.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Eos {
     /// `p = K mu`.
     Linear(LinearEos),
+    /// Mie-Grüneisen, LS-DYNA `*EOS_GRUNEISEN` form.
+    MieGruneisen(MieGruneisen),
+    /// Polynomial (Autodyn; LS-DYNA `*EOS_LINEAR_POLYNOMIAL`-like), seed 001 eq. 4.10.
+    Polynomial(Polynomial),
+    /// Jones-Wilkins-Lee detonation products, LS-DYNA `*EOS_JWL`.
+    Jwl(Jwl),
+    /// Tabulated compaction, LS-DYNA `*EOS_TABULATED_COMPACTION` (no energy term).
+    TabulatedCompaction(TabulatedCompaction),
+    /// P-alpha porous compaction (Herrmann 1969) over a polynomial matrix, seed 001 eq. 4.11.
+    PAlpha(PAlpha),
 }
 
 impl Eos {
@@ -55,25 +84,41 @@ impl Eos {
     pub fn evaluate(&self, mu: f64, history: f64) -> (EnergyLinearPressure, f64) {
         match self {
             Eos::Linear(eos) => (eos.evaluate(mu), history),
+            Eos::MieGruneisen(eos) => (eos.evaluate(mu), history),
+            Eos::Polynomial(eos) => (eos.evaluate(mu), history),
+            Eos::Jwl(eos) => (eos.evaluate(mu), history),
+            Eos::TabulatedCompaction(eos) => eos.evaluate(mu, history),
+            Eos::PAlpha(eos) => eos.evaluate(mu, history),
         }
     }
 
-    /// Initial value of the EoS history variable.
+    /// Initial value of the EoS history variable: `alpha0` for P-alpha, 0 otherwise (for the
+    /// tabulated compaction EoS, the maximum volumetric strain of the undeformed state).
     pub fn initial_history(&self) -> f64 {
-        0.0
+        match self {
+            Eos::PAlpha(eos) => eos.initial_distension,
+            _ => 0.0,
+        }
     }
 
     /// Reject non-physical constants.
     pub fn validate(&self) -> Result<(), ParameterError> {
         match self {
             Eos::Linear(eos) => eos.validate(),
+            Eos::MieGruneisen(eos) => eos.validate(),
+            Eos::Polynomial(eos) => eos.validate(),
+            Eos::Jwl(eos) => eos.validate(),
+            Eos::TabulatedCompaction(eos) => eos.validate(),
+            Eos::PAlpha(eos) => eos.validate(),
         }
     }
 
     /// Isentropic bulk sound speed squared `c^2 = dp/drho|_s` (m^2/s^2) at compression `mu`,
     /// energy `energy` (J/m^3 of reference volume), pressure `pressure`, reference density
     /// `reference_density`. With `dE = p rho0 drho / rho^2` along an isentrope,
-    /// `c^2 = (dp/dmu)/rho0 + (dp/dE) p rho0 / rho^2`.
+    /// `c^2 = (dp/dmu)/rho0 + (dp/dE) p rho0 / rho^2`. For the history-dependent EoS the
+    /// terms hold frozen-history derivatives, so this is the elastic (unloading) sound speed:
+    /// for P-alpha the porous sound speed at constant distension.
     pub fn sound_speed_squared(
         terms: &EnergyLinearPressure,
         mu: f64,
@@ -90,5 +135,35 @@ impl Eos {
 impl From<LinearEos> for Eos {
     fn from(eos: LinearEos) -> Self {
         Eos::Linear(eos)
+    }
+}
+
+impl From<MieGruneisen> for Eos {
+    fn from(eos: MieGruneisen) -> Self {
+        Eos::MieGruneisen(eos)
+    }
+}
+
+impl From<Polynomial> for Eos {
+    fn from(eos: Polynomial) -> Self {
+        Eos::Polynomial(eos)
+    }
+}
+
+impl From<Jwl> for Eos {
+    fn from(eos: Jwl) -> Self {
+        Eos::Jwl(eos)
+    }
+}
+
+impl From<TabulatedCompaction> for Eos {
+    fn from(eos: TabulatedCompaction) -> Self {
+        Eos::TabulatedCompaction(eos)
+    }
+}
+
+impl From<PAlpha> for Eos {
+    fn from(eos: PAlpha) -> Self {
+        Eos::PAlpha(eos)
     }
 }
