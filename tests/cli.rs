@@ -15,8 +15,18 @@ fn verify_prints_the_table_and_succeeds() {
     // REFERENCE: exit 0, a table with every model, all goldens bit-identical.
     let output = stoss().arg("verify").output().unwrap();
     let text = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{text}\n{}", String::from_utf8_lossy(&output.stderr));
-    for model in ["jc-4340", "za-bcc-armco", "za-fcc-copper", "mjc-hha", "tjc-hha"] {
+    assert!(
+        output.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    for model in [
+        "jc-4340",
+        "za-bcc-armco",
+        "za-fcc-copper",
+        "mjc-hha",
+        "tjc-hha",
+    ] {
         assert!(text.contains(model), "missing {model}");
     }
     assert!(text.contains("golden histories: 35 of 35 bit-identical"));
@@ -33,5 +43,8 @@ fn verify_fails_with_a_clear_error_on_a_missing_golden_directory() {
         .unwrap();
     assert!(!output.status.success());
     let errors = String::from_utf8_lossy(&output.stderr);
-    assert!(errors.contains("does/not/exist/jc-4340__uniaxial-stress.golden"), "{errors}");
+    assert!(
+        errors.contains("does/not/exist/jc-4340__uniaxial-stress.golden"),
+        "{errors}"
+    );
 }

@@ -10,7 +10,11 @@ fn every_closed_form_and_published_check_passes() {
     //        through every single-element driver.
     // REFERENCE: closed forms listed per row (see stoss::verify::checks); seed 001 sec. 3.4.1.
     let rows = run_all();
-    assert!(rows.len() > 50, "expected the full table, got {} rows", rows.len());
+    assert!(
+        rows.len() > 50,
+        "expected the full table, got {} rows",
+        rows.len()
+    );
     let failed: Vec<String> = rows
         .iter()
         .filter(|row| !row.passed())
@@ -38,7 +42,10 @@ fn lagged_rate_is_insensitive_to_rate_and_implicit_is_not() {
     let (_, lagged_1000) = seed001_tension(RateTreatment::Lagged, 1000.0);
     let expected_factor = 1.0 + 0.014 * 1000.0_f64.ln();
     assert!(((implicit_1000 / implicit_1) / expected_factor - 1.0).abs() < 1e-3);
-    assert!((lagged_1000 / lagged_1 - 1.0).abs() < 1e-3, "lagged must be rate-insensitive");
+    assert!(
+        (lagged_1000 / lagged_1 - 1.0).abs() < 1e-3,
+        "lagged must be rate-insensitive"
+    );
 }
 
 #[test]

@@ -4,4 +4,7 @@
 //! explicit solver, the functional experiments, calibration and diagnosis.
 
 pub mod cli;
+pub mod experiment;
+pub mod mesh;
+pub mod solver;
 pub mod verify;

@@ -25,9 +25,12 @@ fn non_physical_johnson_cook_constants_are_rejected() {
     );
     let mut jc = JohnsonCook::STEEL_4340;
     jc.hardening_exponent = f64::NAN;
-    assert_eq!(jc.validate(), Err(ParameterError::NotFinite {
+    assert_eq!(
+        jc.validate(),
+        Err(ParameterError::NotFinite {
             field: "hardening_exponent"
-        }));
+        })
+    );
     let mut jc = JohnsonCook::STEEL_4340;
     jc.melting_temperature = 200.0;
     assert_eq!(
@@ -166,8 +169,14 @@ fn bad_step_inputs_leave_the_state_unchanged() {
             },
             UpdateError::NonFiniteInput,
         ),
-        (StepInput { dt: 0.0, ..good }, UpdateError::NonPositiveTimeStep),
-        (StepInput { dt: -1e-6, ..good }, UpdateError::NonPositiveTimeStep),
+        (
+            StepInput { dt: 0.0, ..good },
+            UpdateError::NonPositiveTimeStep,
+        ),
+        (
+            StepInput { dt: -1e-6, ..good },
+            UpdateError::NonPositiveTimeStep,
+        ),
         (
             StepInput {
                 relative_volume: -0.1,

@@ -86,7 +86,8 @@ fn max_or_infinite(errors: impl Iterator<Item = f64>) -> f64 {
     let mut worst = 0.0_f64;
     for error in errors {
         seen = true;
-        if !(error <= worst) {
+        // NaN counts as the worst error.
+        if error.is_nan() || error > worst {
             worst = error;
         }
     }
@@ -113,13 +114,19 @@ fn uniaxial_stress_flow_stress(reference: &ReferenceMaterial) -> CheckResult {
             sink,
         )
     });
-    let error = max_or_infinite(history.0.iter().filter(|r| r.plastic_strain > 0.0).map(|r| {
-        let flow = material
-            .strength
-            .flow_stress(r.plastic_strain, r.plastic_strain_rate, ROOM_TEMPERATURE)
-            .value;
-        relative(r.stress[0], flow)
-    }));
+    let error = max_or_infinite(
+        history
+            .0
+            .iter()
+            .filter(|r| r.plastic_strain > 0.0)
+            .map(|r| {
+                let flow = material
+                    .strength
+                    .flow_stress(r.plastic_strain, r.plastic_strain_rate, ROOM_TEMPERATURE)
+                    .value;
+                relative(r.stress[0], flow)
+            }),
+    );
     CheckResult {
         subject: reference.name.into(),
         check: "uniaxial stress 1000/s, isothermal".into(),
@@ -459,13 +466,19 @@ fn seed001_tension_history(
             sink,
         )
     });
-    let error = max_or_infinite(history.0.iter().filter(|r| r.plastic_strain >= 0.02).map(|r| {
-        let analytical = material
-            .strength
-            .flow_stress(r.plastic_strain, rate, ROOM_TEMPERATURE)
-            .value;
-        relative(r.stress[0], analytical)
-    }));
+    let error = max_or_infinite(
+        history
+            .0
+            .iter()
+            .filter(|r| r.plastic_strain >= 0.02)
+            .map(|r| {
+                let analytical = material
+                    .strength
+                    .flow_stress(r.plastic_strain, rate, ROOM_TEMPERATURE)
+                    .value;
+                relative(r.stress[0], analytical)
+            }),
+    );
     (error, history.0.last().copied())
 }
 

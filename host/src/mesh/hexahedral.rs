@@ -1,0 +1,190 @@
+//! 3D meshes of 8-node hexahedra.
+
+use super::Part;
+use std::collections::BTreeMap;
+
+/// A 3D hexahedral mesh. Coordinates `[x, y, z]` (m); connectivity in the usual order (bottom
+/// face counter-clockwise seen from +z, then the top face).
+#[derive(Clone, Debug, Default)]
+pub struct HexMesh {
+    /// Node coordinates.
+    pub nodes: Vec<[f64; 3]>,
+    /// Element connectivity.
+    pub elements: Vec<[usize; 8]>,
+    /// Part index of each element.
+    pub element_part: Vec<usize>,
+    /// Parts.
+    pub parts: Vec<Part>,
+    /// Named node sets.
+    pub node_sets: BTreeMap<String, Vec<usize>>,
+}
+
+impl HexMesh {
+    /// Quarter-symmetric circular rod of radius `radius` and length `length` along `z`,
+    /// starting at `z = 0`: an O-grid of `core` x `core` elements in the square core and
+    /// `rings` rings outside it in each quadrant, `axial` elements along `z`. Node sets
+    /// `<part>.x0` (plane x = 0), `<part>.y0` (plane y = 0), `<part>.bottom`, `<part>.top`,
+    /// `<part>.outer`.
+    pub fn quarter_rod(
+        part: &str,
+        material: usize,
+        radius: f64,
+        length: f64,
+        core: usize,
+        rings: usize,
+        axial: usize,
+    ) -> Self {
+        // Cross-section nodes of the quarter disc.
+        let mut section: Vec<[f64; 2]> = Vec::new();
+        let core_half = 0.5 * radius;
+        let index_core = |i: usize, j: usize| j * (core + 1) + i;
+        for j in 0..=core {
+            for i in 0..=core {
+                section.push([
+                    core_half * i as f64 / core as f64,
+                    core_half * j as f64 / core as f64,
+                ]);
+            }
+        }
+        // Boundary of the core square from (core_half, 0) up to the corner and over to
+        // (0, core_half): 2*core + 1 points, matched to points on the circle.
+        let mut core_boundary = Vec::new();
+        for j in 0..=core {
+            core_boundary.push(index_core(core, j));
+        }
+        for i in (0..core).rev() {
+            core_boundary.push(index_core(i, core));
+        }
+        let boundary_count = core_boundary.len();
+        let mut ring_nodes: Vec<Vec<usize>> = vec![core_boundary.clone()];
+        for ring in 1..=rings {
+            let fraction = ring as f64 / rings as f64;
+            let mut layer = Vec::with_capacity(boundary_count);
+            for (k, &inner) in core_boundary.iter().enumerate() {
+                let angle = std::f64::consts::FRAC_PI_2 * k as f64 / (boundary_count - 1) as f64;
+                let on_circle = [radius * angle.cos(), radius * angle.sin()];
+                let start = section[inner];
+                let point = [
+                    start[0] + (on_circle[0] - start[0]) * fraction,
+                    start[1] + (on_circle[1] - start[1]) * fraction,
+                ];
+                section.push(point);
+                layer.push(section.len() - 1);
+            }
+            ring_nodes.push(layer);
+        }
+        let mut quads: Vec<[usize; 4]> = Vec::new();
+        for j in 0..core {
+            for i in 0..core {
+                quads.push([
+                    index_core(i, j),
+                    index_core(i + 1, j),
+                    index_core(i + 1, j + 1),
+                    index_core(i, j + 1),
+                ]);
+            }
+        }
+        for ring in 0..rings {
+            for k in 0..boundary_count - 1 {
+                let inner = &ring_nodes[ring];
+                let outer = &ring_nodes[ring + 1];
+                quads.push([inner[k], outer[k], outer[k + 1], inner[k + 1]]);
+            }
+        }
+        let per_layer = section.len();
+        let mut mesh = HexMesh::default();
+        for layer in 0..=axial {
+            let z = if layer == axial {
+                length
+            } else {
+                length * layer as f64 / axial as f64
+            };
+            for p in &section {
+                mesh.nodes.push([p[0], p[1], z]);
+            }
+        }
+        for layer in 0..axial {
+            for q in &quads {
+                let bottom = q.map(|n| n + layer * per_layer);
+                let top = q.map(|n| n + (layer + 1) * per_layer);
+                mesh.elements.push([
+                    bottom[0], bottom[1], bottom[2], bottom[3], top[0], top[1], top[2], top[3],
+                ]);
+                mesh.element_part.push(0);
+            }
+        }
+        mesh.parts.push(Part {
+            name: part.into(),
+            material,
+        });
+        let tolerance = 1e-9 * radius;
+        let select = |mesh: &HexMesh, test: &dyn Fn(&[f64; 3]) -> bool| -> Vec<usize> {
+            (0..mesh.nodes.len())
+                .filter(|&n| test(&mesh.nodes[n]))
+                .collect()
+        };
+        let x0 = select(&mesh, &|p| p[0].abs() < tolerance);
+        let y0 = select(&mesh, &|p| p[1].abs() < tolerance);
+        let bottom = select(&mesh, &|p| p[2].abs() < tolerance);
+        let top = select(&mesh, &|p| (p[2] - length).abs() < tolerance);
+        let outer = select(&mesh, &|p| {
+            ((p[0] * p[0] + p[1] * p[1]).sqrt() - radius).abs() < 1e-6 * radius
+        });
+        for (name, set) in [
+            ("x0", x0),
+            ("y0", y0),
+            ("bottom", bottom),
+            ("top", top),
+            ("outer", outer),
+        ] {
+            mesh.node_sets.insert(format!("{part}.{name}"), set);
+        }
+        mesh
+    }
+
+    /// Volume of element `e` (one-point: 8 times the Jacobian determinant at the centre,
+    /// exact for parallelepipeds).
+    pub fn volume(&self, e: usize) -> f64 {
+        let x = self.elements[e].map(|n| self.nodes[n]);
+        let mut jacobian = [[0.0; 3]; 3];
+        const SIGNS: [[f64; 3]; 8] = [
+            [-1.0, -1.0, -1.0],
+            [1.0, -1.0, -1.0],
+            [1.0, 1.0, -1.0],
+            [-1.0, 1.0, -1.0],
+            [-1.0, -1.0, 1.0],
+            [1.0, -1.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [-1.0, 1.0, 1.0],
+        ];
+        for (a, sign) in SIGNS.iter().enumerate() {
+            for (i, row) in jacobian.iter_mut().enumerate() {
+                for (j, entry) in row.iter_mut().enumerate() {
+                    *entry += 0.125 * sign[j] * x[a][i];
+                }
+            }
+        }
+        let j = jacobian;
+        8.0 * (j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+            - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+            + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quarter_rod_volume_approaches_the_cylinder() {
+        // GOAL: the O-grid quarter rod fills a quarter cylinder.
+        // SETUP: radius 1, length 2, core 4, rings 4, axial 5.
+        // REFERENCE: pi r^2 L / 4 = 1.5708; the polygonal boundary loses < 1 %.
+        let mesh = HexMesh::quarter_rod("rod", 0, 1.0, 2.0, 4, 4, 5);
+        let total: f64 = (0..mesh.elements.len()).map(|e| mesh.volume(e)).sum();
+        let exact = std::f64::consts::PI * 2.0 / 4.0;
+        assert!((0..mesh.elements.len()).all(|e| mesh.volume(e) > 0.0));
+        assert!((total / exact - 1.0).abs() < 0.01, "{total} vs {exact}");
+        assert!(!mesh.node_sets["rod.x0"].is_empty());
+    }
+}

@@ -1,0 +1,120 @@
+//! Explicit central-difference dynamics.
+//!
+//! - lumped (row-sum) mass, CFL time step with a safety factor;
+//! - one-point integrated elements with Flanagan-Belytschko *viscous* hourglass control;
+//! - linear + quadratic bulk viscosity (von Neumann-Richtmyer / Landshoff, LS-DYNA form);
+//! - the **Jaumann** objective stress rate: the host rotates the stress with the spin of the
+//!   step before the kernel updates it;
+//! - the kernel is called per element (one integration point), in parallel with rayon; element
+//!   results are assembled into nodes serially in element order, so results are bit-identical
+//!   for any thread count;
+//! - rigid planar walls (frictionless or Coulomb), prescribed velocities, initial velocities,
+//!   erosion on the kernel's flags, nodal damping, and an energy balance every run.
+
+pub mod axisymmetric;
+pub mod energy;
+pub mod loads;
+
+pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
+pub use energy::EnergyBalance;
+pub use loads::{Amplitude, NodalDamping, RigidWall, VelocityConstraint};
+
+/// Numerical settings of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolverSettings {
+    /// End time (s).
+    pub end_time: f64,
+    /// Time-step safety factor on the CFL limit.
+    pub time_step_safety: f64,
+    /// Linear bulk-viscosity coefficient (LS-DYNA Q2, default 0.06).
+    pub linear_viscosity: f64,
+    /// Quadratic bulk-viscosity coefficient (LS-DYNA Q1, default 1.5).
+    pub quadratic_viscosity: f64,
+    /// Viscous hourglass coefficient (LS-DYNA QH, default 0.1).
+    pub hourglass_coefficient: f64,
+    /// Optional nodal damping to reach a final shape.
+    pub damping: Option<NodalDamping>,
+    /// Worker threads (`None`: rayon's default). Results do not depend on it.
+    pub threads: Option<usize>,
+    /// Interval between energy/probe records (s).
+    pub output_interval: f64,
+    /// Stop early when the kinetic energy falls below this fraction of the initial energy
+    /// after damping started (0 disables).
+    pub rest_fraction: f64,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self {
+            end_time: 1e-4,
+            time_step_safety: 0.67,
+            linear_viscosity: 0.06,
+            quadratic_viscosity: 1.5,
+            hourglass_coefficient: 0.1,
+            damping: None,
+            threads: None,
+            output_interval: 1e-6,
+            rest_fraction: 0.0,
+        }
+    }
+}
+
+/// Why a run stopped with an error.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SolverError {
+    /// A material failed validation.
+    Material {
+        /// Part name.
+        part: String,
+        /// The kernel's error.
+        error: stoss_kernel::ParameterError,
+    },
+    /// The kernel rejected an update (e.g. an inverted element).
+    Update {
+        /// Element index.
+        element: usize,
+        /// Time (s).
+        time: f64,
+        /// The kernel's error.
+        error: stoss_kernel::UpdateError,
+    },
+    /// An element inverted (non-positive area or volume).
+    InvertedElement {
+        /// Element index.
+        element: usize,
+        /// Time (s).
+        time: f64,
+    },
+    /// The time step collapsed below the given floor.
+    TimeStepCollapse {
+        /// Time (s).
+        time: f64,
+        /// The time step (s).
+        time_step: f64,
+    },
+    /// The model is not well formed.
+    Model(String),
+}
+
+impl std::fmt::Display for SolverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SolverError::Material { part, error } => write!(f, "part {part}: {error}"),
+            SolverError::Update {
+                element,
+                time,
+                error,
+            } => write!(f, "element {element} at t = {time:.4e} s: {error}"),
+            SolverError::InvertedElement { element, time } => {
+                write!(f, "element {element} inverted at t = {time:.4e} s")
+            }
+            SolverError::TimeStepCollapse { time, time_step } => write!(
+                f,
+                "time step collapsed to {time_step:.3e} s at t = {time:.4e} s"
+            ),
+            SolverError::Model(text) => f.write_str(text),
+        }
+    }
+}
+
+impl std::error::Error for SolverError {}
