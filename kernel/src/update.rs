@@ -163,6 +163,7 @@ fn implicit_return(
     trial_equivalent: f64,
     plastic_strain: f64,
     temperature: f64,
+    previous_rate: f64,
     dt: f64,
 ) -> Result<(f64, FlowStress, u32), UpdateError> {
     let three_g = 3.0 * material.shear_modulus;
@@ -177,9 +178,15 @@ fn implicit_return(
     let tolerance = RETURN_TOLERANCE * trial_equivalent;
     let mut lower = 0.0_f64;
     let mut upper = trial_equivalent / three_g;
-    // Perfectly plastic estimate: an upper bound of the root for non-softening models.
+    // Start from the previous step's plastic rate (exact in steady flow); at the onset of
+    // flow, from the perfectly plastic estimate, an upper bound of the root for
+    // non-softening models.
     let (g0, _, _) = residual(0.0);
     let mut dl = g0 / three_g;
+    let previous = previous_rate * dt;
+    if previous > 0.0 && previous < dl {
+        dl = previous;
+    }
     if dl > upper {
         dl = upper;
     }
@@ -263,6 +270,7 @@ fn compute(
                         trial_equivalent,
                         state.plastic_strain,
                         state.temperature,
+                        state.plastic_strain_rate,
                         dt,
                     )?;
                     plastic_increment = dl;
