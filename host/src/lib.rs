@@ -5,6 +5,9 @@
 
 pub mod cli;
 pub mod experiment;
+pub mod input;
+pub mod measure;
 pub mod mesh;
+pub mod report;
 pub mod solver;
 pub mod verify;

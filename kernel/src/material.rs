@@ -9,6 +9,8 @@ use crate::strength::{JohnsonCook, Strength};
 /// How the flow stress sees the plastic strain rate inside a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum RateTreatment {
     /// Seed 001 eq. 3.8 (Westerling 2001): `sigma_{n+1} = sigma(eps_{n+1}, (eps_{n+1} -
     /// eps_n)/dt, T_n)`, solved for the plastic multiplier. Consistent with the analytical
@@ -23,6 +25,8 @@ pub enum RateTreatment {
 /// Conversion of plastic work into heat.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "kebab-case"))]
 pub enum Heating {
     /// No heating: temperature stays at its initial value.
     Isothermal,
@@ -109,6 +113,8 @@ impl Heating {
 /// Everything the stress update needs to know about a material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Material {
     /// Reference density `rho0` (kg/m^3).
     pub density: f64,

@@ -1,5 +1,6 @@
 //! The `stoss` command line.
 
+mod simulate;
 mod verify;
 
 use clap::{Parser, Subcommand};
@@ -20,11 +21,15 @@ pub enum Command {
     /// Verify the material kernel against closed forms, published numbers and the golden
     /// bit-exact histories.
     Verify(verify::VerifyArgs),
+    /// Run one experiment with given constants; print the energy balance and the comparison
+    /// with the recording; write measurements, state histories and VTK.
+    Simulate(simulate::SimulateArgs),
 }
 
 /// Run the parsed command line.
 pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Verify(args) => verify::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
     }
 }

@@ -1,4 +1,225 @@
-//! Functional experiments: geometry, loading, and the measurement extracted exactly as the
-//! experiment records it.
+//! Functional experiments as data. One TOML file per experiment (under
+//! `fixtures/experiments/`) gives its geometry, mesh, loading and what is recorded; the
+//! recording itself is a CSV beside it (see [`crate::input::recording`]):
+//!
+//! ```toml
+//! name = "4340 Taylor test, 208 m/s"
+//! source = "Johnson & Cook (1983); digitised by B. Banerjee (MIT licence)"
+//! recording = "taylor-4340-208.csv"        # relative to this file
+//! material = "../materials/4340-jc.toml"   # default material; `--material` overrides
+//!
+//! [setup]
+//! kind = "taylor"                          # uniaxial | tension | taylor
+//! length = 25.4e-3
+//! ...
+//! ```
+//!
+//! [`Experiment::simulate`] runs the experiment with a material and returns the prediction of
+//! every recorded point, in the recording's order, with the energy balance and the state
+//! histories of the points that drive the measurements.
 
 pub mod taylor;
+pub mod tension;
+pub mod uniaxial;
+
+use crate::input::recording::{self, RecordedPoint};
+use crate::input::{self, InputError};
+use crate::measure::StateHistory;
+use crate::mesh::QuadMesh;
+use crate::solver::{EnergyBalance, SolverError, SolverSettings};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use stoss_kernel::{Material, MaterialState};
+
+pub use taylor::TaylorSpec;
+pub use tension::TensionSpec;
+pub use uniaxial::UniaxialSpec;
+
+/// The experiment's set-up, by kind.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Setup {
+    /// Homogeneous stress-strain at a rate and temperature (characterisation curves), through
+    /// the kernel's uniaxial-stress driver.
+    Uniaxial(UniaxialSpec),
+    /// The seed 001 sec. 3.4.1 FE tension cylinder.
+    Tension(TensionSpec),
+    /// Taylor rod-on-anvil.
+    Taylor(TaylorSpec),
+}
+
+impl Setup {
+    /// Quantities this kind can predict.
+    pub fn quantities(&self) -> &'static [&'static str] {
+        match self {
+            Setup::Uniaxial(_) => uniaxial::QUANTITIES,
+            Setup::Tension(_) => tension::QUANTITIES,
+            Setup::Taylor(_) => taylor::QUANTITIES,
+        }
+    }
+}
+
+/// The TOML file of an experiment.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentFile {
+    /// Display name.
+    pub name: String,
+    /// Where the recording comes from; "synthetic" recordings say so and name their truth.
+    #[serde(default)]
+    pub source: String,
+    /// Recording CSV, relative to the experiment file.
+    pub recording: String,
+    /// Default material file, relative to the experiment file.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Geometry, mesh and loading.
+    pub setup: Setup,
+}
+
+/// A loaded experiment: file, recording and paths.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Experiment {
+    /// The experiment file's path.
+    pub path: PathBuf,
+    /// Its contents.
+    pub file: ExperimentFile,
+    /// The recorded points.
+    pub recording: Vec<RecordedPoint>,
+}
+
+/// Fields of the final state for visualisation (VTK).
+#[derive(Clone, Debug)]
+pub struct FieldOutput {
+    /// The mesh (reference configuration).
+    pub mesh: QuadMesh,
+    /// Final nodal positions.
+    pub positions: Vec<[f64; 2]>,
+    /// Final element states.
+    pub states: Vec<MaterialState>,
+    /// Eroded elements.
+    pub eroded: Vec<bool>,
+}
+
+/// What a simulation of an experiment produced.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// The prediction of each recorded point, in the recording's order.
+    pub predicted: Vec<f64>,
+    /// Named scalar results (e.g. final length), SI.
+    pub summary: Vec<(String, f64)>,
+    /// Energy balance (FE runs).
+    pub energy: Option<EnergyBalance>,
+    /// State histories of the material points that drive the measurements.
+    pub states: Vec<StateHistory>,
+    /// Final fields (FE runs).
+    pub field: Option<FieldOutput>,
+    /// Element-cycles of the run (0 for driver runs).
+    pub element_cycles: u64,
+}
+
+/// Why a simulation failed.
+#[derive(Debug)]
+pub enum SimulationError {
+    /// The solver failed.
+    Solver(SolverError),
+    /// The kernel driver failed.
+    Driver(stoss_kernel::drivers::DriverError),
+}
+
+impl std::fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SimulationError::Solver(error) => write!(f, "{error}"),
+            SimulationError::Driver(error) => write!(f, "{error}"),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {}
+
+impl From<SolverError> for SimulationError {
+    fn from(error: SolverError) -> Self {
+        SimulationError::Solver(error)
+    }
+}
+
+impl Experiment {
+    /// Load an experiment file and its recording. Errors name the file, line and field.
+    pub fn load(path: &Path) -> Result<Self, InputError> {
+        let text = input::read_text(path)?;
+        let file: ExperimentFile = input::parse_toml(path, &text)?;
+        let check = |field: &str, ok: bool, message: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(InputError::field(path, &text, field, message))
+            }
+        };
+        match &file.setup {
+            Setup::Uniaxial(spec) => spec.validate(&check)?,
+            Setup::Tension(spec) => spec.validate(&check)?,
+            Setup::Taylor(spec) => spec.validate(&check)?,
+        }
+        let recording_path = path
+            .parent()
+            .unwrap_or(Path::new("."))
+            .join(&file.recording);
+        let recording = recording::load(&recording_path)?;
+        let known = file.setup.quantities();
+        for (index, point) in recording.iter().enumerate() {
+            if !known.contains(&point.quantity.as_str()) {
+                return Err(InputError::Field {
+                    path: recording_path.clone(),
+                    line: None,
+                    field: "quantity".into(),
+                    message: format!(
+                        "point {}: `{}` is not measured by a {} experiment (known: {})",
+                        index + 1,
+                        point.quantity,
+                        kind_name(&file.setup),
+                        known.join(", ")
+                    ),
+                });
+            }
+        }
+        Ok(Self {
+            path: path.into(),
+            file,
+            recording,
+        })
+    }
+
+    /// The default material file named by the experiment, resolved against its folder.
+    pub fn default_material_path(&self) -> Option<PathBuf> {
+        self.file
+            .material
+            .as_ref()
+            .map(|m| self.path.parent().unwrap_or(Path::new(".")).join(m))
+    }
+
+    /// Simulate with `material`.
+    pub fn simulate(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+    ) -> Result<Outcome, SimulationError> {
+        match &self.file.setup {
+            Setup::Uniaxial(spec) => spec.simulate(material, &self.recording),
+            Setup::Tension(spec) => spec.simulate(material, settings, &self.recording),
+            Setup::Taylor(spec) => spec.simulate(material, settings, &self.recording),
+        }
+    }
+}
+
+/// The `kind` string of a set-up.
+pub fn kind_name(setup: &Setup) -> &'static str {
+    match setup {
+        Setup::Uniaxial(_) => "uniaxial",
+        Setup::Tension(_) => "tension",
+        Setup::Taylor(_) => "taylor",
+    }
+}
+
+/// A validation callback: `(field, ok, message)`.
+pub type Check<'a> = dyn Fn(&str, bool, &str) -> Result<(), InputError> + 'a;

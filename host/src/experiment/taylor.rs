@@ -1,16 +1,34 @@
-//! Taylor rod-on-anvil: a rod hits a rigid anvil; the final shape is measured (final length,
-//! footprint diameter, diameter at given positions from the impact face).
+//! Taylor rod-on-anvil: a rod hits a rigid anvil; its final shape is measured. Quantities:
+//! `final_length` (m), `footprint_diameter` (m, at the impact face), `diameter` (m) at
+//! `position` = distance from the impact face in the deformed rod (m).
 
+use super::{Check, FieldOutput, Outcome, SimulationError};
+use crate::input::recording::RecordedPoint;
+use crate::input::InputError;
+use crate::measure::interpolate;
 use crate::mesh::{Grading, QuadMesh};
 use crate::solver::{
     Amplitude, AxisymmetricModel, AxisymmetricRun, NodalDamping, RigidWall, SolverError,
     SolverSettings, VelocityConstraint,
 };
+use serde::{Deserialize, Serialize};
 use stoss_kernel::Material;
 
+/// Quantities a Taylor test records.
+pub const QUANTITIES: &[&str] = &["final_length", "footprint_diameter", "diameter"];
+
+fn default_temperature() -> f64 {
+    298.0
+}
+
+fn default_radial() -> usize {
+    8
+}
+
 /// Geometry, loading and discretisation of a Taylor test.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TaylorSetup {
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaylorSpec {
     /// Initial rod length `L0` (m).
     pub length: f64,
     /// Initial rod diameter `D0` (m).
@@ -18,41 +36,73 @@ pub struct TaylorSetup {
     /// Impact velocity (m/s).
     pub velocity: f64,
     /// Initial temperature (K).
+    #[serde(default = "default_temperature")]
     pub temperature: f64,
-    /// Elements across the radius.
-    pub radial_elements: usize,
-    /// Elements along the rod.
-    pub axial_elements: usize,
     /// Coulomb friction between rod and anvil.
+    #[serde(default)]
     pub anvil_friction: f64,
-    /// Time at which nodal damping starts (s); the plastic event is over well before.
-    pub damping_start: f64,
-    /// End time (s).
-    pub end_time: f64,
+    /// Elements across the radius; the axial count follows from square elements.
+    #[serde(default = "default_radial")]
+    pub radial_elements: usize,
 }
 
-impl TaylorSetup {
-    /// Default discretisation for a rod: square-ish elements, `radial` across the radius.
-    pub fn new(length: f64, diameter: f64, velocity: f64, radial: usize) -> Self {
-        let radius = 0.5 * diameter;
-        let axial = ((length / (radius / radial as f64)).round() as usize).max(4);
-        // Plastic event ~ 3-4 plastic-wave transits; elastic transit L/c ~ L/5000.
-        let transit = length / 5000.0;
+/// Elastic wave transit time estimate `L / 5000 m/s` (steel-like).
+fn transit(length: f64) -> f64 {
+    length / 5000.0
+}
+
+impl TaylorSpec {
+    /// A rod test with default temperature, friction and mesh.
+    pub fn new(length: f64, diameter: f64, velocity: f64, radial_elements: usize) -> Self {
         Self {
             length,
             diameter,
             velocity,
-            temperature: 298.0,
-            radial_elements: radial,
-            axial_elements: axial,
+            temperature: default_temperature(),
             anvil_friction: 0.0,
-            damping_start: (4.0 * length / velocity.max(1.0) * 0.3).max(30.0 * transit),
-            end_time: (4.0 * length / velocity.max(1.0) * 0.3).max(30.0 * transit) + 40.0 * transit,
+            radial_elements,
         }
     }
 
+    pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
+        check(
+            "length",
+            self.length > 0.0 && self.length.is_finite(),
+            "must be > 0 (m)",
+        )?;
+        check(
+            "diameter",
+            self.diameter > 0.0 && self.diameter.is_finite(),
+            "must be > 0 (m)",
+        )?;
+        check(
+            "velocity",
+            self.velocity > 0.0 && self.velocity.is_finite(),
+            "must be > 0 (m/s)",
+        )?;
+        check("temperature", self.temperature > 0.0, "must be > 0 (K)")?;
+        check("anvil_friction", self.anvil_friction >= 0.0, "must be >= 0")?;
+        check(
+            "radial_elements",
+            (2..=200).contains(&self.radial_elements),
+            "must be in 2..=200",
+        )
+    }
+
+    /// Elements along the rod (square elements).
+    pub fn axial_elements(&self) -> usize {
+        let size = 0.5 * self.diameter / self.radial_elements as f64;
+        ((self.length / size).round() as usize).max(4)
+    }
+
+    /// Time at which nodal damping starts: the plastic event is over after a few plastic-wave
+    /// transits (at least 30 elastic transits, or 1.2 L0/U).
+    pub fn damping_start(&self) -> f64 {
+        (1.2 * self.length / self.velocity).max(30.0 * transit(self.length))
+    }
+
     /// The finite-element model with `material` for the rod.
-    pub fn model(&self, material: Material, settings: &SolverSettings) -> AxisymmetricModel {
+    pub fn model(&self, material: &Material, settings: &SolverSettings) -> AxisymmetricModel {
         let radius = 0.5 * self.diameter;
         let mesh = QuadMesh::block(
             "rod",
@@ -60,17 +110,21 @@ impl TaylorSetup {
             (0.0, radius),
             (0.0, self.length),
             self.radial_elements,
-            self.axial_elements,
+            self.axial_elements(),
             Grading::UNIFORM,
             Grading::UNIFORM,
         );
         let axis = mesh.node_set("rod.axis").unwrap_or(&[]).to_vec();
         let initial_velocity = vec![[0.0, -self.velocity]; mesh.nodes.len()];
-        let transit = self.length / 5000.0;
-        let tracked = (0..mesh.elements.len()).collect();
+        // The elements of the outer column drive the profile measurement; the first rows
+        // drive the footprint.
+        let tracked = (0..self.axial_elements())
+            .map(|row| row * self.radial_elements + self.radial_elements - 1)
+            .collect();
+        let end_time = self.damping_start() + 40.0 * transit(self.length);
         AxisymmetricModel {
             mesh,
-            materials: vec![material],
+            materials: vec![*material],
             initial_temperature: self.temperature,
             initial_velocity,
             constraints: vec![VelocityConstraint {
@@ -85,27 +139,65 @@ impl TaylorSetup {
                 nodes: Vec::new(),
             }],
             settings: SolverSettings {
-                end_time: self.end_time,
+                end_time,
                 damping: Some(NodalDamping {
-                    start_time: self.damping_start,
-                    coefficient: 2.0 / transit,
+                    start_time: self.damping_start(),
+                    coefficient: 2.0 / transit(self.length),
                 }),
-                output_interval: self.end_time / 200.0,
+                output_interval: end_time / 200.0,
                 ..settings.clone()
             },
             tracked_elements: tracked,
         }
     }
 
-    /// Run and measure.
+    /// Run the model and measure the final shape.
     pub fn run(
         &self,
-        material: Material,
+        material: &Material,
         settings: &SolverSettings,
-    ) -> Result<(TaylorResult, AxisymmetricRun), SolverError> {
+    ) -> Result<(TaylorResult, AxisymmetricRun, AxisymmetricModel), SolverError> {
         let model = self.model(material, settings);
         let run = model.run(&mut |_, _| {})?;
-        Ok((TaylorResult::measure(&model.mesh, &run), run))
+        Ok((TaylorResult::measure(&model.mesh, &run), run, model))
+    }
+
+    pub(super) fn simulate(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+        recording: &[RecordedPoint],
+    ) -> Result<Outcome, SimulationError> {
+        let (result, run, model) = self.run(material, settings)?;
+        let predicted = recording
+            .iter()
+            .map(|point| match point.quantity.as_str() {
+                "final_length" => result.final_length,
+                "footprint_diameter" => result.footprint_diameter,
+                "diameter" => result.diameter_at(point.position),
+                _ => f64::NAN,
+            })
+            .collect();
+        Ok(Outcome {
+            predicted,
+            summary: vec![
+                ("final_length".into(), result.final_length),
+                ("footprint_diameter".into(), result.footprint_diameter),
+                (
+                    "diameter_at_0.2_L0".into(),
+                    result.diameter_at(0.2 * self.length),
+                ),
+            ],
+            energy: Some(run.energy()),
+            states: run.tracked.clone(),
+            element_cycles: run.element_cycles,
+            field: Some(FieldOutput {
+                mesh: model.mesh,
+                positions: run.positions,
+                states: run.states,
+                eroded: run.eroded,
+            }),
+        })
     }
 }
 
@@ -114,7 +206,7 @@ impl TaylorSetup {
 pub struct TaylorResult {
     /// Final length `Lf` (m).
     pub final_length: f64,
-    /// Footprint (mushroom) diameter `Df` at the impact face (m).
+    /// Footprint (mushroom) diameter `Df`: twice the largest radius (m).
     pub footprint_diameter: f64,
     /// Outer profile `(z, radius)` from the impact face, sorted by `z`.
     pub profile: Vec<(f64, f64)>,
@@ -123,44 +215,29 @@ pub struct TaylorResult {
 impl TaylorResult {
     /// Measure the final shape from the outer-surface nodes.
     pub fn measure(mesh: &QuadMesh, run: &AxisymmetricRun) -> Self {
+        let (low, high) = run
+            .positions
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p[1]), hi.max(p[1]))
+            });
+        // Positions are measured from the impact face (the rod may have rebounded).
         let outer = mesh.node_set("rod.outer").unwrap_or(&[]);
         let mut profile: Vec<(f64, f64)> = outer
             .iter()
-            .map(|&n| (run.positions[n][1], run.positions[n][0]))
+            .map(|&n| (run.positions[n][1] - low, run.positions[n][0]))
             .collect();
         profile.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let final_length = run
-            .positions
-            .iter()
-            .map(|p| p[1])
-            .fold(f64::NEG_INFINITY, f64::max)
-            - run
-                .positions
-                .iter()
-                .map(|p| p[1])
-                .fold(f64::INFINITY, f64::min);
         let footprint = run.positions.iter().map(|p| p[0]).fold(0.0, f64::max);
         Self {
-            final_length,
+            final_length: high - low,
             footprint_diameter: 2.0 * footprint,
             profile,
         }
     }
 
-    /// Diameter of the outer profile at distance `z` from the impact face (linear
-    /// interpolation between surface nodes).
+    /// Diameter of the outer profile at distance `z` from the impact face.
     pub fn diameter_at(&self, z: f64) -> f64 {
-        let p = &self.profile;
-        for pair in p.windows(2) {
-            if pair[0].0 <= z && z <= pair[1].0 {
-                let f = if pair[1].0 > pair[0].0 {
-                    (z - pair[0].0) / (pair[1].0 - pair[0].0)
-                } else {
-                    0.0
-                };
-                return 2.0 * (pair[0].1 + f * (pair[1].1 - pair[0].1));
-            }
-        }
-        f64::NAN
+        2.0 * interpolate(&self.profile, z)
     }
 }

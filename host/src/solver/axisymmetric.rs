@@ -13,6 +13,7 @@
 use super::energy::EnergyBalance;
 use super::loads::{RigidWall, VelocityConstraint};
 use super::{SolverError, SolverSettings};
+use crate::measure::{StateHistory, StateSample};
 use crate::mesh::QuadMesh;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -39,27 +40,6 @@ pub struct AxisymmetricModel {
     pub tracked_elements: Vec<usize>,
 }
 
-/// The state of one tracked element at one time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TrackedSample {
-    /// Time (s).
-    pub time: f64,
-    /// Equivalent plastic strain.
-    pub plastic_strain: f64,
-    /// Plastic strain rate (1/s).
-    pub plastic_strain_rate: f64,
-    /// Temperature (K).
-    pub temperature: f64,
-    /// Pressure (Pa).
-    pub pressure: f64,
-    /// von Mises stress (Pa).
-    pub equivalent_stress: f64,
-    /// Stress triaxiality `-p/q` (0 when `q = 0`).
-    pub triaxiality: f64,
-    /// Axial stress `sigma_zz` (Pa).
-    pub axial_stress: f64,
-}
-
 /// The result of a run.
 #[derive(Clone, Debug)]
 pub struct AxisymmetricRun {
@@ -74,7 +54,7 @@ pub struct AxisymmetricRun {
     /// Energy balance at every output interval, and the final one last.
     pub energy_history: Vec<EnergyBalance>,
     /// Tracked element histories, in the order of `tracked_elements`.
-    pub tracked: Vec<Vec<TrackedSample>>,
+    pub tracked: Vec<StateHistory>,
     /// Reaction force histories `(time, force over 2 pi)` on each constraint's dof.
     pub constraint_forces: Vec<Vec<(f64, f64)>>,
     /// Time steps taken.
@@ -293,7 +273,14 @@ impl AxisymmetricModel {
         };
         energy.initial = energy.total();
         let mut energy_history = vec![energy];
-        let mut tracked: Vec<Vec<TrackedSample>> = vec![Vec::new(); self.tracked_elements.len()];
+        let mut tracked: Vec<StateHistory> = self
+            .tracked_elements
+            .iter()
+            .map(|e| StateHistory {
+                label: format!("element {e}"),
+                samples: Vec::new(),
+            })
+            .collect();
         let mut constraint_forces: Vec<Vec<(f64, f64)>> = vec![Vec::new(); self.constraints.len()];
         let mut time = 0.0;
         let mut dt_previous = 0.0;
@@ -560,19 +547,9 @@ impl AxisymmetricModel {
                 next_output += settings.output_interval;
                 energy_history.push(energy);
                 for (slot, &e) in self.tracked_elements.iter().enumerate() {
-                    let s = &states[e];
-                    let q = s.equivalent_stress();
-                    let p = s.pressure();
-                    tracked[slot].push(TrackedSample {
-                        time,
-                        plastic_strain: s.plastic_strain,
-                        plastic_strain_rate: s.plastic_strain_rate,
-                        temperature: s.temperature,
-                        pressure: p,
-                        equivalent_stress: q,
-                        triaxiality: if q > 0.0 { -p / q } else { 0.0 },
-                        axial_stress: s.stress[1],
-                    });
+                    tracked[slot]
+                        .samples
+                        .push(StateSample::from_state(time, &states[e], 1));
                 }
                 progress(time, &energy);
                 if settings.rest_fraction > 0.0 {

@@ -9,6 +9,8 @@ use crate::strength::homologous_temperature;
 /// Johnson-Cook failure constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct JohnsonCookFailure {
     /// `D1` (-).
     pub d1: f64,

@@ -12,6 +12,8 @@ use crate::error::{check, ParameterError};
 /// Failure and erosion settings of a material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Failure {
     /// Cumulative Johnson-Cook damage `D = sum(deps_p / eps_f)`; fails at `D >= 1`.
     pub johnson_cook: Option<JohnsonCookFailure>,
@@ -19,6 +21,7 @@ pub struct Failure {
     /// 1.5 for HNS). `None`: never by strain.
     pub erosion_plastic_strain: Option<f64>,
     /// Erode (not only fail) when damage reaches 1, as LS-DYNA *MAT_JOHNSON_COOK does.
+    #[cfg_attr(feature = "serde", serde(default))]
     pub erode_on_failure: bool,
     /// Hydrodynamic tensile limit `p_min <= 0` (Pa): pressure is never below it (spall
     /// cut-off, Autodyn "hydro tensile limit"). `None`: no cut-off for intact material.

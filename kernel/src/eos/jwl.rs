@@ -20,6 +20,8 @@ use crate::math::exp;
 /// JWL constants (SI) and the published detonation data that go with them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Jwl {
     /// `A` (Pa).
     pub a: f64,

@@ -6,6 +6,8 @@ use crate::error::{check, ParameterError};
 /// Linear EoS constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct LinearEos {
     /// Bulk modulus `K` (Pa).
     pub bulk_modulus: f64,

@@ -26,6 +26,8 @@ use crate::error::{check, ParameterError};
 /// Mie-Grüneisen constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct MieGruneisen {
     /// Reference density `rho0` (kg/m^3) of the Hugoniot fit (normally the material density).
     pub reference_density: f64,

@@ -70,6 +70,8 @@ pub const MAX_DISTENSION_ITERATIONS: u32 = 64;
 /// P-alpha constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct PAlpha {
     /// Matrix (solid) EoS in terms of the matrix compression `mu_s` and matrix energy
     /// `E_s = alpha0 E` (seed 001 eqs. 4.10a-b).

@@ -16,6 +16,8 @@ use crate::error::{check, ParameterError};
 /// Polynomial EoS constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Polynomial {
     /// `A1` (Pa), the bulk modulus in compression.
     pub a1: f64,

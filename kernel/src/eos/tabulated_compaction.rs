@@ -32,6 +32,8 @@ pub const MAX_COMPACTION_POINTS: usize = 16;
 /// One point of the loading curve.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct CompactionPoint {
     /// Volumetric strain `eps = -ln V` (-), positive in compression.
     pub volumetric_strain: f64,
@@ -62,6 +64,8 @@ impl CompactionPoint {
 /// Built with [`TabulatedCompaction::new`] (checked) so that the count is always in range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct TabulatedCompaction {
     points: [CompactionPoint; MAX_COMPACTION_POINTS],
     count: usize,

@@ -7,6 +7,8 @@ use crate::error::ParameterError;
 /// the diagnosis adds a physics term by swapping one of the three enums.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct ComposedStrength {
     /// Strain-hardening term.
     pub hardening: Hardening,

@@ -6,6 +6,8 @@ use crate::math::{exp, pow};
 /// Isotropic strain hardening as a function of equivalent plastic strain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "kebab-case"))]
 pub enum Hardening {
     /// Power law (Ludwik, JC first bracket): `A + B eps_p^n`.
     Power {

@@ -8,6 +8,8 @@ use crate::error::ParameterError;
 /// Johnson-Cook constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct JohnsonCook {
     /// Yield stress `A` (Pa).
     pub yield_stress: f64,

@@ -44,6 +44,8 @@ pub struct FlowStress {
 /// plastic strain rate and temperature.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "kebab-case"))]
 pub enum Strength {
     /// `hardening(eps_p) * rate(deps_p) * thermal(T)`.
     Composed(ComposedStrength),

@@ -6,6 +6,8 @@ use crate::math::{ln, pow};
 /// Multiplicative strain-rate factor on the flow stress.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "kebab-case"))]
 pub enum RateTerm {
     /// Rate-independent: `r = 1`.
     None,

@@ -18,6 +18,8 @@ pub fn homologous_temperature(
 /// Multiplicative thermal-softening factor on the flow stress.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "kebab-case"))]
 pub enum ThermalTerm {
     /// No thermal softening: `theta = 1`.
     None,

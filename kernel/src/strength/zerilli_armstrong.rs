@@ -15,6 +15,8 @@ use crate::math::{exp, ln, pow, sqrt};
 /// Lattice structure selecting the ZA form.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum CrystalStructure {
     /// Body-centred cubic (steels): thermal part independent of strain.
     Bcc,
@@ -25,6 +27,8 @@ pub enum CrystalStructure {
 /// Zerilli-Armstrong constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct ZerilliArmstrong {
     /// BCC or FCC form.
     pub structure: CrystalStructure,

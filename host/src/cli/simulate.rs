@@ -1,0 +1,179 @@
+//! `stoss simulate <experiment.toml> [--material m.toml]`: run one experiment with given
+//! constants; print the energy balance and the comparison with the recording; write
+//! `measurements.csv`, `summary.json`, `energy.csv`, `states.csv` and `final.vtu` into the
+//! output folder (all written to a temporary folder first and moved into place, so a failed
+//! run leaves no partial output).
+
+use crate::experiment::Experiment;
+use crate::input::{material, InputError};
+use crate::report::vtk;
+use crate::solver::SolverSettings;
+use clap::Args;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Arguments of `stoss simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// Experiment file (TOML).
+    pub experiment: PathBuf,
+    /// Material file (TOML); defaults to the experiment's `material`.
+    #[arg(long)]
+    pub material: Option<PathBuf>,
+    /// Output folder (default `out/<experiment name>`).
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    /// Worker threads (results do not depend on it).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+fn write_outputs(
+    directory: &Path,
+    experiment: &Experiment,
+    outcome: &crate::experiment::Outcome,
+) -> std::io::Result<()> {
+    std::fs::create_dir_all(directory)?;
+    let mut csv = String::from("quantity,position,recorded,uncertainty,predicted,residual\n");
+    for (point, predicted) in experiment.recording.iter().zip(&outcome.predicted) {
+        let _ = writeln!(
+            csv,
+            "{},{:e},{:e},{:e},{:e},{:e}",
+            point.quantity,
+            point.position,
+            point.value,
+            point.uncertainty,
+            predicted,
+            predicted - point.value
+        );
+    }
+    std::fs::write(directory.join("measurements.csv"), csv)?;
+    let summary: serde_json::Map<String, serde_json::Value> = outcome
+        .summary
+        .iter()
+        .map(|(k, v)| (k.clone(), serde_json::json!(v)))
+        .chain(outcome.energy.map(|e| {
+            (
+                "energy_error_percent".to_string(),
+                serde_json::json!(e.error_percent()),
+            )
+        }))
+        .collect();
+    std::fs::write(
+        directory.join("summary.json"),
+        serde_json::to_string_pretty(&summary).unwrap_or_default(),
+    )?;
+    if let Some(energy) = &outcome.energy {
+        std::fs::write(directory.join("energy.txt"), energy.report() + "\n")?;
+    }
+    let mut states = String::from("point,time,plastic_strain,plastic_strain_rate,temperature,pressure,equivalent_stress,triaxiality,axial_stress\n");
+    for history in &outcome.states {
+        for s in &history.samples {
+            let _ = writeln!(
+                states,
+                "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+                history.label,
+                s.time,
+                s.plastic_strain,
+                s.plastic_strain_rate,
+                s.temperature,
+                s.pressure,
+                s.equivalent_stress,
+                s.triaxiality,
+                s.axial_stress
+            );
+        }
+    }
+    std::fs::write(directory.join("states.csv"), states)?;
+    if let Some(field) = &outcome.field {
+        std::fs::write(directory.join("final.vtu"), vtk::render(field))?;
+    }
+    Ok(())
+}
+
+/// Run `stoss simulate`.
+pub fn run(args: &SimulateArgs) -> ExitCode {
+    match simulate(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn simulate(args: &SimulateArgs) -> Result<(), String> {
+    let experiment = Experiment::load(&args.experiment).map_err(|e| e.to_string())?;
+    let material_path = args
+        .material
+        .clone()
+        .or_else(|| experiment.default_material_path())
+        .ok_or_else(|| {
+            InputError::field(
+                &args.experiment,
+                "",
+                "material",
+                "no material: give --material or set `material` in the experiment",
+            )
+            .to_string()
+        })?;
+    let (material_file, material) = material::load(&material_path).map_err(|e| e.to_string())?;
+    println!(
+        "experiment: {} ({})",
+        experiment.file.name,
+        args.experiment.display()
+    );
+    println!(
+        "material:   {} ({})",
+        material_file.name,
+        material_path.display()
+    );
+    let settings = SolverSettings {
+        threads: args.threads,
+        ..SolverSettings::default()
+    };
+    let bar = indicatif::ProgressBar::new_spinner().with_message("simulating");
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    let started = std::time::Instant::now();
+    let outcome = experiment
+        .simulate(&material, &settings)
+        .map_err(|e| format!("{}: {e}", args.experiment.display()))?;
+    bar.finish_and_clear();
+    println!("wall time:  {:.2} s", started.elapsed().as_secs_f64());
+    if let Some(energy) = &outcome.energy {
+        println!("{}", energy.report());
+    }
+    for (name, value) in &outcome.summary {
+        println!("{name:<24} {value:.6e}");
+    }
+    println!(
+        "\n{:<20} {:>12} {:>12} {:>12} {:>10}",
+        "quantity", "position", "recorded", "predicted", "diff %"
+    );
+    for (point, predicted) in experiment.recording.iter().zip(&outcome.predicted) {
+        println!(
+            "{:<20} {:>12.4e} {:>12.4e} {:>12.4e} {:>+9.2}%",
+            point.quantity,
+            point.position,
+            point.value,
+            predicted,
+            100.0 * (predicted - point.value) / point.value.abs().max(1e-300)
+        );
+    }
+    let output = args.output.clone().unwrap_or_else(|| {
+        PathBuf::from("out").join(
+            args.experiment
+                .file_stem()
+                .map_or_else(|| "run".into(), |s| s.to_string_lossy().into_owned()),
+        )
+    });
+    let temporary = output.with_extension(format!("tmp-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&temporary);
+    write_outputs(&temporary, &experiment, &outcome)
+        .map_err(|e| format!("{}: {e}", temporary.display()))?;
+    let _ = std::fs::remove_dir_all(&output);
+    std::fs::rename(&temporary, &output).map_err(|e| format!("{}: {e}", output.display()))?;
+    println!("\nwrote {}", output.display());
+    Ok(())
+}

@@ -1,0 +1,133 @@
+//! Homogeneous uniaxial stress at constant true strain rate and initial temperature: the
+//! characterisation curves (e.g. `shared/data/real/4340-flow`). Runs the kernel's
+//! uniaxial-stress driver; quantity `true_stress` (Pa, magnitude) at `position` = true plastic
+//! strain.
+
+use super::{Check, Outcome, SimulationError};
+use crate::input::recording::RecordedPoint;
+use crate::input::InputError;
+use crate::measure::{interpolate, StateHistory, StateSample};
+use crate::verify::History;
+use serde::{Deserialize, Serialize};
+use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
+use stoss_kernel::{Heating, Material, MaterialState};
+
+/// Quantities a uniaxial test records.
+pub const QUANTITIES: &[&str] = &["true_stress"];
+
+/// Plastic-strain step of the driver.
+const STRAIN_STEP: f64 = 2.0e-4;
+
+/// A homogeneous uniaxial-stress test.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UniaxialSpec {
+    /// True strain rate magnitude (1/s).
+    pub strain_rate: f64,
+    /// Initial temperature (K).
+    pub temperature: f64,
+    /// Compression (`true`) or tension.
+    #[serde(default)]
+    pub compression: bool,
+    /// Force isothermal conditions (quasi-static tests), whatever the material's heating.
+    #[serde(default)]
+    pub isothermal: bool,
+}
+
+impl UniaxialSpec {
+    pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
+        check(
+            "strain_rate",
+            self.strain_rate > 0.0 && self.strain_rate.is_finite(),
+            "must be > 0 (1/s)",
+        )?;
+        check(
+            "temperature",
+            self.temperature > 0.0 && self.temperature.is_finite(),
+            "must be > 0 (K)",
+        )
+    }
+
+    /// Run the driver up to `max_plastic_strain` and return the state history.
+    pub fn history(
+        &self,
+        material: &Material,
+        max_plastic_strain: f64,
+    ) -> Result<StateHistory, SimulationError> {
+        let mut material = *material;
+        if self.isothermal {
+            material.heating = Heating::Isothermal;
+        }
+        // Total strain: plastic target plus a generous elastic allowance.
+        let total = max_plastic_strain.max(0.02) + 0.03;
+        let steps = ((total / STRAIN_STEP).ceil() as u32).max(200);
+        let sign = if self.compression { -1.0 } else { 1.0 };
+        let mut state = MaterialState::initial(self.temperature);
+        let mut history = History::default();
+        uniaxial_stress(
+            &material,
+            &mut state,
+            &UniaxialStressLoading {
+                strain_rate: self.strain_rate,
+                final_strain: sign * total,
+                steps,
+            },
+            &mut history,
+        )
+        .map_err(SimulationError::Driver)?;
+        let samples = history
+            .0
+            .iter()
+            .map(|r| StateSample {
+                time: r.time,
+                plastic_strain: r.plastic_strain,
+                plastic_strain_rate: r.plastic_strain_rate,
+                temperature: r.temperature,
+                pressure: r.pressure,
+                equivalent_stress: r.equivalent_stress,
+                triaxiality: if r.equivalent_stress > 0.0 {
+                    -r.pressure / r.equivalent_stress
+                } else {
+                    0.0
+                },
+                axial_stress: r.stress[0],
+            })
+            .collect();
+        Ok(StateHistory {
+            label: "uniaxial driver".into(),
+            samples,
+        })
+    }
+
+    pub(super) fn simulate(
+        &self,
+        material: &Material,
+        recording: &[RecordedPoint],
+    ) -> Result<Outcome, SimulationError> {
+        let max_strain = recording.iter().map(|p| p.position).fold(0.0, f64::max);
+        let history = self.history(material, max_strain)?;
+        let curve: Vec<(f64, f64)> = history
+            .samples
+            .iter()
+            .filter(|s| s.plastic_strain > 0.0)
+            .map(|s| (s.plastic_strain, s.axial_stress.abs()))
+            .collect();
+        let predicted = recording
+            .iter()
+            .map(|p| interpolate(&curve, p.position))
+            .collect();
+        let last = history.samples.last().copied().unwrap_or_default();
+        Ok(Outcome {
+            predicted,
+            summary: vec![
+                ("final_true_stress".into(), last.axial_stress.abs()),
+                ("final_plastic_strain".into(), last.plastic_strain),
+                ("final_temperature".into(), last.temperature),
+            ],
+            energy: None,
+            states: vec![history],
+            field: None,
+            element_cycles: 0,
+        })
+    }
+}

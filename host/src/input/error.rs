@@ -1,0 +1,68 @@
+//! The typed input error.
+
+use std::path::PathBuf;
+
+/// What is wrong with an input file, and where.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InputError {
+    /// The file could not be read or written.
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// The operating system's message.
+        message: String,
+    },
+    /// A field is missing, unknown, of the wrong type, or out of its physical range.
+    Field {
+        /// File path.
+        path: PathBuf,
+        /// 1-based line, when it could be located.
+        line: Option<usize>,
+        /// Field name (may be empty for syntax errors).
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl InputError {
+    /// A field error located by its key in `text`.
+    pub fn field(
+        path: &std::path::Path,
+        text: &str,
+        field: &str,
+        message: impl Into<String>,
+    ) -> Self {
+        InputError::Field {
+            path: path.into(),
+            line: super::line_of_key(text, field),
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}
+
+impl std::fmt::Display for InputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            InputError::Io { path, message } => write!(f, "{}: {message}", path.display()),
+            InputError::Field {
+                path,
+                line,
+                field,
+                message,
+            } => {
+                write!(f, "{}", path.display())?;
+                if let Some(line) = line {
+                    write!(f, ":{line}")?;
+                }
+                if !field.is_empty() {
+                    write!(f, ": field `{field}`")?;
+                }
+                write!(f, ": {}", message.trim_end())
+            }
+        }
+    }
+}
+
+impl std::error::Error for InputError {}

@@ -1,0 +1,225 @@
+//! Material files (TOML). The strength model is chosen by `model` in `[strength]` and its
+//! constants are the kernel's parameter-struct fields, SI units:
+//!
+//! ```toml
+//! name = "4340 steel (Johnson & Cook 1985)"
+//! density = 7830.0            # kg/m^3
+//! shear_modulus = 81.8e9      # Pa
+//! specific_heat = 477.0       # J/kg/K
+//! rate_treatment = "implicit" # or "lagged" (seed 001 eq. 3.7)
+//!
+//! [strength]
+//! model = "johnson-cook"      # zerilli-armstrong | modified-johnson-cook | two-rate-johnson-cook | composed
+//! yield_stress = 792e6
+//! ...
+//! [heating]
+//! kind = "adiabatic"          # isothermal | adiabatic | transition
+//! taylor_quinney = 0.9
+//! [eos]
+//! kind = "linear"             # mie-gruneisen | polynomial | jwl | tabulated-compaction | p-alpha
+//! bulk_modulus = 159e9
+//! ```
+
+use super::{parse_toml, read_text, InputError};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use stoss_kernel::damage::Failure;
+use stoss_kernel::eos::Eos;
+use stoss_kernel::strength::{
+    ComposedStrength, JohnsonCook, ModifiedJohnsonCook, Strength, TwoRateJohnsonCook,
+    ZerilliArmstrong,
+};
+use stoss_kernel::{Heating, Material, ParameterError, RateTreatment};
+
+/// The strength model of a material file, by family.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "model", rename_all = "kebab-case")]
+pub enum StrengthSpec {
+    /// Johnson-Cook.
+    JohnsonCook(JohnsonCook),
+    /// Zerilli-Armstrong (BCC/FCC).
+    ZerilliArmstrong(ZerilliArmstrong),
+    /// Modified Johnson-Cook (seed 000 MJC).
+    ModifiedJohnsonCook(ModifiedJohnsonCook),
+    /// Two-part-rate Johnson-Cook (seed 000 TJC).
+    TwoRateJohnsonCook(TwoRateJohnsonCook),
+    /// Any composition of hardening, rate and thermal terms.
+    Composed(ComposedStrength),
+}
+
+impl StrengthSpec {
+    /// The kernel strength model.
+    pub fn strength(&self) -> Strength {
+        match *self {
+            StrengthSpec::JohnsonCook(m) => m.into(),
+            StrengthSpec::ZerilliArmstrong(m) => m.into(),
+            StrengthSpec::ModifiedJohnsonCook(m) => m.into(),
+            StrengthSpec::TwoRateJohnsonCook(m) => m.into(),
+            StrengthSpec::Composed(m) => m.into(),
+        }
+    }
+
+    /// Family validation (e.g. TJC's ordered reference rates).
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        match self {
+            StrengthSpec::JohnsonCook(m) => m.validate(),
+            StrengthSpec::ZerilliArmstrong(m) => m.validate(),
+            StrengthSpec::ModifiedJohnsonCook(m) => m.validate(),
+            StrengthSpec::TwoRateJohnsonCook(m) => m.validate(),
+            StrengthSpec::Composed(m) => m.validate(),
+        }
+    }
+}
+
+fn implicit() -> RateTreatment {
+    RateTreatment::Implicit
+}
+
+fn adiabatic() -> Heating {
+    Heating::ADIABATIC
+}
+
+/// A material file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialFile {
+    /// Display name.
+    pub name: String,
+    /// Where the constants come from.
+    #[serde(default)]
+    pub source: String,
+    /// Reference density (kg/m^3).
+    pub density: f64,
+    /// Shear modulus (Pa).
+    pub shear_modulus: f64,
+    /// Specific heat (J/kg/K).
+    pub specific_heat: f64,
+    /// Implicit (default) or lagged rate.
+    #[serde(default = "implicit")]
+    pub rate_treatment: RateTreatment,
+    /// Strength model.
+    pub strength: StrengthSpec,
+    /// Heating (default adiabatic, chi 0.9).
+    #[serde(default = "adiabatic")]
+    pub heating: Heating,
+    /// Equation of state.
+    pub eos: Eos,
+    /// Damage, failure and erosion (default none).
+    #[serde(default)]
+    pub failure: Option<Failure>,
+}
+
+impl MaterialFile {
+    /// The kernel material, validated.
+    pub fn material(&self) -> Result<Material, ParameterError> {
+        self.strength.validate()?;
+        let material = Material {
+            density: self.density,
+            shear_modulus: self.shear_modulus,
+            specific_heat: self.specific_heat,
+            strength: self.strength.strength(),
+            heating: self.heating,
+            eos: self.eos,
+            failure: self.failure.unwrap_or(Failure::NONE),
+            rate_treatment: self.rate_treatment,
+        };
+        material.validate()?;
+        Ok(material)
+    }
+
+    /// Render as TOML (the format `load` reads).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+}
+
+/// The field a kernel parameter error names.
+pub fn parameter_field(error: &ParameterError) -> &'static str {
+    match *error {
+        ParameterError::NotFinite { field }
+        | ParameterError::NotPositive { field, .. }
+        | ParameterError::Negative { field, .. }
+        | ParameterError::OutOfRange { field, .. }
+        | ParameterError::Inconsistent { field, .. } => field,
+    }
+}
+
+/// Parse a material from TOML text; errors name `path`, the line and the field.
+pub fn parse(path: &Path, text: &str) -> Result<(MaterialFile, Material), InputError> {
+    let file: MaterialFile = parse_toml(path, text)?;
+    let material = file.material().map_err(|error| {
+        let field = parameter_field(&error);
+        InputError::field(path, text, field, error.to_string())
+    })?;
+    Ok((file, material))
+}
+
+/// Load a material file.
+pub fn load(path: &Path) -> Result<(MaterialFile, Material), InputError> {
+    parse(path, &read_text(path)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const JC_4340: &str = r#"
+name = "4340"
+density = 7830.0
+shear_modulus = 81.8e9
+specific_heat = 477.0
+
+[strength]
+model = "johnson-cook"
+yield_stress = 792e6
+hardening_modulus = 510e6
+hardening_exponent = 0.26
+rate_sensitivity = 0.014
+thermal_exponent = 1.03
+reference_rate = 1.0
+reference_temperature = 298.0
+melting_temperature = 1793.0
+
+[eos]
+kind = "linear"
+bulk_modulus = 159e9
+"#;
+
+    #[test]
+    fn the_4340_file_gives_the_kernel_constant() {
+        // GOAL: a material file maps field by field onto the kernel structs.
+        // SETUP: the 4340 JC file. REFERENCE: Material::STEEL_4340 exactly.
+        let (_, material) = parse(Path::new("m.toml"), JC_4340).unwrap();
+        assert_eq!(material, Material::STEEL_4340);
+    }
+
+    #[test]
+    fn errors_name_file_line_and_field() {
+        // GOAL: bad input gets file, line and field.
+        // SETUP: a negative yield stress; an unknown key; a missing key.
+        // REFERENCE: the line of the offending key.
+        let bad = JC_4340.replace("yield_stress = 792e6", "yield_stress = -792e6");
+        let error = parse(Path::new("m.toml"), &bad).unwrap_err().to_string();
+        assert!(
+            error.starts_with("m.toml:9: field `yield_stress`"),
+            "{error}"
+        );
+        let bad = JC_4340.replace("density = 7830.0", "density = 7830.0\ndensty = 1.0");
+        let error = parse(Path::new("m.toml"), &bad).unwrap_err().to_string();
+        assert!(
+            error.contains("m.toml:4") && error.contains("densty"),
+            "{error}"
+        );
+        let bad = JC_4340.replace("shear_modulus = 81.8e9\n", "");
+        let error = parse(Path::new("m.toml"), &bad).unwrap_err().to_string();
+        assert!(error.contains("shear_modulus"), "{error}");
+    }
+
+    #[test]
+    fn a_material_round_trips_through_toml() {
+        // GOAL: what calibrate writes, simulate reads. REFERENCE: identical material.
+        let (file, material) = parse(Path::new("m.toml"), JC_4340).unwrap();
+        let (_, again) = parse(Path::new("n.toml"), &file.to_toml()).unwrap();
+        assert_eq!(material, again);
+    }
+}

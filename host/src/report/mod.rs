@@ -1,0 +1,3 @@
+//! Output files: VTK for ParaView, CSV/JSON measurements, energy reports.
+
+pub mod vtk;
