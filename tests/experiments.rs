@@ -1,0 +1,129 @@
+//! Experiments against published numbers and closed forms.
+
+use std::path::PathBuf;
+use stoss::experiment::Experiment;
+use stoss::input::material;
+use stoss::solver::SolverSettings;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures")
+        .join(name)
+}
+
+fn run(name: &str) -> (Experiment, stoss::experiment::Outcome) {
+    let experiment = Experiment::load(&fixture(&format!("experiments/{name}.toml"))).unwrap();
+    let (_, material) = material::load(&experiment.default_material_path().unwrap()).unwrap();
+    let outcome = experiment
+        .simulate(&material, &SolverSettings::default())
+        .unwrap();
+    (experiment, outcome)
+}
+
+fn predicted(
+    experiment: &Experiment,
+    outcome: &stoss::experiment::Outcome,
+    quantity: &str,
+) -> (f64, f64) {
+    let index = experiment
+        .recording
+        .iter()
+        .position(|p| p.quantity == quantity)
+        .unwrap();
+    (outcome.predicted[index], experiment.recording[index].value)
+}
+
+#[test]
+fn real_4340_taylor_tests_with_the_published_johnson_cook_constants() {
+    // GOAL: the solver with the published JC constants reproduces Johnson & Cook's (1983) 4340
+    //       Taylor tests: final length Lf, footprint Df and diameter W at 0.2 L0.
+    // SETUP: fixtures/experiments/taylor-4340-{208,282,343}.toml, 8 elements across the radius
+    //        (mesh-converged to < 0.1 % in Lf), frictionless anvil, adiabatic heating.
+    // REFERENCE: measured Lf 22.479 / 10.706 / 6.545 mm, W 8.32 / 8.70 / 9.50 mm.
+    //   Measured here: Lf +0.3 %, -3.4 %, -7.0 %; W -1.3 %, +0.6 %, -0.5 %. The 208 m/s rod
+    //   (L/D 3.3) is within the 3 % aim; the short, faster rods (L/D 1.7 and 1.1, plastic rates
+    //   ~1e5 /s) come out too short: JC's log-rate term is too soft there (see docs/solver.md).
+    //   Tolerances encode that measured state so that a regression cannot hide.
+    let cases = [
+        ("taylor-4340-208", 0.03),
+        ("taylor-4340-282", 0.045),
+        ("taylor-4340-343", 0.08),
+    ];
+    for (name, length_tolerance) in cases {
+        let (experiment, outcome) = run(name);
+        let (lf, lf_measured) = predicted(&experiment, &outcome, "final_length");
+        assert!(
+            (lf / lf_measured - 1.0).abs() < length_tolerance,
+            "{name}: Lf {lf} vs {lf_measured}"
+        );
+        let w_index = 2; // the third recorded point is W at 0.2 L0
+        let (w, w_measured) = (
+            outcome.predicted[w_index],
+            experiment.recording[w_index].value,
+        );
+        assert!(
+            (w / w_measured - 1.0).abs() < 0.03,
+            "{name}: W {w} vs {w_measured}"
+        );
+        let energy = outcome.energy.unwrap();
+        assert!(
+            energy.error_percent().abs() <= 1.0,
+            "{name}: energy error {}",
+            energy.error_percent()
+        );
+    }
+}
+
+#[test]
+fn seed_001_tension_cylinder_reproduces_the_analytical_flow_stress() {
+    // GOAL: seed 001 sec. 3.4.1: the FE cylinder's mid-section stress follows the analytical
+    //       JC flow stress at 1, 10, 100 and 1000 /s (implicit rate treatment).
+    // SETUP: 4 mm x 1 mm radius, 0.2 mm elements; mass scaling at low rates.
+    // REFERENCE: JC at the nominal rate (fixtures/experiments/tension-4340-*.csv), true strain
+    //   0.02-0.10 (uniform deformation). Tolerance 0.2 % (measured <= 0.02 %).
+    for rate in [1, 10, 100, 1000] {
+        let (experiment, outcome) = run(&format!("tension-4340-{rate}"));
+        for (point, value) in experiment.recording.iter().zip(&outcome.predicted) {
+            assert!(
+                (value / point.value - 1.0).abs() < 2e-3,
+                "{rate}/s at {}: {value} vs {}",
+                point.position,
+                point.value
+            );
+        }
+        assert!(outcome.energy.unwrap().error_percent().abs() <= 1.0);
+    }
+}
+
+#[test]
+fn the_published_constants_fit_the_johnson_cook_dynamic_tension_curves() {
+    // GOAL: the uniaxial kind reproduces the dynamic curves the constants were fitted to.
+    // SETUP: JC 4340 constants against the Johnson & Cook (1985) tension curves at 570 /s
+    //        (298 K), 604 /s (500 K) and 650 /s (735 K), adiabatic, kernel uniaxial driver.
+    // REFERENCE: the digitised curves for plastic strain >= 0.05, where the published fit holds
+    //   to 5.2 % (570 /s), 4.5 % (604 /s), 5.0 % (650 /s). Below 0.05 JC's B eps^0.26 rises far
+    //   faster than the measured yield transient (up to +21 % at 0.002).
+    //   (Not tested here, reported in docs/solver.md: the 0.002 /s curve lies up to 21 % from
+    //   JC, whose rate factor is 1 below 1 /s, and the Lee-Yeh compression curves 12-26 %,
+    //   a different temper.)
+    for name in [
+        "flow-4340-jc-tension-570s-298K",
+        "flow-4340-jc-tension-604s-500K",
+        "flow-4340-jc-tension-650s-735K",
+    ] {
+        let (experiment, outcome) = run(name);
+        let window = experiment
+            .recording
+            .iter()
+            .zip(&outcome.predicted)
+            .filter(|(p, _)| p.position >= 0.05);
+        for (point, value) in window {
+            assert!(
+                (value / point.value - 1.0).abs() < 0.06,
+                "{name} at {}: {value} vs {}",
+                point.position,
+                point.value
+            );
+        }
+    }
+}
