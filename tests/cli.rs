@@ -48,3 +48,73 @@ fn verify_fails_with_a_clear_error_on_a_missing_golden_directory() {
         "{errors}"
     );
 }
+
+#[test]
+fn simulate_writes_outputs_and_reports_energy() {
+    // GOAL: `stoss simulate` runs an experiment from a fresh clone and writes its outputs.
+    // SETUP: the seed 001 tension cylinder at 1000 /s, output into a temporary folder.
+    // REFERENCE: exit 0; the energy balance and the comparison table printed; measurements,
+    //   states, energy and VTK files written.
+    let output = std::env::temp_dir().join(format!("stoss-sim-{}", std::process::id()));
+    let result = stoss()
+        .args([
+            "simulate",
+            "fixtures/experiments/tension-4340-1000.toml",
+            "--output",
+        ])
+        .arg(&output)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&result.stdout);
+    assert!(
+        result.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    assert!(text.contains("energy error"));
+    assert!(text.contains("axial_stress"));
+    for file in [
+        "measurements.csv",
+        "states.csv",
+        "energy.txt",
+        "summary.json",
+        "final.vtu",
+    ] {
+        assert!(output.join(file).is_file(), "missing {file}");
+    }
+    std::fs::remove_dir_all(&output).unwrap();
+}
+
+#[test]
+fn simulate_rejects_a_bad_experiment_without_writing_anything() {
+    // GOAL: bad input gives file:line:field, a non-zero exit and no partial output.
+    // SETUP: a copy of the 208 m/s Taylor file with a negative velocity.
+    // REFERENCE: exit 1, the message names the file, line 12 and `velocity`; no output folder.
+    let folder = std::env::temp_dir().join(format!("stoss-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let source = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../fixtures/experiments/taylor-4340-208.toml"
+    ))
+    .unwrap();
+    let bad = source.replace("velocity = 208.0", "velocity = -208.0");
+    let line = bad.lines().position(|l| l.starts_with("velocity")).unwrap() + 1;
+    let path = folder.join("bad.toml");
+    std::fs::write(&path, bad).unwrap();
+    let output = folder.join("out");
+    let result = stoss()
+        .arg("simulate")
+        .arg(&path)
+        .arg("--output")
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert!(!result.status.success());
+    let errors = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        errors.contains(&format!("bad.toml:{line}: field `velocity`")),
+        "{errors}"
+    );
+    assert!(!output.exists());
+    std::fs::remove_dir_all(&folder).unwrap();
+}
