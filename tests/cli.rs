@@ -29,7 +29,7 @@ fn verify_prints_the_table_and_succeeds() {
     ] {
         assert!(text.contains(model), "missing {model}");
     }
-    assert!(text.contains("golden histories: 35 of 35 bit-identical"));
+    assert!(text.contains("golden histories: 45 of 45 bit-identical"));
 }
 
 #[test]

@@ -14,7 +14,7 @@ fn every_golden_history_is_bit_identical() {
     // SETUP: every reference material through every single-element driver.
     // REFERENCE: fixtures/golden/*.golden (regenerate with `stoss verify --bless`).
     let all = cases();
-    assert_eq!(all.len(), 35);
+    assert_eq!(all.len(), 45);
     let mut errors = Vec::new();
     for case in &all {
         if let Err(error) = compare(&golden_dir(), case) {
@@ -30,7 +30,7 @@ fn a_flipped_bit_is_detected() {
     // SETUP: flip the lowest bit of one stored stress value and compare.
     // REFERENCE: a Mismatch error naming the line and column.
     let case = cases()[0];
-    let records = case.driver.run(&case.material).unwrap();
+    let records = case.driver.run(&case.model).unwrap();
     let text = render(&case, &records);
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
     let mut words: Vec<String> = lines[10].split(' ').map(String::from).collect();

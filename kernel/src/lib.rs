@@ -32,6 +32,7 @@ pub mod eos;
 pub mod error;
 pub mod material;
 pub mod math;
+pub mod rht;
 pub mod state;
 pub mod strength;
 pub mod tensor;

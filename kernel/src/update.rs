@@ -23,9 +23,11 @@ use crate::state::{MaterialState, StateFlags};
 use crate::strength::FlowStress;
 use crate::tensor::{self, Matrix6, Sym};
 
-/// Bound on return-mapping iterations. Bisection alone shrinks the bracket by 2^-100, far
-/// below double precision, so the bound is never the reason for a result.
-pub const MAX_RETURN_ITERATIONS: u32 = 100;
+/// Bound on return-mapping iterations. Geometric then arithmetic bisection reaches any
+/// positive double from the initial bracket in fewer than ~120 steps (six-decade jumps to the
+/// root's decade, halving of the log-ratio, then 53 halvings), so the bound is not the reason
+/// for a result.
+pub const MAX_RETURN_ITERATIONS: u32 = 200;
 
 /// Relative residual `|g| / q_trial` at which the return mapping stops.
 pub const RETURN_TOLERANCE: f64 = 1e-14;
@@ -190,6 +192,12 @@ fn implicit_return(
     if dl > upper {
         dl = upper;
     }
+    // Safeguarded Newton (rtsafe): a Newton step is taken only if it stays inside the bracket
+    // and at least halves the previous step; otherwise the bracket is bisected, geometrically
+    // when it spans orders of magnitude (roots near 0 for tiny hardening exponents, steep rate
+    // laws), so that ~60 bisections reach any positive double.
+    let mut upper_flow: Option<FlowStress> = None;
+    let mut previous_step = upper;
     for iteration in 1..=MAX_RETURN_ITERATIONS {
         let (g, dg, flow) = residual(dl);
         if !g.is_finite() {
@@ -202,17 +210,39 @@ fn implicit_return(
             lower = dl;
         } else {
             upper = dl;
+            upper_flow = Some(flow);
+        }
+        if upper - lower <= f64::EPSILON * upper || upper <= 4.0 * f64::MIN_POSITIVE {
+            // Bracket exhausted at double precision. Return its upper end, where
+            // g <= 0: the stress is on (to round-off) or inside the yield surface.
+            let flow = match upper_flow {
+                Some(flow) => flow,
+                None => residual(upper).2,
+            };
+            return Ok((upper, flow, iteration));
         }
         let newton = dl - g / dg;
-        let next = if dg.is_finite() && dg < 0.0 && newton > lower && newton < upper {
+        let newton_ok = dg.is_finite()
+            && dg < 0.0
+            && newton > lower
+            && newton < upper
+            && (newton - dl).abs() <= 0.5 * previous_step;
+        let next = if newton_ok {
             newton
+        } else if lower == 0.0 {
+            // Jump down six decades towards a root near 0 (never to 0 itself).
+            let jump = upper * 1e-6;
+            if jump > 0.0 {
+                jump
+            } else {
+                0.5 * upper
+            }
+        } else if upper > 16.0 * lower {
+            crate::math::sqrt(lower) * crate::math::sqrt(upper)
         } else {
             0.5 * (lower + upper)
         };
-        if next == dl || upper - lower <= f64::EPSILON * upper {
-            // Bracket exhausted at double precision: dl is the root to round-off.
-            return Ok((dl, flow, iteration));
-        }
+        previous_step = (next - dl).abs();
         dl = next;
     }
     Err(UpdateError::ReturnMappingDiverged)

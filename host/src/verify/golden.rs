@@ -18,10 +18,34 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use stoss_kernel::drivers::{
     hydrostatic, simple_shear, strain_path, uniaxial_strain, uniaxial_stress, DriverError,
-    HydrostaticLoading, PathPoint, Record, SimpleShearLoading, UniaxialStrainLoading,
+    HydrostaticLoading, PathPoint, PointModel, Record, SimpleShearLoading, UniaxialStrainLoading,
     UniaxialStressLoading,
 };
+use stoss_kernel::eos::{Eos, MieGruneisen, TabulatedCompaction};
+use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::{Material, MaterialState};
+
+/// A material point model of a golden case: a J2 metal or RHT concrete.
+#[derive(Clone, Copy, Debug)]
+pub enum GoldenModel {
+    /// J2 metal (any strength model and EoS).
+    Metal(Material),
+    /// RHT concrete.
+    Concrete(RhtMaterial),
+}
+
+impl GoldenModel {
+    fn initial_state(&self) -> MaterialState {
+        match self {
+            GoldenModel::Metal(material) => {
+                let mut state = MaterialState::initial(298.0);
+                state.eos_history = material.eos.initial_history();
+                state
+            }
+            GoldenModel::Concrete(material) => material.initial_state(293.0),
+        }
+    }
+}
 
 const HEADER: &str = "# stoss golden history v1";
 
@@ -39,18 +63,17 @@ pub enum GoldenDriver {
     /// Non-proportional path (tension, then shear, then compression) with an imposed
     /// temperature ramp 298 K -> 700 K, 3 x 40 steps.
     StrainPathWithTemperature,
+    /// Hydrostatic compaction to 10 % and release, 100 + 100 steps (porous EoS).
+    HydrostaticCompaction,
+    /// Concrete uniaxial compression, 1 /s to -0.4 %, 200 steps (RHT, seed 001 sec. 4.3.2).
+    ConcreteCompression,
+    /// Concrete uniaxial tension, 1 /s to +0.03 %, 150 steps.
+    ConcreteTension,
+    /// Concrete uniaxial strain, 100 /s to -2 %, 200 steps.
+    ConcreteUniaxialStrain,
 }
 
 impl GoldenDriver {
-    /// Every driver.
-    pub const ALL: [GoldenDriver; 5] = [
-        GoldenDriver::UniaxialStress,
-        GoldenDriver::UniaxialStrain,
-        GoldenDriver::Hydrostatic,
-        GoldenDriver::SimpleShear,
-        GoldenDriver::StrainPathWithTemperature,
-    ];
-
     /// File-name identifier.
     pub fn name(self) -> &'static str {
         match self {
@@ -59,13 +82,32 @@ impl GoldenDriver {
             GoldenDriver::Hydrostatic => "hydrostatic",
             GoldenDriver::SimpleShear => "simple-shear",
             GoldenDriver::StrainPathWithTemperature => "strain-path-temperature",
+            GoldenDriver::HydrostaticCompaction => "hydrostatic-compaction",
+            GoldenDriver::ConcreteCompression => "uniaxial-compression",
+            GoldenDriver::ConcreteTension => "uniaxial-tension",
+            GoldenDriver::ConcreteUniaxialStrain => "uniaxial-strain",
         }
     }
 
-    /// Run the driver on `material` from a fresh state at 298 K.
-    pub fn run(self, material: &Material) -> Result<Vec<Record>, DriverError> {
-        let mut state = MaterialState::initial(298.0);
+    /// Run the driver on `model` from its initial state.
+    pub fn run(self, model: &GoldenModel) -> Result<Vec<Record>, DriverError> {
+        match model {
+            GoldenModel::Metal(material) => self.run_with(material, model.initial_state()),
+            GoldenModel::Concrete(material) => self.run_with(material, model.initial_state()),
+        }
+    }
+
+    fn run_with(
+        self,
+        material: &impl PointModel,
+        mut state: MaterialState,
+    ) -> Result<Vec<Record>, DriverError> {
         let mut history = History::default();
+        let stress = |rate: f64, strain: f64, steps: u32| UniaxialStressLoading {
+            strain_rate: rate,
+            final_strain: strain,
+            steps,
+        };
         match self {
             GoldenDriver::UniaxialStress => uniaxial_stress(
                 material,
@@ -122,6 +164,39 @@ impl GoldenDriver {
                 ];
                 strain_path(material, &mut state, &path, 40, &mut history)
             }
+            GoldenDriver::HydrostaticCompaction => hydrostatic(
+                material,
+                &mut state,
+                &HydrostaticLoading {
+                    peak_compression: 0.1,
+                    strain_rate: 100.0,
+                    loading_steps: 100,
+                    unloading_steps: 100,
+                },
+                &mut history,
+            ),
+            GoldenDriver::ConcreteCompression => uniaxial_stress(
+                material,
+                &mut state,
+                &stress(1.0, -0.004, 200),
+                &mut history,
+            ),
+            GoldenDriver::ConcreteTension => uniaxial_stress(
+                material,
+                &mut state,
+                &stress(1.0, 3.0e-4, 150),
+                &mut history,
+            ),
+            GoldenDriver::ConcreteUniaxialStrain => uniaxial_strain(
+                material,
+                &mut state,
+                &UniaxialStrainLoading {
+                    strain_rate: 100.0,
+                    final_strain: -0.02,
+                    steps: 200,
+                },
+                &mut history,
+            ),
         }?;
         Ok(history.0)
     }
@@ -132,10 +207,37 @@ impl GoldenDriver {
 pub struct GoldenCase {
     /// Reference material name.
     pub material_name: &'static str,
-    /// The material.
-    pub material: Material,
+    /// The material point model.
+    pub model: GoldenModel,
     /// The driver.
     pub driver: GoldenDriver,
+}
+
+/// 4340 JC with the Steinberg (1996) Mie-Grueneisen EoS for 4340 (rho0 7810, C 4578 m/s,
+/// S1 1.33, gamma0 1.67, a 0.43), adiabatic.
+pub fn steel_4340_gruneisen() -> Material {
+    let mut material = Material::STEEL_4340;
+    material.density = 7810.0;
+    material.eos = Eos::MieGruneisen(MieGruneisen {
+        reference_density: 7810.0,
+        sound_speed: 4578.0,
+        s1: 1.33,
+        s2: 0.0,
+        s3: 0.0,
+        gamma0: 1.67,
+        volume_correction: 0.43,
+    });
+    material
+}
+
+/// The FOI table 5.2 compaction EoS (concrete, rho0 2390) under a weak JC deviatoric
+/// response; only its hydrostatic path matters.
+pub fn table_5_2_compaction() -> Material {
+    let mut material = Material::STEEL_4340;
+    material.density = 2390.0;
+    material.shear_modulus = 12.0e9;
+    material.eos = Eos::TabulatedCompaction(TabulatedCompaction::CONCRETE_FOI_TABLE_5_2);
+    material
 }
 
 impl GoldenCase {
@@ -145,18 +247,51 @@ impl GoldenCase {
     }
 }
 
-/// Every golden case, in a fixed order.
+/// Every golden case, in a fixed order: each reference metal through the five metal drivers,
+/// then the EoS and RHT cases (seed 001 sec. 4.3.2 single-element tests).
 pub fn cases() -> Vec<GoldenCase> {
-    reference_materials()
+    let metal_drivers = [
+        GoldenDriver::UniaxialStress,
+        GoldenDriver::UniaxialStrain,
+        GoldenDriver::Hydrostatic,
+        GoldenDriver::SimpleShear,
+        GoldenDriver::StrainPathWithTemperature,
+    ];
+    let mut all: Vec<GoldenCase> = reference_materials()
         .into_iter()
         .flat_map(|reference| {
-            GoldenDriver::ALL.into_iter().map(move |driver| GoldenCase {
+            metal_drivers.into_iter().map(move |driver| GoldenCase {
                 material_name: reference.name,
-                material: reference.material,
+                model: GoldenModel::Metal(reference.material),
                 driver,
             })
         })
-        .collect()
+        .collect();
+    for driver in metal_drivers {
+        all.push(GoldenCase {
+            material_name: "jc-4340-gruneisen",
+            model: GoldenModel::Metal(steel_4340_gruneisen()),
+            driver,
+        });
+    }
+    all.push(GoldenCase {
+        material_name: "eos-table-5-2",
+        model: GoldenModel::Metal(table_5_2_compaction()),
+        driver: GoldenDriver::HydrostaticCompaction,
+    });
+    for driver in [
+        GoldenDriver::HydrostaticCompaction,
+        GoldenDriver::ConcreteCompression,
+        GoldenDriver::ConcreteTension,
+        GoldenDriver::ConcreteUniaxialStrain,
+    ] {
+        all.push(GoldenCase {
+            material_name: "rht-hpc-92",
+            model: GoldenModel::Concrete(RhtMaterial::HPC_92MPA),
+            driver,
+        });
+    }
+    all
 }
 
 /// What went wrong with a golden file.
@@ -310,7 +445,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Vec<[f64; Record::VALUE_COUNT]>,
 
 fn run_case(case: &GoldenCase) -> Result<Vec<Record>, GoldenError> {
     case.driver
-        .run(&case.material)
+        .run(&case.model)
         .map_err(|error| GoldenError::Driver {
             case: case.file_name(),
             error,

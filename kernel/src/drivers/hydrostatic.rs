@@ -1,8 +1,7 @@
 //! Hydrostatic loading and unloading: equal normal strains, compressed to a volumetric strain
 //! and released back to the initial volume at the same rate.
 
-use super::{positive, step_and_record, DriverError, HistorySink};
-use crate::material::Material;
+use super::{positive, step_and_record, DriverError, HistorySink, PointModel};
 use crate::state::MaterialState;
 use crate::tensor;
 
@@ -22,7 +21,7 @@ pub struct HydrostaticLoading {
 
 /// Drive `state` through hydrostatic loading then unloading; one record per step.
 pub fn hydrostatic<S: HistorySink + ?Sized>(
-    material: &Material,
+    material: &(impl PointModel + ?Sized),
     state: &mut MaterialState,
     loading: &HydrostaticLoading,
     sink: &mut S,

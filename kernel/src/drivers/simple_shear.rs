@@ -2,8 +2,7 @@
 //! zero. The kernel receives unrotated increments (small-rotation simple shear; a host would
 //! rotate the stress objectively first).
 
-use super::{positive, step_and_record, DriverError, HistorySink};
-use crate::material::Material;
+use super::{positive, step_and_record, DriverError, HistorySink, PointModel};
 use crate::state::MaterialState;
 use crate::tensor;
 
@@ -21,7 +20,7 @@ pub struct SimpleShearLoading {
 
 /// Drive `state` in simple shear; one record per step.
 pub fn simple_shear<S: HistorySink + ?Sized>(
-    material: &Material,
+    material: &(impl PointModel + ?Sized),
     state: &mut MaterialState,
     loading: &SimpleShearLoading,
     sink: &mut S,

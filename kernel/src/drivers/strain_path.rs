@@ -3,8 +3,7 @@
 //! point prescribes a temperature, the temperature is interpolated and imposed before each
 //! sub-step (overriding heating), otherwise it evolves with the material's heating.
 
-use super::{positive, step_and_record, DriverError, HistorySink};
-use crate::material::Material;
+use super::{positive, step_and_record, DriverError, HistorySink, PointModel};
 use crate::state::MaterialState;
 use crate::tensor::{self, Sym};
 
@@ -23,7 +22,7 @@ pub struct PathPoint {
 /// Drive `state` along `path` (starting from zero strain at `path[0]`, which must be the
 /// zero-strain start), `substeps` steps per segment.
 pub fn strain_path<S: HistorySink + ?Sized>(
-    material: &Material,
+    material: &(impl PointModel + ?Sized),
     state: &mut MaterialState,
     path: &[PathPoint],
     substeps: u32,

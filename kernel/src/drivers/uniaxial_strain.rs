@@ -1,8 +1,7 @@
 //! Uniaxial strain: `eps_xx` prescribed at constant rate, all other strains zero (the state of
 //! a plate-impact or confined test).
 
-use super::{positive, step_and_record, DriverError, HistorySink};
-use crate::material::Material;
+use super::{positive, step_and_record, DriverError, HistorySink, PointModel};
 use crate::state::MaterialState;
 use crate::tensor;
 
@@ -20,7 +19,7 @@ pub struct UniaxialStrainLoading {
 
 /// Drive `state` in uniaxial strain; one record per step.
 pub fn uniaxial_strain<S: HistorySink + ?Sized>(
-    material: &Material,
+    material: &(impl PointModel + ?Sized),
     state: &mut MaterialState,
     loading: &UniaxialStrainLoading,
     sink: &mut S,

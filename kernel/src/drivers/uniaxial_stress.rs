@@ -2,11 +2,10 @@
 //! sigma_zz = 0` enforced each step by Newton iteration on the lateral strain increments with
 //! the consistent tangent (shear strains zero).
 
-use super::{positive, step_and_record, DriverError, HistorySink};
-use crate::material::Material;
+use super::{positive, step_and_record, DriverError, HistorySink, PointModel};
 use crate::state::MaterialState;
 use crate::tensor::{self, solve2, Matrix6};
-use crate::update::{update_with_tangent, StepInput};
+use crate::update::StepInput;
 
 /// Lateral stress accepted as zero, relative to `max(|sigma_xx|, 1e-6 G)`.
 pub const LATERAL_TOLERANCE: f64 = 1e-13;
@@ -28,7 +27,7 @@ pub struct UniaxialStressLoading {
 
 /// Drive `state` in uniaxial stress; one record per step.
 pub fn uniaxial_stress<S: HistorySink + ?Sized>(
-    material: &Material,
+    material: &(impl PointModel + ?Sized),
     state: &mut MaterialState,
     loading: &UniaxialStressLoading,
     sink: &mut S,
@@ -39,7 +38,7 @@ pub fn uniaxial_stress<S: HistorySink + ?Sized>(
     positive("steps", f64::from(loading.steps))?;
     let axial_increment = loading.final_strain / f64::from(loading.steps);
     let dt = axial_increment.abs() / loading.strain_rate;
-    let shear = material.shear_modulus;
+    let shear = material.shear_modulus();
     // Elastic Poisson ratio as the first lateral guess; later steps reuse the last ratio.
     let mut lateral_ratio = -0.3;
     let mut total_strain = tensor::ZERO;
@@ -58,7 +57,8 @@ pub fn uniaxial_stress<S: HistorySink + ?Sized>(
                 relative_volume: state.relative_volume
                     * crate::math::exp(tensor::trace(&increment)),
             };
-            update_with_tangent(material, &mut trial, &input, &mut tangent)
+            material
+                .update_with_tangent(&mut trial, &input, &mut tangent)
                 .map_err(DriverError::Update)?;
             let residual = [trial.stress[1], trial.stress[2]];
             let scale = {

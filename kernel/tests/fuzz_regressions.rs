@@ -1,0 +1,298 @@
+//! Regressions found by the cargo-fuzz targets in `fuzz/` (see `fuzz/README.md`). Each test
+//! is the fuzzer's reproducer (the exact values it printed, bit for bit where it matters)
+//! and, where it helps, a smaller hand-made case of the same defect.
+
+use stoss_kernel::eos::{Eos, LinearEos};
+use stoss_kernel::rht::{update as rht_update, RhtMaterial};
+use stoss_kernel::strength::{
+    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, Strength, ZerilliArmstrong,
+};
+use stoss_kernel::{
+    update, Heating, Material, MaterialState, StateFlags, StepInput, StepOutput, UpdateError,
+};
+
+/// `q_{n+1} <= sigma_y(eps_{n+1}, dl/dt, T_n) (1 + 1e-9) + 1e-6 Pa` after an implicit plastic
+/// step (the property the fuzz targets assert, without the large-pressure round-off term,
+/// which these cases do not need).
+fn assert_on_yield_surface(material: &Material, before: &MaterialState, after: &MaterialState) {
+    assert!(after.flags.contains(StateFlags::PLASTIC));
+    let flow = material
+        .strength
+        .flow_stress(
+            after.plastic_strain,
+            after.plastic_strain_rate,
+            before.temperature,
+        )
+        .value;
+    let q = after.equivalent_stress();
+    assert!(
+        q <= flow * (1.0 + 1e-9) + 1e-6,
+        "q {q:e} > sigma_y {flow:e}"
+    );
+}
+
+fn run(material: &Material, state: &mut MaterialState, input: &StepInput) -> StepOutput {
+    let before = *state;
+    let result = update(material, state, input);
+    assert_ne!(
+        result,
+        Err(UpdateError::ReturnMappingDiverged),
+        "update.rs documents that the iteration bound is never the reason for a result"
+    );
+    let output = result.expect("a validated material in its domain must update");
+    assert!(output.plastic_increment > 0.0);
+    assert_on_yield_surface(material, &before, state);
+    output
+}
+
+/// A Johnson-Cook material in seed 000's bounds with a small hardening exponent `n` puts the
+/// root of `q_trial - 3G dl - sigma_y(dl) = 0` at a tiny `dl` (here about 1e-70: `B dl^n`
+/// climbs from 0 to a large fraction of `B` within a few ulps of 0). The return mapping's
+/// bisection halves the bracket `[0, q_trial/3G]` linearly and stops only when
+/// `upper - lower <= EPSILON * upper`, so reaching `dl ~ 1e-70` from `~5e-3` takes about
+/// 220 halvings; Newton steps leave the bracket every time (the residual is concave in `dl`),
+/// so after `MAX_RETURN_ITERATIONS = 100` the update returns `ReturnMappingDiverged`,
+/// contradicting update.rs ("bisection alone shrinks the bracket by 2^-100, far below double
+/// precision, so the bound is never the reason for a result": true relative to the bracket,
+/// not near a root at 0).
+///
+/// Hand-made case: JC A = B = 1 GPa, n = 0.01 (bounds: n in [0, 1]), C = 0, 4340 elsewhere,
+/// isothermal at the reference temperature, virgin state, simple shear with q_trial =
+/// 1.2 GPa.
+#[test]
+fn small_hardening_exponent_return_mapping_converges() {
+    let jc = JohnsonCook {
+        yield_stress: 1.0e9,
+        hardening_modulus: 1.0e9,
+        hardening_exponent: 0.01,
+        rate_sensitivity: 0.0,
+        ..JohnsonCook::STEEL_4340
+    };
+    assert_eq!(jc.validate(), Ok(()));
+    let material = Material {
+        heating: Heating::Isothermal,
+        ..Material::STEEL_4340.with_strength(jc)
+    };
+    assert_eq!(material.validate(), Ok(()));
+    let mut state = MaterialState::initial(298.0);
+    // q_trial = sqrt(3) * 2G * gamma = 1.2 GPa.
+    let gamma = 1.2e9 / (stoss_kernel::math::sqrt(3.0) * 2.0 * material.shear_modulus);
+    let input = StepInput {
+        strain_increment: [0.0, 0.0, 0.0, gamma, 0.0, 0.0],
+        dt: 1e-6,
+        relative_volume: 1.0,
+    };
+    run(&material, &mut state, &input);
+}
+
+/// Same defect at the limit: MJC with a subnormal hardening exponent (n = 1e-310, inside
+/// the bounds [0, 1]). `B dl^n` equals `B` for every positive double `dl` and 0 at `dl = 0`,
+/// so no positive double is a root; the bisection has to walk the bracket down to the
+/// smallest subnormal (about 1070 halvings) and `upper - lower <= EPSILON * upper` never
+/// holds there. Expected: a result on (or inside) the yield surface, e.g. the smallest `dl`
+/// with `g(dl) <= 0`.
+#[test]
+fn subnormal_hardening_exponent_return_mapping_converges() {
+    let mjc = ModifiedJohnsonCook {
+        yield_stress: 0.75e9,
+        hardening_modulus: 0.9e9,
+        hardening_exponent: 1e-310,
+        saturation_stress_1: 0.0,
+        saturation_rate_1: 0.0,
+        saturation_stress_2: 0.0,
+        saturation_rate_2: 0.0,
+        rate_exponent: 0.0,
+        reference_rate: 1.0,
+        thermal_exponent: 1.0,
+        reference_temperature: 298.0,
+        melting_temperature: 1793.0,
+    };
+    assert_eq!(mjc.validate(), Ok(()));
+    let material = Material {
+        heating: Heating::Isothermal,
+        ..Material::STEEL_4340.with_strength(mjc)
+    };
+    let mut state = MaterialState::initial(298.0);
+    let gamma = 1.2e9 / (stoss_kernel::math::sqrt(3.0) * 2.0 * material.shear_modulus);
+    let input = StepInput {
+        strain_increment: [0.0, 0.0, 0.0, gamma, 0.0, 0.0],
+        dt: 1e-6,
+        relative_volume: 1.0,
+    };
+    run(&material, &mut state, &input);
+}
+
+/// Same defect in Zerilli-Armstrong BCC at its lower bound `n = 0.01` (seed 000 bounds
+/// `[0.01, 1.5]`), rate-independent (`C4 = 0`): the root of `C5 dl^0.01 = 0.2 GPa` is near
+/// `0.2^100 ~ 1e-70` (the fuzzer's `crash-8ee27cbc...` is this case with `C3 > 0`).
+#[test]
+fn za_bcc_lowest_bound_hardening_exponent_return_mapping_converges() {
+    let za = ZerilliArmstrong {
+        structure: CrystalStructure::Bcc,
+        athermal_stress: 0.5e9,
+        c1: 0.5e9,
+        c2: 0.0,
+        c3: 0.0,
+        c4: 0.0,
+        c5: 1.0e9,
+        exponent: 0.01,
+        reference_rate: 1.0,
+    };
+    assert_eq!(za.validate(), Ok(()));
+    let material = Material {
+        heating: Heating::Isothermal,
+        ..Material::STEEL_4340.with_strength(za)
+    };
+    let mut state = MaterialState::initial(298.0);
+    // q_trial = 1.2 GPa: the root is where C5 dl^0.01 = 0.2 GPa (minus 3G dl).
+    let gamma = 1.2e9 / (stoss_kernel::math::sqrt(3.0) * 2.0 * material.shear_modulus);
+    let input = StepInput {
+        strain_increment: [0.0, 0.0, 0.0, gamma, 0.0, 0.0],
+        dt: 1e-6,
+        relative_volume: 1.0,
+    };
+    run(&material, &mut state, &input);
+}
+
+/// A second mechanism, Zerilli-Armstrong only: a steep rate dependence. With `C3 = 0`,
+/// `C4 = 1e-3 /K` (both inside the bounds) at 4000 K, `sigma_y ~ C1 (rate/e0)^(C4 T)` is a
+/// fourth power of the rate; with `dt = 1e-9 s` and `e0 = 1e-3 /s` the root is near
+/// `dl ~ 1e-12` while the first iterate is `~1`. Newton steps from the steep side stay inside
+/// the bracket, so they are accepted, but on `x^4` each one only shrinks `dl` by 1/4: about
+/// 100 iterations before the end game, and the bracket is never bisected.
+/// Fuzzer reproducer, `fuzz/regressions/strength_update_za/crash-9af6d5a4...` (step 0;
+/// values as printed by the harness).
+#[test]
+fn fuzz_za_bcc_steep_rate_return_mapping_converges() {
+    let material = Material {
+        density: 12160.363961718173,
+        shear_modulus: 1000000001.0311643,
+        specific_heat: 100.0,
+        strength: Strength::from(ZerilliArmstrong {
+            structure: CrystalStructure::Bcc,
+            athermal_stress: 789330005.5546572,
+            c1: 2999999999.9999995,
+            c2: 2999999999.9999995,
+            c3: 3.906249999999889e-5,
+            c4: 0.001,
+            c5: 3000000000.0,
+            exponent: 1.5,
+            reference_rate: 0.001,
+        }),
+        heating: Heating::Isothermal,
+        eos: Eos::Linear(LinearEos {
+            bulk_modulus: 1000000000.0,
+        }),
+        ..Material::STEEL_4340
+    };
+    assert_eq!(material.validate(), Ok(()));
+    let mut state = MaterialState {
+        stress: [
+            -5000000000.0,
+            4468717274.962048,
+            4999999998.284294,
+            4999999999.999998,
+            4999999999.999998,
+            4999999403.9626465,
+        ],
+        plastic_strain: 1.1690403917882233e-8,
+        plastic_strain_rate: 0.0,
+        temperature: 3999.9999999999995,
+        damage: 0.9999999999999999,
+        relative_volume: 1.9999999999999998,
+        internal_energy: -539550781.2500019,
+        eos_history: 0.0,
+        flags: StateFlags(0),
+    };
+    let input = StepInput {
+        strain_increment: [
+            -0.0039062499887341368,
+            -0.022293476373156953,
+            -0.02714468110935535,
+            -0.04999999446451375,
+            -0.05,
+            -0.05,
+        ],
+        dt: 1e-9,
+        relative_volume: 0.5,
+    };
+    run(&material, &mut state, &input);
+}
+
+/// The fuzzer's Johnson-Cook reproducer, `fuzz/regressions/strength_update_jc/crash-9e8e6e3d...`
+/// (step 4 of its sequence; state as printed by the harness): n = 0.0039, hot (T* = 0.79),
+/// dt = 1e-9 s, under 52 GPa of pressure. Same defect as
+/// [`small_hardening_exponent_return_mapping_converges`].
+#[test]
+fn fuzz_jc_small_exponent_return_mapping_converges() {
+    let material = Material {
+        density: 10500.0,
+        shear_modulus: 1000000000.0,
+        specific_heat: 1050.0,
+        strength: Strength::from(JohnsonCook {
+            yield_stress: 2868075113.5687566,
+            hardening_modulus: 2759472087.731282,
+            hardening_exponent: 0.0039141763657409845,
+            rate_sensitivity: 0.07928575468605492,
+            thermal_exponent: 1.5,
+            reference_rate: 1.7878551261958109,
+            reference_temperature: 300.0,
+            melting_temperature: 2590.8511997772603,
+        }),
+        heating: Heating::Isothermal,
+        eos: Eos::Linear(LinearEos {
+            bulk_modulus: 51836989031.82575,
+        }),
+        ..Material::STEEL_4340
+    };
+    assert_eq!(material.validate(), Ok(()));
+    let mut state = MaterialState {
+        stress: [
+            -51778949816.13948,
+            -51953067463.1983,
+            -51778949816.13948,
+            -374117647.0588201,
+            -200000000.0,
+            -200000000.0,
+        ],
+        plastic_strain: 0.0,
+        plastic_strain_rate: 0.0,
+        temperature: 2100.0,
+        damage: 0.5,
+        relative_volume: 0.5,
+        internal_energy: 14679533718.537924,
+        eos_history: 0.0,
+        flags: StateFlags(0),
+    };
+    let input = StepInput {
+        strain_increment: [-0.05; 6],
+        dt: 1e-9,
+        relative_volume: 0.5,
+    };
+    run(&material, &mut state, &input);
+}
+
+/// RHT: a tiny but non-zero trial deviator (below about 1e-103 Pa) gives a NaN Lode angle:
+/// in `Lode::from_deviator`, `J3` and `J2^(3/2)` both underflow to 0 and `cos 3theta = 0/0`
+/// passes through the clamp, so every surface is NaN. `trial > NaN` is false, the step is
+/// taken as elastic (the stress stays finite) but `StepOutput::yield_stress` is NaN, and the
+/// final finiteness check covers only the state and the wave speed. Fuzzer reproducer:
+/// `fuzz/regressions/rht_update/` (strain increment components of 7.6e-142); here seed 001's
+/// HPC from its initial state with a 1e-142 shear increment.
+#[test]
+fn rht_tiny_deviator_gives_finite_output() {
+    let material = RhtMaterial::HPC_92MPA;
+    assert_eq!(material.validate(), Ok(()));
+    let mut state = material.initial_state(293.0);
+    let input = StepInput {
+        strain_increment: [0.0, 0.0, 0.0, 1e-142, 0.0, 0.0],
+        dt: 1e-6,
+        relative_volume: 1.0,
+    };
+    let output = rht_update(&material, &mut state, &input).expect("a tiny elastic step");
+    assert!(state.is_finite());
+    assert!(
+        output.yield_stress.is_finite() && output.wave_speed.is_finite(),
+        "{output:?}"
+    );
+}
