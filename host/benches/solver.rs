@@ -1,6 +1,7 @@
 //! Solver throughput: element-cycles per second of the axisymmetric solver with the JC 4340
 //! material on 1 and 2 threads, and the wall time of one Taylor run at the mesh a calibration
-//! uses (8 elements across the radius). Run: `cargo bench -p stoss --bench solver`.
+//! uses (8 elements across the radius), and the 3D hexahedral solver on the quarter rod.
+//! Run: `cargo bench -p stoss --bench solver`.
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
@@ -44,4 +45,14 @@ fn taylor_208_run_at_calibration_mesh(bencher: Bencher) {
             .0
             .final_length
     });
+}
+
+#[divan::bench(args = [1, 2], sample_count = 3, sample_size = 1)]
+fn hexahedral_element_cycles(bencher: Bencher, threads: usize) {
+    let (spec, settings) = taylor(8, threads);
+    let material = Material::STEEL_4340;
+    let cycles = spec.run_3d(&material, &settings).unwrap().1.element_cycles;
+    bencher
+        .counter(ItemsCount::new(cycles as usize))
+        .bench(|| spec.run_3d(&material, &settings).unwrap().0);
 }

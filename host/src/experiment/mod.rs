@@ -94,7 +94,7 @@ pub struct FieldOutput {
     /// The mesh (reference configuration).
     pub mesh: QuadMesh,
     /// Final nodal positions.
-    pub positions: Vec<[f64; 2]>,
+    pub positions: Vec<[f64; 3]>,
     /// Final element states.
     pub states: Vec<MaterialState>,
     /// Eroded elements.

@@ -6,10 +6,10 @@ use super::{Check, FieldOutput, Outcome, SimulationError};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::interpolate;
-use crate::mesh::{Grading, QuadMesh};
+use crate::mesh::{Grading, HexMesh, QuadMesh};
 use crate::solver::{
-    Amplitude, AxisymmetricModel, AxisymmetricRun, NodalDamping, RigidWall, SolverError,
-    SolverSettings, VelocityConstraint,
+    Amplitude, AxisymmetricModel, AxisymmetricRun, ExplicitRun, HexModel, NodalDamping, RigidWall,
+    SolverError, SolverSettings, VelocityConstraint,
 };
 use serde::{Deserialize, Serialize};
 use stoss_kernel::Material;
@@ -115,7 +115,7 @@ impl TaylorSpec {
             Grading::UNIFORM,
         );
         let axis = mesh.node_set("rod.axis").unwrap_or(&[]).to_vec();
-        let initial_velocity = vec![[0.0, -self.velocity]; mesh.nodes.len()];
+        let initial_velocity = vec![[0.0, -self.velocity, 0.0]; mesh.nodes.len()];
         // The elements of the outer column drive the profile measurement; the first rows
         // drive the footprint.
         let tracked = (0..self.axial_elements())
@@ -149,6 +149,68 @@ impl TaylorSpec {
             },
             tracked_elements: tracked,
         }
+    }
+
+    /// The same test as a quarter-symmetric 3D model of 8-node hexahedra (O-grid section with
+    /// `radial_elements / 2` core and ring divisions; symmetry planes x = 0 and y = 0).
+    pub fn model_3d(&self, material: &Material, settings: &SolverSettings) -> HexModel {
+        let divisions = (self.radial_elements / 2).max(1);
+        let mesh = HexMesh::quarter_rod(
+            "rod",
+            0,
+            0.5 * self.diameter,
+            self.length,
+            divisions,
+            divisions,
+            self.axial_elements(),
+        );
+        let symmetry = |set: &str, dof: usize| VelocityConstraint {
+            nodes: mesh.node_sets[&format!("rod.{set}")].clone(),
+            dof,
+            velocity: Amplitude::constant(0.0),
+        };
+        let constraints = vec![symmetry("x0", 0), symmetry("y0", 1)];
+        let initial_velocity = vec![[0.0, 0.0, -self.velocity]; mesh.nodes.len()];
+        let end_time = self.damping_start() + 40.0 * transit(self.length);
+        HexModel {
+            mesh,
+            materials: vec![*material],
+            initial_temperature: self.temperature,
+            initial_velocity,
+            constraints,
+            walls: vec![RigidWall {
+                point: vec![0.0, 0.0, 0.0],
+                normal: vec![0.0, 0.0, 1.0],
+                friction: self.anvil_friction,
+                nodes: Vec::new(),
+            }],
+            settings: SolverSettings {
+                end_time,
+                damping: Some(NodalDamping {
+                    start_time: self.damping_start(),
+                    coefficient: 2.0 / transit(self.length),
+                }),
+                output_interval: end_time / 200.0,
+                ..settings.clone()
+            },
+            tracked_elements: Vec::new(),
+        }
+    }
+
+    /// Run the 3D model; returns the final length and the run.
+    pub fn run_3d(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+    ) -> Result<(f64, ExplicitRun), SolverError> {
+        let run = self.model_3d(material, settings).run(&mut |_, _| {})?;
+        let (low, high) = run
+            .positions
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p[2]), hi.max(p[2]))
+            });
+        Ok((high - low, run))
     }
 
     /// Run the model and measure the final shape.

@@ -1,7 +1,7 @@
 //! Explicit central-difference dynamics.
 //!
 //! - lumped (row-sum) mass, CFL time step with a safety factor;
-//! - one-point integrated elements with Flanagan-Belytschko *viscous* hourglass control;
+//! - 2D axisymmetric quads and 3D hexahedra, one-point integrated with Flanagan-Belytschko *viscous* hourglass control;
 //! - linear + quadratic bulk viscosity (von Neumann-Richtmyer / Landshoff, LS-DYNA form);
 //! - the **Jaumann** objective stress rate: the host rotates the stress with the spin of the
 //!   step before the kernel updates it;
@@ -13,10 +13,14 @@
 
 pub mod axisymmetric;
 pub mod energy;
+pub mod explicit;
+pub mod hexahedral;
 pub mod loads;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
 pub use energy::EnergyBalance;
+pub use explicit::{Discretisation, ExplicitModel, ExplicitRun};
+pub use hexahedral::{HexModel, HexRun};
 pub use loads::{Amplitude, NodalDamping, RigidWall, VelocityConstraint};
 
 /// Numerical settings of a run.

@@ -1,0 +1,482 @@
+//! The explicit time integration shared by every element formulation: central differences,
+//! lumped mass, CFL time step, prescribed velocities, rigid walls, nodal damping, erosion,
+//! energy balance and the deterministic parallel element loop.
+
+use super::energy::EnergyBalance;
+use super::loads::{RigidWall, VelocityConstraint};
+use super::{SolverError, SolverSettings};
+use crate::measure::{StateHistory, StateSample};
+use rayon::prelude::*;
+use stoss_kernel::{update, Material, MaterialState, StateFlags, StepInput};
+
+/// Nodal vectors are stored with three components; 2D formulations use the first two.
+pub type Vector = [f64; 3];
+
+/// Largest number of nodes per element.
+pub const MAX_NODES: usize = 8;
+
+/// Per-element result of one step.
+#[derive(Clone, Copy, Debug)]
+pub struct ElementStep {
+    /// Updated material state.
+    pub state: MaterialState,
+    /// Nodal forces (first `nodes` entries used), in the model's integration measure.
+    pub forces: [Vector; MAX_NODES],
+    /// Hourglass dissipation rate.
+    pub hourglass_power: f64,
+    /// Bulk-viscosity work of the step.
+    pub viscous_work: f64,
+    /// Stable time step of the element.
+    pub stable_dt: f64,
+}
+
+/// An element formulation over a mesh: what the time loop needs to know about geometry,
+/// kinematics and internal forces.
+pub trait Discretisation: Sync {
+    /// Spatial dimension of the nodal vectors (2 or 3).
+    const DIMENSION: usize;
+    /// Factor from the integration measure to physical quantities (2 pi for axisymmetric
+    /// models, which integrate per radian; 1 in 3D).
+    const MEASURE: f64;
+    /// Kernel stress component reported as the axial stress of tracked elements.
+    const AXIAL_COMPONENT: usize;
+    /// Reference nodal positions.
+    fn reference_positions(&self) -> Vec<Vector>;
+    /// Number of elements.
+    fn element_count(&self) -> usize;
+    /// Node indices of element `e`.
+    fn element_nodes(&self, e: usize) -> &[usize];
+    /// Material index of element `e`, and its part name (for messages).
+    fn element_material(&self, e: usize) -> (usize, &str);
+    /// Volume of element `e` in the integration measure at positions `x` (<= 0: inverted).
+    fn element_volume(&self, e: usize, x: &[Vector]) -> f64;
+    /// Stable time step of element `e` at positions `x` for a wave speed, at rest.
+    fn element_time_step(&self, e: usize, x: &[Vector], wave_speed: f64) -> f64;
+    /// Kinematics, the kernel update, bulk viscosity, internal and hourglass forces of element
+    /// `e` over a step from `x` to `x_new` with velocities `v`.
+    #[allow(clippy::too_many_arguments)]
+    fn element_step(
+        &self,
+        e: usize,
+        x: &[Vector],
+        x_new: &[Vector],
+        v: &[Vector],
+        state: &MaterialState,
+        material: &Material,
+        reference_volume: f64,
+        dt: f64,
+        settings: &SolverSettings,
+        time: f64,
+    ) -> Result<ElementStep, SolverError>;
+}
+
+/// A complete explicit model over a discretisation `M`.
+#[derive(Clone, Debug)]
+pub struct ExplicitModel<M> {
+    /// The mesh (with its element formulation).
+    pub mesh: M,
+    /// Materials, indexed by the parts' material index.
+    pub materials: Vec<Material>,
+    /// Initial temperature (K).
+    pub initial_temperature: f64,
+    /// Initial nodal velocities (empty: at rest).
+    pub initial_velocity: Vec<Vector>,
+    /// Prescribed velocities.
+    pub constraints: Vec<VelocityConstraint>,
+    /// Rigid walls.
+    pub walls: Vec<RigidWall>,
+    /// Numerical settings.
+    pub settings: SolverSettings,
+    /// Elements whose state history is recorded.
+    pub tracked_elements: Vec<usize>,
+}
+
+/// The result of a run.
+#[derive(Clone, Debug)]
+pub struct ExplicitRun {
+    /// Final nodal positions.
+    pub positions: Vec<Vector>,
+    /// Final nodal velocities.
+    pub velocities: Vec<Vector>,
+    /// Final element states.
+    pub states: Vec<MaterialState>,
+    /// Eroded elements.
+    pub eroded: Vec<bool>,
+    /// Energy balance at every output interval, the final one last.
+    pub energy_history: Vec<EnergyBalance>,
+    /// Tracked element histories, in the order of `tracked_elements`.
+    pub tracked: Vec<StateHistory>,
+    /// Reaction force histories `(time, force)` on each constraint's dof (physical measure).
+    pub constraint_forces: Vec<Vec<(f64, f64)>>,
+    /// Time steps taken.
+    pub steps: usize,
+    /// Element updates performed (element-cycles).
+    pub element_cycles: u64,
+}
+
+impl ExplicitRun {
+    /// The final energy balance.
+    pub fn energy(&self) -> EnergyBalance {
+        self.energy_history.last().copied().unwrap_or_default()
+    }
+}
+
+fn dot(a: &Vector, b: &Vector, dimension: usize) -> f64 {
+    (0..dimension).map(|d| a[d] * b[d]).sum()
+}
+
+impl<M: Discretisation> ExplicitModel<M> {
+    /// Run to `settings.end_time`; `progress(time, energy)` at every output interval.
+    pub fn run(
+        &self,
+        progress: &mut (dyn FnMut(f64, &EnergyBalance) + Send),
+    ) -> Result<ExplicitRun, SolverError> {
+        match self.settings.threads {
+            Some(threads) => rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| SolverError::Model(format!("thread pool: {e}")))?
+                .install(|| self.run_in_pool(progress)),
+            None => self.run_in_pool(progress),
+        }
+    }
+
+    fn run_in_pool(
+        &self,
+        progress: &mut (dyn FnMut(f64, &EnergyBalance) + Send),
+    ) -> Result<ExplicitRun, SolverError> {
+        let dimension = M::DIMENSION;
+        let measure = M::MEASURE;
+        let settings = &self.settings;
+        let mesh = &self.mesh;
+        let element_count = mesh.element_count();
+        let mut x = mesh.reference_positions();
+        let node_count = x.len();
+
+        // Materials, reference volumes, lumped masses.
+        for (index, material) in self.materials.iter().enumerate() {
+            material.validate().map_err(|error| SolverError::Material {
+                part: (0..element_count)
+                    .map(|e| mesh.element_material(e))
+                    .find(|(m, _)| *m == index)
+                    .map_or_else(|| format!("material {index}"), |(_, name)| name.to_string()),
+                error,
+            })?;
+        }
+        let mut material_of = Vec::with_capacity(element_count);
+        let mut reference_volume = Vec::with_capacity(element_count);
+        let mut mass = vec![0.0; node_count];
+        for e in 0..element_count {
+            let (index, name) = mesh.element_material(e);
+            let material = self.materials.get(index).ok_or_else(|| {
+                SolverError::Model(format!(
+                    "part {name} names material {index}, which does not exist"
+                ))
+            })?;
+            let volume = mesh.element_volume(e, &x);
+            if volume <= 0.0 || !volume.is_finite() {
+                return Err(SolverError::InvertedElement {
+                    element: e,
+                    time: 0.0,
+                });
+            }
+            let nodes = mesh.element_nodes(e);
+            for &n in nodes {
+                mass[n] += material.density * volume / nodes.len() as f64;
+            }
+            material_of.push(index);
+            reference_volume.push(volume);
+        }
+
+        let mut v = if self.initial_velocity.is_empty() {
+            vec![[0.0; 3]; node_count]
+        } else if self.initial_velocity.len() == node_count {
+            self.initial_velocity.clone()
+        } else {
+            return Err(SolverError::Model(
+                "initial velocity must give one vector per node".into(),
+            ));
+        };
+        let mut states: Vec<MaterialState> = material_of
+            .iter()
+            .map(|&m| {
+                let mut state = MaterialState::initial(self.initial_temperature);
+                state.eos_history = self.materials[m].eos.initial_history();
+                state
+            })
+            .collect();
+        let mut eroded = vec![false; element_count];
+        let mut force = vec![[0.0; 3]; node_count];
+
+        // First time step from the elastic wave speeds (a zero-strain kernel update).
+        let mut dt = f64::INFINITY;
+        for e in 0..element_count {
+            let mut probe = states[e];
+            let output = update(
+                &self.materials[material_of[e]],
+                &mut probe,
+                &StepInput {
+                    strain_increment: [0.0; 6],
+                    dt: 1.0,
+                    relative_volume: 1.0,
+                },
+            )
+            .map_err(|error| SolverError::Update {
+                element: e,
+                time: 0.0,
+                error,
+            })?;
+            dt = dt.min(mesh.element_time_step(e, &x, output.wave_speed));
+        }
+        dt *= settings.time_step_safety;
+        let minimum_dt = dt * 1e-4;
+
+        let kinetic = |v: &[Vector]| -> f64 {
+            measure
+                * v.iter()
+                    .zip(&mass)
+                    .map(|(vel, m)| 0.5 * m * dot(vel, vel, dimension))
+                    .sum::<f64>()
+        };
+        let mut energy = EnergyBalance {
+            kinetic: kinetic(&v),
+            ..EnergyBalance::default()
+        };
+        energy.initial = energy.total();
+        let mut energy_history = vec![energy];
+        let mut tracked: Vec<StateHistory> = self
+            .tracked_elements
+            .iter()
+            .map(|e| StateHistory {
+                label: format!("element {e}"),
+                samples: Vec::new(),
+            })
+            .collect();
+        let mut constraint_forces: Vec<Vec<(f64, f64)>> = vec![Vec::new(); self.constraints.len()];
+        let wall_slaves: Vec<Vec<usize>> = self
+            .walls
+            .iter()
+            .map(|w| {
+                if w.nodes.is_empty() {
+                    (0..node_count).collect()
+                } else {
+                    w.nodes.clone()
+                }
+            })
+            .collect();
+        let walls: Vec<(Vector, Vector)> = self
+            .walls
+            .iter()
+            .map(|w| {
+                let component = |values: &[f64], d: usize| {
+                    if d < dimension {
+                        values.get(d).copied().unwrap_or(0.0)
+                    } else {
+                        0.0
+                    }
+                };
+                let point: Vector = core::array::from_fn(|d| component(&w.point, d));
+                let normal: Vector = core::array::from_fn(|d| component(&w.normal, d));
+                (point, normal)
+            })
+            .collect();
+
+        // Work arrays, allocated once.
+        let mut x_new = x.clone();
+        let mut v_old = v.clone();
+        let mut dv_constraint = vec![[0.0; 3]; node_count];
+        let mut dv_wall = vec![[0.0; 3]; node_count];
+        let mut dv_damping = vec![[0.0; 3]; node_count];
+        let mut results: Vec<Result<Option<ElementStep>, SolverError>> =
+            (0..element_count).map(|_| Ok(None)).collect();
+
+        let mut time = 0.0;
+        let mut dt_previous = 0.0;
+        let mut next_output = settings.output_interval;
+        let mut steps = 0;
+        let mut element_cycles = 0u64;
+        while time < settings.end_time {
+            let dt_average = 0.5 * (dt_previous + dt);
+            v_old.copy_from_slice(&v);
+            for n in 0..node_count {
+                if mass[n] > 0.0 {
+                    for d in 0..dimension {
+                        v[n][d] += force[n][d] / mass[n] * dt_average;
+                    }
+                }
+                dv_constraint[n] = [0.0; 3];
+                dv_wall[n] = [0.0; 3];
+                dv_damping[n] = [0.0; 3];
+            }
+            let half_time = time + 0.5 * dt;
+            // Kinematic modifications of v_{n+1/2}; each records its velocity change so that its
+            // work is the central-difference-consistent `m dv . (v_old + v_new)/2`.
+            for (c, constraint) in self.constraints.iter().enumerate() {
+                let target = constraint.velocity.at(half_time);
+                let mut reaction = 0.0;
+                for &n in &constraint.nodes {
+                    let change = target - v[n][constraint.dof];
+                    dv_constraint[n][constraint.dof] += change;
+                    if dt_average > 0.0 {
+                        reaction += mass[n] * change / dt_average;
+                    }
+                    v[n][constraint.dof] = target;
+                }
+                constraint_forces[c].push((time, measure * reaction));
+            }
+            // Rigid walls: stop the normal approach; Coulomb friction on the tangential part.
+            for ((wall, (point, normal)), slaves) in self.walls.iter().zip(&walls).zip(&wall_slaves)
+            {
+                for &n in slaves {
+                    let offset: Vector = core::array::from_fn(|d| x[n][d] - point[d]);
+                    let gap = dot(&offset, normal, dimension);
+                    let vn = dot(&v[n], normal, dimension);
+                    if gap + vn * dt >= 0.0 {
+                        continue;
+                    }
+                    let before = v[n];
+                    let vn_new = -gap / dt;
+                    let dvn = vn_new - vn;
+                    let mut vt: Vector = core::array::from_fn(|d| v[n][d] - vn * normal[d]);
+                    let speed_t = dot(&vt, &vt, dimension).sqrt();
+                    if speed_t > 0.0 {
+                        let keep = (speed_t - (wall.friction * dvn).min(speed_t)) / speed_t;
+                        vt = vt.map(|c| c * keep);
+                    }
+                    for d in 0..dimension {
+                        v[n][d] = vt[d] + vn_new * normal[d];
+                        dv_wall[n][d] += v[n][d] - before[d];
+                    }
+                }
+            }
+            if let Some(damping) = settings.damping {
+                if time >= damping.start_time {
+                    let factor = 1.0 - damping.coefficient * dt;
+                    for (vel, change) in v.iter_mut().zip(dv_damping.iter_mut()) {
+                        for d in 0..dimension {
+                            change[d] = vel[d] * (factor - 1.0);
+                            vel[d] *= factor;
+                        }
+                    }
+                }
+            }
+            for n in 0..node_count {
+                let mean: Vector = core::array::from_fn(|d| 0.5 * (v_old[n][d] + v[n][d]));
+                let work = |dv: &Vector| measure * mass[n] * dot(dv, &mean, dimension);
+                energy.external_work += work(&dv_constraint[n]);
+                energy.contact -= work(&dv_wall[n]);
+                energy.damping -= work(&dv_damping[n]);
+                for d in 0..dimension {
+                    x_new[n][d] = x[n][d] + v[n][d] * dt;
+                }
+            }
+
+            // Elements in parallel; results kept in element order.
+            results.par_iter_mut().enumerate().for_each(|(e, slot)| {
+                *slot = if eroded[e] {
+                    Ok(None)
+                } else {
+                    mesh.element_step(
+                        e,
+                        &x,
+                        &x_new,
+                        &v,
+                        &states[e],
+                        &self.materials[material_of[e]],
+                        reference_volume[e],
+                        dt,
+                        settings,
+                        time,
+                    )
+                    .map(Some)
+                };
+            });
+
+            // Serial assembly in element order: bit-identical for any thread count.
+            for f in force.iter_mut() {
+                *f = [0.0; 3];
+            }
+            let mut dt_next = f64::INFINITY;
+            for (e, result) in results.iter().enumerate() {
+                let step = match result {
+                    Ok(Some(step)) => step,
+                    Ok(None) => continue,
+                    Err(error) => return Err(error.clone()),
+                };
+                element_cycles += 1;
+                energy.hourglass += measure * step.hourglass_power * dt;
+                energy.viscous += measure * step.viscous_work;
+                states[e] = step.state;
+                if step.state.flags.contains(StateFlags::ERODE) {
+                    eroded[e] = true;
+                    energy.eroded += measure * step.state.internal_energy * reference_volume[e];
+                    continue;
+                }
+                for (k, &n) in mesh.element_nodes(e).iter().enumerate() {
+                    for (total, part) in force[n].iter_mut().zip(&step.forces[k]).take(dimension) {
+                        *total += part;
+                    }
+                }
+                dt_next = dt_next.min(step.stable_dt);
+            }
+            std::mem::swap(&mut x, &mut x_new);
+            time += dt;
+            steps += 1;
+            energy.time = time;
+            energy.kinetic = kinetic(&v);
+            energy.internal = measure
+                * states
+                    .iter()
+                    .zip(&reference_volume)
+                    .zip(&eroded)
+                    .filter(|(_, gone)| !**gone)
+                    .map(|((s, v0), _)| s.internal_energy * v0)
+                    .sum::<f64>();
+            dt_previous = dt;
+            if dt_next.is_finite() {
+                dt = settings.time_step_safety * dt_next;
+            }
+            if dt < minimum_dt {
+                return Err(SolverError::TimeStepCollapse {
+                    time,
+                    time_step: dt,
+                });
+            }
+            if time >= next_output || time >= settings.end_time {
+                next_output += settings.output_interval;
+                energy_history.push(energy);
+                for (slot, &e) in self.tracked_elements.iter().enumerate() {
+                    tracked[slot].samples.push(StateSample::from_state(
+                        time,
+                        &states[e],
+                        M::AXIAL_COMPONENT,
+                    ));
+                }
+                progress(time, &energy);
+                if settings.rest_fraction > 0.0 {
+                    if let Some(damping) = settings.damping {
+                        if time > damping.start_time
+                            && energy.kinetic < settings.rest_fraction * energy.initial
+                        {
+                            break;
+                        }
+                    }
+                }
+            }
+        }
+        if energy_history.last().map(|e| e.time) != Some(energy.time) {
+            energy_history.push(energy);
+        }
+        Ok(ExplicitRun {
+            positions: x,
+            velocities: v,
+            states,
+            eroded,
+            energy_history,
+            tracked,
+            constraint_forces,
+            steps,
+            element_cycles,
+        })
+    }
+}
