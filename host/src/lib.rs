@@ -3,11 +3,13 @@
 //! Host side of stoss: verification of the kernel, and (as the project grows) meshes, the
 //! explicit solver, the functional experiments, calibration and diagnosis.
 
+pub mod calibrate;
 pub mod cli;
 pub mod experiment;
 pub mod input;
 pub mod measure;
 pub mod mesh;
+pub mod random;
 pub mod report;
 pub mod solver;
 pub mod verify;

@@ -1,6 +1,7 @@
 //! The `stoss` command line.
 
 mod simulate;
+mod synthesize;
 mod verify;
 
 use clap::{Parser, Subcommand};
@@ -24,6 +25,8 @@ pub enum Command {
     /// Run one experiment with given constants; print the energy balance and the comparison
     /// with the recording; write measurements, state histories and VTK.
     Simulate(simulate::SimulateArgs),
+    /// Generate a synthetic recording (and its noise-free truth) from a known material.
+    Synthesize(synthesize::SynthesizeArgs),
 }
 
 /// Run the parsed command line.
@@ -31,5 +34,6 @@ pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Verify(args) => verify::run(&args),
         Command::Simulate(args) => simulate::run(&args),
+        Command::Synthesize(args) => synthesize::run(&args),
     }
 }

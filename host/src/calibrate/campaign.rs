@@ -1,0 +1,351 @@
+//! Campaign files (TOML): which experiments, which model family, which constants to fit and
+//! within which bounds, the realism constraints, and the optimiser budget.
+//!
+//! ```toml
+//! name = "4340 steel, real data"
+//! material = "../materials/4340-jc.toml"   # fixed constants: density, elasticity, EoS, heating
+//!
+//! [[models]]                               # several models: model selection (seed 000 table 1)
+//! name = "jc"
+//! strength = { model = "johnson-cook", yield_stress = 792e6, ... }  # optional start / fixed values
+//! [models.parameters]                      # constants to fit, SI bounds (seed 000 sec. 4.1)
+//! yield_stress = [0.3e9, 1.5e9]
+//! hardening_modulus = [0.0, 1.5e9]
+//!
+//! [[experiments]]
+//! file = "../experiments/taylor-4340-208.toml"
+//! holdout = false                          # true: scored, never fitted
+//! weight = 1.0
+//!
+//! [constraints]
+//! max_flow_stress = 4.0e9                  # flow stress over the check grid must stay below
+//!
+//! [optimiser]
+//! budget = 40                              # simulations per instance, Latin hypercube included
+//! instances = 2
+//! seed = 1
+//! parallel = 2                             # simulations run at once (one batch)
+//! ```
+
+use crate::experiment::Experiment;
+use crate::input::material::{self, MaterialFile, StrengthSpec};
+use crate::input::{self, InputError};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use stoss_kernel::Material;
+
+fn one() -> f64 {
+    1.0
+}
+
+/// One experiment of a campaign.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentEntry {
+    /// Experiment file, relative to the campaign file.
+    pub file: String,
+    /// Held out: scored but never fitted.
+    #[serde(default)]
+    pub holdout: bool,
+    /// Weight of its error in the total.
+    #[serde(default = "one")]
+    pub weight: f64,
+}
+
+/// One model (family) to fit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelEntry {
+    /// Short name (report labels).
+    pub name: String,
+    /// Starting and fixed constants; default: the base material's strength.
+    #[serde(default)]
+    pub strength: Option<StrengthSpec>,
+    /// Constants to fit with `[lower, upper]` bounds (SI). Names are the strength's field
+    /// names; nested fields of a composed strength are dotted (`hardening.yield_stress`).
+    pub parameters: BTreeMap<String, [f64; 2]>,
+}
+
+/// Realism constraints on the flow stress, checked before any simulation on a grid of
+/// plastic strain 0-1, rates 1e-4-1e4 /s and the reference temperature.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Constraints {
+    /// Upper limit of the flow stress (Pa).
+    #[serde(default = "default_max_flow_stress")]
+    pub max_flow_stress: f64,
+    /// Lower limit of the flow stress (Pa).
+    #[serde(default = "default_min_flow_stress")]
+    pub min_flow_stress: f64,
+    /// The flow stress must not decrease with plastic strain (isothermal).
+    #[serde(default = "yes")]
+    pub monotone_hardening: bool,
+    /// The flow stress must not decrease with strain rate.
+    #[serde(default = "yes")]
+    pub monotone_rate: bool,
+}
+
+fn default_max_flow_stress() -> f64 {
+    5.0e9
+}
+fn default_min_flow_stress() -> f64 {
+    50.0e6
+}
+fn yes() -> bool {
+    true
+}
+
+impl Default for Constraints {
+    fn default() -> Self {
+        Self {
+            max_flow_stress: default_max_flow_stress(),
+            min_flow_stress: default_min_flow_stress(),
+            monotone_hardening: true,
+            monotone_rate: true,
+        }
+    }
+}
+
+fn default_budget() -> usize {
+    40
+}
+fn default_instances() -> usize {
+    2
+}
+fn default_parallel() -> usize {
+    std::thread::available_parallelism().map_or(2, usize::from)
+}
+
+/// Optimiser settings of a campaign.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptimiserEntry {
+    /// Simulations per instance, initial design included.
+    #[serde(default = "default_budget")]
+    pub budget: usize,
+    /// Independent instances per model.
+    #[serde(default = "default_instances")]
+    pub instances: usize,
+    /// Seed of the first instance (instance k uses seed + k); recorded in the log.
+    #[serde(default)]
+    pub seed: u64,
+    /// Simulations run at once.
+    #[serde(default = "default_parallel")]
+    pub parallel: usize,
+    /// Leave-one-out over the fitted experiments (fit on n-1, score all n).
+    #[serde(default)]
+    pub leave_one_out: bool,
+}
+
+impl Default for OptimiserEntry {
+    fn default() -> Self {
+        Self {
+            budget: default_budget(),
+            instances: default_instances(),
+            seed: 0,
+            parallel: default_parallel(),
+            leave_one_out: false,
+        }
+    }
+}
+
+/// The campaign file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CampaignFile {
+    /// Display name.
+    pub name: String,
+    /// What the campaign is for.
+    #[serde(default)]
+    pub description: String,
+    /// Base material file (fixed constants), relative to the campaign file.
+    pub material: String,
+    /// Models to fit.
+    pub models: Vec<ModelEntry>,
+    /// Experiments.
+    pub experiments: Vec<ExperimentEntry>,
+    /// Realism constraints.
+    #[serde(default)]
+    pub constraints: Constraints,
+    /// Optimiser settings.
+    #[serde(default)]
+    pub optimiser: OptimiserEntry,
+}
+
+/// A loaded campaign: file, base material and experiments.
+#[derive(Clone, Debug)]
+pub struct Campaign {
+    /// The campaign file's path.
+    pub path: PathBuf,
+    /// Its contents.
+    pub file: CampaignFile,
+    /// The base material file.
+    pub base: MaterialFile,
+    /// The experiments, in the file's order.
+    pub experiments: Vec<Experiment>,
+}
+
+/// A model of the campaign, resolved: its strength and the names and bounds of its fitted
+/// constants.
+#[derive(Clone, Debug)]
+pub struct ModelSpace {
+    /// Model name.
+    pub name: String,
+    /// Starting strength (fitted constants are overwritten).
+    pub strength: StrengthSpec,
+    /// Fitted constant names.
+    pub names: Vec<String>,
+    /// Lower bounds.
+    pub lower: Vec<f64>,
+    /// Upper bounds.
+    pub upper: Vec<f64>,
+}
+
+impl ModelSpace {
+    /// The strength with `values` for the fitted constants.
+    pub fn strength_with(&self, values: &[f64]) -> Result<StrengthSpec, String> {
+        let mut tree = toml::Value::try_from(self.strength).map_err(|e| e.to_string())?;
+        for (name, value) in self.names.iter().zip(values) {
+            set_dotted(&mut tree, name, *value)
+                .ok_or_else(|| format!("`{name}` is not a constant of this model"))?;
+        }
+        tree.try_into().map_err(|e: toml::de::Error| e.to_string())
+    }
+
+    /// The kernel material: the campaign's base material with this model's strength.
+    pub fn material(
+        &self,
+        base: &MaterialFile,
+        values: &[f64],
+    ) -> Result<(MaterialFile, Material), String> {
+        let mut file = base.clone();
+        file.strength = self.strength_with(values)?;
+        let material = file.material().map_err(|e| e.to_string())?;
+        Ok((file, material))
+    }
+
+    /// Dimension of the search space.
+    pub fn dimension(&self) -> usize {
+        self.names.len()
+    }
+}
+
+/// Set the float at dotted path `name` in a TOML tree; `None` if it does not exist.
+fn set_dotted(tree: &mut toml::Value, name: &str, value: f64) -> Option<()> {
+    match name.split_once('.') {
+        Some((head, rest)) => set_dotted(tree.as_table_mut()?.get_mut(head)?, rest, value),
+        None => {
+            let slot = tree.as_table_mut()?.get_mut(name)?;
+            *slot = toml::Value::Float(value);
+            Some(())
+        }
+    }
+}
+
+impl Campaign {
+    /// Load a campaign, its base material and every experiment. Errors name file, line, field.
+    pub fn load(path: &Path) -> Result<Self, InputError> {
+        let text = input::read_text(path)?;
+        let file: CampaignFile = input::parse_toml(path, &text)?;
+        let folder = path.parent().unwrap_or(Path::new("."));
+        let (base, _) = material::load(&folder.join(&file.material))?;
+        if file.models.is_empty() {
+            return Err(InputError::field(
+                path,
+                &text,
+                "models",
+                "at least one [[models]] entry is needed",
+            ));
+        }
+        if file.experiments.iter().all(|e| e.holdout) {
+            return Err(InputError::field(
+                path,
+                &text,
+                "experiments",
+                "at least one experiment must be fitted (holdout = false)",
+            ));
+        }
+        for entry in &file.experiments {
+            if !(entry.weight > 0.0 && entry.weight.is_finite()) {
+                return Err(InputError::field(
+                    path,
+                    &text,
+                    "weight",
+                    format!("{}: must be > 0", entry.file),
+                ));
+            }
+        }
+        let o = &file.optimiser;
+        if o.budget < 4 || o.instances == 0 || o.parallel == 0 {
+            return Err(InputError::field(
+                path,
+                &text,
+                "budget",
+                "budget >= 4, instances >= 1, parallel >= 1",
+            ));
+        }
+        let experiments = file
+            .experiments
+            .iter()
+            .map(|entry| Experiment::load(&folder.join(&entry.file)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let campaign = Self {
+            path: path.into(),
+            file,
+            base,
+            experiments,
+        };
+        for model in &campaign.file.models {
+            let space = campaign.space(model);
+            for (name, [lower, upper]) in &model.parameters {
+                if !(lower.is_finite() && upper.is_finite() && lower < upper) {
+                    return Err(InputError::field(
+                        path,
+                        &text,
+                        name,
+                        format!("bounds [{lower}, {upper}] must be finite with lower < upper"),
+                    ));
+                }
+            }
+            let middle: Vec<f64> = space
+                .lower
+                .iter()
+                .zip(&space.upper)
+                .map(|(l, u)| 0.5 * (l + u))
+                .collect();
+            if let Err(message) = space.strength_with(&middle) {
+                return Err(InputError::field(
+                    path,
+                    &text,
+                    "parameters",
+                    format!("model {}: {message}", model.name),
+                ));
+            }
+        }
+        Ok(campaign)
+    }
+
+    /// The resolved search space of a model.
+    pub fn space(&self, model: &ModelEntry) -> ModelSpace {
+        let (names, bounds): (Vec<String>, Vec<[f64; 2]>) = model
+            .parameters
+            .iter()
+            .map(|(n, b)| (n.clone(), *b))
+            .unzip();
+        ModelSpace {
+            name: model.name.clone(),
+            strength: model.strength.unwrap_or(self.base.strength),
+            names,
+            lower: bounds.iter().map(|b| b[0]).collect(),
+            upper: bounds.iter().map(|b| b[1]).collect(),
+        }
+    }
+
+    /// Indices of the fitted (not held-out) experiments.
+    pub fn fitted(&self) -> Vec<usize> {
+        (0..self.experiments.len())
+            .filter(|&i| !self.file.experiments[i].holdout)
+            .collect()
+    }
+}

@@ -1,0 +1,162 @@
+//! The simulation log (`simulations.jsonl`): one JSON line per simulated candidate, appended
+//! and synced to disk as soon as its simulations end. A killed run is resumed by replaying the
+//! (deterministic, seeded) optimisation: every proposal found in the log under the same key
+//! and with bit-identical constants is taken from the log instead of being simulated again.
+
+use super::objective::Evaluation;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Where a candidate belongs: model, fold (`None` = fit on every fitted experiment; `Some(name)`
+/// = leave-one-out fold without that experiment), instance and position in its sequence.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Key {
+    /// Model name.
+    pub model: String,
+    /// Leave-one-out fold (the left-out experiment's file), or `None`.
+    pub fold: Option<String>,
+    /// Instance number.
+    pub instance: usize,
+    /// Index of the candidate in its instance's sequence.
+    pub index: usize,
+}
+
+/// One log line.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Entry {
+    /// Where the candidate belongs.
+    pub key: Key,
+    /// The optimiser seed of its instance.
+    pub seed: u64,
+    /// The evaluation.
+    pub evaluation: Evaluation,
+}
+
+/// Why the log could not be used.
+#[derive(Debug)]
+pub enum LogError {
+    /// Reading or writing failed.
+    Io(PathBuf, std::io::Error),
+    /// A line is not a valid entry.
+    Corrupt(PathBuf, usize, String),
+    /// An entry exists under the same key with other constants: the campaign changed.
+    Mismatch(PathBuf, Key),
+}
+
+impl std::fmt::Display for LogError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LogError::Io(path, error) => write!(f, "{}: {error}", path.display()),
+            LogError::Corrupt(path, line, message) => write!(f, "{}:{line}: {message}", path.display()),
+            LogError::Mismatch(path, key) => write!(
+                f,
+                "{}: the logged candidate {key:?} differs from this run's: the campaign or stoss changed since the log was written; start a new output folder",
+                path.display()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for LogError {}
+
+/// An open simulation log.
+pub struct SimulationLog {
+    path: PathBuf,
+    entries: HashMap<Key, Entry>,
+    file: std::fs::File,
+    /// Entries reused from the log in this run.
+    pub reused: usize,
+}
+
+impl SimulationLog {
+    /// Open `path`: read existing entries (a torn last line from a killed run is dropped) and
+    /// append from there.
+    pub fn open(path: &Path) -> Result<Self, LogError> {
+        let io = |e| LogError::Io(path.into(), e);
+        let mut entries = HashMap::new();
+        if path.exists() {
+            let text = std::fs::read_to_string(path).map_err(io)?;
+            let lines: Vec<&str> = text.lines().collect();
+            let complete = if text.ends_with('\n') {
+                lines.len()
+            } else {
+                lines.len().saturating_sub(1)
+            };
+            for (index, line) in lines.iter().take(complete).enumerate() {
+                let entry: Entry = serde_json::from_str(line)
+                    .map_err(|e| LogError::Corrupt(path.into(), index + 1, e.to_string()))?;
+                entries.insert(entry.key.clone(), entry);
+            }
+            if complete < lines.len() {
+                // Rewrite without the torn line so appends start on a fresh line.
+                let kept: String = lines
+                    .iter()
+                    .take(complete)
+                    .map(|l| format!("{l}\n"))
+                    .collect();
+                std::fs::write(path, kept).map_err(io)?;
+            }
+        }
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .map_err(io)?;
+        Ok(Self {
+            path: path.into(),
+            entries,
+            file,
+            reused: 0,
+        })
+    }
+
+    /// Entries read or written so far.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// `true` if the log is empty.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// The logged evaluation of `key`, if its constants are bit-identical to `values`.
+    pub fn lookup(&mut self, key: &Key, values: &[f64]) -> Result<Option<Evaluation>, LogError> {
+        match self.entries.get(key) {
+            None => Ok(None),
+            Some(entry) => {
+                let same = entry.evaluation.values.len() == values.len()
+                    && entry
+                        .evaluation
+                        .values
+                        .iter()
+                        .zip(values)
+                        .all(|(a, b)| a.to_bits() == b.to_bits());
+                if same {
+                    self.reused += 1;
+                    Ok(Some(entry.evaluation.clone()))
+                } else {
+                    Err(LogError::Mismatch(self.path.clone(), key.clone()))
+                }
+            }
+        }
+    }
+
+    /// Append an entry and sync it to disk.
+    pub fn append(&mut self, entry: Entry) -> Result<(), LogError> {
+        let io = |e| LogError::Io(self.path.clone(), e);
+        let line = serde_json::to_string(&entry)
+            .map_err(|e| LogError::Io(self.path.clone(), std::io::Error::other(e)))?;
+        writeln!(self.file, "{line}").map_err(io)?;
+        self.file.sync_data().map_err(io)?;
+        self.entries.insert(entry.key.clone(), entry);
+        Ok(())
+    }
+
+    /// Every entry (unordered).
+    pub fn entries(&self) -> impl Iterator<Item = &Entry> {
+        self.entries.values()
+    }
+}

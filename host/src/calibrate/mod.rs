@@ -1,0 +1,11 @@
+//! `stoss calibrate`: fit model constants to recordings of functional experiments by Bayesian
+//! optimisation over simulations (seed 000 sec. 4): campaign files, the error measure, the
+//! simulation log that makes runs resumable, the protocols (instances, leave-one-out, model
+//! selection) and the report.
+
+pub mod campaign;
+pub mod log;
+pub mod objective;
+
+pub use campaign::{Campaign, ModelSpace};
+pub use objective::{evaluate, score, Evaluation, Score, Status};

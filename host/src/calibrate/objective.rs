@@ -1,0 +1,239 @@
+//! The error measure and the evaluation of one candidate set of constants.
+//!
+//! Per experiment (seed 000 sec. 4.1): the RMSE of the residuals scaled by the measured range
+//! of that experiment, `e = sqrt(mean(((predicted - recorded) / (max - min))^2))`; a
+//! one-point recording is scaled by its value. The campaign error is the weighted sum over the
+//! fitted experiments. Reported beside it: the uncertainty-weighted RMS
+//! `sqrt(mean(((predicted - recorded) / uncertainty)^2))` (1 = at the noise floor).
+
+use super::campaign::{Campaign, Constraints, ModelSpace};
+use crate::input::recording::RecordedPoint;
+use crate::solver::SolverSettings;
+use serde::{Deserialize, Serialize};
+use stoss_kernel::Material;
+
+/// The scores of one experiment.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Score {
+    /// Min-max-scaled RMSE (seed 000).
+    pub error: f64,
+    /// Uncertainty-weighted RMS.
+    pub chi: f64,
+}
+
+/// Seed 000's min-max-scaled RMSE and the uncertainty-weighted RMS.
+pub fn score(recording: &[RecordedPoint], predicted: &[f64]) -> Option<Score> {
+    if recording.len() != predicted.len() || predicted.iter().any(|p| !p.is_finite()) {
+        return None;
+    }
+    let (low, high) = recording
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.value), hi.max(p.value))
+        });
+    let range = if high > low {
+        high - low
+    } else {
+        high.abs().max(f64::MIN_POSITIVE)
+    };
+    let n = recording.len() as f64;
+    let error = (recording
+        .iter()
+        .zip(predicted)
+        .map(|(r, p)| ((p - r.value) / range).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let chi = (recording
+        .iter()
+        .zip(predicted)
+        .map(|(r, p)| ((p - r.value) / r.uncertainty).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    Some(Score { error, chi })
+}
+
+/// Check the realism constraints on the flow stress; `Err` names the violated one.
+pub fn check_constraints(
+    material: &Material,
+    constraints: &Constraints,
+    temperature: f64,
+) -> Result<(), String> {
+    let strains: Vec<f64> = (0..=20).map(|k| 0.05 * k as f64).collect();
+    let rates = [1e-4, 1e-2, 1.0, 1e2, 1e3, 1e4];
+    let mut previous_rate_row: Option<Vec<f64>> = None;
+    for &rate in &rates {
+        let row: Vec<f64> = strains
+            .iter()
+            .map(|&e| material.strength.flow_stress(e, rate, temperature).value)
+            .collect();
+        for (&strain, &stress) in strains.iter().zip(&row) {
+            if !(stress >= constraints.min_flow_stress && stress <= constraints.max_flow_stress) {
+                return Err(format!(
+                    "flow stress {:.3e} Pa at strain {strain}, rate {rate} /s outside [{:.3e}, {:.3e}]",
+                    stress, constraints.min_flow_stress, constraints.max_flow_stress
+                ));
+            }
+        }
+        if constraints.monotone_hardening && row.windows(2).any(|w| w[1] < w[0] * (1.0 - 1e-12)) {
+            return Err(format!("flow stress decreases with strain at {rate} /s"));
+        }
+        if let Some(previous) = &previous_rate_row {
+            if constraints.monotone_rate
+                && row
+                    .iter()
+                    .zip(previous)
+                    .any(|(now, before)| *now < *before * (1.0 - 1e-12))
+            {
+                return Err(format!("flow stress decreases with rate at {rate} /s"));
+            }
+        }
+        previous_rate_row = Some(row);
+    }
+    Ok(())
+}
+
+/// What happened to a candidate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "status", content = "reason", rename_all = "kebab-case")]
+pub enum Status {
+    /// Every experiment simulated.
+    Ok,
+    /// Rejected before simulation by a realism constraint or invalid constants.
+    Infeasible(String),
+    /// A simulation failed (e.g. element inversion) or gave non-finite results.
+    Failed(String),
+}
+
+/// One evaluated candidate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Evaluation {
+    /// Fitted constants (SI), in the model space's order.
+    pub values: Vec<f64>,
+    /// Scores per campaign experiment (`None`: not simulated or failed).
+    pub scores: Vec<Option<Score>>,
+    /// Outcome.
+    pub status: Status,
+    /// Wall time of the simulations (s).
+    pub wall_time: f64,
+}
+
+impl Evaluation {
+    /// Weighted sum of the min-max errors over `experiments`; `None` if any is missing.
+    pub fn total(&self, campaign: &Campaign, experiments: &[usize]) -> Option<f64> {
+        experiments
+            .iter()
+            .map(|&i| {
+                self.scores
+                    .get(i)
+                    .copied()
+                    .flatten()
+                    .map(|s| s.error * campaign.file.experiments[i].weight)
+            })
+            .sum()
+    }
+
+    /// Weighted sum of the uncertainty-weighted RMS over `experiments`.
+    pub fn total_chi(&self, campaign: &Campaign, experiments: &[usize]) -> Option<f64> {
+        experiments
+            .iter()
+            .map(|&i| {
+                self.scores
+                    .get(i)
+                    .copied()
+                    .flatten()
+                    .map(|s| s.chi * campaign.file.experiments[i].weight)
+            })
+            .sum()
+    }
+}
+
+/// Simulate every experiment of `experiments` with the model's constants `values`.
+pub fn evaluate(
+    campaign: &Campaign,
+    space: &ModelSpace,
+    values: &[f64],
+    experiments: &[usize],
+    settings: &SolverSettings,
+) -> Evaluation {
+    let started = std::time::Instant::now();
+    let mut scores = vec![None; campaign.experiments.len()];
+    let finish = |scores, status| Evaluation {
+        values: values.to_vec(),
+        scores,
+        status,
+        wall_time: started.elapsed().as_secs_f64(),
+    };
+    let material = match space.material(&campaign.base, values) {
+        Ok((_, material)) => material,
+        Err(message) => return finish(scores, Status::Infeasible(message)),
+    };
+    let reference_temperature = 298.0;
+    if let Err(message) =
+        check_constraints(&material, &campaign.file.constraints, reference_temperature)
+    {
+        return finish(scores, Status::Infeasible(message));
+    }
+    for &index in experiments {
+        let experiment = &campaign.experiments[index];
+        match experiment.simulate(&material, settings) {
+            Ok(outcome) => match score(&experiment.recording, &outcome.predicted) {
+                Some(s) => scores[index] = Some(s),
+                None => {
+                    return finish(
+                        scores,
+                        Status::Failed(format!("{}: non-finite prediction", experiment.file.name)),
+                    )
+                }
+            },
+            Err(error) => {
+                return finish(
+                    scores,
+                    Status::Failed(format!("{}: {error}", experiment.file.name)),
+                )
+            }
+        }
+    }
+    finish(scores, Status::Ok)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(value: f64, uncertainty: f64) -> RecordedPoint {
+        RecordedPoint {
+            quantity: "q".into(),
+            position: 0.0,
+            value,
+            uncertainty,
+        }
+    }
+
+    #[test]
+    fn min_max_rmse_matches_a_hand_calculation() {
+        // GOAL: the seed 000 error measure. SETUP: recorded 1, 2, 3; predicted 1.5, 2, 2.
+        // REFERENCE: range 2; residuals 0.5, 0, -1 -> sqrt((0.0625 + 0 + 0.25)/3) = 0.3227.
+        let recording = [point(1.0, 0.1), point(2.0, 0.1), point(3.0, 0.1)];
+        let s = score(&recording, &[1.5, 2.0, 2.0]).unwrap();
+        assert!((s.error - (0.3125_f64 / 3.0).sqrt()).abs() < 1e-15);
+        assert!((s.chi - (125.0_f64 / 3.0).sqrt()).abs() < 1e-12);
+        assert!(score(&recording, &[1.0, f64::NAN, 3.0]).is_none());
+    }
+
+    #[test]
+    fn constraints_reject_unrealistic_flow_stress() {
+        // GOAL: candidates with absurd flow stress are rejected before simulation.
+        // SETUP: 4340 JC (feasible); yield 10 GPa (too strong).
+        // REFERENCE: Ok for 4340; an error naming the flow-stress bound otherwise.
+        let constraints = Constraints::default();
+        assert!(check_constraints(&Material::STEEL_4340, &constraints, 298.0).is_ok());
+        let mut jc = stoss_kernel::strength::JohnsonCook::STEEL_4340;
+        jc.yield_stress = 10.0e9;
+        let strong = Material::STEEL_4340.with_strength(jc);
+        assert!(check_constraints(&strong, &constraints, 298.0)
+            .unwrap_err()
+            .contains("outside"));
+    }
+}
