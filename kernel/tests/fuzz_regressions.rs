@@ -1,6 +1,8 @@
 //! Regressions found by the cargo-fuzz targets in `fuzz/` (see `fuzz/README.md`). Each test
 //! is the fuzzer's reproducer (the exact values it printed, bit for bit where it matters)
-//! and, where it helps, a smaller hand-made case of the same defect.
+//! or a smaller hand-made case of the same defect; the byte inputs are in
+//! `fuzz/regressions/<target>/`. The return-mapping defects were found against commit
+//! 992507f (`MAX_RETURN_ITERATIONS = 100`, linear bisection, unguarded Newton steps).
 
 use stoss_kernel::eos::{Eos, LinearEos};
 use stoss_kernel::rht::{update as rht_update, RhtMaterial};

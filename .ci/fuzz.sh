@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Bounded fuzzing of stoss-kernel with cargo-fuzz (libFuzzer), see fuzz/README.md.
+#
+# 1. Installs cargo-fuzz if missing (`cargo install cargo-fuzz --locked`).
+# 2. Builds every target (no sanitizer: the kernel has no unsafe code; the harness checks
+#    properties). Stable Rust first; if stable refuses, RUSTC_BOOTSTRAP=1.
+# 3. Replays the committed reproducers of kernel defects the fuzzers found
+#    (fuzz/regressions/<target>/), which also live as tests in kernel/tests/fuzz_regressions.rs.
+# 4. Fuzzes every target for FUZZ_SECONDS (default 60) from its committed seed corpus
+#    (fuzz/corpus/<target>/), writing new inputs to a scratch directory so the committed
+#    corpus stays small. Prints executions per second and total executions per target.
+#
+# Fails if any target crashes (artifacts in fuzz/artifacts/<target>/, reproduce with
+# `cargo fuzz run -s none <target> <artifact>` from fuzz/). All targets run before it fails.
+# Usage: FUZZ_SECONDS=60 bash .ci/fuzz.sh [target...]
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root/fuzz"
+
+seconds="${FUZZ_SECONDS:-60}"
+started=$SECONDS
+step() { printf '\n--- fuzz: %s (%ds)\n' "$*" "$((SECONDS - started))"; }
+
+if ! command -v cargo >/dev/null 2>&1 && [[ -f "$HOME/.cargo/env" ]]; then
+    # shellcheck source=/dev/null
+    . "$HOME/.cargo/env"
+fi
+if ! cargo fuzz --version >/dev/null 2>&1; then
+    step "cargo install cargo-fuzz --locked"
+    cargo install cargo-fuzz --locked
+fi
+cargo fuzz --version
+
+# libFuzzer is C++ and is compiled by the libfuzzer-sys build script.
+if ! command -v c++ >/dev/null 2>&1 && ! command -v g++ >/dev/null 2>&1 \
+    && ! command -v clang++ >/dev/null 2>&1; then
+    echo "fuzz: a C++ compiler is needed to build libFuzzer (apt-get install g++)" >&2
+    exit 1
+fi
+
+step "build (sanitizer none)"
+if ! cargo fuzz build -s none; then
+    echo "fuzz: stable refused the build; retrying with RUSTC_BOOTSTRAP=1" >&2
+    export RUSTC_BOOTSTRAP=1
+    cargo fuzz build -s none
+fi
+
+if [[ $# -gt 0 ]]; then
+    targets=("$@")
+else
+    mapfile -t targets < <(cargo fuzz list)
+fi
+
+scratch="$(mktemp -d)"
+trap 'rm -rf "$scratch"' EXIT
+failed=()
+summary=()
+
+# libFuzzer options: a hang is a failure (10 s for an input that takes microseconds), no
+# leak detection (no sanitizer), final statistics for the exec/s line.
+options=(-timeout=10 -print_final_stats=1)
+
+for target in "${targets[@]}"; do
+    if [[ -d "regressions/$target" ]] && compgen -G "regressions/$target/*" >/dev/null; then
+        step "$target: reproducers of fixed defects (fuzz/regressions/$target)"
+        # Given files (not directories), libFuzzer runs each once and stops.
+        if ! cargo fuzz run -s none "$target" regressions/"$target"/* -- "${options[@]}" \
+            >"$scratch/$target.regressions.log" 2>&1; then
+            grep -E -A3 "panicked at" "$scratch/$target.regressions.log" | head -n 8 >&2 || true
+            echo "fuzz: $target: a defect in fuzz/regressions/$target reproduces" \
+                "(see kernel/tests/fuzz_regressions.rs)" >&2
+            failed+=("$target (regression)")
+        else
+            echo "ok: every reproducer passes"
+        fi
+    fi
+
+    step "$target: ${seconds}s"
+    mkdir -p "$scratch/$target" "corpus/$target"
+    log="$scratch/$target.log"
+    status=0
+    cargo fuzz run -s none "$target" "$scratch/$target" "corpus/$target" -- \
+        -max_total_time="$seconds" "${options[@]}" >"$log" 2>&1 || status=$?
+    runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)"
+    rate="$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -n 1)"
+    line="$target: ${runs:-?} executions, ${rate:-?} exec/s, $(find "$scratch/$target" -type f | wc -l) new corpus entries"
+    if [[ $status -ne 0 ]]; then
+        grep -E -A3 "panicked at|ERROR: libFuzzer|SUMMARY" "$log" | head -n 12 >&2 || true
+        artifact="$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | tail -n 1)"
+        echo "fuzz: $target crashed (exit $status); artifact: ${artifact:-see log}" >&2
+        failed+=("$target")
+        line="$line, CRASH ${artifact:-}"
+    fi
+    echo "$line"
+    summary+=("$line")
+done
+
+printf '\n--- fuzz: summary (%ds)\n' "$((SECONDS - started))"
+printf '%s\n' "${summary[@]}"
+if [[ ${#failed[@]} -gt 0 ]]; then
+    printf 'fuzz: FAILED: %s\n' "${failed[*]}" >&2
+    exit 1
+fi
+echo "fuzz: OK (${#targets[@]} targets, ${seconds}s each)"

@@ -1,0 +1,36 @@
+#!/usr/bin/env python3
+"""Write the small committed seed corpus of every fuzz target (deterministic).
+
+The harness (src/source.rs) reads a regime byte, then per value a mode byte and eight bytes;
+input that runs out reads as zeros. So:
+  minimum      one zero byte: every value at the minimum of its domain, one step;
+  maximum      0x00 then 0x01...: every value at the maximum of its domain, every flag set;
+  midpoint     0x00 then 0x02...: midpoints (linear) and a fixed fraction (log), three steps;
+  random-N     a regime byte below 192 (everything in domain), then pseudo-random bytes;
+  chaos        a regime byte of 0xf0 (values may leave their domain), then pseudo-random bytes.
+Usage: python3 fuzz/make_seeds.py (rewrites fuzz/corpus/<target>/seed-*).
+"""
+import os
+import random
+
+TARGETS = ["strength_update_jc", "strength_update_za", "strength_update_mjc",
+           "strength_update_tjc", "eos", "rht_update"]
+
+here = os.path.dirname(os.path.abspath(__file__))
+for index, target in enumerate(TARGETS):
+    rng = random.Random(20240 + index)
+    seeds = {
+        "minimum": bytes([0]),
+        "maximum": bytes([0]) + bytes([1]) * 640,
+        "midpoint": bytes([0]) + bytes([2]) * 640,
+        "chaos": bytes([0xF0]) + bytes(rng.getrandbits(8) for _ in range(700)),
+    }
+    for n in range(3):
+        length = rng.randrange(300, 1000)
+        seeds[f"random-{n}"] = bytes([rng.randrange(0, 192)]) + bytes(
+            rng.getrandbits(8) for _ in range(length))
+    directory = os.path.join(here, "corpus", target)
+    os.makedirs(directory, exist_ok=True)
+    for name, data in seeds.items():
+        with open(os.path.join(directory, f"seed-{name}"), "wb") as f:
+            f.write(data)

@@ -1,0 +1,19 @@
+//! Harness code shared by the cargo-fuzz targets of stoss-kernel (see `fuzz/README.md`).
+//!
+//! - [`source`]: fuzzer bytes -> bounded numbers, recording whether each lies in its domain;
+//! - [`check`]: the properties asserted on every stress update;
+//! - [`strength`]: the `strength_update_<model>` targets;
+//! - [`eos`]: the `eos` target;
+//! - [`rht`]: the `rht_update` target (RHT concrete).
+//!
+//! Every target is a function of the input bytes only (no clock, no randomness, no I/O), so a
+//! crash reproduces from its artifact file.
+
+// `!(x >= 0.0)` is deliberate throughout: it is also true for NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod check;
+pub mod eos;
+pub mod rht;
+pub mod source;
+pub mod strength;

@@ -1,0 +1,307 @@
+//! The `strength_update_<model>` targets: a material of one strength family with fuzzed
+//! constants, a fuzzed state and a sequence of fuzzed steps through `update`.
+//!
+//! Domains (where the strong properties of [`crate::check::run_steps`] are asserted):
+//! - family constants: each family's `BOUNDS` (seed 000 section 4.1); constants without a
+//!   bound: reference rates log-uniform in `[1e-3, 1e3]` /s (TJC: its bounds), `Tr` in
+//!   `[250, 350]` K, `Tm` in `[800, 4000]` K, ZA `C2` in `[0, 3 GPa]`;
+//! - material: `rho0` in `[1000, 20000]` kg/m^3, `G` in `[1, 300]` GPa (log), `c_p` in
+//!   `[100, 2000]` J/kg/K, isothermal, adiabatic or transition heating with `chi` in
+//!   `[0, 1]`, linear EoS `K` in `[1, 500]` GPa (log), optional JC failure (`D1` in
+//!   `[-0.5, 1]`, `D2` in `[0, 5]`, `D3` in `[-5, 1]`, `D4` in `[-0.05, 0.1]`, `D5` in
+//!   `[-1, 2]`), erosion strain, pressure cut-off in `[-10 GPa, 0]`, implicit or lagged rate;
+//!   and `validate()` (family and material) must pass;
+//! - initial state: stress components in `[-5, 5]` GPa, `eps_p` 0 or in `[1e-8, 5]`, rate 0 or
+//!   in `[1e-6, 1e7]` /s, `T` in `[200, 4000]` K, `D` in `[0, 1]`, `V` in `[0.5, 2]`, `E` in
+//!   `[-1e10, 1e10]` J/m^3, any flags (one state in eight; the others none);
+//! - steps (1 to 12): strain-increment components in `[-0.05, 0.05]`, `dt` in
+//!   `[1e-9, 1e-3]` s (log), new `V` in `[0.5, 2]`.
+
+use crate::check::{run_steps, FuzzStep, Tally};
+use crate::source::Source;
+use stoss_kernel::damage::{Failure, JohnsonCookFailure};
+use stoss_kernel::eos::{Eos, LinearEos};
+use stoss_kernel::strength::{
+    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, ParameterBound, Strength,
+    TwoRateJohnsonCook, ZerilliArmstrong,
+};
+use stoss_kernel::{
+    Heating, Material, MaterialState, ParameterError, RateTreatment, StateFlags, StepInput,
+};
+
+/// The strength family of a target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    /// Johnson-Cook.
+    JohnsonCook,
+    /// Zerilli-Armstrong, BCC or FCC (chosen by the input).
+    ZerilliArmstrong,
+    /// Modified Johnson-Cook.
+    ModifiedJohnsonCook,
+    /// Two-part-rate Johnson-Cook.
+    TwoRateJohnsonCook,
+}
+
+/// The bound named `name` in `bounds`.
+fn bound(bounds: &[ParameterBound], name: &str) -> (f64, f64) {
+    let b = bounds
+        .iter()
+        .find(|b| b.name == name)
+        .unwrap_or_else(|| panic!("harness: no bound {name}"));
+    (b.min, b.max)
+}
+
+fn draw(src: &mut Source, bounds: &[ParameterBound], name: &str) -> f64 {
+    let (min, max) = bound(bounds, name);
+    src.linear(min, max)
+}
+
+fn draw_log(src: &mut Source, bounds: &[ParameterBound], name: &str) -> f64 {
+    let (min, max) = bound(bounds, name);
+    src.log(min, max)
+}
+
+/// Family constants; returns the strength and the family's own `validate()`.
+fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), ParameterError>) {
+    match family {
+        Family::JohnsonCook => {
+            let b = &JohnsonCook::BOUNDS;
+            let model = JohnsonCook {
+                yield_stress: draw(src, b, "yield_stress"),
+                hardening_modulus: draw(src, b, "hardening_modulus"),
+                hardening_exponent: draw(src, b, "hardening_exponent"),
+                rate_sensitivity: draw(src, b, "rate_sensitivity"),
+                thermal_exponent: draw(src, b, "thermal_exponent"),
+                reference_rate: src.log(1e-3, 1e3),
+                reference_temperature: src.linear(250.0, 350.0),
+                melting_temperature: src.linear(800.0, 4000.0),
+            };
+            (model.into(), model.validate())
+        }
+        Family::ZerilliArmstrong => {
+            let b = &ZerilliArmstrong::BOUNDS;
+            let structure = if src.flag() {
+                CrystalStructure::Fcc
+            } else {
+                CrystalStructure::Bcc
+            };
+            let model = ZerilliArmstrong {
+                structure,
+                athermal_stress: draw(src, b, "athermal_stress"),
+                c1: draw(src, b, "c1"),
+                c2: src.linear(0.0, 3.0e9),
+                c3: draw(src, b, "c3"),
+                c4: draw(src, b, "c4"),
+                c5: draw(src, b, "c5"),
+                exponent: draw(src, b, "exponent"),
+                reference_rate: src.log(1e-3, 1e3),
+            };
+            (model.into(), model.validate())
+        }
+        Family::ModifiedJohnsonCook => {
+            let b = &ModifiedJohnsonCook::BOUNDS;
+            let model = ModifiedJohnsonCook {
+                yield_stress: draw(src, b, "yield_stress"),
+                hardening_modulus: draw(src, b, "hardening_modulus"),
+                hardening_exponent: draw(src, b, "hardening_exponent"),
+                saturation_stress_1: draw(src, b, "saturation_stress_1"),
+                saturation_rate_1: draw(src, b, "saturation_rate_1"),
+                saturation_stress_2: draw(src, b, "saturation_stress_2"),
+                saturation_rate_2: draw(src, b, "saturation_rate_2"),
+                rate_exponent: draw(src, b, "rate_exponent"),
+                reference_rate: src.log(1e-3, 1e3),
+                thermal_exponent: draw(src, b, "thermal_exponent"),
+                reference_temperature: src.linear(250.0, 350.0),
+                melting_temperature: src.linear(800.0, 4000.0),
+            };
+            (model.into(), model.validate())
+        }
+        Family::TwoRateJohnsonCook => {
+            let b = &TwoRateJohnsonCook::BOUNDS;
+            let model = TwoRateJohnsonCook {
+                yield_stress: draw(src, b, "yield_stress"),
+                hardening_modulus: draw(src, b, "hardening_modulus"),
+                hardening_exponent: draw(src, b, "hardening_exponent"),
+                saturation_stress_1: draw(src, b, "saturation_stress_1"),
+                saturation_rate_1: draw(src, b, "saturation_rate_1"),
+                saturation_stress_2: draw(src, b, "saturation_stress_2"),
+                saturation_rate_2: draw(src, b, "saturation_rate_2"),
+                rate_exponent_1: draw(src, b, "rate_exponent_1"),
+                reference_rate_1: draw_log(src, b, "reference_rate_1"),
+                rate_exponent_2: draw(src, b, "rate_exponent_2"),
+                reference_rate_2: draw_log(src, b, "reference_rate_2"),
+                thermal_exponent: draw(src, b, "thermal_exponent"),
+                reference_temperature: src.linear(250.0, 350.0),
+                melting_temperature: src.linear(800.0, 4000.0),
+            };
+            (model.into(), model.validate())
+        }
+    }
+}
+
+/// Everything but the strength: density, elasticity, heating, linear EoS, failure, rate
+/// treatment.
+pub fn material_with(src: &mut Source, strength: Strength) -> Material {
+    let density = src.linear(1000.0, 20000.0);
+    let shear_modulus = src.log(1e9, 3e11);
+    let specific_heat = src.linear(100.0, 2000.0);
+    let heating = match src.choice(3) {
+        0 => Heating::Isothermal,
+        1 => Heating::Adiabatic {
+            taylor_quinney: src.linear(0.0, 1.0),
+        },
+        _ => {
+            let isothermal_rate = src.log(1e-4, 1e2);
+            Heating::Transition {
+                taylor_quinney: src.linear(0.0, 1.0),
+                isothermal_rate,
+                adiabatic_rate: isothermal_rate * src.log(1.001, 1e5),
+            }
+        }
+    };
+    let eos = Eos::Linear(LinearEos {
+        bulk_modulus: src.log(1e9, 5e11),
+    });
+    let johnson_cook = if src.flag() {
+        Some(JohnsonCookFailure {
+            d1: src.linear(-0.5, 1.0),
+            d2: src.linear(0.0, 5.0),
+            d3: src.linear(-5.0, 1.0),
+            d4: src.linear(-0.05, 0.1),
+            d5: src.linear(-1.0, 2.0),
+            reference_rate: src.log(1e-3, 1e3),
+            reference_temperature: src.linear(250.0, 350.0),
+            melting_temperature: src.linear(800.0, 4000.0),
+        })
+    } else {
+        None
+    };
+    let erosion_plastic_strain = if src.flag() {
+        Some(src.linear(0.01, 5.0))
+    } else {
+        None
+    };
+    let erode_on_failure = src.flag();
+    let pressure_cutoff = if src.flag() {
+        Some(src.linear(-1e10, 0.0))
+    } else {
+        None
+    };
+    let rate_treatment = if src.flag() {
+        RateTreatment::Lagged
+    } else {
+        RateTreatment::Implicit
+    };
+    Material {
+        density,
+        shear_modulus,
+        specific_heat,
+        strength,
+        heating,
+        eos,
+        failure: Failure {
+            johnson_cook,
+            erosion_plastic_strain,
+            erode_on_failure,
+            pressure_cutoff,
+        },
+        rate_treatment,
+    }
+}
+
+/// A fuzzed incoming state (see the module docs for its domain).
+pub fn state(src: &mut Source) -> MaterialState {
+    let mut stress = [0.0; 6];
+    for s in stress.iter_mut() {
+        *s = src.linear(-5e9, 5e9);
+    }
+    MaterialState {
+        stress,
+        plastic_strain: src.zero_or_log(1e-8, 5.0),
+        plastic_strain_rate: src.zero_or_log(1e-6, 1e7),
+        temperature: src.linear(200.0, 4000.0),
+        damage: src.linear(0.0, 1.0),
+        relative_volume: src.linear(0.5, 2.0),
+        internal_energy: src.linear(-1e10, 1e10),
+        eos_history: 0.0,
+        // Mostly a clean point; one state in eight carries arbitrary flags (FAILED included).
+        flags: StateFlags(if src.byte() & 7 == 0 {
+            u32::from(src.byte() & 0x0f)
+        } else {
+            0
+        }),
+    }
+}
+
+/// 1 to 12 fuzzed steps.
+pub fn steps(src: &mut Source) -> Vec<FuzzStep> {
+    let count = src.count(1, 12);
+    (0..count)
+        .map(|_| {
+            src.take_domain();
+            let mut strain_increment = [0.0; 6];
+            for d in strain_increment.iter_mut() {
+                *d = src.linear(-0.05, 0.05);
+            }
+            let dt = src.log(1e-9, 1e-3);
+            let relative_volume = src.linear(0.5, 2.0);
+            let tangent = src.flag();
+            FuzzStep {
+                input: StepInput {
+                    strain_increment,
+                    dt,
+                    relative_volume,
+                },
+                tangent,
+                in_domain: src.take_domain(),
+            }
+        })
+        .collect()
+}
+
+/// A decoded strength case: the material, whether its constants validated and lie in their
+/// domain, the initial state and whether it lies in its domain, and the steps.
+pub struct Case {
+    /// The material.
+    pub material: Material,
+    /// Family and material `validate()` passed and every constant lies in its domain.
+    pub checked: bool,
+    /// The incoming state.
+    pub initial: MaterialState,
+    /// The incoming state was drawn inside its domain.
+    pub initial_in_domain: bool,
+    /// The steps.
+    pub steps: Vec<FuzzStep>,
+}
+
+/// Decode the bytes of a `strength_update_<model>` input.
+pub fn decode(family: Family, data: &[u8]) -> Case {
+    let mut src = Source::new(data);
+    let (strength, family_check) = strength(&mut src, family);
+    let material = material_with(&mut src, strength);
+    let material_in_domain = src.take_domain();
+    let initial = state(&mut src);
+    let initial_in_domain = src.take_domain();
+    let steps = steps(&mut src);
+    // Material::validate() alone misses family-level checks (TJC: e02 >= e01), so both.
+    let valid = family_check.is_ok() && material.validate().is_ok();
+    Case {
+        material,
+        checked: valid && material_in_domain,
+        initial,
+        initial_in_domain,
+        steps,
+    }
+}
+
+/// One fuzz case of `family`.
+pub fn run(family: Family, data: &[u8]) -> Tally {
+    let case = decode(family, data);
+    run_steps(
+        &case.material,
+        case.checked,
+        case.initial,
+        case.initial_in_domain,
+        &case.steps,
+    )
+}
