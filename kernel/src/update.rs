@@ -416,7 +416,11 @@ fn compute(
     };
     let wave_speed = sqrt(bulk_sound_squared + 4.0 * shear / (3.0 * density));
 
-    if !next.is_finite() || !wave_speed.is_finite() {
+    if !next.is_finite()
+        || !wave_speed.is_finite()
+        || !yield_stress.is_finite()
+        || !plastic_increment.is_finite()
+    {
         return Err(UpdateError::NonFiniteResult);
     }
     Ok(Step {

@@ -17,8 +17,8 @@
 //! linear `Us-up` Hugoniot (`p_H = rho0 Us up`, `E_H = p_H (1 - V)/2`).
 //!
 //! The denominator vanishes at the Hugoniot's limiting compression (for `S2 = S3 = 0`,
-//! `mu = 1/(S1 - 1)`); beyond it the form has no meaning and the pressure is not finite
-//! there, which the stress update reports as [`crate::UpdateError::NonFiniteResult`].
+//! `mu = 1/(S1 - 1)`); at and beyond it the form has no meaning: the pressure is returned as
+//! `+inf`, which the stress update reports as [`crate::UpdateError::NonFiniteResult`].
 
 use super::EnergyLinearPressure;
 use crate::error::{check, ParameterError};
@@ -68,6 +68,15 @@ impl MieGruneisen {
             let d_denominator = -(self.s1 - 1.0)
                 - self.s2 * mu * (2.0 + mu) / (one_plus * one_plus)
                 - self.s3 * mu * mu * (3.0 + mu) / (one_plus * one_plus * one_plus);
+            if denominator <= 0.0 {
+                // At or past the limiting compression: no meaningful pressure.
+                return EnergyLinearPressure {
+                    base: f64::INFINITY,
+                    d_base_d_mu: f64::INFINITY,
+                    energy_coefficient,
+                    d_energy_coefficient_d_mu: a,
+                };
+            }
             let denominator_sq = denominator * denominator;
             EnergyLinearPressure {
                 base: numerator / denominator_sq,

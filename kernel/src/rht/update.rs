@@ -255,6 +255,8 @@ fn compute(
             damage_before,
         )
     };
+    // A strength is never negative (round-off of (1 - D) Y_fail + D Y_resid near D = 1).
+    let current = if current > 0.0 { current } else { 0.0 };
     let mut result = if trial_equivalent > current {
         if failed {
             Return {

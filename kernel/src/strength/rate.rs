@@ -140,7 +140,14 @@ impl RateTerm {
                 check::range("rate_exponent_1", exponent_1, 0.0, 1.0)?;
                 check::positive("reference_rate_1", reference_rate_1)?;
                 check::range("rate_exponent_2", exponent_2, 0.0, 1.0)?;
-                check::positive("reference_rate_2", reference_rate_2)
+                check::positive("reference_rate_2", reference_rate_2)?;
+                if reference_rate_2 < reference_rate_1 {
+                    return Err(ParameterError::Inconsistent {
+                        field: "reference_rate_2",
+                        other: "reference_rate_1",
+                    });
+                }
+                Ok(())
             }
             RateTerm::CowperSymonds {
                 rate_constant,

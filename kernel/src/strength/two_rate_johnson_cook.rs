@@ -86,14 +86,8 @@ impl TwoRateJohnsonCook {
 
     /// Reject non-physical constants.
     pub fn validate(&self) -> Result<(), ParameterError> {
-        self.composed().validate()?;
-        if self.reference_rate_2 < self.reference_rate_1 {
-            return Err(ParameterError::Inconsistent {
-                field: "reference_rate_2",
-                other: "reference_rate_1",
-            });
-        }
-        Ok(())
+        // The rate term checks that e02 >= e01 (one home for the rule, composed models too).
+        self.composed().validate()
     }
 }
 
