@@ -1,0 +1,199 @@
+//! Reference histories for the C and Fortran link tests (`.ci/ffi.sh`).
+//!
+//! Runs the kernel's own single-element drivers (`stoss_kernel::drivers`) — not the C ABI —
+//! with materials built directly from the kernel's structs, and writes one file per case into
+//! the directory given as the first argument. Each line is one step: 20 values as 16-digit
+//! lower-case hex bit patterns of the `f64`, separated by single spaces:
+//!
+//! `time strain(xx yy zz xy yz zx) stress(xx yy zz xy yz zx) eps_p rate T D E wave_speed flags`
+//!
+//! `tests/ffi/c/uniaxial_strain.c` and `tests/ffi/fortran/umat_driver.f90` write the same
+//! cases through the C ABI in the same format; the script compares the files byte for byte.
+//! The cases (material, path) are defined identically in the three programs:
+//!
+//! | file | interface | material | path |
+//! |---|---|---|---|
+//! | `batch_jc_tension` | batch, point 0 of 2 | JC 4340 + JC failure | uniaxial strain +0.3, 300 steps, 1e4 /s |
+//! | `batch_jc_compression` | batch, point 1 of 2 | same | uniaxial strain -0.3 |
+//! | `batch_mg_lagged` | batch | JC 4340, Mie-Grüneisen, lagged rate | uniaxial strain -0.2, 400 steps, 1e5 /s |
+//! | `vumat_za_compression` | VUMAT, point 0 of 2 | ZA BCC | uniaxial strain -0.2, 200 steps, 1e3 /s |
+//! | `vumat_za_tension` | VUMAT, point 1 of 2 | same | uniaxial strain +0.2 |
+//! | `umat_tjc_tension` | LS-DYNA umat (Fortran) | TJC + JC failure | uniaxial strain +0.25, 250 steps, 1e4 /s |
+//! | `umat_jc_simple_shear` | LS-DYNA umat (Fortran) | JC 4340 | simple shear eps_xy 0.3, 300 steps, 1e3 /s |
+//!
+//! Usage: `cargo run --release -p stoss-kernel-ffi --example reference_histories -- <dir>`
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use stoss_kernel::damage::JohnsonCookFailure;
+use stoss_kernel::drivers::{
+    simple_shear, uniaxial_strain, DriverError, HistorySink, Record, SimpleShearLoading,
+    UniaxialStrainLoading,
+};
+use stoss_kernel::eos::MieGruneisen;
+use stoss_kernel::strength::{CrystalStructure, TwoRateJohnsonCook, ZerilliArmstrong};
+use stoss_kernel::{Material, MaterialState, RateTreatment};
+
+/// Collects the hex lines of a driver run.
+#[derive(Default)]
+struct HexLines(String);
+
+impl HistorySink for HexLines {
+    fn push(&mut self, record: Record) -> Result<(), DriverError> {
+        let values = [
+            record.time,
+            record.strain[0],
+            record.strain[1],
+            record.strain[2],
+            record.strain[3],
+            record.strain[4],
+            record.strain[5],
+            record.stress[0],
+            record.stress[1],
+            record.stress[2],
+            record.stress[3],
+            record.stress[4],
+            record.stress[5],
+            record.plastic_strain,
+            record.plastic_strain_rate,
+            record.temperature,
+            record.damage,
+            record.internal_energy,
+            record.wave_speed,
+            f64::from(record.flags),
+        ];
+        let line: Vec<String> = values
+            .iter()
+            .map(|v| format!("{:016x}", v.to_bits()))
+            .collect();
+        writeln!(self.0, "{}", line.join(" ")).expect("write to String");
+        Ok(())
+    }
+}
+
+fn jc_with_failure() -> Material {
+    let mut material = Material::STEEL_4340;
+    material.failure.johnson_cook = Some(JohnsonCookFailure::STEEL_4340);
+    material
+}
+
+/// Illustrative Mie-Grüneisen constants for a steel (test data, not a published set).
+fn jc_mie_gruneisen_lagged() -> Material {
+    let mut material = Material::STEEL_4340;
+    material.eos = MieGruneisen {
+        reference_density: 7830.0,
+        sound_speed: 4570.0,
+        s1: 1.49,
+        s2: 0.0,
+        s3: 0.0,
+        gamma0: 1.93,
+        volume_correction: 0.5,
+    }
+    .into();
+    material.rate_treatment = RateTreatment::Lagged;
+    material
+}
+
+/// Zerilli & Armstrong (1987) Armco-iron activation/hardening constants with a 65 MPa
+/// athermal stress (as in the kernel's benchmarks); elasticity etc. of 4340.
+fn za_bcc() -> Material {
+    Material::STEEL_4340.with_strength(ZerilliArmstrong {
+        structure: CrystalStructure::Bcc,
+        athermal_stress: 65.0e6,
+        c1: 1033.0e6,
+        c2: 0.0,
+        c3: 0.00698,
+        c4: 0.000415,
+        c5: 266.0e6,
+        exponent: 0.289,
+        reference_rate: 1.0,
+    })
+}
+
+/// Illustrative TJC constants (test data) with JC 4340 failure.
+fn tjc_with_failure() -> Material {
+    let mut material = Material::STEEL_4340.with_strength(TwoRateJohnsonCook {
+        yield_stress: 792.0e6,
+        hardening_modulus: 510.0e6,
+        hardening_exponent: 0.26,
+        saturation_stress_1: 100.0e6,
+        saturation_rate_1: 20.0,
+        saturation_stress_2: 50.0e6,
+        saturation_rate_2: 200.0,
+        rate_exponent_1: 0.01,
+        reference_rate_1: 0.01,
+        rate_exponent_2: 0.05,
+        reference_rate_2: 1000.0,
+        thermal_exponent: 1.03,
+        reference_temperature: 298.0,
+        melting_temperature: 1793.0,
+    });
+    material.failure.johnson_cook = Some(JohnsonCookFailure::STEEL_4340);
+    material
+}
+
+fn strain_case(material: &Material, final_strain: f64, steps: u32, strain_rate: f64) -> String {
+    let mut state = MaterialState::initial(298.0);
+    let mut lines = HexLines::default();
+    let loading = UniaxialStrainLoading {
+        strain_rate,
+        final_strain,
+        steps,
+    };
+    uniaxial_strain(material, &mut state, &loading, &mut lines).expect("driver run");
+    lines.0
+}
+
+fn shear_case(material: &Material, final_shear_strain: f64, steps: u32, shear_rate: f64) -> String {
+    let mut state = MaterialState::initial(298.0);
+    let mut lines = HexLines::default();
+    let loading = SimpleShearLoading {
+        shear_rate,
+        final_shear_strain,
+        steps,
+    };
+    simple_shear(material, &mut state, &loading, &mut lines).expect("driver run");
+    lines.0
+}
+
+fn main() {
+    let directory = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .expect("usage: reference_histories <output directory>"),
+    );
+    std::fs::create_dir_all(&directory).expect("create output directory");
+    let cases = [
+        (
+            "batch_jc_tension",
+            strain_case(&jc_with_failure(), 0.3, 300, 1.0e4),
+        ),
+        (
+            "batch_jc_compression",
+            strain_case(&jc_with_failure(), -0.3, 300, 1.0e4),
+        ),
+        (
+            "batch_mg_lagged",
+            strain_case(&jc_mie_gruneisen_lagged(), -0.2, 400, 1.0e5),
+        ),
+        (
+            "vumat_za_compression",
+            strain_case(&za_bcc(), -0.2, 200, 1.0e3),
+        ),
+        ("vumat_za_tension", strain_case(&za_bcc(), 0.2, 200, 1.0e3)),
+        (
+            "umat_tjc_tension",
+            strain_case(&tjc_with_failure(), 0.25, 250, 1.0e4),
+        ),
+        (
+            "umat_jc_simple_shear",
+            shear_case(&Material::STEEL_4340, 0.3, 300, 1.0e3),
+        ),
+    ];
+    for (name, text) in cases {
+        let path = directory.join(format!("{name}.hex"));
+        std::fs::write(&path, text).expect("write history");
+        println!("wrote {}", path.display());
+    }
+}

@@ -1,0 +1,1269 @@
+//! The versioned, `#[repr(C)]` material parameter block a host fills once per material.
+//!
+//! The block names every family's constants in its own nested struct; the selectors
+//! (`strength_model`, `eos_model`, ...) say which one is read. Fields of families that are not
+//! selected are ignored. Selector value 0 is never valid, so a zero-filled block is rejected
+//! with a message instead of silently meaning "Johnson-Cook".
+//!
+//! `layout_version` and `struct_size` are checked on every call that takes a block, before
+//! anything else is read: a host compiled against another header gets
+//! `STOSS_STATUS_BAD_LAYOUT_VERSION` / `STOSS_STATUS_BAD_STRUCT_SIZE`, never a misread.
+
+use stoss_kernel::damage::{Failure, JohnsonCookFailure};
+use stoss_kernel::eos::{
+    CompactionPoint, Eos, Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial, TabulatedCompaction,
+    MAX_COMPACTION_POINTS,
+};
+use stoss_kernel::strength::{
+    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm,
+    Strength, ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
+};
+use stoss_kernel::{Heating, Material, MaterialState, RateTreatment};
+
+use crate::status::{FfiError, StossStatus};
+
+/// Version of [`StossMaterialBlock`]'s layout (and of the card layout, slot P1). Bumped on any
+/// change of field order, size or meaning.
+pub const STOSS_LAYOUT_VERSION: u32 = 1;
+
+/// Points of the tabulated-compaction EoS table in the block (the kernel's
+/// `MAX_COMPACTION_POINTS`).
+pub const STOSS_MAX_COMPACTION_POINTS: usize = 16;
+
+const _: () = assert!(STOSS_MAX_COMPACTION_POINTS == MAX_COMPACTION_POINTS);
+
+/// Flow-stress model (`StossMaterialBlock::strength_model`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossStrengthModel {
+    /// Johnson-Cook, `strength.johnson_cook`.
+    JohnsonCook = 1,
+    /// Zerilli-Armstrong BCC, `strength.zerilli_armstrong`.
+    ZerilliArmstrongBcc = 2,
+    /// Zerilli-Armstrong FCC, `strength.zerilli_armstrong`.
+    ZerilliArmstrongFcc = 3,
+    /// Modified Johnson-Cook (power + two Voce, power-law rate), `strength.modified_johnson_cook`.
+    ModifiedJohnsonCook = 4,
+    /// Two-part-rate Johnson-Cook, `strength.two_rate_johnson_cook`.
+    TwoRateJohnsonCook = 5,
+    /// Free composition of hardening x rate x thermal terms, `strength.composed`.
+    Composed = 6,
+}
+
+/// Hardening term of a composed model (`StossComposed::hardening_model`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossHardeningModel {
+    /// `A + B eps^n`.
+    Power = 1,
+    /// `A + Q1 (1 - exp(-c1 eps)) + Q2 (1 - exp(-c2 eps))`.
+    Voce2 = 2,
+    /// `A + B eps^n + Q1 (1 - exp(-c1 eps)) + Q2 (1 - exp(-c2 eps))`.
+    PowerVoce2 = 3,
+}
+
+/// Rate term of a composed model (`StossComposed::rate_model`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossRateModel {
+    /// Rate independent.
+    None = 1,
+    /// `1 + C ln(rate/e0)` (1 below `e0`): `rate_sensitivity`, `reference_rate`.
+    JohnsonCookLog = 2,
+    /// `(1 + rate/e0)^beta`: `exponent`, `reference_rate`.
+    Power = 3,
+    /// `(1 + rate/e01)^beta1 (1 + rate/e02)^beta2`: `exponent`, `reference_rate`,
+    /// `exponent_2`, `reference_rate_2`.
+    TwoPart = 4,
+    /// `1 + (rate/D)^(1/q)`: `cowper_symonds_d`, `cowper_symonds_q`.
+    CowperSymonds = 5,
+}
+
+/// Thermal term of a composed model (`StossComposed::thermal_model`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossThermalModel {
+    /// No thermal softening.
+    None = 1,
+    /// `1 - T*^m`.
+    HomologousPower = 2,
+    /// `1 - T*`.
+    Linear = 3,
+}
+
+/// Plastic-work heating (`StossMaterialBlock::heating_model`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossHeatingModel {
+    /// Temperature stays constant.
+    Isothermal = 1,
+    /// `dT = chi sigma_y deps_p / (rho c_p)`, `heating.taylor_quinney`.
+    Adiabatic = 2,
+    /// Rate-dependent isothermal-to-adiabatic transition (all three `heating` fields).
+    Transition = 3,
+}
+
+/// Rate in the flow stress (`StossMaterialBlock::rate_treatment`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossRateTreatment {
+    /// Implicit in strain and rate (seed 001 eq. 3.8).
+    Implicit = 1,
+    /// Rate lagged by one step (seed 001 eq. 3.7; reproduces the rate-insensitivity defect).
+    Lagged = 2,
+}
+
+/// Equation of state (`StossMaterialBlock::eos_model`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossEosModel {
+    /// `p = K mu`, `eos.linear`.
+    Linear = 1,
+    /// Mie-Grüneisen (LS-DYNA `*EOS_GRUNEISEN` form), `eos.mie_gruneisen`.
+    MieGruneisen = 2,
+    /// Polynomial, `eos.polynomial`.
+    Polynomial = 3,
+    /// Jones-Wilkins-Lee, `eos.jwl`.
+    Jwl = 4,
+    /// Tabulated compaction, `eos.tabulated_compaction`.
+    TabulatedCompaction = 5,
+    /// P-alpha porous compaction over a polynomial matrix, `eos.p_alpha`.
+    PAlpha = 6,
+}
+
+/// Heating constants (read according to `heating_model`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossHeating {
+    /// Taylor-Quinney coefficient `chi` in [0, 1] (adiabatic, transition).
+    pub taylor_quinney: f64,
+    /// Rate below which heating is off (1/s, transition).
+    pub isothermal_rate: f64,
+    /// Rate above which heating is fully adiabatic (1/s, transition).
+    pub adiabatic_rate: f64,
+}
+
+/// Johnson-Cook constants (SI).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossJohnsonCook {
+    /// `A` (Pa).
+    pub yield_stress: f64,
+    /// `B` (Pa).
+    pub hardening_modulus: f64,
+    /// `n` (-).
+    pub hardening_exponent: f64,
+    /// `C` (-).
+    pub rate_sensitivity: f64,
+    /// `m` (-).
+    pub thermal_exponent: f64,
+    /// `e0` (1/s).
+    pub reference_rate: f64,
+    /// `Tr` (K).
+    pub reference_temperature: f64,
+    /// `Tm` (K).
+    pub melting_temperature: f64,
+}
+
+/// Zerilli-Armstrong constants (SI); BCC or FCC is chosen by `strength_model`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossZerilliArmstrong {
+    /// `sigma_a` (Pa).
+    pub athermal_stress: f64,
+    /// `C1` (Pa), BCC.
+    pub c1: f64,
+    /// `C2` (Pa), FCC.
+    pub c2: f64,
+    /// `C3` (1/K).
+    pub c3: f64,
+    /// `C4` (1/K).
+    pub c4: f64,
+    /// `C5` (Pa), BCC.
+    pub c5: f64,
+    /// `n` (-), BCC.
+    pub exponent: f64,
+    /// `e0` (1/s).
+    pub reference_rate: f64,
+}
+
+/// Modified Johnson-Cook constants (SI).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossModifiedJohnsonCook {
+    /// `A` (Pa).
+    pub yield_stress: f64,
+    /// `B` (Pa).
+    pub hardening_modulus: f64,
+    /// `n` (-).
+    pub hardening_exponent: f64,
+    /// `Q1` (Pa).
+    pub saturation_stress_1: f64,
+    /// `c1` (-).
+    pub saturation_rate_1: f64,
+    /// `Q2` (Pa).
+    pub saturation_stress_2: f64,
+    /// `c2` (-).
+    pub saturation_rate_2: f64,
+    /// `beta` (-).
+    pub rate_exponent: f64,
+    /// `e0` (1/s).
+    pub reference_rate: f64,
+    /// `m` (-).
+    pub thermal_exponent: f64,
+    /// `Tr` (K).
+    pub reference_temperature: f64,
+    /// `Tm` (K).
+    pub melting_temperature: f64,
+}
+
+/// Two-part-rate Johnson-Cook constants (SI).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossTwoRateJohnsonCook {
+    /// `A` (Pa).
+    pub yield_stress: f64,
+    /// `B` (Pa).
+    pub hardening_modulus: f64,
+    /// `n` (-).
+    pub hardening_exponent: f64,
+    /// `Q1` (Pa).
+    pub saturation_stress_1: f64,
+    /// `c1` (-).
+    pub saturation_rate_1: f64,
+    /// `Q2` (Pa).
+    pub saturation_stress_2: f64,
+    /// `c2` (-).
+    pub saturation_rate_2: f64,
+    /// `beta1` (-).
+    pub rate_exponent_1: f64,
+    /// `e01` (1/s).
+    pub reference_rate_1: f64,
+    /// `beta2` (-).
+    pub rate_exponent_2: f64,
+    /// `e02` (1/s).
+    pub reference_rate_2: f64,
+    /// `m` (-).
+    pub thermal_exponent: f64,
+    /// `Tr` (K).
+    pub reference_temperature: f64,
+    /// `Tm` (K).
+    pub melting_temperature: f64,
+}
+
+/// Hardening constants of a composed model (read according to `hardening_model`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossHardening {
+    /// `A` (Pa).
+    pub yield_stress: f64,
+    /// `B` (Pa), power and power+Voce.
+    pub hardening_modulus: f64,
+    /// `n` (-), power and power+Voce.
+    pub exponent: f64,
+    /// `Q1` (Pa).
+    pub saturation_stress_1: f64,
+    /// `c1` (-).
+    pub saturation_rate_1: f64,
+    /// `Q2` (Pa).
+    pub saturation_stress_2: f64,
+    /// `c2` (-).
+    pub saturation_rate_2: f64,
+}
+
+/// Rate constants of a composed model (read according to `rate_model`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossRateTerm {
+    /// `C` (-), JC log.
+    pub rate_sensitivity: f64,
+    /// `beta` / `beta1` (-), power and two-part.
+    pub exponent: f64,
+    /// `e0` / `e01` (1/s), JC log, power, two-part.
+    pub reference_rate: f64,
+    /// `beta2` (-), two-part.
+    pub exponent_2: f64,
+    /// `e02` (1/s), two-part.
+    pub reference_rate_2: f64,
+    /// Cowper-Symonds `D` (1/s).
+    pub cowper_symonds_d: f64,
+    /// Cowper-Symonds `q` (-).
+    pub cowper_symonds_q: f64,
+}
+
+/// Thermal constants of a composed model (read according to `thermal_model`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossThermalTerm {
+    /// `m` (-), homologous power.
+    pub exponent: f64,
+    /// `Tr` (K).
+    pub reference_temperature: f64,
+    /// `Tm` (K).
+    pub melting_temperature: f64,
+}
+
+/// A composed flow stress `hardening(eps_p) * rate(deps_p) * thermal(T)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossComposed {
+    /// [`StossHardeningModel`] code.
+    pub hardening_model: i32,
+    /// [`StossRateModel`] code.
+    pub rate_model: i32,
+    /// [`StossThermalModel`] code.
+    pub thermal_model: i32,
+    /// Padding; set to 0.
+    pub reserved: i32,
+    /// Hardening constants.
+    pub hardening: StossHardening,
+    /// Rate constants.
+    pub rate: StossRateTerm,
+    /// Thermal constants.
+    pub thermal: StossThermalTerm,
+}
+
+/// Constants of every strength family; `strength_model` says which one is read.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossStrength {
+    /// Johnson-Cook.
+    pub johnson_cook: StossJohnsonCook,
+    /// Zerilli-Armstrong (BCC and FCC).
+    pub zerilli_armstrong: StossZerilliArmstrong,
+    /// Modified Johnson-Cook.
+    pub modified_johnson_cook: StossModifiedJohnsonCook,
+    /// Two-part-rate Johnson-Cook.
+    pub two_rate_johnson_cook: StossTwoRateJohnsonCook,
+    /// Free composition.
+    pub composed: StossComposed,
+}
+
+/// Linear EoS.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossLinearEos {
+    /// `K` (Pa).
+    pub bulk_modulus: f64,
+}
+
+/// Mie-Grüneisen EoS (LS-DYNA `*EOS_GRUNEISEN` form).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossMieGruneisen {
+    /// `rho0` (kg/m^3).
+    pub reference_density: f64,
+    /// `C` (m/s).
+    pub sound_speed: f64,
+    /// `S1` (-).
+    pub s1: f64,
+    /// `S2` (-).
+    pub s2: f64,
+    /// `S3` (-).
+    pub s3: f64,
+    /// `gamma0` (-).
+    pub gamma0: f64,
+    /// `a` (-).
+    pub volume_correction: f64,
+}
+
+/// Polynomial EoS.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossPolynomial {
+    /// `A1` (Pa).
+    pub a1: f64,
+    /// `A2` (Pa).
+    pub a2: f64,
+    /// `A3` (Pa).
+    pub a3: f64,
+    /// `B0` (-).
+    pub b0: f64,
+    /// `B1` (-).
+    pub b1: f64,
+    /// `T1` (Pa).
+    pub t1: f64,
+    /// `T2` (Pa).
+    pub t2: f64,
+}
+
+/// JWL EoS.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossJwl {
+    /// `A` (Pa).
+    pub a: f64,
+    /// `B` (Pa).
+    pub b: f64,
+    /// `R1` (-).
+    pub r1: f64,
+    /// `R2` (-).
+    pub r2: f64,
+    /// `omega` (-).
+    pub omega: f64,
+    /// `rho0` (kg/m^3).
+    pub reference_density: f64,
+    /// `E0` (J/m^3 of reference volume).
+    pub detonation_energy: f64,
+    /// CJ detonation velocity (m/s), informative.
+    pub detonation_velocity: f64,
+    /// CJ pressure (Pa), informative.
+    pub cj_pressure: f64,
+}
+
+/// Tabulated compaction EoS: `point_count` points (2 to 16) of (`eps = -ln V`, `p`, `K_unload`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossTabulatedCompaction {
+    /// Number of points used, 2..=16.
+    pub point_count: u32,
+    /// Padding; set to 0.
+    pub reserved: u32,
+    /// Volumetric strain `-ln V` of each point (-), first 0, increasing.
+    pub volumetric_strain: [f64; 16],
+    /// Loading pressure of each point (Pa).
+    pub pressure: [f64; 16],
+    /// Unloading bulk modulus of each point (Pa).
+    pub unloading_bulk_modulus: [f64; 16],
+}
+
+/// P-alpha EoS over a polynomial matrix.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossPAlpha {
+    /// Matrix EoS.
+    pub solid: StossPolynomial,
+    /// `alpha0 >= 1` (-).
+    pub initial_distension: f64,
+    /// Crush pressure (Pa).
+    pub crush_pressure: f64,
+    /// Lock (full compaction) pressure (Pa).
+    pub lock_pressure: f64,
+    /// Compaction exponent `n` (-).
+    pub exponent: f64,
+}
+
+/// Constants of every EoS; `eos_model` says which one is read.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossEos {
+    /// Linear.
+    pub linear: StossLinearEos,
+    /// Mie-Grüneisen.
+    pub mie_gruneisen: StossMieGruneisen,
+    /// Polynomial.
+    pub polynomial: StossPolynomial,
+    /// JWL.
+    pub jwl: StossJwl,
+    /// Tabulated compaction.
+    pub tabulated_compaction: StossTabulatedCompaction,
+    /// P-alpha.
+    pub p_alpha: StossPAlpha,
+}
+
+/// Johnson-Cook failure constants.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossJohnsonCookFailure {
+    /// `D1` (-).
+    pub d1: f64,
+    /// `D2` (-).
+    pub d2: f64,
+    /// `D3` (-).
+    pub d3: f64,
+    /// `D4` (-).
+    pub d4: f64,
+    /// `D5` (-).
+    pub d5: f64,
+    /// `e0` (1/s).
+    pub reference_rate: f64,
+    /// `Tr` (K).
+    pub reference_temperature: f64,
+    /// `Tm` (K).
+    pub melting_temperature: f64,
+}
+
+/// Damage, failure and erosion. The four switches are 0 (off) or 1 (on).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossFailure {
+    /// 1: cumulative Johnson-Cook damage with `johnson_cook`.
+    pub johnson_cook_enabled: u32,
+    /// 1: erode (not only fail) when damage reaches 1.
+    pub erode_on_failure: u32,
+    /// 1: erode when `eps_p >= erosion_plastic_strain`.
+    pub erosion_enabled: u32,
+    /// 1: hold the pressure of intact material at or above `pressure_cutoff`.
+    pub pressure_cutoff_enabled: u32,
+    /// Erosion plastic strain (-), used if `erosion_enabled`.
+    pub erosion_plastic_strain: f64,
+    /// Hydrodynamic tensile limit `p_min <= 0` (Pa), used if `pressure_cutoff_enabled`.
+    pub pressure_cutoff: f64,
+    /// Johnson-Cook failure constants.
+    pub johnson_cook: StossJohnsonCookFailure,
+}
+
+/// A complete material for the C ABI. Fill it once (e.g. start from
+/// `stoss_material_defaults_4340`), check it with `stoss_material_validate`, then pass it to
+/// every update call. SI units throughout.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossMaterialBlock {
+    /// Must be `STOSS_LAYOUT_VERSION`.
+    pub layout_version: u32,
+    /// Must be `sizeof(StossMaterialBlock)`.
+    pub struct_size: u32,
+    /// [`StossStrengthModel`] code.
+    pub strength_model: i32,
+    /// [`StossRateTreatment`] code.
+    pub rate_treatment: i32,
+    /// [`StossEosModel`] code.
+    pub eos_model: i32,
+    /// [`StossHeatingModel`] code.
+    pub heating_model: i32,
+    /// Reference density `rho0` (kg/m^3).
+    pub density: f64,
+    /// Shear modulus `G` (Pa).
+    pub shear_modulus: f64,
+    /// Specific heat `c_p` (J/kg/K).
+    pub specific_heat: f64,
+    /// Temperature of the initial state (K), used by `stoss_state_init` and by the adapters
+    /// for history arrays the host zero-initialised.
+    pub initial_temperature: f64,
+    /// Heating constants.
+    pub heating: StossHeating,
+    /// Strength constants.
+    pub strength: StossStrength,
+    /// EoS constants.
+    pub eos: StossEos,
+    /// Failure constants.
+    pub failure: StossFailure,
+}
+
+/// `size_of::<StossMaterialBlock>()` as stored in `struct_size`.
+pub(crate) const BLOCK_SIZE: u32 = std::mem::size_of::<StossMaterialBlock>() as u32;
+
+const _: () = assert!(std::mem::size_of::<StossMaterialBlock>() < u32::MAX as usize);
+
+fn invalid(field: &str, message: impl std::fmt::Display) -> FfiError {
+    FfiError::new(StossStatus::InvalidParameter, format!("{field}: {message}"))
+}
+
+fn switch(field: &str, value: u32) -> Result<bool, FfiError> {
+    match value {
+        0 => Ok(false),
+        1 => Ok(true),
+        other => Err(invalid(field, format_args!("must be 0 or 1, got {other}"))),
+    }
+}
+
+macro_rules! code_enum {
+    ($name:ident, $field:literal, [$($variant:ident),+ $(,)?]) => {
+        impl $name {
+            /// The variant with code `code`, or an `INVALID_PARAMETER` error naming the field.
+            pub fn from_code(code: i32) -> Result<Self, FfiError> {
+                $(if code == $name::$variant as i32 {
+                    return Ok($name::$variant);
+                })+
+                Err(invalid($field, format_args!("unknown code {code}")))
+            }
+        }
+    };
+}
+
+code_enum!(
+    StossStrengthModel,
+    "strength_model",
+    [
+        JohnsonCook,
+        ZerilliArmstrongBcc,
+        ZerilliArmstrongFcc,
+        ModifiedJohnsonCook,
+        TwoRateJohnsonCook,
+        Composed
+    ]
+);
+code_enum!(
+    StossHardeningModel,
+    "strength.composed.hardening_model",
+    [Power, Voce2, PowerVoce2]
+);
+code_enum!(
+    StossRateModel,
+    "strength.composed.rate_model",
+    [None, JohnsonCookLog, Power, TwoPart, CowperSymonds]
+);
+code_enum!(
+    StossThermalModel,
+    "strength.composed.thermal_model",
+    [None, HomologousPower, Linear]
+);
+code_enum!(
+    StossHeatingModel,
+    "heating_model",
+    [Isothermal, Adiabatic, Transition]
+);
+code_enum!(StossRateTreatment, "rate_treatment", [Implicit, Lagged]);
+code_enum!(
+    StossEosModel,
+    "eos_model",
+    [
+        Linear,
+        MieGruneisen,
+        Polynomial,
+        Jwl,
+        TabulatedCompaction,
+        PAlpha
+    ]
+);
+
+impl StossPolynomial {
+    fn to_kernel(self) -> Polynomial {
+        Polynomial {
+            a1: self.a1,
+            a2: self.a2,
+            a3: self.a3,
+            b0: self.b0,
+            b1: self.b1,
+            t1: self.t1,
+            t2: self.t2,
+        }
+    }
+}
+
+impl StossComposed {
+    fn to_kernel(self) -> Result<ComposedStrength, FfiError> {
+        let h = self.hardening;
+        let hardening = match StossHardeningModel::from_code(self.hardening_model)? {
+            StossHardeningModel::Power => Hardening::Power {
+                yield_stress: h.yield_stress,
+                hardening_modulus: h.hardening_modulus,
+                exponent: h.exponent,
+            },
+            StossHardeningModel::Voce2 => Hardening::Voce2 {
+                yield_stress: h.yield_stress,
+                saturation_stress_1: h.saturation_stress_1,
+                saturation_rate_1: h.saturation_rate_1,
+                saturation_stress_2: h.saturation_stress_2,
+                saturation_rate_2: h.saturation_rate_2,
+            },
+            StossHardeningModel::PowerVoce2 => Hardening::PowerVoce2 {
+                yield_stress: h.yield_stress,
+                hardening_modulus: h.hardening_modulus,
+                exponent: h.exponent,
+                saturation_stress_1: h.saturation_stress_1,
+                saturation_rate_1: h.saturation_rate_1,
+                saturation_stress_2: h.saturation_stress_2,
+                saturation_rate_2: h.saturation_rate_2,
+            },
+        };
+        let r = self.rate;
+        let rate = match StossRateModel::from_code(self.rate_model)? {
+            StossRateModel::None => RateTerm::None,
+            StossRateModel::JohnsonCookLog => RateTerm::JohnsonCookLog {
+                rate_sensitivity: r.rate_sensitivity,
+                reference_rate: r.reference_rate,
+            },
+            StossRateModel::Power => RateTerm::Power {
+                exponent: r.exponent,
+                reference_rate: r.reference_rate,
+            },
+            StossRateModel::TwoPart => RateTerm::TwoPart {
+                exponent_1: r.exponent,
+                reference_rate_1: r.reference_rate,
+                exponent_2: r.exponent_2,
+                reference_rate_2: r.reference_rate_2,
+            },
+            StossRateModel::CowperSymonds => RateTerm::CowperSymonds {
+                rate_constant: r.cowper_symonds_d,
+                exponent: r.cowper_symonds_q,
+            },
+        };
+        let t = self.thermal;
+        let thermal = match StossThermalModel::from_code(self.thermal_model)? {
+            StossThermalModel::None => ThermalTerm::None,
+            StossThermalModel::HomologousPower => ThermalTerm::HomologousPower {
+                exponent: t.exponent,
+                reference_temperature: t.reference_temperature,
+                melting_temperature: t.melting_temperature,
+            },
+            StossThermalModel::Linear => ThermalTerm::Linear {
+                reference_temperature: t.reference_temperature,
+                melting_temperature: t.melting_temperature,
+            },
+        };
+        Ok(ComposedStrength {
+            hardening,
+            rate,
+            thermal,
+        })
+    }
+}
+
+impl StossMaterialBlock {
+    /// Check `layout_version` and `struct_size` (done before anything else is read).
+    pub fn check_header(layout_version: u32, struct_size: u32) -> Result<(), FfiError> {
+        if layout_version != STOSS_LAYOUT_VERSION {
+            return Err(FfiError::new(
+                StossStatus::BadLayoutVersion,
+                format!(
+                    "layout_version: block has {layout_version}, this library expects \
+                     {STOSS_LAYOUT_VERSION} (rebuild the host against this stoss_kernel.h)"
+                ),
+            ));
+        }
+        if struct_size != BLOCK_SIZE {
+            return Err(FfiError::new(
+                StossStatus::BadStructSize,
+                format!(
+                    "struct_size: block says {struct_size} bytes, this library's \
+                     StossMaterialBlock has {BLOCK_SIZE}"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A zeroed block with the header filled in (every selector 0, i.e. not yet valid).
+    pub fn empty() -> Self {
+        Self {
+            layout_version: STOSS_LAYOUT_VERSION,
+            struct_size: BLOCK_SIZE,
+            ..Self::default()
+        }
+    }
+
+    /// 4340 steel: the kernel's `Material::STEEL_4340` (Johnson & Cook 1985 strength, linear
+    /// EoS K 159 GPa, G 81.8 GPa, rho 7830 kg/m^3, c_p 477 J/kg/K, adiabatic heating chi 0.9,
+    /// implicit rate), initial temperature 298 K, Johnson-Cook failure constants of 4340
+    /// filled in but switched off, no erosion, no pressure cut-off.
+    pub fn steel_4340() -> Self {
+        let jc = JohnsonCook::STEEL_4340;
+        let failure = JohnsonCookFailure::STEEL_4340;
+        let mut block = Self::empty();
+        block.strength_model = StossStrengthModel::JohnsonCook as i32;
+        block.rate_treatment = StossRateTreatment::Implicit as i32;
+        block.eos_model = StossEosModel::Linear as i32;
+        block.heating_model = StossHeatingModel::Adiabatic as i32;
+        block.density = 7830.0;
+        block.shear_modulus = 81.8e9;
+        block.specific_heat = 477.0;
+        block.initial_temperature = 298.0;
+        block.heating = StossHeating {
+            taylor_quinney: 0.9,
+            isothermal_rate: 0.0,
+            adiabatic_rate: 0.0,
+        };
+        block.strength.johnson_cook = StossJohnsonCook {
+            yield_stress: jc.yield_stress,
+            hardening_modulus: jc.hardening_modulus,
+            hardening_exponent: jc.hardening_exponent,
+            rate_sensitivity: jc.rate_sensitivity,
+            thermal_exponent: jc.thermal_exponent,
+            reference_rate: jc.reference_rate,
+            reference_temperature: jc.reference_temperature,
+            melting_temperature: jc.melting_temperature,
+        };
+        block.eos.linear.bulk_modulus = 159.0e9;
+        block.failure.johnson_cook = StossJohnsonCookFailure {
+            d1: failure.d1,
+            d2: failure.d2,
+            d3: failure.d3,
+            d4: failure.d4,
+            d5: failure.d5,
+            reference_rate: failure.reference_rate,
+            reference_temperature: failure.reference_temperature,
+            melting_temperature: failure.melting_temperature,
+        };
+        block
+    }
+
+    fn strength(&self) -> Result<(Strength, &'static str), FfiError> {
+        let s = &self.strength;
+        Ok(match StossStrengthModel::from_code(self.strength_model)? {
+            StossStrengthModel::JohnsonCook => {
+                let p = s.johnson_cook;
+                let model = JohnsonCook {
+                    yield_stress: p.yield_stress,
+                    hardening_modulus: p.hardening_modulus,
+                    hardening_exponent: p.hardening_exponent,
+                    rate_sensitivity: p.rate_sensitivity,
+                    thermal_exponent: p.thermal_exponent,
+                    reference_rate: p.reference_rate,
+                    reference_temperature: p.reference_temperature,
+                    melting_temperature: p.melting_temperature,
+                };
+                let section = "strength.johnson_cook";
+                model
+                    .validate()
+                    .map_err(|e| FfiError::parameter(section, e))?;
+                (model.into(), section)
+            }
+            model @ (StossStrengthModel::ZerilliArmstrongBcc
+            | StossStrengthModel::ZerilliArmstrongFcc) => {
+                let p = s.zerilli_armstrong;
+                let structure = if model == StossStrengthModel::ZerilliArmstrongBcc {
+                    CrystalStructure::Bcc
+                } else {
+                    CrystalStructure::Fcc
+                };
+                let model = ZerilliArmstrong {
+                    structure,
+                    athermal_stress: p.athermal_stress,
+                    c1: p.c1,
+                    c2: p.c2,
+                    c3: p.c3,
+                    c4: p.c4,
+                    c5: p.c5,
+                    exponent: p.exponent,
+                    reference_rate: p.reference_rate,
+                };
+                let section = "strength.zerilli_armstrong";
+                model
+                    .validate()
+                    .map_err(|e| FfiError::parameter(section, e))?;
+                (model.into(), section)
+            }
+            StossStrengthModel::ModifiedJohnsonCook => {
+                let p = s.modified_johnson_cook;
+                let model = ModifiedJohnsonCook {
+                    yield_stress: p.yield_stress,
+                    hardening_modulus: p.hardening_modulus,
+                    hardening_exponent: p.hardening_exponent,
+                    saturation_stress_1: p.saturation_stress_1,
+                    saturation_rate_1: p.saturation_rate_1,
+                    saturation_stress_2: p.saturation_stress_2,
+                    saturation_rate_2: p.saturation_rate_2,
+                    rate_exponent: p.rate_exponent,
+                    reference_rate: p.reference_rate,
+                    thermal_exponent: p.thermal_exponent,
+                    reference_temperature: p.reference_temperature,
+                    melting_temperature: p.melting_temperature,
+                };
+                let section = "strength.modified_johnson_cook";
+                model
+                    .validate()
+                    .map_err(|e| FfiError::parameter(section, e))?;
+                (model.into(), section)
+            }
+            StossStrengthModel::TwoRateJohnsonCook => {
+                let p = s.two_rate_johnson_cook;
+                let model = TwoRateJohnsonCook {
+                    yield_stress: p.yield_stress,
+                    hardening_modulus: p.hardening_modulus,
+                    hardening_exponent: p.hardening_exponent,
+                    saturation_stress_1: p.saturation_stress_1,
+                    saturation_rate_1: p.saturation_rate_1,
+                    saturation_stress_2: p.saturation_stress_2,
+                    saturation_rate_2: p.saturation_rate_2,
+                    rate_exponent_1: p.rate_exponent_1,
+                    reference_rate_1: p.reference_rate_1,
+                    rate_exponent_2: p.rate_exponent_2,
+                    reference_rate_2: p.reference_rate_2,
+                    thermal_exponent: p.thermal_exponent,
+                    reference_temperature: p.reference_temperature,
+                    melting_temperature: p.melting_temperature,
+                };
+                let section = "strength.two_rate_johnson_cook";
+                model
+                    .validate()
+                    .map_err(|e| FfiError::parameter(section, e))?;
+                (model.into(), section)
+            }
+            StossStrengthModel::Composed => {
+                let model = s.composed.to_kernel()?;
+                let section = "strength.composed";
+                model
+                    .validate()
+                    .map_err(|e| FfiError::parameter(section, e))?;
+                (model.into(), section)
+            }
+        })
+    }
+
+    fn eos(&self) -> Result<Eos, FfiError> {
+        let e = &self.eos;
+        let (eos, section): (Eos, &str) = match StossEosModel::from_code(self.eos_model)? {
+            StossEosModel::Linear => (
+                LinearEos {
+                    bulk_modulus: e.linear.bulk_modulus,
+                }
+                .into(),
+                "eos.linear",
+            ),
+            StossEosModel::MieGruneisen => {
+                let p = e.mie_gruneisen;
+                (
+                    MieGruneisen {
+                        reference_density: p.reference_density,
+                        sound_speed: p.sound_speed,
+                        s1: p.s1,
+                        s2: p.s2,
+                        s3: p.s3,
+                        gamma0: p.gamma0,
+                        volume_correction: p.volume_correction,
+                    }
+                    .into(),
+                    "eos.mie_gruneisen",
+                )
+            }
+            StossEosModel::Polynomial => (e.polynomial.to_kernel().into(), "eos.polynomial"),
+            StossEosModel::Jwl => {
+                let p = e.jwl;
+                (
+                    Jwl {
+                        a: p.a,
+                        b: p.b,
+                        r1: p.r1,
+                        r2: p.r2,
+                        omega: p.omega,
+                        reference_density: p.reference_density,
+                        detonation_energy: p.detonation_energy,
+                        detonation_velocity: p.detonation_velocity,
+                        cj_pressure: p.cj_pressure,
+                    }
+                    .into(),
+                    "eos.jwl",
+                )
+            }
+            StossEosModel::TabulatedCompaction => {
+                let p = &e.tabulated_compaction;
+                let section = "eos.tabulated_compaction";
+                let count = p.point_count as usize;
+                if !(2..=STOSS_MAX_COMPACTION_POINTS).contains(&count) {
+                    return Err(invalid(
+                        "eos.tabulated_compaction.point_count",
+                        format_args!("{count} is outside [2, {STOSS_MAX_COMPACTION_POINTS}]"),
+                    ));
+                }
+                let mut points = [CompactionPoint::new(0.0, 0.0, 0.0); STOSS_MAX_COMPACTION_POINTS];
+                for (i, point) in points.iter_mut().enumerate().take(count) {
+                    *point = CompactionPoint::new(
+                        p.volumetric_strain[i],
+                        p.pressure[i],
+                        p.unloading_bulk_modulus[i],
+                    );
+                }
+                let table = TabulatedCompaction::new(&points[..count])
+                    .map_err(|e| FfiError::parameter(section, e))?;
+                (table.into(), section)
+            }
+            StossEosModel::PAlpha => {
+                let p = e.p_alpha;
+                (
+                    PAlpha {
+                        solid: p.solid.to_kernel(),
+                        initial_distension: p.initial_distension,
+                        crush_pressure: p.crush_pressure,
+                        lock_pressure: p.lock_pressure,
+                        exponent: p.exponent,
+                    }
+                    .into(),
+                    "eos.p_alpha",
+                )
+            }
+        };
+        eos.validate()
+            .map_err(|error| FfiError::parameter(section, error))?;
+        Ok(eos)
+    }
+
+    fn heating(&self) -> Result<Heating, FfiError> {
+        let h = self.heating;
+        let heating = match StossHeatingModel::from_code(self.heating_model)? {
+            StossHeatingModel::Isothermal => Heating::Isothermal,
+            StossHeatingModel::Adiabatic => Heating::Adiabatic {
+                taylor_quinney: h.taylor_quinney,
+            },
+            StossHeatingModel::Transition => Heating::Transition {
+                taylor_quinney: h.taylor_quinney,
+                isothermal_rate: h.isothermal_rate,
+                adiabatic_rate: h.adiabatic_rate,
+            },
+        };
+        heating
+            .validate()
+            .map_err(|error| FfiError::parameter("heating", error))?;
+        Ok(heating)
+    }
+
+    fn failure(&self) -> Result<Failure, FfiError> {
+        let f = &self.failure;
+        let johnson_cook = if switch("failure.johnson_cook_enabled", f.johnson_cook_enabled)? {
+            let p = f.johnson_cook;
+            Some(JohnsonCookFailure {
+                d1: p.d1,
+                d2: p.d2,
+                d3: p.d3,
+                d4: p.d4,
+                d5: p.d5,
+                reference_rate: p.reference_rate,
+                reference_temperature: p.reference_temperature,
+                melting_temperature: p.melting_temperature,
+            })
+        } else {
+            None
+        };
+        let failure = Failure {
+            johnson_cook,
+            erosion_plastic_strain: switch("failure.erosion_enabled", f.erosion_enabled)?
+                .then_some(f.erosion_plastic_strain),
+            erode_on_failure: switch("failure.erode_on_failure", f.erode_on_failure)?,
+            pressure_cutoff: switch("failure.pressure_cutoff_enabled", f.pressure_cutoff_enabled)?
+                .then_some(f.pressure_cutoff),
+        };
+        let section = if johnson_cook.is_some() {
+            "failure.johnson_cook"
+        } else {
+            "failure"
+        };
+        // Failure::validate checks the JC constants first, then erosion and cut-off, whose
+        // field names already say which they are.
+        failure
+            .validate()
+            .map_err(|error| FfiError::parameter(section, error))?;
+        Ok(failure)
+    }
+
+    /// The kernel material this block describes, fully validated; the error names the first
+    /// offending field (with its section, e.g. `strength.johnson_cook: yield_stress: ...`).
+    pub fn to_material(&self) -> Result<Material, FfiError> {
+        Self::check_header(self.layout_version, self.struct_size)?;
+        let rate_treatment = match StossRateTreatment::from_code(self.rate_treatment)? {
+            StossRateTreatment::Implicit => RateTreatment::Implicit,
+            StossRateTreatment::Lagged => RateTreatment::Lagged,
+        };
+        for (field, value) in [
+            ("density", self.density),
+            ("shear_modulus", self.shear_modulus),
+            ("specific_heat", self.specific_heat),
+            ("initial_temperature", self.initial_temperature),
+        ] {
+            if !value.is_finite() {
+                return Err(invalid(field, "value is not finite"));
+            }
+            if value <= 0.0 {
+                return Err(invalid(field, format_args!("must be > 0, got {value}")));
+            }
+        }
+        let (strength, _) = self.strength()?;
+        let material = Material {
+            density: self.density,
+            shear_modulus: self.shear_modulus,
+            specific_heat: self.specific_heat,
+            strength,
+            heating: self.heating()?,
+            eos: self.eos()?,
+            failure: self.failure()?,
+            rate_treatment,
+        };
+        // Everything was checked part by part above; this is the kernel's own final word.
+        material
+            .validate()
+            .map_err(|error| FfiError::parameter("material", error))?;
+        Ok(material)
+    }
+
+    /// Initial state of a point of this material (undeformed, stress free, at
+    /// `initial_temperature`, EoS history at its initial value).
+    pub fn initial_state(&self, material: &Material) -> MaterialState {
+        let mut state = MaterialState::initial(self.initial_temperature);
+        state.eos_history = material.eos.initial_history();
+        state
+    }
+}
+
+/// Bulk modulus the host should use for its time step, contact and hourglass stiffness: the
+/// EoS slope `dp/dmu` at the reference state (`mu = 0`, `E = 0`, initial EoS history). For the
+/// linear EoS this is `K`; for Mie-Grüneisen `rho0 C^2`; for the polynomial `A1`.
+pub fn initial_bulk_modulus(material: &Material) -> f64 {
+    let (terms, _) = material.eos.evaluate(0.0, material.eos.initial_history());
+    terms.d_base_d_mu
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_kernel_4340() {
+        let material = StossMaterialBlock::steel_4340().to_material().unwrap();
+        assert_eq!(material, Material::STEEL_4340);
+        assert_eq!(initial_bulk_modulus(&material), 159.0e9);
+    }
+
+    #[test]
+    fn a_zeroed_block_is_rejected_with_a_message() {
+        let error = StossMaterialBlock::empty().to_material().unwrap_err();
+        assert_eq!(error.status, StossStatus::InvalidParameter);
+        assert!(
+            error.message.contains("rate_treatment"),
+            "{}",
+            error.message
+        );
+    }
+
+    #[test]
+    fn header_is_checked_first() {
+        let mut block = StossMaterialBlock::steel_4340();
+        block.layout_version = 0;
+        block.density = f64::NAN;
+        assert_eq!(
+            block.to_material().unwrap_err().status,
+            StossStatus::BadLayoutVersion
+        );
+        block.layout_version = STOSS_LAYOUT_VERSION;
+        block.struct_size -= 8;
+        assert_eq!(
+            block.to_material().unwrap_err().status,
+            StossStatus::BadStructSize
+        );
+    }
+
+    #[test]
+    fn messages_name_section_and_field() {
+        let mut block = StossMaterialBlock::steel_4340();
+        block.strength.johnson_cook.yield_stress = -1.0;
+        let error = block.to_material().unwrap_err();
+        assert_eq!(error.status, StossStatus::InvalidParameter);
+        assert_eq!(
+            error.message,
+            "strength.johnson_cook: yield_stress: must be > 0, got -1"
+        );
+
+        let mut block = StossMaterialBlock::steel_4340();
+        block.density = f64::INFINITY;
+        assert_eq!(
+            block.to_material().unwrap_err().message,
+            "density: value is not finite"
+        );
+
+        let mut block = StossMaterialBlock::steel_4340();
+        block.eos_model = 42;
+        assert_eq!(
+            block.to_material().unwrap_err().message,
+            "eos_model: unknown code 42"
+        );
+
+        let mut block = StossMaterialBlock::steel_4340();
+        block.failure.johnson_cook_enabled = 2;
+        assert!(block
+            .to_material()
+            .unwrap_err()
+            .message
+            .starts_with("failure.johnson_cook_enabled"));
+
+        let mut block = StossMaterialBlock::steel_4340();
+        block.eos_model = StossEosModel::TabulatedCompaction as i32;
+        block.eos.tabulated_compaction.point_count = 1;
+        assert!(block
+            .to_material()
+            .unwrap_err()
+            .message
+            .starts_with("eos.tabulated_compaction.point_count"));
+    }
+
+    #[test]
+    fn every_strength_family_converts_like_the_kernel_structs() {
+        let mut block = StossMaterialBlock::steel_4340();
+        // MJC with the JC constants and no Voce terms.
+        block.strength_model = StossStrengthModel::ModifiedJohnsonCook as i32;
+        block.strength.modified_johnson_cook = StossModifiedJohnsonCook {
+            yield_stress: 792.0e6,
+            hardening_modulus: 510.0e6,
+            hardening_exponent: 0.26,
+            saturation_stress_1: 100.0e6,
+            saturation_rate_1: 20.0,
+            saturation_stress_2: 0.0,
+            saturation_rate_2: 0.0,
+            rate_exponent: 0.01,
+            reference_rate: 1.0,
+            thermal_exponent: 1.03,
+            reference_temperature: 298.0,
+            melting_temperature: 1793.0,
+        };
+        let material = block.to_material().unwrap();
+        let expected: Strength = ModifiedJohnsonCook {
+            yield_stress: 792.0e6,
+            hardening_modulus: 510.0e6,
+            hardening_exponent: 0.26,
+            saturation_stress_1: 100.0e6,
+            saturation_rate_1: 20.0,
+            saturation_stress_2: 0.0,
+            saturation_rate_2: 0.0,
+            rate_exponent: 0.01,
+            reference_rate: 1.0,
+            thermal_exponent: 1.03,
+            reference_temperature: 298.0,
+            melting_temperature: 1793.0,
+        }
+        .into();
+        assert_eq!(material.strength, expected);
+
+        // The same law written as a composition gives the same kernel strength.
+        block.strength_model = StossStrengthModel::Composed as i32;
+        block.strength.composed = StossComposed {
+            hardening_model: StossHardeningModel::PowerVoce2 as i32,
+            rate_model: StossRateModel::Power as i32,
+            thermal_model: StossThermalModel::HomologousPower as i32,
+            reserved: 0,
+            hardening: StossHardening {
+                yield_stress: 792.0e6,
+                hardening_modulus: 510.0e6,
+                exponent: 0.26,
+                saturation_stress_1: 100.0e6,
+                saturation_rate_1: 20.0,
+                saturation_stress_2: 0.0,
+                saturation_rate_2: 0.0,
+            },
+            rate: StossRateTerm {
+                exponent: 0.01,
+                reference_rate: 1.0,
+                ..StossRateTerm::default()
+            },
+            thermal: StossThermalTerm {
+                exponent: 1.03,
+                reference_temperature: 298.0,
+                melting_temperature: 1793.0,
+            },
+        };
+        assert_eq!(block.to_material().unwrap().strength, expected);
+
+        // TJC keeps its own consistency check (e02 >= e01).
+        block.strength_model = StossStrengthModel::TwoRateJohnsonCook as i32;
+        block.strength.two_rate_johnson_cook = StossTwoRateJohnsonCook {
+            yield_stress: 792.0e6,
+            hardening_modulus: 510.0e6,
+            hardening_exponent: 0.26,
+            rate_exponent_1: 0.01,
+            reference_rate_1: 10.0,
+            rate_exponent_2: 0.02,
+            reference_rate_2: 1.0,
+            thermal_exponent: 1.03,
+            reference_temperature: 298.0,
+            melting_temperature: 1793.0,
+            ..StossTwoRateJohnsonCook::default()
+        };
+        let error = block.to_material().unwrap_err();
+        assert!(
+            error.message.contains("reference_rate_2: inconsistent"),
+            "{}",
+            error.message
+        );
+
+        // ZA FCC.
+        block.strength_model = StossStrengthModel::ZerilliArmstrongFcc as i32;
+        block.strength.zerilli_armstrong = StossZerilliArmstrong {
+            athermal_stress: 46.5e6,
+            c2: 890.0e6,
+            c3: 0.0028,
+            c4: 0.000115,
+            reference_rate: 1.0,
+            ..StossZerilliArmstrong::default()
+        };
+        match block.to_material().unwrap().strength {
+            Strength::ZerilliArmstrong(za) => assert_eq!(za.structure, CrystalStructure::Fcc),
+            other => panic!("{other:?}"),
+        }
+    }
+}

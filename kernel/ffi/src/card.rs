@@ -1,0 +1,752 @@
+//! The material "card": the [`StossMaterialBlock`] as a flat list of doubles, for hosts that
+//! hand a user material its constants as an array (LS-DYNA `cm(lmc)`, Abaqus `props(nprops)`).
+//!
+//! Positions are given 1-based (`P1` = `cm(1)` = `card[0]`), as users type them on the
+//! material card. Integer codes (selectors, flags) are stored as exact doubles.
+//!
+//! | P | meaning |
+//! |---|---|
+//! | 1 | card layout version (= `STOSS_LAYOUT_VERSION`) |
+//! | 2 | reference density `rho0` (kg/m^3) |
+//! | 3 | shear modulus `G` (Pa) — LS-DYNA `IG = 3` |
+//! | 4 | bulk modulus `K` (Pa) — LS-DYNA `IBULK = 4`; the linear EoS's `K`, otherwise the initial EoS slope (informative, must be > 0) |
+//! | 5 | specific heat `c_p` (J/kg/K) |
+//! | 6 | initial temperature (K) |
+//! | 7 | strength model code |
+//! | 8 | rate treatment code |
+//! | 9 | EoS code |
+//! | 10 | heating code |
+//! | 11..13 | Taylor-Quinney `chi`, transition isothermal rate, adiabatic rate |
+//! | 14 | failure flags: 1 JC damage, 2 erode on failure, 4 erode at P15, 8 pressure cut-off P16 (sum) |
+//! | 15 | erosion plastic strain |
+//! | 16 | pressure cut-off `p_min <= 0` (Pa) |
+//! | 17..24 | JC failure `D1 D2 D3 D4 D5 e0 Tr Tm` |
+//! | 25..41 | strength constants (17 slots, by model, see below) |
+//! | 42.. | EoS constants (by EoS, see [`eos_length`]) |
+//!
+//! Strength slots P25..P41 (unused slots ignored):
+//!
+//! | model | P25, P26, ... |
+//! |---|---|
+//! | Johnson-Cook | `A B n C m e0 Tr Tm` |
+//! | Zerilli-Armstrong (BCC, FCC) | `sigma_a C1 C2 C3 C4 C5 n e0` |
+//! | modified Johnson-Cook | `A B n Q1 c1 Q2 c2 beta e0 m Tr Tm` |
+//! | two-rate Johnson-Cook | `A B n Q1 c1 Q2 c2 beta1 e01 beta2 e02 m Tr Tm` |
+//! | composed | `hardening rate thermal A B n Q1 c1 Q2 c2 R1 R2 R3 R4 m Tr Tm` |
+//!
+//! with the composed rate slots `R1..R4`: JC log `C e0`; power `beta e0`; two-part
+//! `beta1 e01 beta2 e02`; Cowper-Symonds `D q`.
+
+use crate::block::{
+    initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel,
+    StossMaterialBlock, StossRateModel, StossStrengthModel, StossThermalModel,
+    STOSS_LAYOUT_VERSION, STOSS_MAX_COMPACTION_POINTS,
+};
+use crate::status::{FfiError, StossStatus};
+
+/// 1-based card position of the shear modulus (LS-DYNA `IG`).
+pub const STOSS_CARD_SHEAR_MODULUS: usize = 3;
+/// 1-based card position of the bulk modulus (LS-DYNA `IBULK`).
+pub const STOSS_CARD_BULK_MODULUS: usize = 4;
+/// Card length of the header, JC failure and strength sections (the EoS section follows).
+pub const STOSS_CARD_FIXED_LENGTH: usize = 41;
+/// Longest card (tabulated compaction EoS with 16 points).
+pub const STOSS_CARD_MAX_LENGTH: usize =
+    STOSS_CARD_FIXED_LENGTH + 1 + 3 * STOSS_MAX_COMPACTION_POINTS;
+
+/// Failure flag bits of card slot P14.
+pub const STOSS_CARD_FAILURE_JOHNSON_COOK: u32 = 1;
+/// Erode when damage reaches 1.
+pub const STOSS_CARD_FAILURE_ERODE_ON_FAILURE: u32 = 2;
+/// Erode at the plastic strain of P15.
+pub const STOSS_CARD_FAILURE_EROSION_STRAIN: u32 = 4;
+/// Pressure cut-off at P16.
+pub const STOSS_CARD_FAILURE_PRESSURE_CUTOFF: u32 = 8;
+
+/// 0-based index of the first strength slot (P25).
+const STRENGTH: usize = 24;
+/// 0-based index of the first EoS slot (P42).
+const EOS: usize = STOSS_CARD_FIXED_LENGTH;
+
+/// Number of EoS slots (from P42) the EoS with code `eos` needs; for the tabulated
+/// compaction EoS it depends on the point count in P42.
+pub fn eos_length(eos: StossEosModel, point_count: usize) -> usize {
+    match eos {
+        StossEosModel::Linear => 0,
+        StossEosModel::MieGruneisen | StossEosModel::Polynomial => 7,
+        StossEosModel::Jwl => 9,
+        StossEosModel::PAlpha => 11,
+        StossEosModel::TabulatedCompaction => 1 + 3 * point_count,
+    }
+}
+
+fn slot_error(index: usize, what: &str, message: impl std::fmt::Display) -> FfiError {
+    FfiError::new(
+        StossStatus::InvalidParameter,
+        format!("card P{} ({what}): {message}", index + 1),
+    )
+}
+
+/// An integer code stored as a double: exact, in `i32` range.
+fn code(card: &[f64], index: usize, what: &str) -> Result<i32, FfiError> {
+    let value = card[index];
+    if value.is_finite() && value == value.trunc() && value.abs() <= f64::from(i32::MAX) {
+        Ok(value as i32)
+    } else {
+        Err(slot_error(
+            index,
+            what,
+            format_args!("{value} is not an integer code"),
+        ))
+    }
+}
+
+/// Parse a card into a block. The block is not validated here beyond the card's own
+/// structure (length, integer codes, layout version): call
+/// [`StossMaterialBlock::to_material`] for that.
+pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
+    if card.len() < STOSS_CARD_FIXED_LENGTH {
+        return Err(FfiError::new(
+            StossStatus::InvalidParameter,
+            format!(
+                "card: {} values, at least {STOSS_CARD_FIXED_LENGTH} needed (P1..P41)",
+                card.len()
+            ),
+        ));
+    }
+    let version = code(card, 0, "layout version")?;
+    if version != STOSS_LAYOUT_VERSION as i32 {
+        return Err(FfiError::new(
+            StossStatus::BadLayoutVersion,
+            format!(
+                "card P1 (layout version): card has {version}, this library expects \
+                 {STOSS_LAYOUT_VERSION}"
+            ),
+        ));
+    }
+    let mut block = StossMaterialBlock::empty();
+    block.density = card[1];
+    block.shear_modulus = card[2];
+    let bulk_modulus = card[3];
+    if !(bulk_modulus.is_finite() && bulk_modulus > 0.0) {
+        return Err(slot_error(
+            3,
+            "bulk modulus",
+            format_args!("must be > 0, got {bulk_modulus}"),
+        ));
+    }
+    block.specific_heat = card[4];
+    block.initial_temperature = card[5];
+    block.strength_model = code(card, 6, "strength model")?;
+    block.rate_treatment = code(card, 7, "rate treatment")?;
+    block.eos_model = code(card, 8, "eos model")?;
+    block.heating_model = code(card, 9, "heating model")?;
+    block.heating.taylor_quinney = card[10];
+    block.heating.isothermal_rate = card[11];
+    block.heating.adiabatic_rate = card[12];
+    let flags = code(card, 13, "failure flags")?;
+    if !(0..16).contains(&flags) {
+        return Err(slot_error(
+            13,
+            "failure flags",
+            format_args!("{flags} is not a sum of 1, 2, 4, 8"),
+        ));
+    }
+    let flags = flags as u32;
+    let f = &mut block.failure;
+    f.johnson_cook_enabled = u32::from(flags & STOSS_CARD_FAILURE_JOHNSON_COOK != 0);
+    f.erode_on_failure = u32::from(flags & STOSS_CARD_FAILURE_ERODE_ON_FAILURE != 0);
+    f.erosion_enabled = u32::from(flags & STOSS_CARD_FAILURE_EROSION_STRAIN != 0);
+    f.pressure_cutoff_enabled = u32::from(flags & STOSS_CARD_FAILURE_PRESSURE_CUTOFF != 0);
+    f.erosion_plastic_strain = card[14];
+    f.pressure_cutoff = card[15];
+    let j = &mut f.johnson_cook;
+    [
+        j.d1,
+        j.d2,
+        j.d3,
+        j.d4,
+        j.d5,
+        j.reference_rate,
+        j.reference_temperature,
+        j.melting_temperature,
+    ] = card[16..24].try_into().expect("8 slots");
+
+    let s: [f64; 17] = card[STRENGTH..STRENGTH + 17].try_into().expect("17 slots");
+    let strength = &mut block.strength;
+    match StossStrengthModel::from_code(block.strength_model)? {
+        StossStrengthModel::JohnsonCook => {
+            let p = &mut strength.johnson_cook;
+            [
+                p.yield_stress,
+                p.hardening_modulus,
+                p.hardening_exponent,
+                p.rate_sensitivity,
+                p.thermal_exponent,
+                p.reference_rate,
+                p.reference_temperature,
+                p.melting_temperature,
+            ] = s[..8].try_into().expect("8");
+        }
+        StossStrengthModel::ZerilliArmstrongBcc | StossStrengthModel::ZerilliArmstrongFcc => {
+            let p = &mut strength.zerilli_armstrong;
+            [
+                p.athermal_stress,
+                p.c1,
+                p.c2,
+                p.c3,
+                p.c4,
+                p.c5,
+                p.exponent,
+                p.reference_rate,
+            ] = s[..8].try_into().expect("8");
+        }
+        StossStrengthModel::ModifiedJohnsonCook => {
+            let p = &mut strength.modified_johnson_cook;
+            [
+                p.yield_stress,
+                p.hardening_modulus,
+                p.hardening_exponent,
+                p.saturation_stress_1,
+                p.saturation_rate_1,
+                p.saturation_stress_2,
+                p.saturation_rate_2,
+                p.rate_exponent,
+                p.reference_rate,
+                p.thermal_exponent,
+                p.reference_temperature,
+                p.melting_temperature,
+            ] = s[..12].try_into().expect("12");
+        }
+        StossStrengthModel::TwoRateJohnsonCook => {
+            let p = &mut strength.two_rate_johnson_cook;
+            [
+                p.yield_stress,
+                p.hardening_modulus,
+                p.hardening_exponent,
+                p.saturation_stress_1,
+                p.saturation_rate_1,
+                p.saturation_stress_2,
+                p.saturation_rate_2,
+                p.rate_exponent_1,
+                p.reference_rate_1,
+                p.rate_exponent_2,
+                p.reference_rate_2,
+                p.thermal_exponent,
+                p.reference_temperature,
+                p.melting_temperature,
+            ] = s[..14].try_into().expect("14");
+        }
+        StossStrengthModel::Composed => {
+            let p = &mut strength.composed;
+            p.hardening_model = code(card, STRENGTH, "composed hardening model")?;
+            p.rate_model = code(card, STRENGTH + 1, "composed rate model")?;
+            p.thermal_model = code(card, STRENGTH + 2, "composed thermal model")?;
+            let h = &mut p.hardening;
+            [
+                h.yield_stress,
+                h.hardening_modulus,
+                h.exponent,
+                h.saturation_stress_1,
+                h.saturation_rate_1,
+                h.saturation_stress_2,
+                h.saturation_rate_2,
+            ] = s[3..10].try_into().expect("7");
+            let r = &mut p.rate;
+            match StossRateModel::from_code(p.rate_model)? {
+                StossRateModel::None => {}
+                StossRateModel::JohnsonCookLog => {
+                    [r.rate_sensitivity, r.reference_rate] = [s[10], s[11]];
+                }
+                StossRateModel::Power => [r.exponent, r.reference_rate] = [s[10], s[11]],
+                StossRateModel::TwoPart => {
+                    [
+                        r.exponent,
+                        r.reference_rate,
+                        r.exponent_2,
+                        r.reference_rate_2,
+                    ] = [s[10], s[11], s[12], s[13]];
+                }
+                StossRateModel::CowperSymonds => {
+                    [r.cowper_symonds_d, r.cowper_symonds_q] = [s[10], s[11]];
+                }
+            }
+            let t = &mut p.thermal;
+            [t.exponent, t.reference_temperature, t.melting_temperature] = [s[14], s[15], s[16]];
+        }
+    }
+
+    let eos = StossEosModel::from_code(block.eos_model)?;
+    let point_count = if eos == StossEosModel::TabulatedCompaction {
+        let count = card.get(EOS).copied().unwrap_or(0.0);
+        let count_code = if card.len() > EOS {
+            code(card, EOS, "tabulated point count")?
+        } else {
+            0
+        };
+        if !(2..=STOSS_MAX_COMPACTION_POINTS as i32).contains(&count_code) {
+            return Err(slot_error(
+                EOS,
+                "tabulated point count",
+                format_args!("{count} is outside [2, {STOSS_MAX_COMPACTION_POINTS}]"),
+            ));
+        }
+        count_code as usize
+    } else {
+        0
+    };
+    let needed = EOS + eos_length(eos, point_count);
+    if card.len() < needed {
+        return Err(FfiError::new(
+            StossStatus::InvalidParameter,
+            format!(
+                "card: {} values, the selected EoS needs {needed} (P42..P{needed})",
+                card.len()
+            ),
+        ));
+    }
+    let e = &card[EOS..needed];
+    let eos_block = &mut block.eos;
+    match eos {
+        StossEosModel::Linear => eos_block.linear.bulk_modulus = bulk_modulus,
+        StossEosModel::MieGruneisen => {
+            let p = &mut eos_block.mie_gruneisen;
+            [
+                p.reference_density,
+                p.sound_speed,
+                p.s1,
+                p.s2,
+                p.s3,
+                p.gamma0,
+                p.volume_correction,
+            ] = e.try_into().expect("7");
+        }
+        StossEosModel::Polynomial => {
+            let p = &mut eos_block.polynomial;
+            [p.a1, p.a2, p.a3, p.b0, p.b1, p.t1, p.t2] = e.try_into().expect("7");
+        }
+        StossEosModel::Jwl => {
+            let p = &mut eos_block.jwl;
+            [
+                p.a,
+                p.b,
+                p.r1,
+                p.r2,
+                p.omega,
+                p.reference_density,
+                p.detonation_energy,
+                p.detonation_velocity,
+                p.cj_pressure,
+            ] = e.try_into().expect("9");
+        }
+        StossEosModel::PAlpha => {
+            let p = &mut eos_block.p_alpha;
+            let q = &mut p.solid;
+            [
+                q.a1,
+                q.a2,
+                q.a3,
+                q.b0,
+                q.b1,
+                q.t1,
+                q.t2,
+                p.initial_distension,
+                p.crush_pressure,
+                p.lock_pressure,
+                p.exponent,
+            ] = e.try_into().expect("11");
+        }
+        StossEosModel::TabulatedCompaction => {
+            let p = &mut eos_block.tabulated_compaction;
+            p.point_count = point_count as u32;
+            for i in 0..point_count {
+                p.volumetric_strain[i] = e[1 + 3 * i];
+                p.pressure[i] = e[2 + 3 * i];
+                p.unloading_bulk_modulus[i] = e[3 + 3 * i];
+            }
+        }
+    }
+    Ok(block)
+}
+
+/// The card of a (valid) block: `P1..P41` plus the EoS section; returns the values and the
+/// number used. The block is validated first.
+pub fn card_from_block(
+    block: &StossMaterialBlock,
+) -> Result<([f64; STOSS_CARD_MAX_LENGTH], usize), FfiError> {
+    let material = block.to_material()?;
+    let mut card = [0.0; STOSS_CARD_MAX_LENGTH];
+    card[0] = f64::from(STOSS_LAYOUT_VERSION);
+    card[1] = block.density;
+    card[2] = block.shear_modulus;
+    card[3] = initial_bulk_modulus(&material);
+    card[4] = block.specific_heat;
+    card[5] = block.initial_temperature;
+    card[6] = f64::from(block.strength_model);
+    card[7] = f64::from(block.rate_treatment);
+    card[8] = f64::from(block.eos_model);
+    card[9] = f64::from(block.heating_model);
+    let heating = StossHeatingModel::from_code(block.heating_model)?;
+    if heating != StossHeatingModel::Isothermal {
+        card[10] = block.heating.taylor_quinney;
+    }
+    if heating == StossHeatingModel::Transition {
+        card[11] = block.heating.isothermal_rate;
+        card[12] = block.heating.adiabatic_rate;
+    }
+    let f = &block.failure;
+    let flags = f.johnson_cook_enabled * STOSS_CARD_FAILURE_JOHNSON_COOK
+        + f.erode_on_failure * STOSS_CARD_FAILURE_ERODE_ON_FAILURE
+        + f.erosion_enabled * STOSS_CARD_FAILURE_EROSION_STRAIN
+        + f.pressure_cutoff_enabled * STOSS_CARD_FAILURE_PRESSURE_CUTOFF;
+    card[13] = f64::from(flags);
+    if f.erosion_enabled == 1 {
+        card[14] = f.erosion_plastic_strain;
+    }
+    if f.pressure_cutoff_enabled == 1 {
+        card[15] = f.pressure_cutoff;
+    }
+    let j = &f.johnson_cook;
+    if f.johnson_cook_enabled == 1 {
+        card[16..24].copy_from_slice(&[
+            j.d1,
+            j.d2,
+            j.d3,
+            j.d4,
+            j.d5,
+            j.reference_rate,
+            j.reference_temperature,
+            j.melting_temperature,
+        ]);
+    }
+    let s = &mut card[STRENGTH..STRENGTH + 17];
+    let strength = &block.strength;
+    match StossStrengthModel::from_code(block.strength_model)? {
+        StossStrengthModel::JohnsonCook => {
+            let p = &strength.johnson_cook;
+            s[..8].copy_from_slice(&[
+                p.yield_stress,
+                p.hardening_modulus,
+                p.hardening_exponent,
+                p.rate_sensitivity,
+                p.thermal_exponent,
+                p.reference_rate,
+                p.reference_temperature,
+                p.melting_temperature,
+            ]);
+        }
+        StossStrengthModel::ZerilliArmstrongBcc | StossStrengthModel::ZerilliArmstrongFcc => {
+            let p = &strength.zerilli_armstrong;
+            s[..8].copy_from_slice(&[
+                p.athermal_stress,
+                p.c1,
+                p.c2,
+                p.c3,
+                p.c4,
+                p.c5,
+                p.exponent,
+                p.reference_rate,
+            ]);
+        }
+        StossStrengthModel::ModifiedJohnsonCook => {
+            let p = &strength.modified_johnson_cook;
+            s[..12].copy_from_slice(&[
+                p.yield_stress,
+                p.hardening_modulus,
+                p.hardening_exponent,
+                p.saturation_stress_1,
+                p.saturation_rate_1,
+                p.saturation_stress_2,
+                p.saturation_rate_2,
+                p.rate_exponent,
+                p.reference_rate,
+                p.thermal_exponent,
+                p.reference_temperature,
+                p.melting_temperature,
+            ]);
+        }
+        StossStrengthModel::TwoRateJohnsonCook => {
+            let p = &strength.two_rate_johnson_cook;
+            s[..14].copy_from_slice(&[
+                p.yield_stress,
+                p.hardening_modulus,
+                p.hardening_exponent,
+                p.saturation_stress_1,
+                p.saturation_rate_1,
+                p.saturation_stress_2,
+                p.saturation_rate_2,
+                p.rate_exponent_1,
+                p.reference_rate_1,
+                p.rate_exponent_2,
+                p.reference_rate_2,
+                p.thermal_exponent,
+                p.reference_temperature,
+                p.melting_temperature,
+            ]);
+        }
+        StossStrengthModel::Composed => {
+            let p = &strength.composed;
+            let h = &p.hardening;
+            s[0] = f64::from(p.hardening_model);
+            s[1] = f64::from(p.rate_model);
+            s[2] = f64::from(p.thermal_model);
+            s[3] = h.yield_stress;
+            let hardening = StossHardeningModel::from_code(p.hardening_model)?;
+            if hardening != StossHardeningModel::Voce2 {
+                s[4] = h.hardening_modulus;
+                s[5] = h.exponent;
+            }
+            if hardening != StossHardeningModel::Power {
+                s[6..10].copy_from_slice(&[
+                    h.saturation_stress_1,
+                    h.saturation_rate_1,
+                    h.saturation_stress_2,
+                    h.saturation_rate_2,
+                ]);
+            }
+            let r = &p.rate;
+            let rate: &[f64] = match StossRateModel::from_code(p.rate_model)? {
+                StossRateModel::None => &[],
+                StossRateModel::JohnsonCookLog => &[r.rate_sensitivity, r.reference_rate],
+                StossRateModel::Power => &[r.exponent, r.reference_rate],
+                StossRateModel::TwoPart => &[
+                    r.exponent,
+                    r.reference_rate,
+                    r.exponent_2,
+                    r.reference_rate_2,
+                ],
+                StossRateModel::CowperSymonds => &[r.cowper_symonds_d, r.cowper_symonds_q],
+            };
+            s[10..10 + rate.len()].copy_from_slice(rate);
+            let t = &p.thermal;
+            match StossThermalModel::from_code(p.thermal_model)? {
+                StossThermalModel::None => {}
+                StossThermalModel::HomologousPower => {
+                    s[14..17].copy_from_slice(&[
+                        t.exponent,
+                        t.reference_temperature,
+                        t.melting_temperature,
+                    ]);
+                }
+                StossThermalModel::Linear => {
+                    s[15..17].copy_from_slice(&[t.reference_temperature, t.melting_temperature]);
+                }
+            }
+        }
+    }
+    let eos = StossEosModel::from_code(block.eos_model)?;
+    let e = &block.eos;
+    let point_count = e.tabulated_compaction.point_count as usize;
+    let length = EOS + eos_length(eos, point_count);
+    let section = &mut card[EOS..length];
+    match eos {
+        StossEosModel::Linear => {}
+        StossEosModel::MieGruneisen => {
+            let p = &e.mie_gruneisen;
+            section.copy_from_slice(&[
+                p.reference_density,
+                p.sound_speed,
+                p.s1,
+                p.s2,
+                p.s3,
+                p.gamma0,
+                p.volume_correction,
+            ]);
+        }
+        StossEosModel::Polynomial => {
+            let p = &e.polynomial;
+            section.copy_from_slice(&[p.a1, p.a2, p.a3, p.b0, p.b1, p.t1, p.t2]);
+        }
+        StossEosModel::Jwl => {
+            let p = &e.jwl;
+            section.copy_from_slice(&[
+                p.a,
+                p.b,
+                p.r1,
+                p.r2,
+                p.omega,
+                p.reference_density,
+                p.detonation_energy,
+                p.detonation_velocity,
+                p.cj_pressure,
+            ]);
+        }
+        StossEosModel::PAlpha => {
+            let p = &e.p_alpha;
+            let q = &p.solid;
+            section.copy_from_slice(&[
+                q.a1,
+                q.a2,
+                q.a3,
+                q.b0,
+                q.b1,
+                q.t1,
+                q.t2,
+                p.initial_distension,
+                p.crush_pressure,
+                p.lock_pressure,
+                p.exponent,
+            ]);
+        }
+        StossEosModel::TabulatedCompaction => {
+            let p = &e.tabulated_compaction;
+            section[0] = point_count as f64;
+            for i in 0..point_count {
+                section[1 + 3 * i] = p.volumetric_strain[i];
+                section[2 + 3 * i] = p.pressure[i];
+                section[3 + 3 * i] = p.unloading_bulk_modulus[i];
+            }
+        }
+    }
+    Ok((card, length))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::block::{StossComposed, StossHardening, StossRateTerm, StossThermalTerm};
+    use stoss_kernel::eos::TabulatedCompaction;
+    use stoss_kernel::Material;
+
+    fn round_trip(block: &StossMaterialBlock) -> Material {
+        let material = block.to_material().unwrap();
+        let (card, length) = card_from_block(block).unwrap();
+        let parsed = block_from_card(&card[..length]).unwrap();
+        assert_eq!(parsed.to_material().unwrap(), material);
+        // Trailing zeros (an LS-DYNA card padded to 48) change nothing.
+        let parsed = block_from_card(&card[..length.max(48)]).unwrap();
+        assert_eq!(parsed.to_material().unwrap(), material);
+        material
+    }
+
+    #[test]
+    fn default_card_round_trips_and_puts_the_moduli_where_documented() {
+        let block = StossMaterialBlock::steel_4340();
+        let (card, length) = card_from_block(&block).unwrap();
+        assert_eq!(length, STOSS_CARD_FIXED_LENGTH);
+        assert_eq!(card[STOSS_CARD_SHEAR_MODULUS - 1], 81.8e9);
+        assert_eq!(card[STOSS_CARD_BULK_MODULUS - 1], 159.0e9);
+        assert_eq!(round_trip(&block), Material::STEEL_4340);
+    }
+
+    #[test]
+    fn every_eos_and_a_composed_strength_round_trip() {
+        let mut block = StossMaterialBlock::steel_4340();
+        block.failure.johnson_cook_enabled = 1;
+        block.failure.erosion_enabled = 1;
+        block.failure.erosion_plastic_strain = 1.5;
+        block.failure.pressure_cutoff_enabled = 1;
+        block.failure.pressure_cutoff = -1.0e9;
+        block.strength_model = StossStrengthModel::Composed as i32;
+        block.strength.composed = StossComposed {
+            hardening_model: StossHardeningModel::PowerVoce2 as i32,
+            rate_model: StossRateModel::CowperSymonds as i32,
+            thermal_model: StossThermalModel::Linear as i32,
+            reserved: 0,
+            hardening: StossHardening {
+                yield_stress: 300.0e6,
+                hardening_modulus: 200.0e6,
+                exponent: 0.5,
+                saturation_stress_1: 50.0e6,
+                saturation_rate_1: 10.0,
+                saturation_stress_2: 20.0e6,
+                saturation_rate_2: 100.0,
+            },
+            rate: StossRateTerm {
+                cowper_symonds_d: 40.0,
+                cowper_symonds_q: 5.0,
+                ..StossRateTerm::default()
+            },
+            thermal: StossThermalTerm {
+                exponent: 0.0,
+                reference_temperature: 293.0,
+                melting_temperature: 1800.0,
+            },
+        };
+        round_trip(&block);
+
+        block.eos_model = StossEosModel::MieGruneisen as i32;
+        block.eos.mie_gruneisen.reference_density = 7830.0;
+        block.eos.mie_gruneisen.sound_speed = 4570.0;
+        block.eos.mie_gruneisen.s1 = 1.49;
+        block.eos.mie_gruneisen.gamma0 = 2.0;
+        let material = round_trip(&block);
+        let (card, _) = card_from_block(&block).unwrap();
+        assert_eq!(card[3], 7830.0 * 4570.0 * 4570.0);
+        assert_eq!(initial_bulk_modulus(&material), card[3]);
+
+        block.eos_model = StossEosModel::Polynomial as i32;
+        block.eos.polynomial.a1 = 159.0e9;
+        block.eos.polynomial.t1 = 159.0e9;
+        block.eos.polynomial.b0 = 1.5;
+        round_trip(&block);
+
+        block.eos_model = StossEosModel::Jwl as i32;
+        let c4 = stoss_kernel::eos::Jwl::C4;
+        block.eos.jwl = crate::block::StossJwl {
+            a: c4.a,
+            b: c4.b,
+            r1: c4.r1,
+            r2: c4.r2,
+            omega: c4.omega,
+            reference_density: c4.reference_density,
+            detonation_energy: c4.detonation_energy,
+            detonation_velocity: c4.detonation_velocity,
+            cj_pressure: c4.cj_pressure,
+        };
+        round_trip(&block);
+
+        block.eos_model = StossEosModel::PAlpha as i32;
+        block.eos.p_alpha.solid = block.eos.polynomial;
+        block.eos.p_alpha.initial_distension = 1.2;
+        block.eos.p_alpha.crush_pressure = 25.0e6;
+        block.eos.p_alpha.lock_pressure = 3.0e9;
+        block.eos.p_alpha.exponent = 3.0;
+        round_trip(&block);
+
+        block.eos_model = StossEosModel::TabulatedCompaction as i32;
+        let table = TabulatedCompaction::CONCRETE_FOI_TABLE_5_2;
+        let t = &mut block.eos.tabulated_compaction;
+        t.point_count = table.points().len() as u32;
+        for (i, point) in table.points().iter().enumerate() {
+            t.volumetric_strain[i] = point.volumetric_strain;
+            t.pressure[i] = point.pressure;
+            t.unloading_bulk_modulus[i] = point.unloading_bulk_modulus;
+        }
+        let material = round_trip(&block);
+        assert_eq!(material.eos, table.into());
+        let (_, length) = card_from_block(&block).unwrap();
+        assert_eq!(length, STOSS_CARD_FIXED_LENGTH + 1 + 3 * 8);
+    }
+
+    #[test]
+    fn card_errors_name_the_slot() {
+        let (card, length) = card_from_block(&StossMaterialBlock::steel_4340()).unwrap();
+        let short = block_from_card(&card[..40]).unwrap_err();
+        assert_eq!(short.status, StossStatus::InvalidParameter);
+        assert!(short.message.contains("at least 41"), "{}", short.message);
+
+        let mut bad = card;
+        bad[0] = 2.0;
+        assert_eq!(
+            block_from_card(&bad[..length]).unwrap_err().status,
+            StossStatus::BadLayoutVersion
+        );
+        let mut bad = card;
+        bad[6] = 1.5;
+        assert_eq!(
+            block_from_card(&bad[..length]).unwrap_err().message,
+            "card P7 (strength model): 1.5 is not an integer code"
+        );
+        let mut bad = card;
+        bad[8] = StossEosModel::MieGruneisen as i32 as f64;
+        let error = block_from_card(&bad[..length]).unwrap_err();
+        assert!(error.message.contains("needs 48"), "{}", error.message);
+        let mut bad = card;
+        bad[13] = 16.0;
+        assert!(block_from_card(&bad[..length])
+            .unwrap_err()
+            .message
+            .starts_with("card P14"));
+    }
+}
