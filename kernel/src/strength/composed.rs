@@ -28,7 +28,7 @@ impl ComposedStrength {
         temperature: f64,
     ) -> FlowStress {
         let (h, dh) = self.hardening.evaluate(plastic_strain);
-        let (r, dr) = self.rate.evaluate(plastic_strain_rate);
+        let (r, dr) = self.rate.evaluate(plastic_strain_rate, temperature);
         let theta = self.thermal.evaluate(temperature);
         FlowStress {
             value: h * r * theta,

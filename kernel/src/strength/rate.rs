@@ -37,6 +37,34 @@ pub enum RateTerm {
         /// Reference rate `e02` of the high-rate part (1/s).
         reference_rate_2: f64,
     },
+    /// Johnson-Cook log with a high-rate upturn:
+    /// `(1 + C ln e*) (1 + deps_p / e_up)^beta` (`1 + C ln e*` replaced by 1 for `e* < 1`).
+    /// Nests JC exactly at `beta = 0` (the diagnosis's "high-rate upturn" term).
+    LogUpturn {
+        /// Rate sensitivity `C` (-).
+        rate_sensitivity: f64,
+        /// Reference rate `e0` (1/s).
+        reference_rate: f64,
+        /// Upturn exponent `beta` (-).
+        upturn_exponent: f64,
+        /// Rate at which the upturn sets in, `e_up` (1/s).
+        upturn_rate: f64,
+    },
+    /// Johnson-Cook log with a temperature-dependent sensitivity (a ZA-like rate-temperature
+    /// coupling): `1 + C (1 + kappa T*) ln e*`, `T*` homologous. Nests JC exactly at
+    /// `kappa = 0`.
+    LogThermal {
+        /// Rate sensitivity `C` at the reference temperature (-).
+        rate_sensitivity: f64,
+        /// Reference rate `e0` (1/s).
+        reference_rate: f64,
+        /// Coupling `kappa` (-).
+        coupling: f64,
+        /// Reference temperature `Tr` (K).
+        reference_temperature: f64,
+        /// Melting temperature `Tm` (K).
+        melting_temperature: f64,
+    },
     /// Cowper-Symonds: `1 + (deps_p / D)^(1/q)`.
     CowperSymonds {
         /// Rate constant `D` (1/s).
@@ -58,9 +86,10 @@ fn power_factor(exponent: f64, reference_rate: f64, plastic_strain_rate: f64) ->
 }
 
 impl RateTerm {
-    /// `r(deps_p)` and `dr/d deps_p` for a non-negative plastic strain rate.
+    /// `r(deps_p, T)` and `dr/d deps_p` for a non-negative plastic strain rate (only
+    /// [`RateTerm::LogThermal`] depends on the temperature).
     #[inline]
-    pub fn evaluate(&self, plastic_strain_rate: f64) -> (f64, f64) {
+    pub fn evaluate(&self, plastic_strain_rate: f64, temperature: f64) -> (f64, f64) {
         let rate = if plastic_strain_rate > 0.0 {
             plastic_strain_rate
         } else {
@@ -92,6 +121,41 @@ impl RateTerm {
                 let (v1, d1) = power_factor(exponent_1, reference_rate_1, rate);
                 let (v2, d2) = power_factor(exponent_2, reference_rate_2, rate);
                 (v1 * v2, d1 * v2 + v1 * d2)
+            }
+            RateTerm::LogUpturn {
+                rate_sensitivity,
+                reference_rate,
+                upturn_exponent,
+                upturn_rate,
+            } => {
+                let ratio = rate / reference_rate;
+                let (log_value, log_slope) = if ratio <= 1.0 {
+                    (1.0, 0.0)
+                } else {
+                    (1.0 + rate_sensitivity * ln(ratio), rate_sensitivity / rate)
+                };
+                let (up, d_up) = power_factor(upturn_exponent, upturn_rate, rate);
+                (log_value * up, log_slope * up + log_value * d_up)
+            }
+            RateTerm::LogThermal {
+                rate_sensitivity,
+                reference_rate,
+                coupling,
+                reference_temperature,
+                melting_temperature,
+            } => {
+                let ratio = rate / reference_rate;
+                if ratio <= 1.0 {
+                    (1.0, 0.0)
+                } else {
+                    let t_star = super::homologous_temperature(
+                        temperature,
+                        reference_temperature,
+                        melting_temperature,
+                    );
+                    let sensitivity = rate_sensitivity * (1.0 + coupling * t_star);
+                    (1.0 + sensitivity * ln(ratio), sensitivity / rate)
+                }
             }
             RateTerm::CowperSymonds {
                 rate_constant,
@@ -149,6 +213,36 @@ impl RateTerm {
                 }
                 Ok(())
             }
+            RateTerm::LogUpturn {
+                rate_sensitivity,
+                reference_rate,
+                upturn_exponent,
+                upturn_rate,
+            } => {
+                check::range("rate_sensitivity", rate_sensitivity, 0.0, 1.0)?;
+                check::positive("reference_rate", reference_rate)?;
+                check::range("upturn_exponent", upturn_exponent, 0.0, 1.0)?;
+                check::positive("upturn_rate", upturn_rate)
+            }
+            RateTerm::LogThermal {
+                rate_sensitivity,
+                reference_rate,
+                coupling,
+                reference_temperature,
+                melting_temperature,
+            } => {
+                check::range("rate_sensitivity", rate_sensitivity, 0.0, 1.0)?;
+                check::positive("reference_rate", reference_rate)?;
+                check::range("coupling", coupling, -1.0, 100.0)?;
+                check::positive("reference_temperature", reference_temperature)?;
+                if melting_temperature <= reference_temperature {
+                    return Err(ParameterError::Inconsistent {
+                        field: "melting_temperature",
+                        other: "reference_temperature",
+                    });
+                }
+                Ok(())
+            }
             RateTerm::CowperSymonds {
                 rate_constant,
                 exponent,
@@ -156,6 +250,77 @@ impl RateTerm {
                 check::positive("rate_constant", rate_constant)?;
                 check::positive("cowper_symonds_exponent", exponent)
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const JC: RateTerm = RateTerm::JohnsonCookLog {
+        rate_sensitivity: 0.014,
+        reference_rate: 1.0,
+    };
+
+    #[test]
+    fn extensions_nest_johnson_cook_exactly_at_their_null_values() {
+        // GOAL: the diagnosis's candidate terms give back JC bit for bit at their null value.
+        // SETUP: upturn with beta = 0, thermal coupling with kappa = 0, rates 0.1-1e5, 300-900 K.
+        // REFERENCE: JohnsonCookLog, compared bit for bit (value and rate derivative).
+        let upturn = RateTerm::LogUpturn {
+            rate_sensitivity: 0.014,
+            reference_rate: 1.0,
+            upturn_exponent: 0.0,
+            upturn_rate: 1.0e3,
+        };
+        let thermal = RateTerm::LogThermal {
+            rate_sensitivity: 0.014,
+            reference_rate: 1.0,
+            coupling: 0.0,
+            reference_temperature: 298.0,
+            melting_temperature: 1793.0,
+        };
+        for rate in [0.1, 1.0, 10.0, 1.0e3, 1.0e5] {
+            for temperature in [300.0, 900.0] {
+                let reference = JC.evaluate(rate, temperature);
+                for term in [upturn, thermal] {
+                    let (value, slope) = term.evaluate(rate, temperature);
+                    assert_eq!(value.to_bits(), reference.0.to_bits());
+                    assert_eq!(slope.to_bits(), reference.1.to_bits());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn extension_rate_derivatives_match_central_differences() {
+        // GOAL: analytic d r / d rate of the new terms. SETUP: beta 0.05, kappa 2, 5e3 /s, 600 K.
+        // REFERENCE: central differences, relative 1e-6.
+        let terms = [
+            RateTerm::LogUpturn {
+                rate_sensitivity: 0.014,
+                reference_rate: 1.0,
+                upturn_exponent: 0.05,
+                upturn_rate: 1.0e3,
+            },
+            RateTerm::LogThermal {
+                rate_sensitivity: 0.014,
+                reference_rate: 1.0,
+                coupling: 2.0,
+                reference_temperature: 298.0,
+                melting_temperature: 1793.0,
+            },
+        ];
+        for term in terms {
+            let (rate, h) = (5.0e3, 1.0e-2);
+            let numeric =
+                (term.evaluate(rate + h, 600.0).0 - term.evaluate(rate - h, 600.0).0) / (2.0 * h);
+            let analytic = term.evaluate(rate, 600.0).1;
+            assert!(
+                (numeric / analytic - 1.0).abs() < 1e-6,
+                "{numeric} vs {analytic}"
+            );
         }
     }
 }
