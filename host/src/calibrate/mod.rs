@@ -6,6 +6,7 @@
 pub mod campaign;
 pub mod log;
 pub mod objective;
+pub mod run;
 
 pub use campaign::{Campaign, ModelSpace};
 pub use objective::{evaluate, score, Evaluation, Score, Status};

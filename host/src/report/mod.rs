@@ -1,3 +1,6 @@
 //! Output files: VTK for ParaView, CSV/JSON measurements, energy reports.
 
+pub mod calibration;
+pub mod cards;
+pub mod plots;
 pub mod vtk;

@@ -1,0 +1,358 @@
+//! The calibration protocol (seed 000 sec. 4): for each model, independent optimisation
+//! instances on the fitted experiments; optionally leave-one-out folds (fit on n-1, then score
+//! every fold's best on all n and keep the best, as seed 000 does); model selection across the
+//! campaign's models. Batches of candidates are simulated in parallel; every result is logged
+//! as it ends, and a resumed run replays the log instead of simulating again.
+
+use super::campaign::{Campaign, ModelSpace};
+use super::log::{Entry, Key, LogError, SimulationLog};
+use super::objective::{evaluate, Evaluation, Status};
+use crate::solver::SolverSettings;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// An ask/tell optimiser over a model's box of constants (physical units).
+pub trait Proposer: Send {
+    /// The next batch of candidates (empty when the budget is spent).
+    fn ask(&mut self) -> Vec<Vec<f64>>;
+    /// Their objective values; `None` for failed or infeasible candidates.
+    fn tell(&mut self, points: &[Vec<f64>], values: &[Option<f64>]);
+}
+
+/// Builds a proposer for a model space, a budget, a batch size and a seed.
+pub type ProposerFactory<'a> =
+    dyn Fn(&ModelSpace, usize, usize, u64) -> Box<dyn Proposer> + Sync + 'a;
+
+/// The best candidate of one instance.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct InstanceResult {
+    /// Model name.
+    pub model: String,
+    /// Leave-one-out fold (left-out experiment), if any.
+    pub fold: Option<String>,
+    /// Instance number.
+    pub instance: usize,
+    /// Its seed.
+    pub seed: u64,
+    /// Best candidate on the fold's fitted experiments.
+    pub best: Evaluation,
+    /// Its total error on the fitted experiments.
+    pub fit_error: f64,
+    /// Best total error after each candidate (convergence history).
+    pub history: Vec<f64>,
+    /// Candidates simulated (not infeasible) and failed.
+    pub simulated: usize,
+    /// Candidates that failed.
+    pub failed: usize,
+}
+
+/// The result of a model.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ModelResult {
+    /// Model name.
+    pub model: String,
+    /// Every instance (all folds).
+    pub instances: Vec<InstanceResult>,
+    /// The best of each fold's instances, re-scored on every experiment of the campaign.
+    pub finalists: Vec<(Option<String>, Evaluation)>,
+    /// The selected solution: the finalist with the lowest error over the fitted experiments.
+    pub selected: Evaluation,
+    /// Its error over the fitted experiments.
+    pub fit_error: f64,
+    /// Its error over the held-out experiments (`None` if there are none).
+    pub holdout_error: Option<f64>,
+}
+
+/// Why a calibration stopped.
+#[derive(Debug)]
+pub enum CalibrateError {
+    /// The simulation log failed.
+    Log(LogError),
+    /// No candidate of a model could be simulated.
+    NoFeasibleCandidate(String),
+    /// The thread pool could not be built.
+    Threads(String),
+}
+
+impl std::fmt::Display for CalibrateError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CalibrateError::Log(error) => write!(f, "{error}"),
+            CalibrateError::NoFeasibleCandidate(model) => {
+                write!(f, "model {model}: no candidate could be simulated")
+            }
+            CalibrateError::Threads(message) => write!(f, "thread pool: {message}"),
+        }
+    }
+}
+
+impl std::error::Error for CalibrateError {}
+
+impl From<LogError> for CalibrateError {
+    fn from(error: LogError) -> Self {
+        CalibrateError::Log(error)
+    }
+}
+
+/// Progress reported after every batch: `(model, fold, instance, candidates done, budget, best so far)`.
+pub type Progress<'a> = dyn FnMut(&str, Option<&str>, usize, usize, usize, Option<f64>) + 'a;
+
+/// Settings of a run beyond the campaign file.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Override of the campaign's budget (e.g. for quick checks).
+    pub budget: Option<usize>,
+    /// Override of the campaign's instances.
+    pub instances: Option<usize>,
+    /// Override of leave-one-out.
+    pub leave_one_out: Option<bool>,
+}
+
+struct Runner<'a> {
+    campaign: &'a Campaign,
+    log: SimulationLog,
+    pool: rayon::ThreadPool,
+    settings: SolverSettings,
+    factory: &'a ProposerFactory<'a>,
+    progress: &'a mut Progress<'a>,
+    budget: usize,
+    batch: usize,
+}
+
+impl Runner<'_> {
+    /// Evaluate a batch in parallel, reusing logged results; log new ones in batch order.
+    fn evaluate_batch(
+        &mut self,
+        keys: &[Key],
+        points: &[Vec<f64>],
+        space: &ModelSpace,
+        experiments: &[usize],
+        seed: u64,
+    ) -> Result<Vec<Evaluation>, CalibrateError> {
+        let mut known = Vec::with_capacity(points.len());
+        for (key, point) in keys.iter().zip(points) {
+            known.push(self.log.lookup(key, point)?);
+        }
+        let campaign = self.campaign;
+        let settings = &self.settings;
+        let fresh: Vec<Option<Evaluation>> = self.pool.install(|| {
+            points
+                .par_iter()
+                .zip(&known)
+                .map(|(point, logged)| match logged {
+                    Some(_) => None,
+                    None => Some(evaluate(campaign, space, point, experiments, settings)),
+                })
+                .collect()
+        });
+        let mut results = Vec::with_capacity(points.len());
+        for ((key, logged), new) in keys.iter().zip(known).zip(fresh) {
+            let evaluation = match (logged, new) {
+                (Some(evaluation), _) => evaluation,
+                (None, Some(evaluation)) => {
+                    self.log.append(Entry {
+                        key: key.clone(),
+                        seed,
+                        evaluation: evaluation.clone(),
+                    })?;
+                    evaluation
+                }
+                (None, None) => unreachable!("every candidate is either logged or evaluated"),
+            };
+            results.push(evaluation);
+        }
+        Ok(results)
+    }
+
+    fn instance(
+        &mut self,
+        space: &ModelSpace,
+        fold: Option<&str>,
+        experiments: &[usize],
+        instance: usize,
+    ) -> Result<InstanceResult, CalibrateError> {
+        let seed = self
+            .campaign
+            .file
+            .optimiser
+            .seed
+            .wrapping_add(instance as u64);
+        let mut proposer = (self.factory)(space, self.budget, self.batch, seed);
+        let mut best: Option<(Evaluation, f64)> = None;
+        let mut history = Vec::new();
+        let (mut simulated, mut failed, mut index) = (0, 0, 0);
+        while index < self.budget {
+            let mut points = proposer.ask();
+            if points.is_empty() {
+                break;
+            }
+            points.truncate(self.budget - index);
+            let keys: Vec<Key> = (0..points.len())
+                .map(|k| Key {
+                    model: space.name.clone(),
+                    fold: fold.map(str::to_string),
+                    instance,
+                    index: index + k,
+                })
+                .collect();
+            let evaluations = self.evaluate_batch(&keys, &points, space, experiments, seed)?;
+            let values: Vec<Option<f64>> = evaluations
+                .iter()
+                .map(|e| {
+                    if e.status == Status::Ok {
+                        e.total(self.campaign, experiments)
+                    } else {
+                        None
+                    }
+                })
+                .collect();
+            for (evaluation, value) in evaluations.into_iter().zip(&values) {
+                match evaluation.status {
+                    Status::Ok => simulated += 1,
+                    Status::Failed(_) => {
+                        simulated += 1;
+                        failed += 1;
+                    }
+                    Status::Infeasible(_) => {}
+                }
+                if let Some(value) = *value {
+                    if best.as_ref().is_none_or(|(_, b)| value < *b) {
+                        best = Some((evaluation, value));
+                    }
+                }
+                history.push(best.as_ref().map_or(f64::NAN, |b| b.1));
+            }
+            proposer.tell(&points, &values);
+            index += points.len();
+            (self.progress)(
+                &space.name,
+                fold,
+                instance,
+                index,
+                self.budget,
+                best.as_ref().map(|b| b.1),
+            );
+        }
+        let (best, fit_error) =
+            best.ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone()))?;
+        Ok(InstanceResult {
+            model: space.name.clone(),
+            fold: fold.map(str::to_string),
+            instance,
+            seed,
+            best,
+            fit_error,
+            history,
+            simulated,
+            failed,
+        })
+    }
+}
+
+/// Run the campaign: every model, instance and (optionally) leave-one-out fold. Results go to
+/// `output/simulations.jsonl` as they arrive.
+pub fn calibrate<'a>(
+    campaign: &'a Campaign,
+    output: &Path,
+    options: &RunOptions,
+    factory: &'a ProposerFactory<'a>,
+    progress: &'a mut Progress<'a>,
+) -> Result<Vec<ModelResult>, CalibrateError> {
+    let optimiser = &campaign.file.optimiser;
+    let log = SimulationLog::open(&output.join("simulations.jsonl"))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(optimiser.parallel)
+        .build()
+        .map_err(|e| CalibrateError::Threads(e.to_string()))?;
+    // One thread per simulation: batches use every core; results do not depend on it.
+    let settings = SolverSettings {
+        threads: Some(1),
+        ..SolverSettings::default()
+    };
+    let mut runner = Runner {
+        campaign,
+        log,
+        pool,
+        settings,
+        factory,
+        progress,
+        budget: options.budget.unwrap_or(optimiser.budget),
+        batch: optimiser.parallel,
+    };
+    let instances = options.instances.unwrap_or(optimiser.instances);
+    let leave_one_out = options.leave_one_out.unwrap_or(optimiser.leave_one_out);
+    let fitted = campaign.fitted();
+    let holdouts: Vec<usize> = (0..campaign.experiments.len())
+        .filter(|i| !fitted.contains(i))
+        .collect();
+    let all: Vec<usize> = (0..campaign.experiments.len()).collect();
+    let mut results = Vec::new();
+    for model in &campaign.file.models {
+        let space = campaign.space(model);
+        let mut folds: Vec<(Option<String>, Vec<usize>)> = vec![(None, fitted.clone())];
+        if leave_one_out && fitted.len() > 1 {
+            for &left in &fitted {
+                let rest = fitted.iter().copied().filter(|&i| i != left).collect();
+                folds.push((Some(campaign.file.experiments[left].file.clone()), rest));
+            }
+        }
+        let mut instance_results = Vec::new();
+        let mut finalists = Vec::new();
+        for (fold, experiments) in &folds {
+            let mut fold_results = Vec::new();
+            for instance in 0..instances {
+                fold_results.push(runner.instance(
+                    &space,
+                    fold.as_deref(),
+                    experiments,
+                    instance,
+                )?);
+            }
+            // The fold's best, re-scored on every experiment (seed 000's LOO protocol).
+            let winner = fold_results
+                .iter()
+                .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error))
+                .cloned();
+            instance_results.extend(fold_results);
+            if let Some(winner) = winner {
+                let key = Key {
+                    model: space.name.clone(),
+                    fold: Some(format!("final:{}", fold.clone().unwrap_or_default())),
+                    instance: winner.instance,
+                    index: 0,
+                };
+                let scored = runner.evaluate_batch(
+                    &[key],
+                    std::slice::from_ref(&winner.best.values),
+                    &space,
+                    &all,
+                    winner.seed,
+                )?;
+                finalists.push((
+                    fold.clone(),
+                    scored.into_iter().next().unwrap_or(winner.best),
+                ));
+            }
+        }
+        let (selected, fit_error) = finalists
+            .iter()
+            .filter_map(|(_, e)| e.total(campaign, &fitted).map(|t| (e.clone(), t)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone()))?;
+        let holdout_error = if holdouts.is_empty() {
+            None
+        } else {
+            selected.total(campaign, &holdouts)
+        };
+        results.push(ModelResult {
+            model: space.name.clone(),
+            instances: instance_results,
+            finalists,
+            selected,
+            fit_error,
+            holdout_error,
+        });
+    }
+    Ok(results)
+}

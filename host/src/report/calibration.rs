@@ -1,0 +1,434 @@
+//! The calibration report (`report.md` with SVG figures) and the exported cards, after seed
+//! 000's figures and tables:
+//! - per-experiment recordings against the selected simulation (figs. 10, 13);
+//! - the per-experiment error table per model (tables 1-3), fitted and held out;
+//! - parallel coordinates of every instance's solution (fig. 11);
+//! - stress-strain curves of the solutions at 1e-4 and 2000 /s (fig. 12);
+//! - histograms of plastic strain, strain rate, temperature and triaxiality over the tracked
+//!   material points of the selected simulation, which state the validity range (fig. 14);
+//! - cards for LS-DYNA, Abaqus and OpenRadioss, and the stoss material TOML.
+
+use super::cards;
+use super::plots::{self, Series, Style};
+use crate::calibrate::run::ModelResult;
+use crate::calibrate::{Campaign, Evaluation};
+use crate::experiment::Outcome;
+use crate::measure::StateSample;
+use crate::solver::SolverSettings;
+use std::fmt::Write as _;
+use std::path::Path;
+use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
+use stoss_kernel::{Heating, Material, MaterialState};
+
+/// Reads one quantity of a state sample.
+type StateReader = fn(&StateSample) -> f64;
+
+fn slug(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}
+
+fn experiment_name(campaign: &Campaign, index: usize) -> String {
+    Path::new(&campaign.file.experiments[index].file)
+        .file_stem()
+        .map_or_else(
+            || format!("experiment {index}"),
+            |s| s.to_string_lossy().into_owned(),
+        )
+}
+
+/// Isothermal uniaxial true stress-strain curve of `material` at `rate` (plastic strain 0-0.3).
+fn flow_curve(material: &Material, rate: f64) -> Vec<(f64, f64)> {
+    let mut material = *material;
+    material.heating = Heating::Isothermal;
+    let mut state = MaterialState::initial(298.0);
+    let mut history = crate::verify::History::default();
+    let loading = UniaxialStressLoading {
+        strain_rate: rate,
+        final_strain: 0.32,
+        steps: 320,
+    };
+    if uniaxial_stress(&material, &mut state, &loading, &mut history).is_err() {
+        return Vec::new();
+    }
+    history
+        .0
+        .iter()
+        .map(|r| (r.strain[0], r.stress[0] / 1e6))
+        .collect()
+}
+
+fn errors_row(campaign: &Campaign, evaluation: &Evaluation) -> String {
+    (0..campaign.experiments.len())
+        .map(|i| {
+            evaluation
+                .scores
+                .get(i)
+                .copied()
+                .flatten()
+                .map_or_else(|| "-".to_string(), |s| format!("{:.4}", s.error))
+        })
+        .collect::<Vec<_>>()
+        .join(" | ")
+}
+
+/// Write the report into `directory` (figures in `figures/`, cards in `cards/`). `outcomes[m]`
+/// holds model `m`'s selected simulation of every campaign experiment.
+pub fn write(
+    directory: &Path,
+    campaign: &Campaign,
+    results: &[ModelResult],
+    outcomes: &[Vec<Option<Outcome>>],
+) -> Result<(), String> {
+    let figures = directory.join("figures");
+    let card_dir = directory.join("cards");
+    for dir in [&figures, &card_dir] {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    let fitted = campaign.fitted();
+    let mut md = String::new();
+    let _ = writeln!(md, "# Calibration report: {}\n", campaign.file.name);
+    if !campaign.file.description.is_empty() {
+        let _ = writeln!(md, "{}\n", campaign.file.description);
+    }
+    let o = &campaign.file.optimiser;
+    let _ = writeln!(md, "Campaign `{}`; base material `{}`. Optimiser: Latin hypercube start then GP expected improvement, budget {} simulations per instance, {} instance(s), seed {} (instance k uses seed + k), {} parallel simulations{}.\n",
+        campaign.path.display(), campaign.base.name, o.budget, o.instances, o.seed, o.parallel, if o.leave_one_out { ", leave-one-out over the fitted experiments" } else { "" });
+    let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty (1 = at the noise).\n");
+
+    // Model selection table.
+    let names: Vec<String> = (0..campaign.experiments.len())
+        .map(|i| {
+            let tag = if campaign.file.experiments[i].holdout {
+                " (held out)"
+            } else {
+                ""
+            };
+            format!("{}{tag}", experiment_name(campaign, i))
+        })
+        .collect();
+    let _ = writeln!(md, "## Model selection\n\n| model | fit error | chi (fit) | held-out error | {} |\n|---|---|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
+    for r in results {
+        let chi = r
+            .selected
+            .total_chi(campaign, &fitted)
+            .map_or("-".into(), |c| format!("{c:.3}"));
+        let _ = writeln!(
+            md,
+            "| {} | {:.4} | {} | {} | {} |",
+            r.model,
+            r.fit_error,
+            chi,
+            r.holdout_error.map_or("-".into(), |h| format!("{h:.4}")),
+            errors_row(campaign, &r.selected)
+        );
+    }
+    let best = results
+        .iter()
+        .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error));
+    if let Some(best) = best {
+        let _ = writeln!(
+            md,
+            "\nSelected model: **{}** (lowest fit error).\n",
+            best.model
+        );
+    }
+
+    for (m, result) in results.iter().enumerate() {
+        let model = campaign
+            .file
+            .models
+            .iter()
+            .find(|e| e.name == result.model)
+            .ok_or("model missing")?;
+        let space = campaign.space(model);
+        let _ = writeln!(md, "## Model `{}`\n\n### Constants\n\n| constant | lower | upper | selected |\n|---|---|---|---|", result.model);
+        for (k, name) in space.names.iter().enumerate() {
+            let _ = writeln!(
+                md,
+                "| {name} | {:.4e} | {:.4e} | {:.6e} |",
+                space.lower[k], space.upper[k], result.selected.values[k]
+            );
+        }
+        let _ = writeln!(md, "\n### Instances\n\n| fold (left out) | instance | seed | fit error | simulated | failed |\n|---|---|---|---|---|---|");
+        for i in &result.instances {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {:.4} | {} | {} |",
+                i.fold.as_deref().unwrap_or("-"),
+                i.instance,
+                i.seed,
+                i.fit_error,
+                i.simulated,
+                i.failed
+            );
+        }
+        if result.finalists.len() > 1 {
+            let _ = writeln!(md, "\n### Leave-one-out finalists (each fold's best, scored on all experiments)\n\n| left out | total (fitted) | {} |\n|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
+            for (fold, e) in &result.finalists {
+                let _ = writeln!(
+                    md,
+                    "| {} | {} | {} |",
+                    fold.as_deref().unwrap_or("none"),
+                    e.total(campaign, &fitted)
+                        .map_or("-".into(), |t| format!("{t:.4}")),
+                    errors_row(campaign, e)
+                );
+            }
+        }
+        // Convergence.
+        let series: Vec<Series> = result
+            .instances
+            .iter()
+            .enumerate()
+            .map(|(k, i)| Series {
+                label: format!("{} #{}", i.fold.as_deref().map_or("all", |f| f), i.instance),
+                points: i
+                    .history
+                    .iter()
+                    .enumerate()
+                    .map(|(n, v)| ((n + 1) as f64, *v))
+                    .collect(),
+                style: Style::Line,
+                colour: k,
+            })
+            .collect();
+        let file = format!("{}-convergence.svg", slug(&result.model));
+        plots::line_chart(
+            &figures.join(&file),
+            &format!("{}: best error vs simulations", result.model),
+            "simulations",
+            "best fit error",
+            &series,
+        )?;
+        let _ = writeln!(md, "\n![convergence](figures/{file})\n");
+        // Parallel coordinates of every instance's solution.
+        let lines: Vec<(Vec<f64>, bool)> = result
+            .instances
+            .iter()
+            .map(|i| {
+                let norm = i
+                    .best
+                    .values
+                    .iter()
+                    .enumerate()
+                    .map(|(k, v)| (v - space.lower[k]) / (space.upper[k] - space.lower[k]))
+                    .collect();
+                (norm, i.best.values == result.selected.values)
+            })
+            .collect();
+        let file = format!("{}-parallel.svg", slug(&result.model));
+        plots::parallel_coordinates(
+            &figures.join(&file),
+            &format!(
+                "{}: solutions of all instances (selected in red)",
+                result.model
+            ),
+            &space.names,
+            &lines,
+        )?;
+        let _ = writeln!(md, "![parallel coordinates](figures/{file})\n");
+        // Stress-strain curves at 1e-4 and 2000 /s.
+        let (material_file, material) = space.material(&campaign.base, &result.selected.values)?;
+        let mut series = Vec::new();
+        for (k, rate) in [1e-4, 2000.0].into_iter().enumerate() {
+            series.push(Series {
+                label: format!("selected, {rate} /s"),
+                points: flow_curve(&material, rate),
+                style: Style::Line,
+                colour: k,
+            });
+            if let Ok(base) = campaign.base.material() {
+                series.push(Series {
+                    label: format!("base material, {rate} /s"),
+                    points: flow_curve(&base, rate),
+                    style: Style::Markers,
+                    colour: k + 2,
+                });
+            }
+        }
+        let file = format!("{}-flow-curves.svg", slug(&result.model));
+        plots::line_chart(
+            &figures.join(&file),
+            "isothermal flow curves at 298 K",
+            "true strain",
+            "true stress (MPa)",
+            &series,
+        )?;
+        let _ = writeln!(
+            md,
+            "![flow curves](figures/{file})\n\n### Experiments: recording vs selected simulation\n"
+        );
+        // Overlays.
+        for (i, experiment) in campaign.experiments.iter().enumerate() {
+            let Some(Some(outcome)) = outcomes.get(m).map(|o| o.get(i).cloned().flatten()) else {
+                continue;
+            };
+            let mut groups: Vec<String> = experiment
+                .recording
+                .iter()
+                .map(|p| p.quantity.clone())
+                .collect();
+            groups.dedup();
+            let mut series = Vec::new();
+            for (g, quantity) in groups.iter().enumerate() {
+                let recorded: Vec<(f64, f64)> = experiment
+                    .recording
+                    .iter()
+                    .filter(|p| &p.quantity == quantity)
+                    .map(|p| (p.position, p.value))
+                    .collect();
+                let mut predicted: Vec<(f64, f64)> = experiment
+                    .recording
+                    .iter()
+                    .zip(&outcome.predicted)
+                    .filter(|(p, _)| &p.quantity == quantity)
+                    .map(|(p, v)| (p.position, *v))
+                    .collect();
+                predicted.sort_by(|a, b| a.0.total_cmp(&b.0));
+                series.push(Series {
+                    label: format!("{quantity} recorded"),
+                    points: recorded,
+                    style: Style::Markers,
+                    colour: 2 * g,
+                });
+                series.push(Series {
+                    label: format!("{quantity} simulated"),
+                    points: predicted,
+                    style: Style::Line,
+                    colour: 2 * g + 1,
+                });
+            }
+            let file = format!(
+                "{}-{}.svg",
+                slug(&result.model),
+                slug(&experiment_name(campaign, i))
+            );
+            plots::line_chart(
+                &figures.join(&file),
+                &experiment.file.name,
+                "position (SI)",
+                "value (SI)",
+                &series,
+            )?;
+            let _ = writeln!(md, "![{}](figures/{file})", experiment.file.name);
+        }
+        // State histograms (validity range).
+        let samples: Vec<StateSample> = outcomes
+            .get(m)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .flat_map(|o| o.states.iter().filter_map(|h| h.samples.last().copied()))
+            .collect();
+        if !samples.is_empty() {
+            let _ = writeln!(md, "\n### Validity range (final state of the tracked material points)\n\n| quantity | min | max |\n|---|---|---|");
+            let quantities: [(&str, StateReader); 4] = [
+                ("plastic strain", |s| s.plastic_strain),
+                ("peak plastic strain rate (1/s)", |s| s.plastic_strain_rate),
+                ("temperature (K)", |s| s.temperature),
+                ("triaxiality", |s| s.triaxiality),
+            ];
+            for (k, (name, get)) in quantities.iter().enumerate() {
+                let values: Vec<f64> = if k == 1 {
+                    outcomes
+                        .get(m)
+                        .into_iter()
+                        .flatten()
+                        .flatten()
+                        .flat_map(|o| {
+                            o.states.iter().map(|h| {
+                                h.samples
+                                    .iter()
+                                    .map(|s| s.plastic_strain_rate)
+                                    .fold(0.0, f64::max)
+                            })
+                        })
+                        .collect()
+                } else {
+                    samples.iter().map(get).collect()
+                };
+                let (lo, hi) = values
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                        (a.min(*v), b.max(*v))
+                    });
+                let _ = writeln!(md, "| {name} | {lo:.4e} | {hi:.4e} |");
+                let file = format!("{}-hist-{}.svg", slug(&result.model), slug(name));
+                plots::histogram(&figures.join(&file), name, name, &values, 20)?;
+            }
+            let _ = writeln!(
+                md,
+                "\nThe constants are validated only within these ranges (seed 000 sec. 5).\n"
+            );
+            for name in [
+                "plastic strain",
+                "peak plastic strain rate (1/s)",
+                "temperature (K)",
+                "triaxiality",
+            ] {
+                let _ = writeln!(
+                    md,
+                    "![{name}](figures/{}-hist-{}.svg)",
+                    slug(&result.model),
+                    slug(name)
+                );
+            }
+        }
+        // Cards.
+        let stem = slug(&result.model);
+        let mut written = vec![format!("cards/{stem}.toml")];
+        std::fs::write(
+            card_dir.join(format!("{stem}.toml")),
+            material_file.to_toml(),
+        )
+        .map_err(|e| e.to_string())?;
+        for (ext, card) in [
+            ("k", cards::ls_dyna(&material_file)),
+            ("inp", cards::abaqus(&material_file)),
+            ("rad", cards::open_radioss(&material_file)),
+        ] {
+            if let Some(card) = card {
+                std::fs::write(card_dir.join(format!("{stem}.{ext}")), card)
+                    .map_err(|e| e.to_string())?;
+                written.push(format!("cards/{stem}.{ext}"));
+            }
+        }
+        let _ = writeln!(md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA; `.inp`: Abaqus; `.rad`: OpenRadioss. Families without an equivalent card get the TOML only, usable through the stoss C ABI user material.)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
+    }
+    std::fs::write(directory.join("report.md"), md).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(results).map_err(|e| e.to_string())?;
+    std::fs::write(directory.join("result.json"), json).map_err(|e| e.to_string())
+}
+
+/// Simulate the selected solution of every model on every experiment (for the overlays and
+/// the state histograms).
+pub fn selected_outcomes(
+    campaign: &Campaign,
+    results: &[ModelResult],
+) -> Vec<Vec<Option<Outcome>>> {
+    results
+        .iter()
+        .map(|r| {
+            let Some(model) = campaign.file.models.iter().find(|e| e.name == r.model) else {
+                return Vec::new();
+            };
+            let space = campaign.space(model);
+            let Ok((_, material)) = space.material(&campaign.base, &r.selected.values) else {
+                return Vec::new();
+            };
+            campaign
+                .experiments
+                .iter()
+                .map(|e| e.simulate(&material, &SolverSettings::default()).ok())
+                .collect()
+        })
+        .collect()
+}

@@ -1,0 +1,199 @@
+//! SVG figures (plotters, SVG backend: no fonts or system libraries needed).
+
+use plotters::prelude::*;
+use std::path::Path;
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// A line through the points.
+    Line,
+    /// Markers at the points.
+    Markers,
+}
+
+/// One series of a line chart.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// `(x, y)` points.
+    pub points: Vec<(f64, f64)>,
+    /// Drawing style.
+    pub style: Style,
+    /// Palette index.
+    pub colour: usize,
+}
+
+/// An error while drawing, with the file it concerns.
+pub type PlotResult = Result<(), String>;
+
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        0.05 * lo.abs().max(1e-12)
+    };
+    (lo - pad, hi + pad)
+}
+
+fn colour(index: usize) -> RGBColor {
+    let (r, g, b) = Palette99::pick(index).to_rgba().rgb();
+    RGBColor(r, g, b)
+}
+
+/// A line/marker chart of several series.
+pub fn line_chart(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+) -> PlotResult {
+    let error = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let root = SVGBackend::new(path, (720, 450)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| error(&e))?;
+    let (x0, x1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
+    let (y0, y1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| error(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .draw()
+        .map_err(|e| error(&e))?;
+    for s in series {
+        let c = colour(s.colour);
+        let points = s
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite());
+        match s.style {
+            Style::Line => chart
+                .draw_series(LineSeries::new(points, c.stroke_width(2)))
+                .map_err(|e| error(&e))?
+                .label(s.label.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
+                }),
+            Style::Markers => chart
+                .draw_series(points.map(|p| Circle::new(p, 4, c.filled())))
+                .map_err(|e| error(&e))?
+                .label(s.label.clone())
+                .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled())),
+        };
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| error(&e))?;
+    root.present().map_err(|e| error(&e))
+}
+
+/// A histogram of `values` with `bins` bins.
+pub fn histogram(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    values: &[f64],
+    bins: usize,
+) -> PlotResult {
+    let error = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    let (lo, hi) = range(finite.iter().copied());
+    let width = (hi - lo) / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for v in &finite {
+        let k = (((v - lo) / width) as usize).min(bins - 1);
+        counts[k] += 1;
+    }
+    let top = counts.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.1;
+    let root = SVGBackend::new(path, (560, 360)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| error(&e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 16))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(lo..hi, 0.0..top)
+        .map_err(|e| error(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc("count")
+        .draw()
+        .map_err(|e| error(&e))?;
+    chart
+        .draw_series(counts.iter().enumerate().map(|(k, &c)| {
+            let x = lo + k as f64 * width;
+            Rectangle::new(
+                [(x, 0.0), (x + width, c as f64)],
+                colour(0).mix(0.7).filled(),
+            )
+        }))
+        .map_err(|e| error(&e))?;
+    root.present().map_err(|e| error(&e))
+}
+
+/// Parallel coordinates of solutions normalised to `[0, 1]` per axis; highlighted lines drawn
+/// thick and last.
+pub fn parallel_coordinates(
+    path: &Path,
+    title: &str,
+    axes: &[String],
+    lines: &[(Vec<f64>, bool)],
+) -> PlotResult {
+    let error = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let root = SVGBackend::new(path, (760, 420)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| error(&e))?;
+    let count = axes.len().max(2);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 16))
+        .margin(14)
+        .x_label_area_size(60)
+        .y_label_area_size(50)
+        .build_cartesian_2d(-0.2..(count as f64 - 0.8), -0.05..1.05)
+        .map_err(|e| error(&e))?;
+    let names: Vec<String> = axes.to_vec();
+    chart
+        .configure_mesh()
+        .x_labels(count)
+        .x_label_formatter(&|x| names.get(x.round() as usize).cloned().unwrap_or_default())
+        .y_desc("position within bounds")
+        .disable_x_mesh()
+        .draw()
+        .map_err(|e| error(&e))?;
+    for highlighted in [false, true] {
+        for (values, flag) in lines.iter().filter(|l| l.1 == highlighted) {
+            let style = if *flag {
+                RED.stroke_width(3)
+            } else {
+                BLUE.mix(0.35).stroke_width(1)
+            };
+            chart
+                .draw_series(LineSeries::new(
+                    values.iter().enumerate().map(|(k, v)| (k as f64, *v)),
+                    style,
+                ))
+                .map_err(|e| error(&e))?;
+        }
+    }
+    root.present().map_err(|e| error(&e))
+}
