@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Bounded fuzzing of stoss-kernel with cargo-fuzz (libFuzzer), see fuzz/README.md.
+# Bounded fuzzing of stoss-kernel and its C ABI with cargo-fuzz (libFuzzer), see fuzz/README.md.
 #
 # 1. Installs cargo-fuzz if missing (`cargo install cargo-fuzz --locked`).
-# 2. Builds every target (no sanitizer: the kernel has no unsafe code; the harness checks
-#    properties). Stable Rust first; if stable refuses, RUSTC_BOOTSTRAP=1.
+# 2. Builds every target, i.e. every [[bin]] of fuzz/Cargo.toml (`cargo fuzz list`), abi_batch
+#    included (no sanitizer: the kernel has no unsafe code; the harness checks properties).
+#    Stable Rust first; if stable refuses, RUSTC_BOOTSTRAP=1.
 # 3. Replays the committed reproducers of kernel defects the fuzzers found
 #    (fuzz/regressions/<target>/), which also live as tests in kernel/tests/fuzz_regressions.rs.
 # 4. Fuzzes every target for FUZZ_SECONDS (default 60) from its committed seed corpus

@@ -8,13 +8,15 @@ input that runs out reads as zeros. So:
   midpoint     0x00 then 0x02...: midpoints (linear) and a fixed fraction (log), three steps;
   random-N     a regime byte below 192 (everything in domain), then pseudo-random bytes;
   chaos        a regime byte of 0xf0 (values may leave their domain), then pseudo-random bytes.
+abi_batch reads a mode byte after the regime byte (3 mod 4: stoss_lsdyna_umat, else
+stoss_update_batch); its umat-* seeds are the same five kinds with that byte set to 3.
 Usage: python3 fuzz/make_seeds.py (rewrites fuzz/corpus/<target>/seed-*).
 """
 import os
 import random
 
 TARGETS = ["strength_update_jc", "strength_update_za", "strength_update_mjc",
-           "strength_update_tjc", "eos", "rht_update"]
+           "strength_update_tjc", "eos", "rht_update", "abi_batch"]
 
 here = os.path.dirname(os.path.abspath(__file__))
 for index, target in enumerate(TARGETS):
@@ -29,6 +31,9 @@ for index, target in enumerate(TARGETS):
         length = rng.randrange(300, 1000)
         seeds[f"random-{n}"] = bytes([rng.randrange(0, 192)]) + bytes(
             rng.getrandbits(8) for _ in range(length))
+    if target == "abi_batch":
+        for name, data in list(seeds.items()):
+            seeds[f"umat-{name}"] = data[:1] + bytes([3]) + data[2:]
     directory = os.path.join(here, "corpus", target)
     os.makedirs(directory, exist_ok=True)
     for name, data in seeds.items():

@@ -12,7 +12,8 @@
 //! - [`adapters`]: LS-DYNA umat and Abaqus VUMAT conventions (thin Rust functions);
 //! - [`abi`]: the exported `extern "C"` functions;
 //! - [`boundary`]: the panic/NULL boundary every export goes through;
-//! - [`status`]: the numbered status codes.
+//! - [`status`]: the numbered status codes;
+//! - [`checked`]: safe Rust entry points that call the exports with owned data (fuzzing).
 //!
 //! This crate is the hosted boundary (it uses `std` for `catch_unwind`) and holds all the
 //! `unsafe` code of the project; the kernel itself is `#![forbid(unsafe_code)]` and `no_std`.
@@ -33,6 +34,7 @@ pub mod batch;
 pub mod block;
 pub(crate) mod boundary;
 pub mod card;
+pub mod checked;
 pub mod status;
 
 pub use abi::*;
