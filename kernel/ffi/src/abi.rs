@@ -18,7 +18,9 @@ use crate::batch::{
     StossBatchState,
 };
 use crate::block::{initial_bulk_modulus, StossMaterialBlock, BLOCK_SIZE, STOSS_LAYOUT_VERSION};
-use crate::boundary::{boundary, read_struct, write_optional, write_struct, ArrayIn, ArrayOut};
+use crate::boundary::{
+    boundary, check_optional_pointer, read_struct, write_optional, write_struct, ArrayIn, ArrayOut,
+};
 use crate::card::{block_from_card, card_from_block, STOSS_CARD_MAX_LENGTH};
 use crate::status::{FfiError, StossStatus};
 
@@ -361,6 +363,7 @@ pub unsafe extern "C" fn stoss_update_batch(
             // SAFETY: caller contract on `output` and its arrays.
             unsafe { OutputViews::new(&read_struct(output, "output")?, n) }?
         };
+        check_optional_pointer(first_failure.cast_const(), "first_failure")?;
         let failure = run_batch(&material, n, dt, &input, &mut state, &mut output);
         report(n, failure, first_failure)
     };

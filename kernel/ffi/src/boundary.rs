@@ -81,6 +81,16 @@ pub(crate) unsafe fn write_message(buffer: *mut c_char, capacity: usize, text: &
     }
 }
 
+/// Check an optional output pointer (NULL allowed) for alignment before any state is
+/// written, so that a rejected call has changed nothing.
+pub(crate) fn check_optional_pointer<T>(pointer: *const T, field: &str) -> Result<(), FfiError> {
+    if pointer.is_null() {
+        Ok(())
+    } else {
+        check_pointer(pointer, field)
+    }
+}
+
 /// Check a pointer argument that must not be NULL and must be aligned for `T`.
 fn check_pointer<T>(pointer: *const T, field: &str) -> Result<(), FfiError> {
     if pointer.is_null() {
