@@ -9,6 +9,7 @@ pub mod experiment;
 pub mod input;
 pub mod measure;
 pub mod mesh;
+pub mod optimise;
 pub mod random;
 pub mod report;
 pub mod solver;

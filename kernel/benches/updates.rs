@@ -14,19 +14,39 @@
 //! - `elastic`: [`BLOCK`] consecutive updates of `deps_xx = 1e-9` from the virgin state, far
 //!   below yield (asserted): predictor and yield check only.
 //!
+//! Equations of state (`eos` module): [`EOS_BLOCK`] calls of [`Eos::evaluate`] over a sweep
+//! of compressions per iteration, counted as evaluations, for every EoS (history-dependent
+//! ones on their loading and unloading branches).
+//!
+//! RHT concrete (`rht` module, [`RhtMaterial::HPC_92MPA`]): updates in uniaxial compressive
+//! strain, elastic (far below the elastic limit, [`BLOCK`] per iteration), hardening returns
+//! (between the elastic limit and the failure surface, `D = 0`) and damaging steps
+//! (`0 < D < 1`, each step plastic), [`SHORT_BLOCK`] per iteration, all asserted before
+//! timing.
+//!
+//! The costly cases (RHT plastic steps and P-alpha compaction, about 5 us each) run
+//! [`SHORT_BLOCK`] per iteration so that a sample (about 0.5 ms) fits in a scheduler time
+//! slice: on a loaded machine, samples of several milliseconds are nearly all preempted and
+//! their median measures the load, not the code.
+//!
 //! Run with `cargo bench -p stoss-kernel --bench updates`; results are in
 //! `docs/benchmarks.md`.
 
 use divan::counter::ItemsCount;
 use divan::{black_box, Bencher};
-use stoss_kernel::math::exp;
+use stoss_kernel::eos::{Eos, Jwl, LinearEos, MieGruneisen, Polynomial, TabulatedCompaction};
+use stoss_kernel::math::{exp, ln};
+use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::strength::{
     CrystalStructure, JohnsonCook, ModifiedJohnsonCook, TwoRateJohnsonCook, ZerilliArmstrong,
 };
-use stoss_kernel::{update, Material, MaterialState, RateTreatment, StepInput};
+use stoss_kernel::{update, Material, MaterialState, RateTreatment, StateFlags, StepInput};
 
 /// Consecutive updates per benchmark iteration.
 const BLOCK: u32 = 1000;
+
+/// Updates or evaluations per iteration of the costly (about 5 us) cases.
+const SHORT_BLOCK: u32 = 100;
 
 /// Room temperature (K) of the initial state.
 const ROOM_TEMPERATURE: f64 = 298.0;
@@ -299,6 +319,302 @@ mod elastic {
     #[divan::bench]
     fn tjc(bencher: Bencher) {
         bench_elastic(bencher, super::tjc());
+    }
+}
+
+/// EoS evaluations per benchmark iteration.
+const EOS_BLOCK: usize = 1000;
+
+/// Pressure evaluations per second: [`EOS_BLOCK`] calls of [`Eos::evaluate`] at
+/// compressions spread evenly over a range, each from the same history value (so every call
+/// of a history-dependent EoS is on the branch named by the benchmark; asserted before
+/// timing). The pressure at `E` = 1 MJ/m^3 is formed from the returned terms.
+mod eos {
+    use super::*;
+
+    const ENERGY: f64 = 1.0e6;
+
+    /// `EOS_BLOCK` compressions from `from` to `to`.
+    fn sweep(from: f64, to: f64) -> Vec<f64> {
+        sweep_of(EOS_BLOCK, from, to)
+    }
+
+    /// `count` compressions from `from` to `to`.
+    fn sweep_of(count: usize, from: f64, to: f64) -> Vec<f64> {
+        (0..count)
+            .map(|i| from + (to - from) * i as f64 / (count - 1) as f64)
+            .collect()
+    }
+
+    /// Time the sweep; `branch` checks each `(mu, history in, history out)` beforehand.
+    fn bench_sweep(
+        bencher: Bencher,
+        eos: Eos,
+        mus: Vec<f64>,
+        history: f64,
+        branch: impl Fn(f64, f64, f64) -> bool,
+    ) {
+        eos.validate().expect("invalid benchmark EoS");
+        for &mu in &mus {
+            let (terms, next) = eos.evaluate(mu, history);
+            assert!(terms.pressure(ENERGY).is_finite(), "mu {mu}");
+            assert!(
+                branch(mu, history, next),
+                "mu {mu}: not on the benchmarked branch"
+            );
+        }
+        bencher.counter(ItemsCount::new(mus.len())).bench_local(|| {
+            let eos = black_box(&eos);
+            let mut sum = 0.0;
+            for &mu in black_box(&mus) {
+                let (terms, next) = eos.evaluate(mu, black_box(history));
+                sum += terms.pressure(ENERGY) + next;
+            }
+            sum
+        });
+    }
+
+    fn any(_: f64, _: f64, _: f64) -> bool {
+        true
+    }
+
+    /// Linear, K 159 GPa, mu -0.05..0.2.
+    #[divan::bench]
+    fn linear(bencher: Bencher) {
+        let eos = Eos::Linear(LinearEos {
+            bulk_modulus: 159.0e9,
+        });
+        bench_sweep(bencher, eos, sweep(-0.05, 0.2), 0.0, any);
+    }
+
+    /// Mie-Grueneisen, Steinberg 4340 (C 4578 m/s, S1 1.33, gamma0 1.67, a 0.43),
+    /// mu -0.05..0.3 (both branches).
+    #[divan::bench]
+    fn mie_gruneisen(bencher: Bencher) {
+        let eos = Eos::MieGruneisen(MieGruneisen {
+            reference_density: 7810.0,
+            sound_speed: 4578.0,
+            s1: 1.33,
+            s2: 0.0,
+            s3: 0.0,
+            gamma0: 1.67,
+            volume_correction: 0.43,
+        });
+        bench_sweep(bencher, eos, sweep(-0.05, 0.3), 0.0, any);
+    }
+
+    /// Polynomial, the RHT HPC matrix (A1 24.4, A2 39.58, A3 9.04 GPa, B0 = B1 = 1.22),
+    /// mu -0.05..0.3.
+    #[divan::bench]
+    fn polynomial(bencher: Bencher) {
+        let eos = Eos::Polynomial(Polynomial {
+            a1: 24.4e9,
+            a2: 39.58e9,
+            a3: 9.04e9,
+            b0: 1.22,
+            b1: 1.22,
+            t1: 24.4e9,
+            t2: 0.0,
+        });
+        bench_sweep(bencher, eos, sweep(-0.05, 0.3), 0.0, any);
+    }
+
+    /// JWL C-4, relative volume 2.5 to 0.67 (mu -0.6..0.5): two exponentials per call.
+    #[divan::bench]
+    fn jwl_c4(bencher: Bencher) {
+        bench_sweep(bencher, Eos::Jwl(Jwl::C4), sweep(-0.6, 0.5), 0.0, any);
+    }
+
+    /// Tabulated compaction, seed 001 table 5.2: loading from the virgin state
+    /// (`ln(1 + mu)` and the segment search), mu 0..0.075 (through all 8 points).
+    #[divan::bench]
+    fn tabulated_loading(bencher: Bencher) {
+        let eos = Eos::TabulatedCompaction(TabulatedCompaction::CONCRETE_FOI_TABLE_5_2);
+        // Loading: the new maximum strain is the current one, ln(1 + mu).
+        bench_sweep(bencher, eos, sweep(0.0, 0.075), 0.0, |mu, _, next| {
+            next == ln(1.0 + mu)
+        });
+    }
+
+    /// Tabulated compaction, table 5.2: unloading below a maximum strain of 0.0726.
+    #[divan::bench]
+    fn tabulated_unloading(bencher: Bencher) {
+        let eos = Eos::TabulatedCompaction(TabulatedCompaction::CONCRETE_FOI_TABLE_5_2);
+        bench_sweep(
+            bencher,
+            eos,
+            sweep(0.0, 0.075),
+            0.0726,
+            |_, before, after| after == before,
+        );
+    }
+
+    fn p_alpha() -> Eos {
+        RhtMaterial::HPC_92MPA.eos
+    }
+
+    /// P-alpha (RHT HPC EoS): elastic at alpha0, below the 61.3 MPa crush pressure
+    /// (mu 0..0.0025).
+    #[divan::bench]
+    fn p_alpha_elastic(bencher: Bencher) {
+        let eos = p_alpha();
+        let alpha0 = eos.initial_history();
+        bench_sweep(
+            bencher,
+            eos,
+            sweep(0.0, 0.0025),
+            alpha0,
+            |_, before, after| after == before,
+        );
+    }
+
+    /// P-alpha: compacting from alpha0 (mu 0.01..0.2, between crush and lock): every call
+    /// resolves alpha by bisection. [`SHORT_BLOCK`] evaluations per iteration.
+    #[divan::bench]
+    fn p_alpha_compacting(bencher: Bencher) {
+        let eos = p_alpha();
+        let alpha0 = eos.initial_history();
+        bench_sweep(
+            bencher,
+            eos,
+            sweep_of(SHORT_BLOCK as usize, 0.01, 0.2),
+            alpha0,
+            |_, before, after| after < before && after > 1.0,
+        );
+    }
+
+    /// P-alpha: unloading at the distension reached at mu 0.12 (mu 0..0.12), alpha kept.
+    #[divan::bench]
+    fn p_alpha_unloading(bencher: Bencher) {
+        let eos = p_alpha();
+        let (_, alpha) = eos.evaluate(0.12, eos.initial_history());
+        bench_sweep(bencher, eos, sweep(0.0, 0.12), alpha, |_, before, after| {
+            after == before
+        });
+    }
+}
+
+/// RHT concrete updates per second ([`RhtMaterial::HPC_92MPA`], `stoss_kernel::rht::update`).
+/// Loading is uniaxial compressive strain, `deps_xx = -1e-5` per step in `dt = 1e-8 s`
+/// (1e3 /s) for the plastic cases.
+mod rht {
+    use super::*;
+    use stoss_kernel::rht;
+
+    fn material() -> RhtMaterial {
+        let material = RhtMaterial::HPC_92MPA;
+        material.validate().expect("invalid benchmark material");
+        material
+    }
+
+    /// One step; returns whether it was plastic.
+    fn step(material: &RhtMaterial, state: &mut MaterialState, axial: f64, dt: f64) -> bool {
+        let input = uniaxial_step(axial, dt, state.relative_volume);
+        rht::update(material, state, &input).expect("RHT update failed");
+        state.flags.0 & StateFlags::PLASTIC != 0
+    }
+
+    /// State after `steps` plastic-loading steps from the virgin state.
+    fn preloaded(material: &RhtMaterial, steps: u32) -> MaterialState {
+        let mut state = material.initial_state(ROOM_TEMPERATURE);
+        for _ in 0..steps {
+            step(material, &mut state, PLASTIC_AXIAL, PLASTIC_DT);
+        }
+        state
+    }
+
+    /// [`BLOCK`] consecutive updates of `deps_xx = -1e-9` from the virgin state (stress
+    /// below 0.05 MPa, far inside the elastic surface; asserted).
+    #[divan::bench]
+    fn elastic(bencher: Bencher) {
+        let material = material();
+        let start = material.initial_state(ROOM_TEMPERATURE);
+        let mut state = start;
+        for _ in 0..BLOCK {
+            assert!(
+                !step(&material, &mut state, -1.0e-9, 1.0e-8),
+                "elastic block yielded"
+            );
+        }
+        bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
+            let material = black_box(&material);
+            let mut state = black_box(start);
+            for _ in 0..BLOCK {
+                let input = uniaxial_step(-1.0e-9, 1.0e-8, state.relative_volume);
+                rht::update(material, &mut state, black_box(&input)).expect("update failed");
+            }
+            state
+        });
+    }
+
+    /// [`SHORT_BLOCK`] updates, each from the same state at axial strain -0.5 % (500
+    /// plastic-loading steps): a hardening return between the elastic limit and the failure surface, `D = 0`
+    /// (asserted).
+    #[divan::bench]
+    fn hardening_return(bencher: Bencher) {
+        let material = material();
+        let start = preloaded(&material, 500);
+        let mut probe = start;
+        assert!(
+            step(&material, &mut probe, PLASTIC_AXIAL, PLASTIC_DT),
+            "not plastic"
+        );
+        assert!(probe.plastic_strain > start.plastic_strain && probe.damage == 0.0);
+        let input = uniaxial_step(PLASTIC_AXIAL, PLASTIC_DT, start.relative_volume);
+        bencher
+            .counter(ItemsCount::new(SHORT_BLOCK))
+            .bench_local(|| {
+                for _ in 0..SHORT_BLOCK {
+                    let mut state = black_box(start);
+                    rht::update(black_box(&material), &mut state, black_box(&input))
+                        .expect("update failed");
+                    black_box(state);
+                }
+            });
+    }
+
+    /// [`SHORT_BLOCK`] consecutive updates from developed damage (first damaging step plus
+    /// [`PRELOAD_PLASTIC_STEPS`] plastic-loading steps): every step plastic and damaging,
+    /// `0 < D < 1` throughout (asserted); P-alpha compaction on every step.
+    #[divan::bench]
+    fn damaging_path(bencher: Bencher) {
+        let material = material();
+        let mut start = material.initial_state(ROOM_TEMPERATURE);
+        let mut steps = 0;
+        while start.damage == 0.0 {
+            step(&material, &mut start, PLASTIC_AXIAL, PLASTIC_DT);
+            steps += 1;
+            assert!(steps < 100 * BLOCK, "no damage");
+        }
+        for _ in 0..PRELOAD_PLASTIC_STEPS {
+            step(&material, &mut start, PLASTIC_AXIAL, PLASTIC_DT);
+        }
+        let mut state = start;
+        assert!(start.damage > 0.0, "no damage at the start of the block");
+        for _ in 0..SHORT_BLOCK {
+            let before = state;
+            assert!(
+                step(&material, &mut state, PLASTIC_AXIAL, PLASTIC_DT),
+                "elastic step"
+            );
+            assert!(
+                state.damage > before.damage && state.damage < 1.0,
+                "D {}",
+                state.damage
+            );
+            assert!(state.eos_history < before.eos_history, "no compaction");
+        }
+        bencher
+            .counter(ItemsCount::new(SHORT_BLOCK))
+            .bench_local(|| {
+                let material = black_box(&material);
+                let mut state = black_box(start);
+                for _ in 0..SHORT_BLOCK {
+                    let input = uniaxial_step(PLASTIC_AXIAL, PLASTIC_DT, state.relative_volume);
+                    rht::update(material, &mut state, black_box(&input)).expect("update failed");
+                }
+                state
+            });
     }
 }
 

@@ -25,6 +25,7 @@
 //! instances = 2
 //! seed = 1
 //! parallel = 2                             # simulations run at once (one batch)
+//! polish = 20                              # Nelder-Mead from each instance's best (default budget/2)
 //! ```
 
 use crate::experiment::Experiment;
@@ -136,6 +137,10 @@ pub struct OptimiserEntry {
     /// Leave-one-out over the fitted experiments (fit on n-1, score all n).
     #[serde(default)]
     pub leave_one_out: bool,
+    /// Simulations of the Nelder-Mead polish from each instance's best point (default: half
+    /// the Bayesian budget; 0 disables).
+    #[serde(default)]
+    pub polish: Option<usize>,
 }
 
 impl Default for OptimiserEntry {
@@ -146,6 +151,7 @@ impl Default for OptimiserEntry {
             seed: 0,
             parallel: default_parallel(),
             leave_one_out: false,
+            polish: None,
         }
     }
 }

@@ -6,6 +6,8 @@
 pub mod campaign;
 pub mod log;
 pub mod objective;
+pub mod polish;
+pub mod proposer;
 pub mod run;
 
 pub use campaign::{Campaign, ModelSpace};

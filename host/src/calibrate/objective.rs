@@ -134,18 +134,13 @@ impl Evaluation {
             .sum()
     }
 
-    /// Weighted sum of the uncertainty-weighted RMS over `experiments`.
-    pub fn total_chi(&self, campaign: &Campaign, experiments: &[usize]) -> Option<f64> {
-        experiments
+    /// Mean over `experiments` of the uncertainty-weighted RMS (1 = at the noise floor).
+    pub fn mean_chi(&self, experiments: &[usize]) -> Option<f64> {
+        let sum: Option<f64> = experiments
             .iter()
-            .map(|&i| {
-                self.scores
-                    .get(i)
-                    .copied()
-                    .flatten()
-                    .map(|s| s.chi * campaign.file.experiments[i].weight)
-            })
-            .sum()
+            .map(|&i| self.scores.get(i).copied().flatten().map(|s| s.chi))
+            .sum();
+        sum.map(|s| s / experiments.len().max(1) as f64)
     }
 }
 

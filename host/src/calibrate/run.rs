@@ -7,17 +7,18 @@
 use super::campaign::{Campaign, ModelSpace};
 use super::log::{Entry, Key, LogError, SimulationLog};
 use super::objective::{evaluate, Evaluation, Status};
+use super::polish::NelderMead;
 use crate::solver::SolverSettings;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// An ask/tell optimiser over a model's box of constants (physical units).
-pub trait Proposer: Send {
+pub trait Proposer {
     /// The next batch of candidates (empty when the budget is spent).
     fn ask(&mut self) -> Vec<Vec<f64>>;
     /// Their objective values; `None` for failed or infeasible candidates.
-    fn tell(&mut self, points: &[Vec<f64>], values: &[Option<f64>]);
+    fn tell(&mut self, points: &[Vec<f64>], values: &[Option<f64>]) -> Result<(), String>;
 }
 
 /// Builds a proposer for a model space, a budget, a batch size and a seed.
@@ -73,6 +74,8 @@ pub enum CalibrateError {
     NoFeasibleCandidate(String),
     /// The thread pool could not be built.
     Threads(String),
+    /// The optimiser rejected its input.
+    Optimiser(String),
 }
 
 impl std::fmt::Display for CalibrateError {
@@ -83,6 +86,7 @@ impl std::fmt::Display for CalibrateError {
                 write!(f, "model {model}: no candidate could be simulated")
             }
             CalibrateError::Threads(message) => write!(f, "thread pool: {message}"),
+            CalibrateError::Optimiser(message) => write!(f, "optimiser: {message}"),
         }
     }
 }
@@ -107,6 +111,8 @@ pub struct RunOptions {
     pub instances: Option<usize>,
     /// Override of leave-one-out.
     pub leave_one_out: Option<bool>,
+    /// Override of the polish budget.
+    pub polish: Option<usize>,
 }
 
 struct Runner<'a> {
@@ -118,6 +124,7 @@ struct Runner<'a> {
     progress: &'a mut Progress<'a>,
     budget: usize,
     batch: usize,
+    polish: usize,
 }
 
 impl Runner<'_> {
@@ -223,7 +230,16 @@ impl Runner<'_> {
                 }
                 history.push(best.as_ref().map_or(f64::NAN, |b| b.1));
             }
-            proposer.tell(&points, &values);
+            // The surrogate models ln(error): errors are positive and heavy-tailed (from the
+            // noise floor up to orders of magnitude above it), which a GP fits far better in
+            // log space; the transform is monotone, so the optimum is unchanged.
+            let surrogate_values: Vec<Option<f64>> = values
+                .iter()
+                .map(|v| v.map(|e| e.max(1e-300).ln()))
+                .collect();
+            proposer
+                .tell(&points, &surrogate_values)
+                .map_err(CalibrateError::Optimiser)?;
             index += points.len();
             (self.progress)(
                 &space.name,
@@ -233,6 +249,78 @@ impl Runner<'_> {
                 self.budget,
                 best.as_ref().map(|b| b.1),
             );
+        }
+        // Nelder-Mead polish from the best point, one candidate at a time.
+        if let (Some((start, start_value)), true) = (
+            best.as_ref().map(|(e, v)| (e.values.clone(), *v)),
+            self.polish > 0,
+        ) {
+            let span: Vec<f64> = space
+                .lower
+                .iter()
+                .zip(&space.upper)
+                .map(|(l, u)| u - l)
+                .collect();
+            let unit: Vec<f64> = start
+                .iter()
+                .zip(&space.lower)
+                .zip(&span)
+                .map(|((x, l), s)| (x - l) / s)
+                .collect();
+            let mut simplex = NelderMead::new(&unit, start_value, 0.05);
+            for _ in 0..self.polish {
+                let point: Vec<f64> = simplex
+                    .ask()
+                    .iter()
+                    .zip(&space.lower)
+                    .zip(&span)
+                    .map(|((u, l), s)| l + u * s)
+                    .collect();
+                let key = Key {
+                    model: space.name.clone(),
+                    fold: fold.map(str::to_string),
+                    instance,
+                    index,
+                };
+                let evaluation = self
+                    .evaluate_batch(
+                        &[key],
+                        std::slice::from_ref(&point),
+                        space,
+                        experiments,
+                        seed,
+                    )?
+                    .remove(0);
+                let value = if evaluation.status == Status::Ok {
+                    evaluation.total(self.campaign, experiments)
+                } else {
+                    None
+                };
+                match evaluation.status {
+                    Status::Ok => simulated += 1,
+                    Status::Failed(_) => {
+                        simulated += 1;
+                        failed += 1;
+                    }
+                    Status::Infeasible(_) => {}
+                }
+                if let Some(v) = value {
+                    if best.as_ref().is_none_or(|(_, b)| v < *b) {
+                        best = Some((evaluation, v));
+                    }
+                }
+                history.push(best.as_ref().map_or(f64::NAN, |b| b.1));
+                simplex.tell(value);
+                index += 1;
+                (self.progress)(
+                    &space.name,
+                    fold,
+                    instance,
+                    index,
+                    self.budget + self.polish,
+                    best.as_ref().map(|b| b.1),
+                );
+            }
         }
         let (best, fit_error) =
             best.ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone()))?;
@@ -279,6 +367,10 @@ pub fn calibrate<'a>(
         progress,
         budget: options.budget.unwrap_or(optimiser.budget),
         batch: optimiser.parallel,
+        polish: options
+            .polish
+            .or(optimiser.polish)
+            .unwrap_or(options.budget.unwrap_or(optimiser.budget) / 2),
     };
     let instances = options.instances.unwrap_or(optimiser.instances);
     let leave_one_out = options.leave_one_out.unwrap_or(optimiser.leave_one_out);

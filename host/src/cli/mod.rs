@@ -1,5 +1,6 @@
 //! The `stoss` command line.
 
+mod calibrate;
 mod simulate;
 mod synthesize;
 mod verify;
@@ -19,6 +20,9 @@ pub struct Cli {
 /// Sub-commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Fit model constants to the recordings of a campaign by Bayesian optimisation over
+    /// simulations; leave-one-out, model selection, report and cards.
+    Calibrate(calibrate::CalibrateArgs),
     /// Verify the material kernel against closed forms, published numbers and the golden
     /// bit-exact histories.
     Verify(verify::VerifyArgs),
@@ -33,6 +37,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Verify(args) => verify::run(&args),
+        Command::Calibrate(args) => calibrate::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Synthesize(args) => synthesize::run(&args),
     }

@@ -22,7 +22,7 @@ pub struct VerifyArgs {
 pub fn run(args: &VerifyArgs) -> ExitCode {
     let rows = verify::run_all();
     println!(
-        "{:<26} {:<38} {:<46} {:>11} {:>11}  result",
+        "{:<26} {:<38} {:<50} {:>11} {:>11}  result",
         "material", "check", "quantity", "max error", "tolerance"
     );
     let mut failures = 0;
@@ -36,7 +36,7 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
             failures += 1;
         }
         println!(
-            "{:<26} {:<38} {:<46} {:>11.3e} {relation}{:>9.1e}  {verdict}",
+            "{:<26} {:<38} {:<50} {:>11.3e} {relation}{:>9.1e}  {verdict}",
             row.subject, row.check, row.quantity, row.max_error, row.tolerance
         );
     }
@@ -54,6 +54,21 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
             row.analytical / 1e6,
             row.implicit / 1e6,
             row.lagged / 1e6
+        );
+    }
+    println!();
+    println!(
+        "RHT HPC 92 MPa (seed 001 table 4.4), uniaxial compression peak / fc; F = (rate/30e-6)^0.01 (eq. 4.4),"
+    );
+    println!("expected DIF = root z of eq. 4.1 on the uniaxial path, z = F A (z/3 - p*_0 F)^N:");
+    println!(
+        "{:>8} {:>10} {:>12} {:>12}",
+        "rate/s", "F", "eq. 4.1 z", "driver DIF"
+    );
+    for row in verify::rht_checks::dif_table() {
+        println!(
+            "{:>8} {:>10.4} {:>12.4} {:>12.4}",
+            row.rate, row.rate_factor, row.surface, row.measured
         );
     }
     println!();

@@ -9,7 +9,7 @@
 //! material = "../materials/4340-jc.toml"   # default material; `--material` overrides
 //!
 //! [setup]
-//! kind = "taylor"                          # uniaxial | tension | taylor
+//! kind = "taylor"                          # uniaxial | tension | taylor | shpb
 //! length = 25.4e-3
 //! ...
 //! ```
@@ -18,6 +18,7 @@
 //! every recorded point, in the recording's order, with the energy balance and the state
 //! histories of the points that drive the measurements.
 
+pub mod shpb;
 pub mod taylor;
 pub mod tension;
 pub mod uniaxial;
@@ -31,6 +32,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use stoss_kernel::{Material, MaterialState};
 
+pub use shpb::ShpbSpec;
 pub use taylor::TaylorSpec;
 pub use tension::TensionSpec;
 pub use uniaxial::UniaxialSpec;
@@ -46,6 +48,8 @@ pub enum Setup {
     Tension(TensionSpec),
     /// Taylor rod-on-anvil.
     Taylor(TaylorSpec),
+    /// Split Hopkinson compression bar.
+    Shpb(ShpbSpec),
 }
 
 impl Setup {
@@ -55,6 +59,7 @@ impl Setup {
             Setup::Uniaxial(_) => uniaxial::QUANTITIES,
             Setup::Tension(_) => tension::QUANTITIES,
             Setup::Taylor(_) => taylor::QUANTITIES,
+            Setup::Shpb(_) => shpb::QUANTITIES,
         }
     }
 }
@@ -160,6 +165,7 @@ impl Experiment {
             Setup::Uniaxial(spec) => spec.validate(&check)?,
             Setup::Tension(spec) => spec.validate(&check)?,
             Setup::Taylor(spec) => spec.validate(&check)?,
+            Setup::Shpb(spec) => spec.validate(&check)?,
         }
         let recording_path = path
             .parent()
@@ -208,6 +214,7 @@ impl Experiment {
             Setup::Uniaxial(spec) => spec.simulate(material, &self.recording),
             Setup::Tension(spec) => spec.simulate(material, settings, &self.recording),
             Setup::Taylor(spec) => spec.simulate(material, settings, &self.recording),
+            Setup::Shpb(spec) => spec.simulate(material, settings, &self.recording),
         }
     }
 }
@@ -218,6 +225,7 @@ pub fn kind_name(setup: &Setup) -> &'static str {
         Setup::Uniaxial(_) => "uniaxial",
         Setup::Tension(_) => "tension",
         Setup::Taylor(_) => "taylor",
+        Setup::Shpb(_) => "shpb",
     }
 }
 

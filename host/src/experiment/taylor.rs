@@ -138,6 +138,7 @@ impl TaylorSpec {
                 friction: self.anvil_friction,
                 nodes: Vec::new(),
             }],
+            contacts: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {
@@ -184,6 +185,7 @@ impl TaylorSpec {
                 friction: self.anvil_friction,
                 nodes: Vec::new(),
             }],
+            contacts: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {

@@ -101,7 +101,7 @@ pub fn write(
     let o = &campaign.file.optimiser;
     let _ = writeln!(md, "Campaign `{}`; base material `{}`. Optimiser: Latin hypercube start then GP expected improvement, budget {} simulations per instance, {} instance(s), seed {} (instance k uses seed + k), {} parallel simulations{}.\n",
         campaign.path.display(), campaign.base.name, o.budget, o.instances, o.seed, o.parallel, if o.leave_one_out { ", leave-one-out over the fitted experiments" } else { "" });
-    let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty (1 = at the noise).\n");
+    let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n");
 
     // Model selection table.
     let names: Vec<String> = (0..campaign.experiments.len())
@@ -114,11 +114,11 @@ pub fn write(
             format!("{}{tag}", experiment_name(campaign, i))
         })
         .collect();
-    let _ = writeln!(md, "## Model selection\n\n| model | fit error | chi (fit) | held-out error | {} |\n|---|---|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
+    let _ = writeln!(md, "## Model selection\n\n| model | fit error | mean chi (fit) | held-out error | {} |\n|---|---|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
     for r in results {
         let chi = r
             .selected
-            .total_chi(campaign, &fitted)
+            .mean_chi(&fitted)
             .map_or("-".into(), |c| format!("{c:.3}"));
         let _ = writeln!(
             md,

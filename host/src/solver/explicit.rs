@@ -1,7 +1,13 @@
 //! The explicit time integration shared by every element formulation: central differences,
-//! lumped mass, CFL time step, prescribed velocities, rigid walls, nodal damping, erosion,
-//! energy balance and the deterministic parallel element loop.
+//! lumped mass, CFL time step, prescribed velocities, rigid walls, penalty contact between
+//! parts, nodal damping, erosion, energy balance and the deterministic parallel element loop.
+//!
+//! Contact ([`super::contact`], 2D only) hooks in at two points of the step: its forces at
+//! `x_n` are added to the assembled internal forces before the velocity update (computed
+//! serially in a fixed order, so the loop stays bit-identical for any thread count), and their
+//! work is booked as `EnergyBalance::contact` with the same mid-step velocities as the walls'.
 
+use super::contact::{ContactPair, PenaltyContact};
 use super::energy::EnergyBalance;
 use super::loads::{RigidWall, VelocityConstraint};
 use super::{SolverError, SolverSettings};
@@ -85,6 +91,8 @@ pub struct ExplicitModel<M> {
     pub constraints: Vec<VelocityConstraint>,
     /// Rigid walls.
     pub walls: Vec<RigidWall>,
+    /// Penalty contact pairs between parts (2D models only).
+    pub contacts: Vec<ContactPair>,
     /// Numerical settings.
     pub settings: SolverSettings,
     /// Elements whose state history is recorded.
@@ -230,6 +238,7 @@ impl<M: Discretisation> ExplicitModel<M> {
         }
         dt *= settings.time_step_safety;
         let minimum_dt = dt * 1e-4;
+        let mut contact = PenaltyContact::new(&self.contacts, &mass, dt, dimension)?;
 
         let kinetic = |v: &[Vector]| -> f64 {
             measure
@@ -297,6 +306,7 @@ impl<M: Discretisation> ExplicitModel<M> {
         let mut element_cycles = 0u64;
         while time < settings.end_time {
             let dt_average = 0.5 * (dt_previous + dt);
+            contact.add_forces(&x, &v, dt_average, &mut force);
             v_old.copy_from_slice(&v);
             for n in 0..node_count {
                 if mass[n] > 0.0 {
@@ -369,6 +379,9 @@ impl<M: Discretisation> ExplicitModel<M> {
                 for d in 0..dimension {
                     x_new[n][d] = x[n][d] + v[n][d] * dt;
                 }
+            }
+            if contact.is_active() {
+                energy.contact += measure * contact.absorbed(&v_old, &v, dt_average);
             }
 
             // Elements in parallel; results kept in element order.

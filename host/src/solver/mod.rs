@@ -9,15 +9,18 @@
 //!   results are assembled into nodes serially in element order, so results are bit-identical
 //!   for any thread count;
 //! - rigid planar walls (frictionless or Coulomb), prescribed velocities, initial velocities,
-//!   erosion on the kernel's flags, nodal damping, and an energy balance every run.
+//!   erosion on the kernel's flags, nodal damping, and an energy balance every run;
+//! - penalty node-to-segment contact with Coulomb friction between deformable parts (2D).
 
 pub mod axisymmetric;
+pub mod contact;
 pub mod energy;
 pub mod explicit;
 pub mod hexahedral;
 pub mod loads;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
+pub use contact::ContactPair;
 pub use energy::EnergyBalance;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun};
 pub use hexahedral::{HexModel, HexRun};

@@ -77,11 +77,11 @@ where
     history
 }
 
-fn relative(value: f64, reference: f64) -> f64 {
+pub(crate) fn relative(value: f64, reference: f64) -> f64 {
     (value - reference).abs() / reference.abs().max(1.0)
 }
 
-fn max_or_infinite(errors: impl Iterator<Item = f64>) -> f64 {
+pub(crate) fn max_or_infinite(errors: impl Iterator<Item = f64>) -> f64 {
     let mut seen = false;
     let mut worst = 0.0_f64;
     for error in errors {
@@ -601,7 +601,7 @@ fn johnson_cook_failure() -> CheckResult {
     }
 }
 
-/// Every kernel check, in table order.
+/// Every kernel check, in table order: metals, then every EoS, then RHT concrete.
 pub fn run_all() -> Vec<CheckResult> {
     let mut rows = Vec::new();
     let materials = reference_materials();
@@ -623,6 +623,8 @@ pub fn run_all() -> Vec<CheckResult> {
     rows.extend(seed001_rows());
     rows.push(adiabatic_heating());
     rows.push(johnson_cook_failure());
+    rows.extend(super::eos_checks::run_all());
+    rows.extend(super::rht_checks::run_all());
     rows
 }
 

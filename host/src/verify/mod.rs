@@ -1,10 +1,14 @@
 //! `stoss verify`: the kernel against closed forms and published numbers, and the golden
-//! bit-exact histories.
+//! bit-exact histories. [`checks::run_all`] is the one list of rows: the metal checks of
+//! [`checks`], then the equations of state ([`eos_checks`]) and RHT concrete
+//! ([`rht_checks`]).
 
 pub mod checks;
+pub mod eos_checks;
 pub mod golden;
 pub mod history;
 pub mod materials;
+pub mod rht_checks;
 
 pub use checks::{run_all, CheckResult, Expectation};
 pub use history::History;

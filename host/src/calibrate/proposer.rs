@@ -1,0 +1,55 @@
+//! The calibration's optimiser: the batch Bayesian optimiser of [`crate::optimise`] over a
+//! model's box of constants.
+
+use super::campaign::ModelSpace;
+use super::run::Proposer;
+use crate::optimise::{AskTell, BayesianOptimiser, Bounds, OptimiserSettings};
+
+struct Bayesian(BayesianOptimiser);
+
+impl Proposer for Bayesian {
+    fn ask(&mut self) -> Vec<Vec<f64>> {
+        self.0.ask()
+    }
+
+    fn tell(&mut self, points: &[Vec<f64>], values: &[Option<f64>]) -> Result<(), String> {
+        self.0.tell(points, values).map_err(|e| e.to_string())
+    }
+}
+
+/// A proposer that cannot be built (invalid bounds or settings): proposes nothing, so the
+/// run stops with "no feasible candidate" naming the model, and says why.
+struct Unusable(String);
+
+impl Proposer for Unusable {
+    fn ask(&mut self) -> Vec<Vec<f64>> {
+        eprintln!("optimiser: {}", self.0);
+        Vec::new()
+    }
+
+    fn tell(&mut self, _: &[Vec<f64>], _: &[Option<f64>]) -> Result<(), String> {
+        Err(self.0.clone())
+    }
+}
+
+/// Builds a Bayesian optimiser per instance: Latin hypercube of `3 x dimension`, GP + log-EI,
+/// batches of `batch` (kriging believer), seeded.
+pub fn bayesian_factory() -> impl Fn(&ModelSpace, usize, usize, u64) -> Box<dyn Proposer> + Sync {
+    |space: &ModelSpace, budget: usize, batch: usize, seed: u64| -> Box<dyn Proposer> {
+        let pairs: Vec<(f64, f64)> = space
+            .lower
+            .iter()
+            .copied()
+            .zip(space.upper.iter().copied())
+            .collect();
+        let built = Bounds::from_pairs(&pairs).and_then(|bounds| {
+            let settings =
+                OptimiserSettings::new(space.dimension(), budget, seed).with_batch(batch);
+            BayesianOptimiser::new(bounds, settings)
+        });
+        match built {
+            Ok(optimiser) => Box::new(Bayesian(optimiser)),
+            Err(error) => Box::new(Unusable(format!("model {}: {error}", space.name))),
+        }
+    }
+}

@@ -1,0 +1,141 @@
+//! `stoss calibrate <campaign.toml>`: Bayesian optimisation of model constants over the
+//! campaign's experiments; writes `simulations.jsonl` (every simulation, as it ends), and at
+//! the end `report/` (report.md, figures, cards, result.json). `--resume` continues a killed
+//! run without re-running any logged simulation.
+
+use crate::calibrate::run::{calibrate, RunOptions};
+use crate::calibrate::Campaign;
+use crate::report::calibration;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Arguments of `stoss calibrate`.
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    /// Campaign file (TOML).
+    pub campaign: PathBuf,
+    /// Output folder (default `out/calibrate-<campaign name>`).
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    /// Continue the run logged in the output folder.
+    #[arg(long)]
+    pub resume: bool,
+    /// Override the campaign's budget (simulations per instance).
+    #[arg(long)]
+    pub budget: Option<usize>,
+    /// Override the campaign's number of instances.
+    #[arg(long)]
+    pub instances: Option<usize>,
+    /// Run leave-one-out over the fitted experiments.
+    #[arg(long)]
+    pub leave_one_out: bool,
+    /// Override the campaign's Nelder-Mead polish budget.
+    #[arg(long)]
+    pub polish: Option<usize>,
+}
+
+/// Run `stoss calibrate`.
+pub fn run(args: &CalibrateArgs) -> ExitCode {
+    match run_calibration(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
+    let campaign = Campaign::load(&args.campaign).map_err(|e| e.to_string())?;
+    let output = args.output.clone().unwrap_or_else(|| {
+        PathBuf::from("out").join(format!(
+            "calibrate-{}",
+            args.campaign
+                .file_stem()
+                .map_or_else(|| "campaign".into(), |s| s.to_string_lossy().into_owned())
+        ))
+    });
+    let log_path = output.join("simulations.jsonl");
+    if log_path.exists() && !args.resume {
+        return Err(format!(
+            "{} holds a previous run: use --resume to continue it, or --output for a new folder",
+            output.display()
+        ));
+    }
+    std::fs::create_dir_all(&output).map_err(|e| format!("{}: {e}", output.display()))?;
+    std::fs::copy(&args.campaign, output.join("campaign.toml"))
+        .map_err(|e| format!("{}: {e}", output.display()))?;
+    let options = RunOptions {
+        budget: args.budget,
+        instances: args.instances,
+        leave_one_out: args.leave_one_out.then_some(true),
+        polish: args.polish,
+    };
+    println!(
+        "campaign: {} ({} experiments, {} fitted; {} model(s))",
+        campaign.file.name,
+        campaign.experiments.len(),
+        campaign.fitted().len(),
+        campaign.file.models.len()
+    );
+    println!("output:   {}", output.display());
+    let bars = indicatif::MultiProgress::new();
+    let style =
+        indicatif::ProgressStyle::with_template("{prefix:>24} [{bar:30}] {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+    let mut current: Option<(String, indicatif::ProgressBar)> = None;
+    let mut progress = |model: &str,
+                        fold: Option<&str>,
+                        instance: usize,
+                        done: usize,
+                        budget: usize,
+                        best: Option<f64>| {
+        let label = format!(
+            "{model}{} #{instance}",
+            fold.map(|f| format!(" w/o {f}")).unwrap_or_default()
+        );
+        if current.as_ref().is_none_or(|(l, _)| *l != label) {
+            if let Some((_, bar)) = current.take() {
+                bar.finish();
+            }
+            let bar = bars.add(
+                indicatif::ProgressBar::new(budget as u64)
+                    .with_style(style.clone())
+                    .with_prefix(label.clone()),
+            );
+            current = Some((label, bar));
+        }
+        if let Some((_, bar)) = &current {
+            bar.set_position(done as u64);
+            bar.set_message(best.map_or_else(
+                || "no feasible candidate yet".into(),
+                |b| format!("best error {b:.4}"),
+            ));
+        }
+    };
+    let factory = crate::calibrate::proposer::bayesian_factory();
+    let results = calibrate(&campaign, &output, &options, &factory, &mut progress)
+        .map_err(|e| e.to_string())?;
+    println!(
+        "\n{:<10} {:>12} {:>14}",
+        "model", "fit error", "held-out error"
+    );
+    for r in &results {
+        println!(
+            "{:<10} {:>12.4} {:>14}",
+            r.model,
+            r.fit_error,
+            r.holdout_error.map_or("-".into(), |h| format!("{h:.4}"))
+        );
+    }
+    let outcomes = calibration::selected_outcomes(&campaign, &results);
+    let report = output.join("report");
+    let temporary = output.join(format!("report.tmp-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&temporary);
+    calibration::write(&temporary, &campaign, &results, &outcomes)?;
+    let _ = std::fs::remove_dir_all(&report);
+    std::fs::rename(&temporary, &report).map_err(|e| format!("{}: {e}", report.display()))?;
+    println!("\nreport: {}", report.join("report.md").display());
+    Ok(())
+}
