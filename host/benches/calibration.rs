@@ -1,0 +1,114 @@
+//! Simulations to reach a target error on the synthetic flow-curve campaign
+//! (fixtures/campaigns/synthetic-flow.toml: JC, 5 constants, known truth), for the Bayesian
+//! optimiser, random Latin hypercube sampling and CMA-ES, over 10 seeds; median and
+//! quartiles. The target is 1.5 x the error of the truth itself (0.235, the noise floor).
+//! Run: `cargo bench -p stoss --bench calibration`. The optimisers see ln(error), as in
+//! `stoss calibrate`.
+
+use std::path::Path;
+use stoss::calibrate::{evaluate, Campaign};
+use stoss::optimise::{AskTell, BayesianOptimiser, Bounds, CmaEs, OptimiserSettings, RandomSearch};
+use stoss::solver::SolverSettings;
+
+const BUDGET: usize = 100;
+const SEEDS: u64 = 10;
+
+fn run(
+    optimiser: &mut dyn AskTell,
+    objective: &dyn Fn(&[f64]) -> Option<f64>,
+    target: f64,
+) -> Option<usize> {
+    let mut used = 0;
+    while used < BUDGET {
+        let points = optimiser.ask();
+        if points.is_empty() {
+            return None;
+        }
+        let values: Vec<Option<f64>> = points.iter().map(|p| objective(p)).collect();
+        for v in &values {
+            used += 1;
+            if v.is_some_and(|v| v <= target) {
+                return Some(used);
+            }
+        }
+        let logs: Vec<Option<f64>> = values
+            .iter()
+            .map(|v| v.map(|e| e.max(1e-300).ln()))
+            .collect();
+        if optimiser.tell(&points, &logs).is_err() {
+            return None;
+        }
+    }
+    None
+}
+
+fn quartiles(mut runs: Vec<usize>, failures: usize) -> String {
+    // Runs that missed the target count as "more than the budget".
+    runs.extend(std::iter::repeat_n(usize::MAX, failures));
+    runs.sort_unstable();
+    let show = |k: usize| {
+        if runs[k] == usize::MAX {
+            format!(">{BUDGET}")
+        } else {
+            runs[k].to_string()
+        }
+    };
+    let n = runs.len();
+    format!(
+        "{:>6} {:>6} {:>6}   reached {}/{}",
+        show(n / 4),
+        show(n / 2),
+        show((3 * n) / 4),
+        n - failures,
+        n
+    )
+}
+
+fn main() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let campaign =
+        Campaign::load(&root.join("fixtures/campaigns/synthetic-flow.toml")).expect("campaign");
+    let space = campaign.space(&campaign.file.models[0]);
+    let fitted = campaign.fitted();
+    let settings = SolverSettings {
+        threads: Some(1),
+        ..SolverSettings::default()
+    };
+    let objective =
+        |x: &[f64]| evaluate(&campaign, &space, x, &fitted, &settings).total(&campaign, &fitted);
+    let target = 1.5 * 0.2352;
+    let pairs: Vec<(f64, f64)> = space
+        .lower
+        .iter()
+        .copied()
+        .zip(space.upper.iter().copied())
+        .collect();
+    println!("synthetic flow campaign, 5 constants, target error {target:.3}, budget {BUDGET}, {SEEDS} seeds");
+    println!(
+        "{:<22} {:>6} {:>6} {:>6}   (simulations to target: 25 %, median, 75 %)",
+        "optimiser", "q25", "median", "q75"
+    );
+    for name in ["bayesian (GP + log-EI)", "random Latin hypercube", "CMA-ES"] {
+        let mut reached = Vec::new();
+        let mut missed = 0;
+        for seed in 0..SEEDS {
+            let bounds = Bounds::from_pairs(&pairs).expect("bounds");
+            let opt_settings =
+                OptimiserSettings::new(space.dimension(), BUDGET, seed).with_batch(2);
+            let mut optimiser: Box<dyn AskTell> = match name {
+                "bayesian (GP + log-EI)" => {
+                    Box::new(BayesianOptimiser::new(bounds, opt_settings).expect("bo"))
+                }
+                "random Latin hypercube" => {
+                    Box::new(RandomSearch::new(bounds, &opt_settings).expect("lhs"))
+                }
+                _ => Box::new(CmaEs::new(bounds, &opt_settings).expect("cma")),
+            };
+            match run(optimiser.as_mut(), &objective, target) {
+                Some(n) => reached.push(n),
+                None => missed += 1,
+            }
+        }
+        println!("{name:<22} {}", quartiles(reached, missed));
+    }
+}
