@@ -59,23 +59,6 @@ fn geometry(p: [Vector; 4]) -> Geometry {
     }
 }
 
-/// Stable time step `L / (Q + sqrt(Q^2 + c^2))`, `L = A / longest diagonal`,
-/// `Q = C1 c + C0 L |d_v|` while compressing (LS-DYNA's form with bulk viscosity).
-fn stable_time_step(
-    geom: &Geometry,
-    wave_speed: f64,
-    volumetric_rate: f64,
-    s: &SolverSettings,
-) -> f64 {
-    let length = geom.area / geom.longest_diagonal;
-    let q = if volumetric_rate < 0.0 {
-        s.linear_viscosity * wave_speed + s.quadratic_viscosity * length * volumetric_rate.abs()
-    } else {
-        0.0
-    };
-    length / (q + (q * q + wave_speed * wave_speed).sqrt())
-}
-
 /// Jaumann rotation of the stress over one step with in-plane spin `w = (dv_r/dz - dv_z/dr)/2`.
 fn rotate_jaumann(stress: &mut [f64; 6], spin: f64, dt: f64) {
     let (rr, zz, rz) = (stress[0], stress[1], stress[3]);
@@ -187,15 +170,8 @@ impl Discretisation for QuadMesh {
         })?;
         // Bulk viscosity (compression only), as a pressure added to the forces.
         let density = material.density / input.relative_volume;
-        let length = new.area.sqrt();
-        let viscous_pressure = if volumetric_rate < 0.0 {
-            density
-                * length
-                * (settings.quadratic_viscosity * length * volumetric_rate * volumetric_rate
-                    - settings.linear_viscosity * output.wave_speed * volumetric_rate)
-        } else {
-            0.0
-        };
+        let viscous_pressure =
+            settings.bulk_viscosity(density, new.area.sqrt(), volumetric_rate, output.wave_speed);
         let mid_volume = 0.5 * (state.relative_volume + input.relative_volume) * reference_volume;
         let viscous_work = -viscous_pressure * volumetric_rate * dt * mid_volume;
         let s = next.stress;
@@ -233,7 +209,11 @@ impl Discretisation for QuadMesh {
             forces,
             hourglass_power: kappa * (q_r * q_r + q_z * q_z),
             viscous_work,
-            stable_dt: stable_time_step(&new, output.wave_speed, volumetric_rate, settings),
+            stable_dt: settings.stable_time_step(
+                new.area / new.longest_diagonal,
+                output.wave_speed,
+                volumetric_rate,
+            ),
         })
     }
 }

@@ -232,15 +232,12 @@ impl Discretisation for HexMesh {
             error,
         })?;
         let density = material.density / input.relative_volume;
-        let length = new.volume.cbrt();
-        let viscous_pressure = if volumetric_rate < 0.0 {
-            density
-                * length
-                * (settings.quadratic_viscosity * length * volumetric_rate * volumetric_rate
-                    - settings.linear_viscosity * output.wave_speed * volumetric_rate)
-        } else {
-            0.0
-        };
+        let viscous_pressure = settings.bulk_viscosity(
+            density,
+            new.volume.cbrt(),
+            volumetric_rate,
+            output.wave_speed,
+        );
         let mid_volume = 0.5 * (state.relative_volume + input.relative_volume) * reference_volume;
         let viscous_work = -viscous_pressure * volumetric_rate * dt * mid_volume;
         let mut stress = matrix(&next.stress);
@@ -273,21 +270,17 @@ impl Discretisation for HexMesh {
             }
             hourglass_power += kappa * (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
         }
-        let face = largest_face_area(&nodes_new);
-        let characteristic = new.volume / face;
-        let q = if volumetric_rate < 0.0 {
-            settings.linear_viscosity * output.wave_speed
-                + settings.quadratic_viscosity * characteristic * volumetric_rate.abs()
-        } else {
-            0.0
-        };
+        let characteristic = new.volume / largest_face_area(&nodes_new);
         Ok(ElementStep {
             state: next,
             forces,
             hourglass_power,
             viscous_work,
-            stable_dt: characteristic
-                / (q + (q * q + output.wave_speed * output.wave_speed).sqrt()),
+            stable_dt: settings.stable_time_step(
+                characteristic,
+                output.wave_speed,
+                volumetric_rate,
+            ),
         })
     }
 }

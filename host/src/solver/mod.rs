@@ -50,6 +50,40 @@ pub struct SolverSettings {
     pub rest_fraction: f64,
 }
 
+impl SolverSettings {
+    /// Bulk-viscosity pressure (compression only, LS-DYNA form):
+    /// `q = rho L (C0 L d_v^2 - C1 c d_v)` for `d_v < 0`, else 0; `L` the element length.
+    pub fn bulk_viscosity(
+        &self,
+        density: f64,
+        length: f64,
+        volumetric_rate: f64,
+        wave_speed: f64,
+    ) -> f64 {
+        if volumetric_rate < 0.0 {
+            density
+                * length
+                * (self.quadratic_viscosity * length * volumetric_rate * volumetric_rate
+                    - self.linear_viscosity * wave_speed * volumetric_rate)
+        } else {
+            0.0
+        }
+    }
+
+    /// Stable time step of an element of characteristic length `length`:
+    /// `L / (Q + sqrt(Q^2 + c^2))`, `Q = C1 c + C0 L |d_v|` while compressing (LS-DYNA's form
+    /// with bulk viscosity).
+    pub fn stable_time_step(&self, length: f64, wave_speed: f64, volumetric_rate: f64) -> f64 {
+        let q = if volumetric_rate < 0.0 {
+            self.linear_viscosity * wave_speed
+                + self.quadratic_viscosity * length * volumetric_rate.abs()
+        } else {
+            0.0
+        };
+        length / (q + (q * q + wave_speed * wave_speed).sqrt())
+    }
+}
+
 impl Default for SolverSettings {
     fn default() -> Self {
         Self {
