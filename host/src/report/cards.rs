@@ -40,15 +40,16 @@ fn dyna_line(values: &[f64]) -> String {
         .collect()
 }
 
-/// A number in at most 10 characters.
+/// A number in at most 9 characters, so that a 10-column field always keeps a separating
+/// blank.
 fn format_short(v: f64) -> String {
     let plain = format!("{v}");
-    if plain.len() <= 10 {
+    if plain.len() <= 9 {
         return plain;
     }
     for digits in (0..=5).rev() {
         let text = format!("{v:.digits$e}");
-        if text.len() <= 10 {
+        if text.len() <= 9 {
             return text;
         }
     }
@@ -279,6 +280,6 @@ mod tests {
             .all(|l| l.len() <= 80));
         assert!(abaqus(&file).unwrap().contains("7.92e8, 5.1e8, 2.6e-1"));
         assert!(open_radioss(&file).unwrap().contains("/MAT/PLAS_JOHNS"));
-        assert_eq!(format_short(1.2345678901e-7).len(), 10);
+        assert_eq!(format_short(1.2345678901e-7).len(), 9);
     }
 }
