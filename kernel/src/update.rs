@@ -401,20 +401,14 @@ fn compute(
     next.eos_history = eos_history;
 
     // 6. Wave speed.
-    let density = material.density / input.relative_volume;
-    let bulk_sound_squared = crate::eos::Eos::sound_speed_squared(
+    let wave_speed = crate::eos::longitudinal_wave_speed(
         &terms,
         mu,
         energy,
-        terms.pressure(energy),
         material.density,
+        input.relative_volume,
+        shear,
     );
-    let bulk_sound_squared = if bulk_sound_squared > 0.0 {
-        bulk_sound_squared
-    } else {
-        0.0
-    };
-    let wave_speed = sqrt(bulk_sound_squared + 4.0 * shear / (3.0 * density));
 
     if !next.is_finite()
         || !wave_speed.is_finite()

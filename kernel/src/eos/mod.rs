@@ -134,6 +134,27 @@ impl Eos {
     }
 }
 
+/// Longitudinal wave speed for the host's time step: `sqrt(c_bulk^2 + 4G/(3 rho))`, with
+/// `c_bulk^2` from [`Eos::sound_speed_squared`] (clamped at 0) and `rho = rho0 / V`.
+pub fn longitudinal_wave_speed(
+    terms: &EnergyLinearPressure,
+    mu: f64,
+    energy: f64,
+    reference_density: f64,
+    relative_volume: f64,
+    shear_modulus: f64,
+) -> f64 {
+    let density = reference_density / relative_volume;
+    let bulk_sound_squared =
+        Eos::sound_speed_squared(terms, mu, energy, terms.pressure(energy), reference_density);
+    let bulk_sound_squared = if bulk_sound_squared > 0.0 {
+        bulk_sound_squared
+    } else {
+        0.0
+    };
+    crate::math::sqrt(bulk_sound_squared + 4.0 * shear_modulus / (3.0 * density))
+}
+
 impl From<LinearEos> for Eos {
     fn from(eos: LinearEos) -> Self {
         Eos::Linear(eos)
