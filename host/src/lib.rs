@@ -5,6 +5,7 @@
 
 pub mod calibrate;
 pub mod cli;
+pub mod diagnose;
 pub mod experiment;
 pub mod input;
 pub mod measure;

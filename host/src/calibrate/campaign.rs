@@ -238,7 +238,7 @@ impl ModelSpace {
 }
 
 /// Set the float at dotted path `name` in a TOML tree; `None` if it does not exist.
-fn set_dotted(tree: &mut toml::Value, name: &str, value: f64) -> Option<()> {
+pub(crate) fn set_dotted(tree: &mut toml::Value, name: &str, value: f64) -> Option<()> {
     match name.split_once('.') {
         Some((head, rest)) => set_dotted(tree.as_table_mut()?.get_mut(head)?, rest, value),
         None => {

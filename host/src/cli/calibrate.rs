@@ -66,6 +66,17 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     std::fs::create_dir_all(&output).map_err(|e| format!("{}: {e}", output.display()))?;
     std::fs::copy(&args.campaign, output.join("campaign.toml"))
         .map_err(|e| format!("{}: {e}", output.display()))?;
+    // Where the campaign lives (its experiment paths are relative to it): `stoss diagnose`
+    // reads this.
+    let source = args
+        .campaign
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", args.campaign.display()))?;
+    std::fs::write(
+        output.join(crate::cli::diagnose::CAMPAIGN_PATH_FILE),
+        source.to_string_lossy().as_bytes(),
+    )
+    .map_err(|e| format!("{}: {e}", output.display()))?;
     let options = RunOptions {
         budget: args.budget,
         instances: args.instances,

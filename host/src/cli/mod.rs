@@ -1,6 +1,7 @@
 //! The `stoss` command line.
 
 mod calibrate;
+pub(crate) mod diagnose;
 mod simulate;
 mod synthesize;
 mod verify;
@@ -23,6 +24,9 @@ pub enum Command {
     /// Fit model constants to the recordings of a campaign by Bayesian optimisation over
     /// simulations; leave-one-out, model selection, report and cards.
     Calibrate(calibrate::CalibrateArgs),
+    /// After a calibration: locate the misfit, name the missing physics, add it, refit, and
+    /// report whether the fit improves.
+    Diagnose(diagnose::DiagnoseArgs),
     /// Verify the material kernel against closed forms, published numbers and the golden
     /// bit-exact histories.
     Verify(verify::VerifyArgs),
@@ -38,6 +42,7 @@ pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Verify(args) => verify::run(&args),
         Command::Calibrate(args) => calibrate::run(&args),
+        Command::Diagnose(args) => diagnose::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Synthesize(args) => synthesize::run(&args),
     }

@@ -23,7 +23,7 @@ use stoss_kernel::{Heating, Material, MaterialState};
 /// Reads one quantity of a state sample.
 type StateReader = fn(&StateSample) -> f64;
 
-fn slug(text: &str) -> String {
+pub(crate) fn slug(text: &str) -> String {
     text.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() {
@@ -35,7 +35,7 @@ fn slug(text: &str) -> String {
         .collect()
 }
 
-fn experiment_name(campaign: &Campaign, index: usize) -> String {
+pub(crate) fn experiment_name(campaign: &Campaign, index: usize) -> String {
     Path::new(&campaign.file.experiments[index].file)
         .file_stem()
         .map_or_else(

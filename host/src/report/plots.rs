@@ -197,3 +197,102 @@ pub fn parallel_coordinates(
     }
     root.present().map_err(|e| error(&e))
 }
+
+/// A shaded interval of the x axis (a significant band of the diagnosis).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shade {
+    /// Start of the interval.
+    pub start: f64,
+    /// End of the interval.
+    pub end: f64,
+}
+
+/// Whitened residuals against position: series of markers, the `+-2` noise band as dashed
+/// lines, and shaded significant intervals.
+pub fn residual_chart(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    series: &[Series],
+    shades: &[Shade],
+) -> PlotResult {
+    let error = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let root = SVGBackend::new(path, (720, 450)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| error(&e))?;
+    let xs = series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.0))
+        .chain(shades.iter().flat_map(|s| [s.start, s.end]));
+    let (x0, x1) = range(xs);
+    let (y0, y1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.1))
+            .chain([-3.0, 3.0]),
+    );
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| error(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc("(predicted - recorded) / uncertainty")
+        .draw()
+        .map_err(|e| error(&e))?;
+    let pad = 0.01 * (x1 - x0);
+    chart
+        .draw_series(shades.iter().map(|s| {
+            Rectangle::new(
+                [(s.start - pad, y0), (s.end + pad, y1)],
+                RGBColor(255, 200, 120).mix(0.45).filled(),
+            )
+        }))
+        .map_err(|e| error(&e))?
+        .label("significant band")
+        .legend(|(x, y)| {
+            Rectangle::new(
+                [(x, y - 5), (x + 16, y + 5)],
+                RGBColor(255, 200, 120).filled(),
+            )
+        });
+    for level in [-2.0, 0.0, 2.0] {
+        let style = if level == 0.0 {
+            BLACK.stroke_width(1)
+        } else {
+            BLACK.mix(0.5).stroke_width(1)
+        };
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(x0, level), (x1, level)],
+                6,
+                4,
+                style,
+            ))
+            .map_err(|e| error(&e))?;
+    }
+    for s in series {
+        let c = colour(s.colour);
+        chart
+            .draw_series(
+                s.points
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0.is_finite() && p.1.is_finite())
+                    .map(|p| Circle::new(p, 4, c.filled())),
+            )
+            .map_err(|e| error(&e))?
+            .label(s.label.clone())
+            .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| error(&e))?;
+    root.present().map_err(|e| error(&e))
+}

@@ -1,0 +1,176 @@
+//! `stoss diagnose <calibration folder>`: locate the misfit of the calibrated model, rank the
+//! candidate physics terms by a score test, refit with the best ones, and accept a term only if
+//! it earns its constant. Writes `diagnosis/` (report.md, figures, diagnosis.json, the refitted
+//! material) into the calibration folder; every simulation is logged in `diagnosis.jsonl`, so
+//! a killed diagnosis rerun replays instead of simulating again.
+
+use crate::calibrate::run::ModelResult;
+use crate::calibrate::Campaign;
+use crate::diagnose::{self, Options};
+use clap::Args;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// File of a calibration folder naming the campaign file it ran.
+pub const CAMPAIGN_PATH_FILE: &str = "campaign.path";
+
+/// Arguments of `stoss diagnose`.
+#[derive(Debug, Args)]
+pub struct DiagnoseArgs {
+    /// Calibration folder (the output of `stoss calibrate`).
+    pub calibration: PathBuf,
+    /// The model to diagnose (default: the selected model with the lowest fit error).
+    #[arg(long)]
+    pub model: Option<String>,
+    /// The campaign file (default: the one named in `<calibration>/campaign.path`).
+    #[arg(long)]
+    pub campaign: Option<PathBuf>,
+    /// Family-wise significance level of the tests.
+    #[arg(long, default_value_t = 0.01)]
+    pub alpha: f64,
+    /// Simulations at once (default: the number of cores).
+    #[arg(long)]
+    pub parallel: Option<usize>,
+    /// Levenberg-Marquardt iterations per refit.
+    #[arg(long, default_value_t = 8)]
+    pub iterations: usize,
+    /// Significant terms refitted at most.
+    #[arg(long, default_value_t = 3)]
+    pub max_refits: usize,
+}
+
+/// Run `stoss diagnose`.
+pub fn run(args: &DiagnoseArgs) -> ExitCode {
+    match run_diagnosis(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn campaign_path(args: &DiagnoseArgs) -> Result<PathBuf, String> {
+    if let Some(path) = &args.campaign {
+        return Ok(path.clone());
+    }
+    let file = args.calibration.join(CAMPAIGN_PATH_FILE);
+    let text = std::fs::read_to_string(&file).map_err(|e| {
+        format!(
+            "{}: {e} (is {} a `stoss calibrate` output folder? --campaign names the campaign file)",
+            file.display(),
+            args.calibration.display()
+        )
+    })?;
+    Ok(PathBuf::from(text.trim()))
+}
+
+fn read_results(folder: &Path) -> Result<Vec<ModelResult>, String> {
+    let path = folder.join("report").join("result.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        format!(
+            "{}: {e} (the calibration has not finished: run `stoss calibrate --resume`)",
+            path.display()
+        )
+    })?;
+    serde_json::from_str(&text).map_err(|e| format!("{}:{}: {e}", path.display(), e.line()))
+}
+
+fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
+    if !(args.alpha > 0.0 && args.alpha < 1.0) {
+        return Err(format!("--alpha must be in (0, 1), got {}", args.alpha));
+    }
+    if args.iterations == 0 {
+        return Err("--iterations must be >= 1".into());
+    }
+    let campaign_file = campaign_path(args)?;
+    let campaign = Campaign::load(&campaign_file).map_err(|e| e.to_string())?;
+    let results = read_results(&args.calibration)?;
+    let model = diagnose::selected(&results, args.model.as_deref()).map_err(|e| e.to_string())?;
+    if model.selected.values.len()
+        != campaign
+            .space(
+                campaign
+                    .file
+                    .models
+                    .iter()
+                    .find(|m| m.name == model.model)
+                    .ok_or_else(|| {
+                        format!(
+                            "model `{}` is not in {}",
+                            model.model,
+                            campaign_file.display()
+                        )
+                    })?,
+            )
+            .dimension()
+    {
+        return Err(format!(
+            "result.json of {} does not match {} (different constants)",
+            args.calibration.display(),
+            campaign_file.display()
+        ));
+    }
+    let options = Options {
+        alpha: args.alpha,
+        parallel: args.parallel.unwrap_or(Options::default().parallel),
+        iterations: args.iterations,
+        max_refits: args.max_refits,
+    };
+    println!("campaign: {} (model {})", campaign.file.name, model.model);
+    let log = args.calibration.join("diagnosis.jsonl");
+    let mut progress = |stage: &str| println!("  {stage}");
+    let (diagnosis, before, after) =
+        diagnose::diagnose(&campaign, model, &options, Some(&log), &mut progress)
+            .map_err(|e| e.to_string())?;
+    println!(
+        "\n{:<28} {:>10} {:>10}  significant",
+        "term", "statistic", "p"
+    );
+    for test in &diagnosis.tests {
+        println!(
+            "{:<28} {:>10.2} {:>10.2e}  {}{}",
+            test.name,
+            test.statistic,
+            test.p_value,
+            if test.significant { "yes" } else { "no" },
+            test.note
+                .as_ref()
+                .map(|n| format!(" ({n})"))
+                .unwrap_or_default()
+        );
+    }
+    for refit in &diagnosis.refits {
+        println!(
+            "refit + {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",
+            refit.candidate,
+            refit.assessment.fit_error,
+            refit
+                .assessment
+                .held_out_error
+                .map_or("-".into(), |h| format!("{h:.4}")),
+            refit.assessment.bic,
+            if refit.accepted {
+                "accepted"
+            } else {
+                "rejected"
+            },
+            refit.reason
+        );
+    }
+    println!("\nverdict: {}", diagnosis.verdict);
+    println!(
+        "accepted: {}",
+        diagnosis.accepted.as_deref().unwrap_or("none")
+    );
+    let report = args.calibration.join("diagnosis");
+    let temporary = args
+        .calibration
+        .join(format!("diagnosis.tmp-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&temporary);
+    diagnose::report::write(&temporary, &campaign, &diagnosis, &before, after.as_deref())?;
+    let _ = std::fs::remove_dir_all(&report);
+    std::fs::rename(&temporary, &report).map_err(|e| format!("{}: {e}", report.display()))?;
+    println!("report: {}", report.join("report.md").display());
+    Ok(())
+}

@@ -1,0 +1,453 @@
+//! The library of candidate physics terms. Each is a nested extension of the calibrated model:
+//! one new constant `gamma` with a null value at which the extended model is the current model
+//! exactly (bit for bit; checked by a test for every term), so the score test can ask whether
+//! moving `gamma` away from its null would explain the misfit.
+//!
+//! | term | extension | gamma (null) |
+//! |---|---|---|
+//! | `adiabatic-heating` | isothermal -> `dT = chi sigma deps_p / (rho c_p)` | `chi` (0) |
+//! | `heating-transition` | isothermal -> isothermal below 0.01 /s, adiabatic above 10 /s | `chi` (0) |
+//! | `high-rate-upturn` | JC rate `1 + C ln e*` -> `(1 + C ln e*)(1 + deps_p/1000)^beta` | `beta` (0) |
+//! | `voce-saturation` | `A + B eps^n` -> `+ Q1 (1 - exp(-20 eps))` | `Q1` (0) |
+//! | `thermal-softening` | JC `1 - T*^m` with `m` fixed -> `m` fitted | `m` (its value) |
+//! | `rate-temperature-coupling` | `C` -> `C (1 + kappa T*)` (ZA-like) | `kappa` (0) |
+//! | `anvil-friction` | Taylor anvil friction `mu` fitted | `mu` (its value, 0) |
+//! | `erosion` | elements erode at `eps_f = 1/gamma` | `gamma` (0) |
+//! | `eos-nonlinearity` | linear `K mu` -> `K mu + A2 mu^2` (Grüneisen-like stiffening) | `A2` (0) |
+//! | `lagged-rate` | predictions `(1 - lambda) P + lambda P(lagged rate, seed 001 eq. 3.7)` | `lambda` (0) |
+//!
+//! Fixed shape constants (the upturn rate 1000 /s, the Voce rate 20, the transition rates) are
+//! the nuisance constants that a score test must fix (they are not identified at the null);
+//! the values are typical of armour steels and are named in the report.
+
+use super::hypothesis::{Hypothesis, Parameter, ANVIL_FRICTION, EROSION_INTENSITY, LAGGED_MIXTURE};
+use crate::calibrate::Campaign;
+use crate::experiment::Setup;
+use crate::input::material::StrengthSpec;
+use serde::{Deserialize, Serialize};
+use stoss_kernel::eos::{Eos, Polynomial};
+use stoss_kernel::strength::{Hardening, RateTerm, ThermalTerm};
+use stoss_kernel::{Heating, RateTreatment};
+
+/// Upturn rate of the high-rate term (1/s).
+pub const UPTURN_RATE: f64 = 1.0e3;
+/// Saturation rate of the Voce term (-).
+pub const VOCE_RATE: f64 = 20.0;
+/// Rates of the heating transition (1/s).
+pub const TRANSITION_RATES: (f64, f64) = (1.0e-2, 1.0e1);
+
+/// A candidate term, ready to test.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Candidate {
+    /// Short name.
+    pub name: String,
+    /// What physics it adds, in words.
+    pub physics: String,
+    /// Its constant and the bounds of the refit.
+    pub parameter: Parameter,
+    /// The null value (gives back the current model).
+    pub null: f64,
+    /// Finite-difference step from the null for the score (SI).
+    pub step: f64,
+    /// Only values on the step's side of the null are physical (one-sided test).
+    pub one_sided: bool,
+    /// The current model extended by the term, at its null (the term's constant last).
+    pub extended: Hypothesis,
+    /// Refit with the term fixed at this value instead of fitting it (a switch, such as the
+    /// rate treatment).
+    pub refit_fixed: Option<f64>,
+}
+
+/// A term of the library that does not apply to this model, and why.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct NotApplicable {
+    /// Short name.
+    pub name: String,
+    /// Why not.
+    pub reason: String,
+}
+
+fn extend(
+    current: &Hypothesis,
+    name: &str,
+    physics: &str,
+    parameter: Parameter,
+    null: f64,
+    step: f64,
+    change: impl FnOnce(&mut Hypothesis),
+) -> Candidate {
+    let mut extended = current.clone();
+    extended.label = name.into();
+    change(&mut extended);
+    extended.parameters.push(parameter.clone());
+    Candidate {
+        name: name.into(),
+        physics: physics.into(),
+        one_sided: null <= parameter.lower,
+        parameter,
+        null,
+        step,
+        extended,
+        refit_fixed: None,
+    }
+}
+
+/// The library for `current` (the calibrated model with its fitted values written in).
+/// `max_plastic_strain` is the largest plastic strain the current model reaches in the
+/// experiments (it places the erosion term's finite-difference step).
+pub fn library(
+    current: &Hypothesis,
+    campaign: &Campaign,
+    max_plastic_strain: f64,
+) -> (Vec<Candidate>, Vec<NotApplicable>) {
+    let mut candidates = Vec::new();
+    let mut skipped = Vec::new();
+    let mut skip = |name: &str, reason: String| {
+        skipped.push(NotApplicable {
+            name: name.into(),
+            reason,
+        })
+    };
+    let fitted = |path: &str| current.parameters.iter().any(|p| p.name == path);
+    let composed = match current.material.strength {
+        StrengthSpec::Composed(c) => Some(c),
+        _ => None,
+    };
+
+    // Heating.
+    if current.material.heating == Heating::Isothermal {
+        let chi = Parameter {
+            name: "heating.taylor_quinney".into(),
+            lower: 0.0,
+            upper: 1.0,
+        };
+        candidates.push(extend(
+            current,
+            "adiabatic-heating",
+            "adiabatic heating (plastic work raises the temperature and softens the material)",
+            chi.clone(),
+            0.0,
+            0.3,
+            |h| {
+                h.material.heating = Heating::Adiabatic {
+                    taylor_quinney: 0.0,
+                }
+            },
+        ));
+        candidates.push(extend(
+            current,
+            "heating-transition",
+            "a rate-dependent isothermal-to-adiabatic transition (isothermal below 0.01 /s, adiabatic above 10 /s)",
+            chi,
+            0.0,
+            0.3,
+            |h| {
+                h.material.heating = Heating::Transition {
+                    taylor_quinney: 0.0,
+                    isothermal_rate: TRANSITION_RATES.0,
+                    adiabatic_rate: TRANSITION_RATES.1,
+                }
+            },
+        ));
+    } else {
+        let reason = "the model already converts plastic work into heat".to_string();
+        skip("adiabatic-heating", reason.clone());
+        skip("heating-transition", reason);
+    }
+
+    // Strength terms (composed strengths only).
+    match composed {
+        None => {
+            for name in [
+                "high-rate-upturn",
+                "voce-saturation",
+                "thermal-softening",
+                "rate-temperature-coupling",
+            ] {
+                skip(
+                    name,
+                    "the strength family is not written in composable terms (use johnson-cook or composed)".into(),
+                );
+            }
+        }
+        Some(strength) => {
+            let thermal_limits = match strength.thermal {
+                ThermalTerm::HomologousPower {
+                    reference_temperature,
+                    melting_temperature,
+                    ..
+                }
+                | ThermalTerm::Linear {
+                    reference_temperature,
+                    melting_temperature,
+                } => Some((reference_temperature, melting_temperature)),
+                ThermalTerm::None => None,
+            };
+            match strength.rate {
+                RateTerm::JohnsonCookLog {
+                    rate_sensitivity,
+                    reference_rate,
+                } => {
+                    candidates.push(extend(
+                        current,
+                        "high-rate-upturn",
+                        "a high-rate upturn of the flow stress (power-law rate term above ~1000 /s)",
+                        Parameter {
+                            name: "strength.rate.upturn_exponent".into(),
+                            lower: 0.0,
+                            upper: 0.5,
+                        },
+                        0.0,
+                        0.05,
+                        |h| {
+                            if let StrengthSpec::Composed(c) = &mut h.material.strength {
+                                c.rate = RateTerm::LogUpturn {
+                                    rate_sensitivity,
+                                    reference_rate,
+                                    upturn_exponent: 0.0,
+                                    upturn_rate: UPTURN_RATE,
+                                };
+                            }
+                        },
+                    ));
+                    let (reference_temperature, melting_temperature) =
+                        thermal_limits.unwrap_or((298.0, 1793.0));
+                    candidates.push(extend(
+                        current,
+                        "rate-temperature-coupling",
+                        "rate-temperature coupling (rate sensitivity growing with temperature, as in Zerilli-Armstrong)",
+                        Parameter {
+                            name: "strength.rate.coupling".into(),
+                            lower: -1.0,
+                            upper: 10.0,
+                        },
+                        0.0,
+                        1.0,
+                        |h| {
+                            if let StrengthSpec::Composed(c) = &mut h.material.strength {
+                                c.rate = RateTerm::LogThermal {
+                                    rate_sensitivity,
+                                    reference_rate,
+                                    coupling: 0.0,
+                                    reference_temperature,
+                                    melting_temperature,
+                                };
+                            }
+                        },
+                    ));
+                }
+                _ => {
+                    let reason = "the rate term is not Johnson-Cook's logarithm".to_string();
+                    skip("high-rate-upturn", reason.clone());
+                    skip("rate-temperature-coupling", reason);
+                }
+            }
+            match strength.hardening {
+                Hardening::Power {
+                    yield_stress,
+                    hardening_modulus,
+                    exponent,
+                } => candidates.push(extend(
+                    current,
+                    "voce-saturation",
+                    "saturating (Voce) strain hardening",
+                    Parameter {
+                        name: "strength.hardening.saturation_stress_1".into(),
+                        lower: 0.0,
+                        upper: 1.0e9,
+                    },
+                    0.0,
+                    0.1e9,
+                    |h| {
+                        if let StrengthSpec::Composed(c) = &mut h.material.strength {
+                            c.hardening = Hardening::PowerVoce2 {
+                                yield_stress,
+                                hardening_modulus,
+                                exponent,
+                                saturation_stress_1: 0.0,
+                                saturation_rate_1: VOCE_RATE,
+                                saturation_stress_2: 0.0,
+                                saturation_rate_2: VOCE_RATE,
+                            };
+                        }
+                    },
+                )),
+                _ => skip(
+                    "voce-saturation",
+                    "the hardening term already saturates (Voce)".into(),
+                ),
+            }
+            match strength.thermal {
+                ThermalTerm::HomologousPower { exponent, .. }
+                    if !fitted("strength.thermal.exponent") =>
+                {
+                    candidates.push(extend(
+                        current,
+                        "thermal-softening",
+                        "a different thermal-softening shape (the exponent m of 1 - T*^m, fixed so far)",
+                        Parameter {
+                            name: "strength.thermal.exponent".into(),
+                            lower: 0.5,
+                            upper: 1.5,
+                        },
+                        exponent,
+                        if exponent + 0.1 <= 1.5 { 0.1 } else { -0.1 },
+                        |_| {},
+                    ));
+                }
+                ThermalTerm::HomologousPower { .. } => skip(
+                    "thermal-softening",
+                    "the thermal exponent is already fitted".into(),
+                ),
+                _ => skip(
+                    "thermal-softening",
+                    "the thermal term is not 1 - T*^m".into(),
+                ),
+            }
+        }
+    }
+
+    // Anvil friction (structure level).
+    let frictions: Vec<f64> = campaign
+        .experiments
+        .iter()
+        .filter_map(|e| match &e.file.setup {
+            Setup::Taylor(spec) => Some(spec.anvil_friction),
+            _ => None,
+        })
+        .collect();
+    let shared = frictions.first().copied();
+    match shared {
+        Some(mu) if frictions.iter().all(|f| *f == mu) && !fitted(ANVIL_FRICTION) => candidates
+            .push(extend(
+                current,
+                "anvil-friction",
+                "friction between the rod and the anvil (Coulomb)",
+                Parameter {
+                    name: ANVIL_FRICTION.into(),
+                    lower: 0.0,
+                    upper: 0.5,
+                },
+                mu,
+                0.1,
+                |h| h.anvil_friction = Some(mu),
+            )),
+        Some(_) => skip(
+            "anvil-friction",
+            "the Taylor tests differ in their anvil friction or it is fitted".into(),
+        ),
+        None => skip("anvil-friction", "no Taylor test in the campaign".into()),
+    }
+
+    // Erosion.
+    if current.material.failure.is_none() && max_plastic_strain > 0.0 {
+        // Step: failure at 90 % of the largest plastic strain reached, so the term acts.
+        let step = 1.0 / (0.9 * max_plastic_strain);
+        candidates.push(extend(
+            current,
+            "erosion",
+            "damage and failure (elements erode at a critical plastic strain)",
+            Parameter {
+                name: EROSION_INTENSITY.into(),
+                lower: 0.0,
+                upper: 4.0 * step,
+            },
+            0.0,
+            step,
+            |_| {},
+        ));
+    } else {
+        skip(
+            "erosion",
+            "the material already has a failure model, or no plastic strain is reached".into(),
+        );
+    }
+
+    // EoS nonlinearity.
+    match current.material.eos {
+        Eos::Linear(linear) => {
+            let k = linear.bulk_modulus;
+            candidates.push(extend(
+                current,
+                "eos-nonlinearity",
+                "a nonlinear (Grüneisen-like, stiffening) equation of state",
+                Parameter {
+                    name: "eos.a2".into(),
+                    lower: 0.0,
+                    upper: 5.0 * k,
+                },
+                0.0,
+                k,
+                |h| {
+                    h.material.eos = Eos::Polynomial(Polynomial {
+                        a1: k,
+                        a2: 0.0,
+                        a3: 0.0,
+                        b0: 0.0,
+                        b1: 0.0,
+                        t1: k,
+                        t2: 0.0,
+                    })
+                },
+            ));
+        }
+        _ => skip(
+            "eos-nonlinearity",
+            "the equation of state is already nonlinear".into(),
+        ),
+    }
+
+    // The seed 001 rate-treatment defect.
+    let other = match current.material.rate_treatment {
+        RateTreatment::Implicit => "lagged (seed 001 eq. 3.7)",
+        RateTreatment::Lagged => "implicit (seed 001 eq. 3.8)",
+    };
+    let mut lagged = extend(
+        current,
+        "lagged-rate",
+        &format!(
+            "the rate-treatment defect of seed 001: the recordings behave as a {other} rate update"
+        ),
+        Parameter {
+            name: LAGGED_MIXTURE.into(),
+            lower: 0.0,
+            upper: 1.0,
+        },
+        0.0,
+        1.0,
+        |_| {},
+    );
+    lagged.refit_fixed = Some(1.0);
+    candidates.push(lagged);
+    (candidates, skipped)
+}
+
+impl Candidate {
+    /// The hypothesis the refit fits and its starting values (`current_values`: the current
+    /// model's fitted constants).
+    pub fn refit(&self, current_values: &[f64]) -> (Hypothesis, Vec<f64>) {
+        match self.refit_fixed {
+            None => {
+                let mut start = current_values.to_vec();
+                start.push(self.null);
+                (self.extended.clone(), start)
+            }
+            Some(value) => {
+                let mut hypothesis = self.extended.clone();
+                hypothesis.parameters.pop();
+                if self.parameter.name == LAGGED_MIXTURE && value == 1.0 {
+                    hypothesis.material.rate_treatment = match hypothesis.material.rate_treatment {
+                        RateTreatment::Implicit => RateTreatment::Lagged,
+                        RateTreatment::Lagged => RateTreatment::Implicit,
+                    };
+                }
+                (hypothesis, current_values.to_vec())
+            }
+        }
+    }
+
+    /// Constants the term adds to the model (for the information criteria).
+    pub fn added_constants(&self) -> usize {
+        1
+    }
+}

@@ -1,0 +1,232 @@
+//! Runs the simulations of the diagnosis: batches of candidate constants in parallel (one
+//! thread per simulation, so results do not depend on the thread count), every result appended
+//! to `simulations.jsonl` as it ends; a rerun over the same folder replays the log instead of
+//! simulating again, so a killed diagnosis loses nothing.
+//!
+//! A log entry is keyed by a 64-bit FNV-1a hash of everything that determines the simulation:
+//! the realised material file, the anvil friction, the lagged-rate mixture and the experiment
+//! file; a changed calibration therefore never reuses stale results.
+
+use super::hypothesis::Hypothesis;
+use super::DiagnoseError;
+use crate::calibrate::Campaign;
+use crate::solver::SolverSettings;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Predictions of each requested experiment, or why the simulation failed.
+pub type Predictions = Result<Vec<Vec<f64>>, String>;
+
+#[derive(Serialize, Deserialize)]
+struct LogEntry {
+    key: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    predicted: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    error: Option<String>,
+}
+
+/// 64-bit FNV-1a.
+fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |hash, byte| {
+        (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The simulation engine of one diagnosis.
+pub struct Engine<'a> {
+    /// The campaign whose experiments are simulated.
+    pub campaign: &'a Campaign,
+    pool: rayon::ThreadPool,
+    settings: SolverSettings,
+    known: HashMap<String, Result<Vec<f64>, String>>,
+    log: Option<(PathBuf, std::fs::File)>,
+    /// Points (sets of constants) evaluated, fresh or replayed.
+    pub points: usize,
+    /// Experiment simulations run (fresh).
+    pub simulated: usize,
+    /// Experiment simulations replayed from the log.
+    pub replayed: usize,
+}
+
+impl<'a> Engine<'a> {
+    /// An engine with `parallel` simulations at once, logging to `log` (replaying what it
+    /// already holds).
+    pub fn new(
+        campaign: &'a Campaign,
+        parallel: usize,
+        log: Option<&Path>,
+    ) -> Result<Self, DiagnoseError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(parallel.max(1))
+            .build()
+            .map_err(|e| DiagnoseError::Threads(e.to_string()))?;
+        let mut known = HashMap::new();
+        let log = match log {
+            None => None,
+            Some(path) => {
+                let io = |e: std::io::Error| DiagnoseError::Io(format!("{}: {e}", path.display()));
+                if path.exists() {
+                    let text = std::fs::read_to_string(path).map_err(io)?;
+                    for line in text.lines() {
+                        // A line cut short by a killed process is ignored (and re-simulated).
+                        if let Ok(entry) = serde_json::from_str::<LogEntry>(line) {
+                            let value = match (entry.predicted, entry.error) {
+                                (Some(p), _) => Ok(p),
+                                (None, Some(e)) => Err(e),
+                                (None, None) => continue,
+                            };
+                            known.insert(entry.key, value);
+                        }
+                    }
+                }
+                let file = std::fs::OpenOptions::new()
+                    .create(true)
+                    .append(true)
+                    .open(path)
+                    .map_err(io)?;
+                Some((path.to_path_buf(), file))
+            }
+        };
+        Ok(Self {
+            campaign,
+            pool,
+            settings: SolverSettings {
+                threads: Some(1),
+                ..SolverSettings::default()
+            },
+            known,
+            log,
+            points: 0,
+            simulated: 0,
+            replayed: 0,
+        })
+    }
+
+    fn key(&self, hypothesis: &Hypothesis, values: &[f64], experiment: usize) -> String {
+        let realised = hypothesis.realise(values).ok().map(|r| {
+            (
+                toml::to_string(&r.file).unwrap_or_default(),
+                r.anvil_friction.map(f64::to_bits),
+                r.lagged_mixture.to_bits(),
+            )
+        });
+        let text = format!(
+            "{realised:?}|{}|{:?}",
+            self.campaign.experiments[experiment].path.display(),
+            self.campaign.experiments[experiment].file.setup
+        );
+        format!("{:016x}", fnv1a(&text))
+    }
+
+    /// Simulate `experiments` at every point of `points` (constants of `hypothesis`).
+    pub fn predict(
+        &mut self,
+        hypothesis: &Hypothesis,
+        points: &[Vec<f64>],
+        experiments: &[usize],
+    ) -> Result<Vec<Predictions>, DiagnoseError> {
+        self.points += points.len();
+        let jobs: Vec<(&[f64], usize)> = points
+            .iter()
+            .flat_map(|values| experiments.iter().map(move |&e| (values.as_slice(), e)))
+            .collect();
+        let results = self.run(hypothesis, &jobs)?;
+        let mut per_point = Vec::with_capacity(points.len());
+        for chunk in results.chunks(experiments.len().max(1)) {
+            per_point.push(chunk.iter().cloned().collect::<Result<Vec<_>, _>>());
+        }
+        per_point.resize(points.len(), Ok(Vec::new()));
+        Ok(per_point)
+    }
+
+    /// Simulate each job `(constants, experiment)` once, in parallel; results in job order.
+    pub fn run(
+        &mut self,
+        hypothesis: &Hypothesis,
+        jobs: &[(&[f64], usize)],
+    ) -> Result<Vec<Result<Vec<f64>, String>>, DiagnoseError> {
+        let keys: Vec<String> = jobs
+            .iter()
+            .map(|(values, e)| self.key(hypothesis, values, *e))
+            .collect();
+        let campaign = self.campaign;
+        let settings = &self.settings;
+        let known = &self.known;
+        let fresh: Vec<Option<Result<Vec<f64>, String>>> = self.pool.install(|| {
+            jobs.par_iter()
+                .zip(&keys)
+                .map(|((values, e), key)| {
+                    if known.contains_key(key) {
+                        return None;
+                    }
+                    Some(
+                        hypothesis
+                            .realise(values)
+                            .and_then(|r| r.predict(&campaign.experiments[*e], settings)),
+                    )
+                })
+                .collect()
+        });
+        let mut results = Vec::with_capacity(jobs.len());
+        for (key, new) in keys.iter().zip(fresh) {
+            let result = match new {
+                Some(result) => {
+                    self.simulated += 1;
+                    self.append(key, &result)?;
+                    self.known.insert(key.clone(), result.clone());
+                    result
+                }
+                None => {
+                    self.replayed += 1;
+                    self.known[key].clone()
+                }
+            };
+            results.push(result);
+        }
+        Ok(results)
+    }
+
+    fn append(
+        &mut self,
+        key: &str,
+        result: &Result<Vec<f64>, String>,
+    ) -> Result<(), DiagnoseError> {
+        let Some((path, file)) = &mut self.log else {
+            return Ok(());
+        };
+        let entry = LogEntry {
+            key: key.into(),
+            predicted: result.as_ref().ok().cloned(),
+            error: result.as_ref().err().cloned(),
+        };
+        let line = serde_json::to_string(&entry).map_err(|e| DiagnoseError::Io(e.to_string()))?;
+        writeln!(file, "{line}")
+            .and_then(|_| file.flush())
+            .map_err(|e| DiagnoseError::Io(format!("{}: {e}", path.display())))
+    }
+
+    /// Whitened residuals `(predicted - recorded) / uncertainty` of `experiments`,
+    /// concatenated in order.
+    pub fn whiten(&self, experiments: &[usize], predictions: &[Vec<f64>]) -> Vec<f64> {
+        experiments
+            .iter()
+            .zip(predictions)
+            .flat_map(|(&e, predicted)| {
+                self.campaign.experiments[e]
+                    .recording
+                    .iter()
+                    .zip(predicted)
+                    .map(|(point, p)| (p - point.value) / point.uncertainty)
+            })
+            .collect()
+    }
+
+    /// The solver settings of the engine's simulations.
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+}

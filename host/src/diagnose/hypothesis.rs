@@ -1,0 +1,274 @@
+//! A hypothesis of the diagnosis: a material (with its strength written as composable terms
+//! where the family allows), the experiment-level settings a physics term may change (anvil
+//! friction, the rate treatment), and the constants that are fitted with their bounds.
+//!
+//! Fitted constants are named by where they live:
+//! - `strength.<path>`, `heating.<field>`, `eos.<field>`, `failure.<path>`: a dotted path in
+//!   the material file's TOML tree (e.g. `strength.hardening.yield_stress`);
+//! - [`ANVIL_FRICTION`]: the Coulomb friction of every Taylor test's anvil;
+//! - [`LAGGED_MIXTURE`]: the weight `lambda` of the lagged-rate prediction in
+//!   `(1 - lambda) P(current treatment) + lambda P(other treatment)` (the linear family
+//!   through which the score test sees the seed 001 rate-treatment defect);
+//! - [`EROSION_INTENSITY`]: `gamma = 1 / eps_f`, elements erode at plastic strain `eps_f`
+//!   (`gamma = 0`: no failure).
+
+use crate::calibrate::campaign::{set_dotted, Campaign, ModelSpace};
+use crate::experiment::{Experiment, Setup};
+use crate::input::material::{MaterialFile, StrengthSpec};
+use crate::solver::SolverSettings;
+use serde::{Deserialize, Serialize};
+use stoss_kernel::damage::Failure;
+use stoss_kernel::{Material, RateTreatment};
+
+/// Name of the anvil-friction constant.
+pub const ANVIL_FRICTION: &str = "setup.anvil_friction";
+/// Name of the lagged-rate mixture weight.
+pub const LAGGED_MIXTURE: &str = "mixture.lagged";
+/// Name of the erosion intensity `1 / eps_f`.
+pub const EROSION_INTENSITY: &str = "failure.intensity";
+
+/// A fitted constant and its bounds (SI).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Parameter {
+    /// Where it lives (see the module docs).
+    pub name: String,
+    /// Lower bound.
+    pub lower: f64,
+    /// Upper bound.
+    pub upper: f64,
+}
+
+impl Parameter {
+    /// `value` in unit coordinates of the bounds.
+    pub fn to_unit(&self, value: f64) -> f64 {
+        (value - self.lower) / (self.upper - self.lower)
+    }
+
+    /// Unit coordinate `unit` in SI.
+    pub fn from_unit(&self, unit: f64) -> f64 {
+        self.lower + unit * (self.upper - self.lower)
+    }
+}
+
+/// A model to fit: material, experiment-level settings and fitted constants.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Hypothesis {
+    /// `base` or the candidate term's name.
+    pub label: String,
+    /// The material file (fitted constants hold their last values).
+    pub material: MaterialFile,
+    /// Anvil friction of every Taylor test (`None`: as each experiment file says).
+    pub anvil_friction: Option<f64>,
+    /// Lagged-rate mixture weight (0: none).
+    pub lagged_mixture: f64,
+    /// Erosion intensity `1 / eps_f` (0: the material file's failure model alone).
+    #[serde(default)]
+    pub erosion_intensity: f64,
+    /// Fitted constants.
+    pub parameters: Vec<Parameter>,
+}
+
+/// A hypothesis with values for its constants: what the simulations run.
+#[derive(Clone, Debug)]
+pub struct Realisation {
+    /// The material file with the values written in.
+    pub file: MaterialFile,
+    /// The kernel material.
+    pub material: Material,
+    /// Anvil friction override.
+    pub anvil_friction: Option<f64>,
+    /// Lagged-rate mixture weight.
+    pub lagged_mixture: f64,
+    /// Erosion intensity (already applied to `file` and `material`).
+    pub erosion_intensity: f64,
+}
+
+/// The composed-term path of a Johnson-Cook constant, so that terms can be added to it.
+fn johnson_cook_path(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "yield_stress" => "hardening.yield_stress",
+        "hardening_modulus" => "hardening.hardening_modulus",
+        "hardening_exponent" => "hardening.exponent",
+        "rate_sensitivity" => "rate.rate_sensitivity",
+        "reference_rate" => "rate.reference_rate",
+        "thermal_exponent" => "thermal.exponent",
+        "reference_temperature" => "thermal.reference_temperature",
+        "melting_temperature" => "thermal.melting_temperature",
+        _ => return None,
+    })
+}
+
+impl Hypothesis {
+    /// The calibrated model of a campaign as the diagnosis's base hypothesis: a Johnson-Cook
+    /// strength is rewritten as its composed terms (the same kernel model, bit for bit) so
+    /// that the library can add a term; other families keep their form.
+    pub fn base(campaign: &Campaign, space: &ModelSpace, values: &[f64]) -> Result<Self, String> {
+        let mut material = campaign.base.clone();
+        material.strength = space.strength_with(values)?;
+        let mut parameters = Vec::new();
+        if let StrengthSpec::JohnsonCook(jc) = material.strength {
+            material.strength = StrengthSpec::Composed(jc.composed());
+            for (i, name) in space.names.iter().enumerate() {
+                let path = johnson_cook_path(name)
+                    .ok_or_else(|| format!("`{name}` is not a Johnson-Cook constant"))?;
+                parameters.push(Parameter {
+                    name: format!("strength.{path}"),
+                    lower: space.lower[i],
+                    upper: space.upper[i],
+                });
+            }
+        } else {
+            for (i, name) in space.names.iter().enumerate() {
+                parameters.push(Parameter {
+                    name: format!("strength.{name}"),
+                    lower: space.lower[i],
+                    upper: space.upper[i],
+                });
+            }
+        }
+        Ok(Self {
+            label: "base".into(),
+            material,
+            anvil_friction: None,
+            lagged_mixture: 0.0,
+            erosion_intensity: 0.0,
+            parameters,
+        })
+    }
+
+    /// The current values of the fitted constants (read back from the material and settings).
+    pub fn values(&self) -> Result<Vec<f64>, String> {
+        let tree = toml::Value::try_from(&self.material).map_err(|e| e.to_string())?;
+        self.parameters
+            .iter()
+            .map(|p| match p.name.as_str() {
+                ANVIL_FRICTION => Ok(self.anvil_friction.unwrap_or(0.0)),
+                LAGGED_MIXTURE => Ok(self.lagged_mixture),
+                EROSION_INTENSITY => Ok(self.erosion_intensity),
+                path => get_dotted(&tree, path)
+                    .ok_or_else(|| format!("`{path}` is not a constant of the material")),
+            })
+            .collect()
+    }
+
+    /// Write `values` into a copy of the material and settings and build the kernel material.
+    pub fn realise(&self, values: &[f64]) -> Result<Realisation, String> {
+        let mut tree = toml::Value::try_from(&self.material).map_err(|e| e.to_string())?;
+        let mut anvil_friction = self.anvil_friction;
+        let mut lagged_mixture = self.lagged_mixture;
+        let mut erosion_intensity = self.erosion_intensity;
+        for (parameter, value) in self.parameters.iter().zip(values) {
+            match parameter.name.as_str() {
+                ANVIL_FRICTION => anvil_friction = Some(*value),
+                LAGGED_MIXTURE => lagged_mixture = *value,
+                EROSION_INTENSITY => erosion_intensity = *value,
+                path => set_dotted(&mut tree, path, *value)
+                    .ok_or_else(|| format!("`{path}` is not a constant of the material"))?,
+            }
+        }
+        let mut file: MaterialFile = tree
+            .try_into()
+            .map_err(|e: toml::de::Error| e.to_string())?;
+        if erosion_intensity > 0.0 {
+            let mut failure = file.failure.unwrap_or(Failure::NONE);
+            failure.erosion_plastic_strain = Some(1.0 / erosion_intensity);
+            file.failure = Some(failure);
+        }
+        let material = file.material().map_err(|e| e.to_string())?;
+        Ok(Realisation {
+            file,
+            material,
+            anvil_friction,
+            lagged_mixture,
+            erosion_intensity,
+        })
+    }
+
+    /// This hypothesis with its material and settings holding `values`.
+    pub fn with_values(&self, values: &[f64]) -> Result<Self, String> {
+        let realised = self.realise(values)?;
+        Ok(Self {
+            material: realised.file,
+            anvil_friction: realised.anvil_friction,
+            lagged_mixture: realised.lagged_mixture,
+            erosion_intensity: realised.erosion_intensity,
+            ..self.clone()
+        })
+    }
+}
+
+/// The float at dotted path `name` in a TOML tree.
+pub fn get_dotted(tree: &toml::Value, name: &str) -> Option<f64> {
+    match name.split_once('.') {
+        Some((head, rest)) => get_dotted(tree.as_table()?.get(head)?, rest),
+        None => match tree.as_table()?.get(name)? {
+            toml::Value::Float(x) => Some(*x),
+            toml::Value::Integer(i) => Some(*i as f64),
+            _ => None,
+        },
+    }
+}
+
+/// The experiment as this realisation runs it (anvil friction overridden).
+fn adjusted(
+    experiment: &Experiment,
+    anvil_friction: Option<f64>,
+) -> std::borrow::Cow<'_, Experiment> {
+    match (&experiment.file.setup, anvil_friction) {
+        (Setup::Taylor(spec), Some(friction)) if spec.anvil_friction != friction => {
+            let mut changed = experiment.clone();
+            if let Setup::Taylor(spec) = &mut changed.file.setup {
+                spec.anvil_friction = friction;
+            }
+            std::borrow::Cow::Owned(changed)
+        }
+        _ => std::borrow::Cow::Borrowed(experiment),
+    }
+}
+
+impl Realisation {
+    /// Predictions of `experiment` (the recording's points); an error names the experiment.
+    pub fn predict(
+        &self,
+        experiment: &Experiment,
+        settings: &SolverSettings,
+    ) -> Result<Vec<f64>, String> {
+        let run = |material: &Material| -> Result<Vec<f64>, String> {
+            let outcome = adjusted(experiment, self.anvil_friction)
+                .simulate(material, settings)
+                .map_err(|e| format!("{}: {e}", experiment.file.name))?;
+            if outcome.predicted.iter().all(|p| p.is_finite()) {
+                Ok(outcome.predicted)
+            } else {
+                Err(format!("{}: non-finite prediction", experiment.file.name))
+            }
+        };
+        let current = run(&self.material)?;
+        if self.lagged_mixture == 0.0 {
+            return Ok(current);
+        }
+        let mut other = self.material;
+        other.rate_treatment = match other.rate_treatment {
+            RateTreatment::Implicit => RateTreatment::Lagged,
+            RateTreatment::Lagged => RateTreatment::Implicit,
+        };
+        let switched = run(&other)?;
+        let weight = self.lagged_mixture;
+        Ok(current
+            .iter()
+            .zip(&switched)
+            .map(|(a, b)| (1.0 - weight) * a + weight * b)
+            .collect())
+    }
+
+    /// Full outcome of `experiment` (states and fields for the locate step; no mixture).
+    pub fn outcome(
+        &self,
+        experiment: &Experiment,
+        settings: &SolverSettings,
+    ) -> Result<crate::experiment::Outcome, String> {
+        adjusted(experiment, self.anvil_friction)
+            .simulate(&self.material, settings)
+            .map_err(|e| format!("{}: {e}", experiment.file.name))
+    }
+}

@@ -1,0 +1,589 @@
+//! `stoss diagnose`: after a calibration, locate where the model misses the recordings, name
+//! the physics it left out, add it, refit, and show whether the fit improves.
+//!
+//! 1. **Refit the calibrated model by least squares** (chi-square of the whitened residuals,
+//!    the Gaussian likelihood the statistics below need), starting from the calibration's
+//!    selected constants: the "before" model.
+//! 2. **Locate** ([`locate`]): per experiment, chi-square against the recorded uncertainty, the
+//!    runs test and autocorrelation, chi-square per window (Bonferroni), bands related to the
+//!    tracked state of the material there.
+//! 3. **Attribute** ([`candidates`], [`score`]): a Lagrange-multiplier (score) test for every
+//!    nested term of the library, from the Jacobian of the fitted residuals with respect to
+//!    the calibrated constants (shared, `p` simulations) and one simulation per term at a
+//!    finite step from its null. Ranked by p-value (Bonferroni over the library; one-sided
+//!    chi-bar-square for terms bounded at their null).
+//! 4. **Refit** ([`fit`]): the significant terms in rank order, each with every constant
+//!    refitted; a term is accepted only if it earns its constant: the Bayesian information
+//!    criterion drops and so does the held-out error (approximate leave-one-out over the
+//!    fitted experiments plus the campaign's held-out experiments). Otherwise: "no missing
+//!    physics found".
+//! 5. **Report** ([`report`]): errors per experiment before and after, overlays, residual
+//!    figures with the significant bands, and a plain-language verdict.
+
+pub mod candidates;
+pub mod engine;
+pub mod fit;
+pub mod hypothesis;
+pub mod locate;
+pub mod report;
+pub mod score;
+pub mod stats;
+
+use crate::calibrate::run::ModelResult;
+use crate::calibrate::{score as error_score, Campaign, Score};
+use candidates::{Candidate, NotApplicable};
+use engine::Engine;
+use fit::{levenberg_marquardt, Fit};
+use hypothesis::Hypothesis;
+use locate::ExperimentMisfit;
+use score::ScoreTest;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Why a diagnosis stopped.
+#[derive(Debug)]
+pub enum DiagnoseError {
+    /// Reading or writing a file failed.
+    Io(String),
+    /// The calibration folder is incomplete or inconsistent.
+    Calibration(String),
+    /// The thread pool could not be built.
+    Threads(String),
+    /// A simulation the diagnosis cannot do without failed.
+    Simulation(String),
+}
+
+impl std::fmt::Display for DiagnoseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DiagnoseError::Io(m) => write!(f, "{m}"),
+            DiagnoseError::Calibration(m) => write!(f, "calibration: {m}"),
+            DiagnoseError::Threads(m) => write!(f, "thread pool: {m}"),
+            DiagnoseError::Simulation(m) => write!(f, "simulation failed: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for DiagnoseError {}
+
+/// Settings of a diagnosis.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Options {
+    /// Family-wise significance level of the tests.
+    pub alpha: f64,
+    /// Simulations at once.
+    pub parallel: usize,
+    /// Levenberg-Marquardt iterations per refit.
+    pub iterations: usize,
+    /// Significant terms refitted at most, in rank order.
+    pub max_refits: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            alpha: 0.01,
+            parallel: std::thread::available_parallelism().map_or(2, usize::from),
+            iterations: 8,
+            max_refits: 3,
+        }
+    }
+}
+
+/// How well a hypothesis fits, on the campaign's measures.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Assessment {
+    /// Hypothesis label.
+    pub label: String,
+    /// Fitted constants (name, value).
+    pub constants: Vec<(String, f64)>,
+    /// Chi-square of the fitted experiments.
+    pub chi_square: f64,
+    /// Residuals in it.
+    pub residuals: usize,
+    /// Constants fitted.
+    pub constants_fitted: usize,
+    /// Scores of every experiment at the fit (seed 000 error and chi).
+    pub scores: Vec<Option<Score>>,
+    /// Sum of the seed 000 errors over the fitted experiments.
+    pub fit_error: f64,
+    /// Held-out error: each fitted experiment predicted by the fit without it (approximate
+    /// leave-one-out), plus the campaign's held-out experiments; `None` when there is nothing
+    /// to hold out.
+    pub held_out_error: Option<f64>,
+    /// Akaike information criterion `n ln(RSS/n) + 2k`.
+    pub aic: f64,
+    /// Bayesian information criterion `n ln(RSS/n) + k ln n`.
+    pub bic: f64,
+}
+
+/// A refit with a candidate term.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Refit {
+    /// The term.
+    pub candidate: String,
+    /// The fit.
+    pub assessment: Assessment,
+    /// The refitted model.
+    pub hypothesis: Hypothesis,
+    /// Accepted.
+    pub accepted: bool,
+    /// Why (not).
+    pub reason: String,
+}
+
+/// Simulation counts.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Cost {
+    /// Points (sets of constants) evaluated per stage.
+    pub stages: Vec<(String, usize)>,
+    /// Experiment simulations run.
+    pub simulated: usize,
+    /// Experiment simulations replayed from the log.
+    pub replayed: usize,
+}
+
+/// The diagnosis.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Diagnosis {
+    /// Campaign name.
+    pub campaign: String,
+    /// Calibrated model diagnosed.
+    pub model: String,
+    /// Settings.
+    pub options: Options,
+    /// The calibrated model refitted by least squares.
+    pub before: Assessment,
+    /// Its misfit, per experiment.
+    pub misfit_before: Vec<ExperimentMisfit>,
+    /// Score tests, ranked.
+    pub tests: Vec<ScoreTest>,
+    /// Library terms that do not apply.
+    pub not_applicable: Vec<NotApplicable>,
+    /// Refits tried, in rank order.
+    pub refits: Vec<Refit>,
+    /// The accepted refit's misfit, per experiment.
+    pub misfit_after: Option<Vec<ExperimentMisfit>>,
+    /// The accepted term (`None`: no missing physics found).
+    pub accepted: Option<String>,
+    /// The plain-language verdict.
+    pub verdict: String,
+    /// Simulation cost.
+    pub cost: Cost,
+}
+
+/// The calibrated model to diagnose from a calibration's results: `model` by name, or the
+/// selected model with the lowest fit error.
+pub fn selected<'r>(
+    results: &'r [ModelResult],
+    model: Option<&str>,
+) -> Result<&'r ModelResult, DiagnoseError> {
+    match model {
+        Some(name) => results.iter().find(|r| r.model == name).ok_or_else(|| {
+            DiagnoseError::Calibration(format!(
+                "no model `{name}` in the calibration (it has: {})",
+                results
+                    .iter()
+                    .map(|r| r.model.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        }),
+        None => results
+            .iter()
+            .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error))
+            .ok_or_else(|| DiagnoseError::Calibration("result.json holds no model".into())),
+    }
+}
+
+/// Row ranges of each fitted experiment in the concatenated residual vector.
+fn row_ranges(campaign: &Campaign, experiments: &[usize]) -> Vec<std::ops::Range<usize>> {
+    let mut start = 0;
+    experiments
+        .iter()
+        .map(|&e| {
+            let n = campaign.experiments[e].recording.len();
+            let range = start..start + n;
+            start += n;
+            range
+        })
+        .collect()
+}
+
+/// Assess a fit: scores of every experiment, errors, information criteria and the
+/// approximate leave-one-out held-out error (one Gauss-Newton step from the full fit without
+/// the experiment's rows, then a real simulation of the left-out experiment).
+fn assess(
+    engine: &mut Engine,
+    hypothesis: &Hypothesis,
+    fit: &Fit,
+    fitted: &[usize],
+) -> Result<(Assessment, Vec<Vec<f64>>), DiagnoseError> {
+    let campaign = engine.campaign;
+    let all: Vec<usize> = (0..campaign.experiments.len()).collect();
+    let predictions = engine
+        .predict(hypothesis, std::slice::from_ref(&fit.values), &all)?
+        .remove(0)
+        .map_err(|e| DiagnoseError::Simulation(format!("{}: {e}", hypothesis.label)))?;
+    let scores: Vec<Option<Score>> = campaign
+        .experiments
+        .iter()
+        .zip(&predictions)
+        .map(|(e, p)| error_score(&e.recording, p))
+        .collect();
+    let weight = |i: usize| campaign.file.experiments[i].weight;
+    let fit_error: f64 = fitted
+        .iter()
+        .map(|&i| scores[i].map_or(f64::NAN, |s| s.error) * weight(i))
+        .sum();
+    // Approximate leave-one-out.
+    let ranges = row_ranges(campaign, fitted);
+    let mut fold_points: Vec<Vec<f64>> = Vec::new();
+    if fitted.len() >= 2 && !fit.unit.is_empty() {
+        for range in &ranges {
+            let keep = |i: usize| !range.contains(&i);
+            let columns: Vec<Vec<f64>> = fit
+                .jacobian
+                .iter()
+                .map(|c| {
+                    c.iter()
+                        .enumerate()
+                        .filter(|(i, _)| keep(*i))
+                        .map(|(_, x)| *x)
+                        .collect()
+                })
+                .collect();
+            let residuals: Vec<f64> = fit
+                .residuals
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| keep(*i))
+                .map(|(_, x)| *x)
+                .collect();
+            let gradient: Vec<f64> = stats::transpose_times(&columns, &residuals)
+                .iter()
+                .map(|g| -g)
+                .collect();
+            let step = stats::solve_damped(&stats::gram(&columns), &gradient, 1e-3)
+                .unwrap_or_else(|| vec![0.0; fit.unit.len()]);
+            let unit: Vec<f64> = fit
+                .unit
+                .iter()
+                .zip(&step)
+                .map(|(u, s)| (u + s).clamp(0.0, 1.0))
+                .collect();
+            fold_points.push(
+                hypothesis
+                    .parameters
+                    .iter()
+                    .zip(&unit)
+                    .map(|(p, u)| p.from_unit(*u))
+                    .collect(),
+            );
+        }
+    } else if fitted.len() >= 2 {
+        fold_points = vec![fit.values.clone(); fitted.len()];
+    }
+    let jobs: Vec<(&[f64], usize)> = fold_points
+        .iter()
+        .zip(fitted)
+        .map(|(p, &e)| (p.as_slice(), e))
+        .collect();
+    let folds = engine.run(hypothesis, &jobs)?;
+    let holdouts: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|i| !fitted.contains(i))
+        .collect();
+    let mut held_out: Option<f64> = None;
+    for (result, &e) in folds.iter().zip(fitted) {
+        let error = result
+            .as_ref()
+            .ok()
+            .and_then(|p| error_score(&campaign.experiments[e].recording, p))
+            .map_or(f64::INFINITY, |s| s.error * weight(e));
+        *held_out.get_or_insert(0.0) += error;
+    }
+    for &h in &holdouts {
+        *held_out.get_or_insert(0.0) += scores[h].map_or(f64::INFINITY, |s| s.error * weight(h));
+    }
+    let n = fit.residuals.len() as f64;
+    let k = fit.values.len() as f64;
+    let log_likelihood_term = n * (fit.chi_square.max(f64::MIN_POSITIVE) / n).ln();
+    let assessment = Assessment {
+        label: hypothesis.label.clone(),
+        constants: hypothesis
+            .parameters
+            .iter()
+            .zip(&fit.values)
+            .map(|(p, v)| (p.name.clone(), *v))
+            .collect(),
+        chi_square: fit.chi_square,
+        residuals: fit.residuals.len(),
+        constants_fitted: fit.values.len(),
+        scores,
+        fit_error,
+        held_out_error: held_out,
+        aic: log_likelihood_term + 2.0 * k,
+        bic: log_likelihood_term + k * n.ln(),
+    };
+    Ok((assessment, predictions))
+}
+
+/// Largest plastic strain in the outcomes' tracked states.
+fn max_plastic_strain(outcomes: &[Option<crate::experiment::Outcome>]) -> f64 {
+    outcomes
+        .iter()
+        .flatten()
+        .flat_map(|o| o.states.iter())
+        .flat_map(|h| h.samples.iter())
+        .map(|s| s.plastic_strain)
+        .fold(0.0, f64::max)
+}
+
+/// Locate the misfit of every experiment.
+fn locate_all(
+    engine: &Engine,
+    predictions: &[Vec<f64>],
+    outcomes: &[Option<crate::experiment::Outcome>],
+    fitted: &[usize],
+    alpha: f64,
+) -> Vec<ExperimentMisfit> {
+    let campaign = engine.campaign;
+    let refs: Vec<&crate::experiment::Experiment> = campaign.experiments.iter().collect();
+    let windows = locate::window_count(&refs).max(1);
+    let count = campaign.experiments.len().max(1);
+    campaign
+        .experiments
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            locate::locate(
+                i,
+                e,
+                !fitted.contains(&i),
+                &predictions[i],
+                outcomes.get(i).and_then(|o| o.as_ref()),
+                alpha / windows as f64,
+                alpha / count as f64,
+            )
+        })
+        .collect()
+}
+
+/// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations are logged
+/// in `log` (a rerun replays them).
+pub fn diagnose(
+    campaign: &Campaign,
+    model: &ModelResult,
+    options: &Options,
+    log: Option<&Path>,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(Diagnosis, Vec<Vec<f64>>, Option<Vec<Vec<f64>>>), DiagnoseError> {
+    let entry = campaign
+        .file
+        .models
+        .iter()
+        .find(|m| m.name == model.model)
+        .ok_or_else(|| {
+            DiagnoseError::Calibration(format!(
+                "model `{}` of result.json is not in the campaign",
+                model.model
+            ))
+        })?;
+    let space = campaign.space(entry);
+    let base = Hypothesis::base(campaign, &space, &model.selected.values)
+        .map_err(DiagnoseError::Calibration)?;
+    let start = base.values().map_err(DiagnoseError::Calibration)?;
+    let fitted = campaign.fitted();
+    let mut engine = Engine::new(campaign, options.parallel, log)?;
+    let mut cost = Cost::default();
+    let stage = |engine: &Engine, name: &str, before: usize, cost: &mut Cost| {
+        cost.stages.push((name.into(), engine.points - before));
+    };
+
+    progress("least-squares refit of the calibrated model");
+    let mark = engine.points;
+    let base_fit = levenberg_marquardt(&mut engine, &base, &start, &fitted, options.iterations)?;
+    let base = base
+        .with_values(&base_fit.values)
+        .map_err(DiagnoseError::Calibration)?;
+    let (before, predictions_before) = assess(&mut engine, &base, &base_fit, &fitted)?;
+    stage(&engine, "refit of the calibrated model", mark, &mut cost);
+
+    progress("locate");
+    let realised = base
+        .realise(&base_fit.values)
+        .map_err(DiagnoseError::Calibration)?;
+    let outcomes: Vec<Option<crate::experiment::Outcome>> = campaign
+        .experiments
+        .iter()
+        .map(|e| realised.outcome(e, engine.settings()).ok())
+        .collect();
+    let misfit_before = locate_all(
+        &engine,
+        &predictions_before,
+        &outcomes,
+        &fitted,
+        options.alpha,
+    );
+
+    progress("score tests");
+    let mark = engine.points;
+    let (library, not_applicable) =
+        candidates::library(&base, campaign, max_plastic_strain(&outcomes));
+    let mut tests = score::score_tests(&mut engine, &library, &base_fit, &fitted, options.alpha)?;
+    tests.sort_by(|a, b| {
+        a.p_value
+            .total_cmp(&b.p_value)
+            .then(b.statistic.total_cmp(&a.statistic))
+    });
+    stage(&engine, "score tests", mark, &mut cost);
+
+    let mut refits = Vec::new();
+    let mut accepted: Option<(usize, Vec<Vec<f64>>)> = None;
+    for test in tests
+        .iter()
+        .filter(|t| t.significant)
+        .take(options.max_refits)
+    {
+        let Some(candidate): Option<&Candidate> = library.iter().find(|c| c.name == test.name)
+        else {
+            continue;
+        };
+        progress(&format!("refit with {}", candidate.name));
+        let mark = engine.points;
+        let (hypothesis, start) = candidate.refit(&base_fit.values);
+        let refit = levenberg_marquardt(
+            &mut engine,
+            &hypothesis,
+            &start,
+            &fitted,
+            options.iterations,
+        );
+        let refit = match refit {
+            Ok(f) => f,
+            Err(error) => {
+                stage(
+                    &engine,
+                    &format!("refit with {}", candidate.name),
+                    mark,
+                    &mut cost,
+                );
+                refits.push(Refit {
+                    candidate: candidate.name.clone(),
+                    assessment: before.clone(),
+                    hypothesis,
+                    accepted: false,
+                    reason: format!("the refit failed: {error}"),
+                });
+                continue;
+            }
+        };
+        let mut hypothesis = hypothesis
+            .with_values(&refit.values)
+            .map_err(DiagnoseError::Calibration)?;
+        hypothesis.label = candidate.name.clone();
+        let (mut assessment, predictions) = assess(&mut engine, &hypothesis, &refit, &fitted)?;
+        if candidate.refit_fixed.is_some() {
+            // The switch is a constant of the model too.
+            let n = assessment.residuals as f64;
+            assessment.constants_fitted += candidate.added_constants();
+            assessment.aic += 2.0;
+            assessment.bic += n.ln();
+        }
+        stage(
+            &engine,
+            &format!("refit with {}", candidate.name),
+            mark,
+            &mut cost,
+        );
+        let bic_drop = before.bic - assessment.bic;
+        let held_out_better = match (before.held_out_error, assessment.held_out_error) {
+            (Some(b), Some(a)) => Some(a < b),
+            _ => None,
+        };
+        let (ok, reason) = match (bic_drop > 0.0, held_out_better) {
+            (true, Some(true)) => (
+                true,
+                format!("BIC drops by {bic_drop:.1} and the held-out error drops"),
+            ),
+            (true, None) => (
+                true,
+                format!("BIC drops by {bic_drop:.1} (no experiment can be held out)"),
+            ),
+            (false, _) => (
+                false,
+                format!(
+                    "BIC does not drop ({:+.1}): the term does not earn its constant",
+                    -bic_drop
+                ),
+            ),
+            (true, Some(false)) => (
+                false,
+                "the held-out error does not drop: the term overfits".into(),
+            ),
+        };
+        refits.push(Refit {
+            candidate: candidate.name.clone(),
+            assessment,
+            hypothesis,
+            accepted: ok,
+            reason,
+        });
+        if ok {
+            accepted = Some((refits.len() - 1, predictions));
+            break;
+        }
+    }
+
+    let (misfit_after, predictions_after, accepted_name) = match &accepted {
+        Some((index, predictions)) => {
+            let refit = &refits[*index];
+            let realised = refit
+                .hypothesis
+                .realise(
+                    &refit
+                        .hypothesis
+                        .values()
+                        .map_err(DiagnoseError::Calibration)?,
+                )
+                .map_err(DiagnoseError::Calibration)?;
+            let outcomes: Vec<Option<crate::experiment::Outcome>> = campaign
+                .experiments
+                .iter()
+                .map(|e| realised.outcome(e, engine.settings()).ok())
+                .collect();
+            (
+                Some(locate_all(
+                    &engine,
+                    predictions,
+                    &outcomes,
+                    &fitted,
+                    options.alpha,
+                )),
+                Some(predictions.clone()),
+                Some(refit.candidate.clone()),
+            )
+        }
+        None => (None, None, None),
+    };
+    cost.simulated = engine.simulated;
+    cost.replayed = engine.replayed;
+    let mut diagnosis = Diagnosis {
+        campaign: campaign.file.name.clone(),
+        model: model.model.clone(),
+        options: options.clone(),
+        before,
+        misfit_before,
+        tests,
+        not_applicable,
+        refits,
+        misfit_after,
+        accepted: accepted_name,
+        verdict: String::new(),
+        cost,
+    };
+    diagnosis.verdict = report::verdict(campaign, &diagnosis);
+    Ok((diagnosis, predictions_before, predictions_after))
+}

@@ -1,0 +1,476 @@
+//! The diagnosis report: the verdict in words, where the model misses, the ranked terms, the
+//! refits, errors per experiment before and after, overlays and residual figures with the
+//! significant bands (`diagnosis/report.md`, SVG figures, `diagnosis.json`, and the material
+//! file of the model the diagnosis ends with).
+
+use super::locate::{Band, ExperimentMisfit};
+use super::Diagnosis;
+use crate::calibrate::Campaign;
+use crate::experiment::Setup;
+use crate::report::calibration::{experiment_name, slug};
+use crate::report::plots::{line_chart, residual_chart, Series, Shade, Style};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// `(noun, word for too high, word for too low)` of a recorded quantity.
+fn quantity_words(quantity: &str) -> (&str, &str, &str) {
+    match quantity {
+        "true_stress" => ("flow stress", "high", "low"),
+        "diameter" => ("profile", "wide", "narrow"),
+        "footprint_diameter" => ("footprint", "wide", "narrow"),
+        "final_length" => ("final length", "long", "short"),
+        "engineering_stress" => ("stress", "high", "low"),
+        other => (other, "high", "low"),
+    }
+}
+
+/// The band's span in words.
+fn span_words(campaign: &Campaign, index: usize, band: &Band) -> String {
+    match (
+        &campaign.experiments[index].file.setup,
+        band.quantity.as_str(),
+    ) {
+        (_, "final_length" | "footprint_diameter") => String::new(),
+        (Setup::Taylor(_), _) => format!(
+            " over {:.1}-{:.1} mm from the impact face",
+            band.start * 1e3,
+            band.end * 1e3
+        ),
+        (Setup::Uniaxial(_), _) => {
+            format!(" over plastic strain {:.2}-{:.2}", band.start, band.end)
+        }
+        _ => format!(" over positions {:.3e}-{:.3e}", band.start, band.end),
+    }
+}
+
+/// The headline misfit: the structured experiment with the largest chi-square and its
+/// strongest band, in words.
+fn headline(campaign: &Campaign, misfits: &[ExperimentMisfit]) -> Option<String> {
+    let worst = misfits
+        .iter()
+        .filter(|m| m.structured)
+        .max_by(|a, b| a.chi_square.total_cmp(&b.chi_square))?;
+    let mut text = worst.name.clone();
+    match worst
+        .bands
+        .iter()
+        .max_by(|a, b| a.chi_square.total_cmp(&b.chi_square))
+    {
+        Some(band) => {
+            let (noun, high, low) = quantity_words(&band.quantity);
+            let _ = write!(
+                text,
+                ": the {noun} is {:.1} % too {}{}",
+                100.0 * band.mean_relative.abs(),
+                if band.mean_relative > 0.0 { high } else { low },
+                span_words(campaign, worst.index, band)
+            );
+            if let Some(c) = &band.conditions {
+                let _ = write!(
+                    text,
+                    ", where the plastic strain rate reaches {:.1e} /s, the plastic strain {:.2} and the temperature {:.0} K",
+                    c.max_strain_rate, c.max_plastic_strain, c.max_temperature
+                );
+            }
+        }
+        None => {
+            let _ = write!(
+                text,
+                ": residuals structured over the whole recording (chi-square {:.1} on {} points)",
+                worst.chi_square,
+                worst.residuals.len()
+            );
+        }
+    }
+    Some(text)
+}
+
+/// The verdict in one or two plain sentences.
+pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
+    let where_ = headline(campaign, &diagnosis.misfit_before);
+    let top = diagnosis.tests.first();
+    if let Some(name) = &diagnosis.accepted {
+        let refit = diagnosis.refits.iter().find(|r| &r.candidate == name);
+        let test = diagnosis.tests.iter().find(|t| &t.name == name);
+        let (Some(refit), Some(test)) = (refit, test) else {
+            return format!("The term {name} was accepted.");
+        };
+        let held_out = match (
+            diagnosis.before.held_out_error,
+            refit.assessment.held_out_error,
+        ) {
+            (Some(b), Some(a)) => format!(" and the held-out error from {b:.3} to {a:.3}"),
+            _ => String::new(),
+        };
+        return format!(
+            "{}{}{} explains {:.0} % of the misfit; adding it cuts the total error from {:.3} to {:.3}{}.",
+            where_.unwrap_or_default(),
+            if diagnosis.misfit_before.iter().any(|m| m.structured) { "; " } else { "" },
+            capitalise_if(&test.physics, !diagnosis.misfit_before.iter().any(|m| m.structured)),
+            100.0 * test.share,
+            diagnosis.before.fit_error,
+            refit.assessment.fit_error,
+            held_out
+        );
+    }
+    let significant: Vec<_> = diagnosis.tests.iter().filter(|t| t.significant).collect();
+    if significant.is_empty() {
+        let best = top.map_or_else(String::new, |t| {
+            format!(
+                " (the strongest term, {}, has p = {:.2})",
+                t.name, t.p_value
+            )
+        });
+        return match where_ {
+            Some(w) => format!(
+                "{w}. No term of the library explains it{best}: the missing physics is outside the library, or the recorded uncertainty is understated."
+            ),
+            None => format!(
+                "No missing physics found: the residuals are consistent with the recorded uncertainty{best}."
+            ),
+        };
+    }
+    let tried: Vec<String> = diagnosis
+        .refits
+        .iter()
+        .map(|r| format!("{} ({})", r.candidate, r.reason))
+        .collect();
+    format!(
+        "{}No missing physics found that earns its constant: {}.",
+        where_.map(|w| format!("{w}. ")).unwrap_or_default(),
+        tried.join("; ")
+    )
+}
+
+fn capitalise_if(text: &str, yes: bool) -> String {
+    if !yes {
+        return text.to_string();
+    }
+    let mut chars = text.chars();
+    chars.next().map_or_else(String::new, |c| {
+        c.to_uppercase().collect::<String>() + chars.as_str()
+    })
+}
+
+fn x_label(campaign: &Campaign, index: usize) -> &'static str {
+    match campaign.experiments[index].file.setup {
+        Setup::Uniaxial(_) => "true plastic strain",
+        Setup::Taylor(_) => "distance from the impact face (m); scalars at 0",
+        _ => "position",
+    }
+}
+
+fn fmt_error(value: Option<f64>) -> String {
+    value.map_or("-".into(), |v| format!("{v:.4}"))
+}
+
+/// Write the report into `directory` (created).
+pub fn write(
+    directory: &Path,
+    campaign: &Campaign,
+    diagnosis: &Diagnosis,
+    predictions_before: &[Vec<f64>],
+    predictions_after: Option<&[Vec<f64>]>,
+) -> Result<(), String> {
+    std::fs::create_dir_all(directory).map_err(|e| format!("{}: {e}", directory.display()))?;
+    let mut md = String::new();
+    let _ = writeln!(md, "# Diagnosis: {}\n", diagnosis.campaign);
+    let _ = writeln!(md, "Model diagnosed: `{}`.\n", diagnosis.model);
+    let _ = writeln!(md, "## Verdict\n\n{}\n", diagnosis.verdict);
+
+    let _ = writeln!(md, "## Where the model misses\n");
+    let _ = writeln!(
+        md,
+        "The calibrated model refitted by least squares on the whitened residuals (chi-square {:.1} over {} points, {} constants). Residuals are `(predicted - recorded) / uncertainty`; a recording is *structured* when its chi-square is significant (Bonferroni over experiments, family-wise alpha {}) and either the runs test or a window is. Windows are Bonferroni-corrected over all windows.\n",
+        diagnosis.before.chi_square,
+        diagnosis.before.residuals,
+        diagnosis.before.constants_fitted,
+        diagnosis.options.alpha
+    );
+    let _ = writeln!(
+        md,
+        "| experiment | role | points | chi2/n | p | runs (obs/exp, p) | lag-1 autocorr. | structured |\n|---|---|---|---|---|---|---|---|"
+    );
+    for m in &diagnosis.misfit_before {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.2} | {:.1e} | {} | {:.2} | {} |",
+            m.name,
+            if m.holdout { "held out" } else { "fitted" },
+            m.residuals.len(),
+            m.chi_square / m.residuals.len().max(1) as f64,
+            m.p_value,
+            m.runs.map_or("-".into(), |r| format!(
+                "{}/{:.1}, {:.1e}",
+                r.runs, r.expected, r.p_value
+            )),
+            m.autocorrelation,
+            if m.structured { "**yes**" } else { "no" }
+        );
+    }
+    let bands: Vec<(&ExperimentMisfit, &Band)> = diagnosis
+        .misfit_before
+        .iter()
+        .flat_map(|m| m.bands.iter().map(move |b| (m, b)))
+        .collect();
+    if !bands.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nSignificant bands and what the material went through there:\n\n| experiment | quantity | span | points | mean misfit | p | region | max strain rate (1/s) | max plastic strain | max temperature (K) | triaxiality |\n|---|---|---|---|---|---|---|---|---|---|---|"
+        );
+        for (m, b) in bands {
+            let c = b.conditions.as_ref();
+            let _ = writeln!(
+                md,
+                "| {} | {} | {:.4e}-{:.4e} | {} | {:+.2} % | {:.1e} | {} | {} | {} | {} | {} |",
+                m.name,
+                b.quantity,
+                b.start,
+                b.end,
+                b.points,
+                100.0 * b.mean_relative,
+                b.p_value,
+                c.map_or("-".into(), |c| c.region.clone()),
+                c.map_or("-".into(), |c| format!("{:.2e}", c.max_strain_rate)),
+                c.map_or("-".into(), |c| format!("{:.3}", c.max_plastic_strain)),
+                c.map_or("-".into(), |c| format!("{:.0}", c.max_temperature)),
+                c.map_or("-".into(), |c| format!(
+                    "{:.2} to {:.2}",
+                    c.triaxiality.0, c.triaxiality.1
+                )),
+            );
+        }
+    }
+
+    let _ = writeln!(md, "\n## Candidate physics, ranked by the score test\n");
+    let _ = writeln!(
+        md,
+        "Lagrange-multiplier (score) test of each nested term at its null, the fitted constants re-tuned to first order (see `docs/diagnosis.md`). p is Bonferroni-corrected over the {} terms; *share* is the part of the misfit the term removes to first order; *estimate* is the first-order value of its constant.\n",
+        diagnosis.tests.len()
+    );
+    let _ = writeln!(
+        md,
+        "| rank | term | physics | constant | statistic | p | share | estimate | significant | note |\n|---|---|---|---|---|---|---|---|---|---|"
+    );
+    for (rank, t) in diagnosis.tests.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "| {} | `{}` | {} | `{}` | {:.2} | {:.2e} | {:.0} % | {:.4e} | {} | {} |",
+            rank + 1,
+            t.name,
+            t.physics,
+            t.parameter,
+            t.statistic,
+            t.p_value,
+            100.0 * t.share,
+            t.estimate,
+            if t.significant { "**yes**" } else { "no" },
+            t.note.clone().unwrap_or_default()
+        );
+    }
+    if !diagnosis.not_applicable.is_empty() {
+        let _ = writeln!(md, "\nNot applicable to this model:\n");
+        for n in &diagnosis.not_applicable {
+            let _ = writeln!(md, "- `{}`: {}", n.name, n.reason);
+        }
+    }
+
+    let _ = writeln!(md, "\n## Refits\n");
+    if diagnosis.refits.is_empty() {
+        let _ = writeln!(md, "No term was significant; nothing was refitted.");
+    } else {
+        let _ = writeln!(
+            md,
+            "| model | constants | chi-square | fit error | held-out error | AIC | BIC | accepted | why |\n|---|---|---|---|---|---|---|---|---|"
+        );
+        let b = &diagnosis.before;
+        let _ = writeln!(
+            md,
+            "| before (`{}`) | {} | {:.1} | {:.4} | {} | {:.1} | {:.1} | - | - |",
+            diagnosis.model,
+            b.constants_fitted,
+            b.chi_square,
+            b.fit_error,
+            fmt_error(b.held_out_error),
+            b.aic,
+            b.bic
+        );
+        for r in &diagnosis.refits {
+            let a = &r.assessment;
+            let _ = writeln!(
+                md,
+                "| + `{}` | {} | {:.1} | {:.4} | {} | {:.1} | {:.1} | {} | {} |",
+                r.candidate,
+                a.constants_fitted,
+                a.chi_square,
+                a.fit_error,
+                fmt_error(a.held_out_error),
+                a.aic,
+                a.bic,
+                if r.accepted { "**yes**" } else { "no" },
+                r.reason
+            );
+        }
+        let _ = writeln!(md, "\nConstants of each model:\n");
+        let _ = writeln!(md, "- before: {}", constants_text(&b.constants));
+        for r in &diagnosis.refits {
+            let _ = writeln!(
+                md,
+                "- + `{}`: {}",
+                r.candidate,
+                constants_text(&r.assessment.constants)
+            );
+        }
+    }
+
+    let after = diagnosis
+        .accepted
+        .as_ref()
+        .and_then(|name| diagnosis.refits.iter().find(|r| &r.candidate == name));
+    let _ = writeln!(
+        md,
+        "\n## Errors per experiment (seed 000 min-max RMSE; chi = uncertainty-weighted RMS)\n"
+    );
+    let _ = writeln!(
+        md,
+        "| experiment | role | error before | chi before | error after | chi after |\n|---|---|---|---|---|---|"
+    );
+    for (i, m) in diagnosis.misfit_before.iter().enumerate() {
+        let before = diagnosis.before.scores[i];
+        let after_score = after.and_then(|r| r.assessment.scores[i]);
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} |",
+            m.name,
+            if m.holdout { "held out" } else { "fitted" },
+            fmt_error(before.map(|s| s.error)),
+            fmt_error(before.map(|s| s.chi)),
+            fmt_error(after_score.map(|s| s.error)),
+            fmt_error(after_score.map(|s| s.chi)),
+        );
+    }
+
+    let _ = writeln!(md, "\n## Figures\n");
+    for (i, experiment) in campaign.experiments.iter().enumerate() {
+        let stem = slug(&experiment_name(campaign, i));
+        let position = |p: f64, q: &str| {
+            if q == "diameter" || q == "true_stress" {
+                p
+            } else {
+                0.0
+            }
+        };
+        let residual_series = |label: &str, misfit: &ExperimentMisfit, colour: usize| Series {
+            label: label.into(),
+            points: misfit
+                .residuals
+                .iter()
+                .map(|r| (position(r.position, &r.quantity), r.whitened))
+                .collect(),
+            style: Style::Markers,
+            colour,
+        };
+        let mut series = vec![residual_series("before", &diagnosis.misfit_before[i], 0)];
+        if let Some(after) = &diagnosis.misfit_after {
+            series.push(residual_series("after", &after[i], 1));
+        }
+        let shades: Vec<Shade> = diagnosis.misfit_before[i]
+            .bands
+            .iter()
+            .map(|b| Shade {
+                start: position(b.start, &b.quantity),
+                end: position(b.end, &b.quantity),
+            })
+            .collect();
+        let residual_file = format!("residuals-{stem}.svg");
+        residual_chart(
+            &directory.join(&residual_file),
+            &format!("{}: residuals", experiment.file.name),
+            x_label(campaign, i),
+            &series,
+            &shades,
+        )?;
+        // Overlay of the profile or curve (the longest quantity).
+        let recording = &experiment.recording;
+        let main = if recording.iter().any(|p| p.quantity == "diameter") {
+            "diameter"
+        } else {
+            recording.first().map_or("", |p| p.quantity.as_str())
+        };
+        let pick = |values: &[f64]| -> Vec<(f64, f64)> {
+            recording
+                .iter()
+                .zip(values)
+                .filter(|(p, _)| p.quantity == main)
+                .map(|(p, v)| (p.position, *v))
+                .collect()
+        };
+        let recorded: Vec<f64> = recording.iter().map(|p| p.value).collect();
+        let mut overlay = vec![
+            Series {
+                label: "recorded".into(),
+                points: pick(&recorded),
+                style: Style::Markers,
+                colour: 2,
+            },
+            Series {
+                label: "before".into(),
+                points: pick(&predictions_before[i]),
+                style: Style::Line,
+                colour: 0,
+            },
+        ];
+        if let Some(after) = predictions_after {
+            overlay.push(Series {
+                label: "after".into(),
+                points: pick(&after[i]),
+                style: Style::Line,
+                colour: 1,
+            });
+        }
+        let overlay_file = format!("overlay-{stem}.svg");
+        line_chart(
+            &directory.join(&overlay_file),
+            &experiment.file.name,
+            "position",
+            main,
+            &overlay,
+        )?;
+        let _ = writeln!(
+            md,
+            "- {}: ![residuals]({residual_file}) ![overlay]({overlay_file})",
+            experiment.file.name
+        );
+    }
+
+    let _ = writeln!(md, "\n## Cost\n");
+    for (stage, points) in &diagnosis.cost.stages {
+        let _ = writeln!(md, "- {stage}: {points} points");
+    }
+    let _ = writeln!(
+        md,
+        "- experiment simulations: {} run, {} replayed from `simulations.jsonl`",
+        diagnosis.cost.simulated, diagnosis.cost.replayed
+    );
+
+    // The model the diagnosis ends with.
+    let final_model = after.map_or_else(|| None, |r| Some(r.hypothesis.material.to_toml()));
+    if let Some(toml) = final_model {
+        std::fs::write(directory.join("material.toml"), toml).map_err(|e| e.to_string())?;
+        let _ = writeln!(
+            md,
+            "\nThe refitted material: `material.toml` (`stoss simulate --material`)."
+        );
+    }
+    std::fs::write(directory.join("report.md"), md).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(diagnosis).map_err(|e| e.to_string())?;
+    std::fs::write(directory.join("diagnosis.json"), json).map_err(|e| e.to_string())
+}
+
+fn constants_text(constants: &[(String, f64)]) -> String {
+    constants
+        .iter()
+        .map(|(n, v)| format!("`{n}` = {v:.4e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}

@@ -1,0 +1,261 @@
+//! The statistics of the diagnosis: normal and chi-square tail probabilities, the
+//! Wald-Wolfowitz runs test, lag-1 autocorrelation, and small dense least squares.
+//! Transcendental functions come from `libm`, so results are the same on every platform.
+
+/// Upper tail of the standard normal distribution, `P(Z > z) = erfc(z / sqrt 2) / 2`.
+pub fn normal_upper_tail(z: f64) -> f64 {
+    0.5 * libm::erfc(z / core::f64::consts::SQRT_2)
+}
+
+/// Upper tail of the chi-square distribution with `dof` degrees of freedom, `P(X > x)`: the
+/// regularised upper incomplete gamma function `Q(dof/2, x/2)` (series for `x < a + 1`,
+/// Lentz continued fraction otherwise; Abramowitz & Stegun 6.5.29 and 6.5.31).
+pub fn chi_square_upper_tail(x: f64, dof: f64) -> f64 {
+    if x.is_nan() || dof <= 0.0 {
+        return f64::NAN;
+    }
+    if x <= 0.0 {
+        return 1.0;
+    }
+    let a = 0.5 * dof;
+    let x = 0.5 * x;
+    let log_prefactor = a * libm::log(x) - x - libm::lgamma(a);
+    if x < a + 1.0 {
+        // P(a, x) = x^a e^-x / Gamma(a) * sum_k x^k / (a (a+1) ... (a+k)).
+        let mut term = 1.0 / a;
+        let mut sum = term;
+        let mut denominator = a;
+        for _ in 0..1000 {
+            denominator += 1.0;
+            term *= x / denominator;
+            sum += term;
+            if term.abs() < sum.abs() * 1e-16 {
+                break;
+            }
+        }
+        (1.0 - sum * libm::exp(log_prefactor)).clamp(0.0, 1.0)
+    } else {
+        // Q(a, x) = x^a e^-x / Gamma(a) * 1 / (x + 1 - a - 1 (1 - a) / (x + 3 - a - ...)).
+        let tiny = 1e-300;
+        let mut b = x + 1.0 - a;
+        let mut c = 1.0 / tiny;
+        let mut d = 1.0 / b;
+        let mut fraction = d;
+        for i in 1..1000 {
+            let an = -(i as f64) * (i as f64 - a);
+            b += 2.0;
+            d = an * d + b;
+            if d.abs() < tiny {
+                d = tiny;
+            }
+            c = b + an / c;
+            if c.abs() < tiny {
+                c = tiny;
+            }
+            d = 1.0 / d;
+            let delta = d * c;
+            fraction *= delta;
+            if (delta - 1.0).abs() < 1e-16 {
+                break;
+            }
+        }
+        (libm::exp(log_prefactor) * fraction).clamp(0.0, 1.0)
+    }
+}
+
+/// The Wald-Wolfowitz runs test on the signs of a residual series: too few runs means the
+/// residuals come in blocks of one sign (structure), not noise.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunsTest {
+    /// Runs of equal sign observed.
+    pub runs: usize,
+    /// Runs expected under independence, `2 n+ n- / n + 1`.
+    pub expected: f64,
+    /// One-sided p-value of as few runs or fewer (normal approximation); 1 when undefined.
+    pub p_value: f64,
+}
+
+/// Runs test of `residuals` (zeros count as positive).
+pub fn runs_test(residuals: &[f64]) -> RunsTest {
+    let positive = residuals.iter().filter(|r| **r >= 0.0).count() as f64;
+    let negative = residuals.len() as f64 - positive;
+    let n = positive + negative;
+    let runs = if residuals.is_empty() {
+        0
+    } else {
+        1 + residuals
+            .windows(2)
+            .filter(|w| (w[0] >= 0.0) != (w[1] >= 0.0))
+            .count()
+    };
+    if positive == 0.0 || negative == 0.0 {
+        // One sign throughout: as structured as a series can be; p = 2^-(n-1) (every sign
+        // equal to the first).
+        let p_value = if n >= 2.0 {
+            libm::pow(0.5, n - 1.0)
+        } else {
+            1.0
+        };
+        return RunsTest {
+            runs,
+            expected: 1.0,
+            p_value,
+        };
+    }
+    let expected = 2.0 * positive * negative / n + 1.0;
+    let variance = (expected - 1.0) * (expected - 2.0) / (n - 1.0);
+    let p_value = if variance > 0.0 {
+        1.0 - normal_upper_tail((runs as f64 - expected) / libm::sqrt(variance))
+    } else {
+        1.0
+    };
+    RunsTest {
+        runs,
+        expected,
+        p_value,
+    }
+}
+
+/// Lag-1 autocorrelation `sum r_i r_(i+1) / sum r_i^2` of whitened residuals (zero mean
+/// under the null).
+pub fn lag1_autocorrelation(residuals: &[f64]) -> f64 {
+    let energy: f64 = residuals.iter().map(|r| r * r).sum();
+    if energy == 0.0 || residuals.len() < 2 {
+        return 0.0;
+    }
+    residuals.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / energy
+}
+
+/// A column-major dense matrix: `columns[j][i]` is row `i` of column `j`.
+pub type Columns = [Vec<f64>];
+
+/// `A' b` for the columns `A`.
+pub fn transpose_times(a: &Columns, b: &[f64]) -> Vec<f64> {
+    a.iter()
+        .map(|column| column.iter().zip(b).map(|(x, y)| x * y).sum())
+        .collect()
+}
+
+/// `A' A` for the columns `A` (row-major `p x p`).
+pub fn gram(a: &Columns) -> Vec<Vec<f64>> {
+    a.iter()
+        .map(|ci| {
+            a.iter()
+                .map(|cj| ci.iter().zip(cj).map(|(x, y)| x * y).sum())
+                .collect()
+        })
+        .collect()
+}
+
+/// Solve the symmetric positive (semi-)definite system `(G + ridge diag(G)) x = b` by
+/// Cholesky, with a floor on the diagonal (`1e-12` of the largest) so that a direction the
+/// data do not determine gets a zero step rather than an infinite one. `None` if the matrix
+/// is not positive definite even then.
+pub fn solve_damped(matrix: &[Vec<f64>], rhs: &[f64], ridge: f64) -> Option<Vec<f64>> {
+    let n = rhs.len();
+    let largest = (0..n).map(|i| matrix[i][i]).fold(0.0, f64::max);
+    let floor = 1e-12 * largest.max(f64::MIN_POSITIVE);
+    let mut l = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        for j in 0..=i {
+            let mut sum = matrix[i][j];
+            if i == j {
+                sum += ridge * matrix[i][i] + floor;
+            }
+            for k in 0..j {
+                sum -= l[i][k] * l[j][k];
+            }
+            if i == j {
+                if sum <= 0.0 || !sum.is_finite() {
+                    return None;
+                }
+                l[i][i] = libm::sqrt(sum);
+            } else {
+                l[i][j] = sum / l[j][j];
+            }
+        }
+    }
+    let mut y = vec![0.0; n];
+    for i in 0..n {
+        let s: f64 = (0..i).map(|k| l[i][k] * y[k]).sum();
+        y[i] = (rhs[i] - s) / l[i][i];
+    }
+    let mut x = vec![0.0; n];
+    for i in (0..n).rev() {
+        let s: f64 = (i + 1..n).map(|k| l[k][i] * x[k]).sum();
+        x[i] = (y[i] - s) / l[i][i];
+    }
+    Some(x)
+}
+
+/// `v - A (A'A)^-1 A' v`: the part of `v` that re-tuning the columns `A` cannot reproduce
+/// (the residual-maker `M` of least squares applied to `v`).
+pub fn project_out(a: &Columns, v: &[f64]) -> Vec<f64> {
+    if a.is_empty() {
+        return v.to_vec();
+    }
+    let coefficients =
+        solve_damped(&gram(a), &transpose_times(a, v), 0.0).unwrap_or_else(|| vec![0.0; a.len()]);
+    let mut out = v.to_vec();
+    for (column, c) in a.iter().zip(&coefficients) {
+        for (o, x) in out.iter_mut().zip(column) {
+            *o -= c * x;
+        }
+    }
+    out
+}
+
+/// Dot product.
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tail_probabilities_match_tables() {
+        // GOAL: the p-values the diagnosis reports. SETUP: textbook quantiles.
+        // REFERENCE: P(Z > 1.959964) = 0.025; chi2(1) 3.841459 -> 0.05; chi2(10) 18.307038
+        // -> 0.05; chi2(2) x -> exp(-x/2) exactly; chi2(30) 50.892181 -> 0.01.
+        assert!((normal_upper_tail(1.959_964) - 0.025).abs() < 1e-7);
+        assert!((chi_square_upper_tail(3.841_459, 1.0) - 0.05).abs() < 1e-7);
+        assert!((chi_square_upper_tail(18.307_038, 10.0) - 0.05).abs() < 1e-7);
+        assert!((chi_square_upper_tail(50.892_181, 30.0) - 0.01).abs() < 1e-7);
+        for x in [0.1, 1.0, 3.0, 10.0, 40.0] {
+            let exact = libm::exp(-0.5 * x);
+            assert!((chi_square_upper_tail(x, 2.0) - exact).abs() < 1e-14 * exact.max(1e-3));
+        }
+    }
+
+    #[test]
+    fn runs_test_separates_blocks_from_alternation() {
+        // GOAL: structure (blocks of one sign) is flagged, alternation is not.
+        // SETUP: 10 positives then 10 negatives; strict alternation.
+        // REFERENCE: 2 runs (expected 11, z = -4.13, p ~ 2e-5); 20 runs (p ~ 1).
+        let blocks: Vec<f64> = (0..20).map(|i| if i < 10 { 1.0 } else { -1.0 }).collect();
+        let test = runs_test(&blocks);
+        assert_eq!(test.runs, 2);
+        assert!((test.expected - 11.0).abs() < 1e-12);
+        assert!(test.p_value < 1e-4, "{test:?}");
+        let alternating: Vec<f64> = (0..20)
+            .map(|i| if i % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        assert!(runs_test(&alternating).p_value > 0.99);
+        assert!((lag1_autocorrelation(&alternating) + 0.95).abs() < 1e-12);
+    }
+
+    #[test]
+    fn projection_removes_what_the_columns_explain() {
+        // GOAL: the residual-maker of the score test. SETUP: columns (1,1,1,1) and (0,1,2,3);
+        // v = 2 + 3 t + (1,-1,-1,1). REFERENCE: M v = (1,-1,-1,1) (orthogonal to both columns).
+        let columns = vec![vec![1.0; 4], vec![0.0, 1.0, 2.0, 3.0]];
+        let bump = [1.0, -1.0, -1.0, 1.0];
+        let v: Vec<f64> = (0..4).map(|i| 2.0 + 3.0 * i as f64 + bump[i]).collect();
+        let projected = project_out(&columns, &v);
+        for (p, b) in projected.iter().zip(bump) {
+            assert!((p - b).abs() < 1e-9, "{projected:?}");
+        }
+    }
+}
