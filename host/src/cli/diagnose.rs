@@ -120,9 +120,12 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     println!("campaign: {} (model {})", campaign.file.name, model.model);
     let log = args.calibration.join("diagnosis.jsonl");
     let mut progress = |stage: &str| println!("  {stage}");
-    let (diagnosis, before, after) =
-        diagnose::diagnose(&campaign, model, &options, Some(&log), &mut progress)
-            .map_err(|e| e.to_string())?;
+    let diagnose::Outcome {
+        diagnosis,
+        before,
+        after,
+    } = diagnose::diagnose(&campaign, model, &options, Some(&log), &mut progress)
+        .map_err(|e| e.to_string())?;
     println!(
         "\n{:<28} {:>10} {:>10}  significant",
         "term", "statistic", "p"

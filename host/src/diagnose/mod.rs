@@ -371,6 +371,17 @@ fn locate_all(
         .collect()
 }
 
+/// A diagnosis with the predictions of every experiment before and (if a term was accepted)
+/// after.
+pub struct Outcome {
+    /// The diagnosis.
+    pub diagnosis: Diagnosis,
+    /// Predictions of the calibrated model refitted by least squares.
+    pub before: Vec<Vec<f64>>,
+    /// Predictions of the accepted model.
+    pub after: Option<Vec<Vec<f64>>>,
+}
+
 /// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations are logged
 /// in `log` (a rerun replays them).
 pub fn diagnose(
@@ -379,7 +390,7 @@ pub fn diagnose(
     options: &Options,
     log: Option<&Path>,
     progress: &mut dyn FnMut(&str),
-) -> Result<(Diagnosis, Vec<Vec<f64>>, Option<Vec<Vec<f64>>>), DiagnoseError> {
+) -> Result<Outcome, DiagnoseError> {
     let entry = campaign
         .file
         .models
@@ -585,5 +596,9 @@ pub fn diagnose(
         cost,
     };
     diagnosis.verdict = report::verdict(campaign, &diagnosis);
-    Ok((diagnosis, predictions_before, predictions_after))
+    Ok(Outcome {
+        diagnosis,
+        before: predictions_before,
+        after: predictions_after,
+    })
 }

@@ -162,9 +162,11 @@ pub fn solve_damped(matrix: &[Vec<f64>], rhs: &[f64], ridge: f64) -> Option<Vec<
             if i == j {
                 sum += ridge * matrix[i][i] + floor;
             }
-            for k in 0..j {
-                sum -= l[i][k] * l[j][k];
-            }
+            sum -= l[i][..j]
+                .iter()
+                .zip(&l[j][..j])
+                .map(|(a, b)| a * b)
+                .sum::<f64>();
             if i == j {
                 if sum <= 0.0 || !sum.is_finite() {
                     return None;
