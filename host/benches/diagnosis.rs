@@ -63,7 +63,10 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(10);
-    let cases = env_list("CASES", "control,heating,upturn,saturation,coupling,friction");
+    let cases = env_list(
+        "CASES",
+        "control,heating,upturn,saturation,coupling,friction",
+    );
     let noises: Vec<f64> = env_list("NOISE", "0.01,0.03,0.05")
         .iter()
         .map(|n| n.parse().expect("NOISE"))
@@ -76,7 +79,11 @@ fn main() {
         let dir: PathBuf = root.join(case);
         let template = Campaign::load(&dir.join("campaign.toml")).expect("campaign");
         let clean = truth(&dir, &template);
-        let (budget, polish) = if *case == "friction" { (8, 4) } else { (16, 16) };
+        let (budget, polish) = if *case == "friction" {
+            (8, 4)
+        } else {
+            (16, 16)
+        };
         for (level, noise) in noises.iter().enumerate() {
             let (mut identified, mut alarms, mut points, mut simulations, mut calibration_points) =
                 (0, 0, 0, 0, 0);
@@ -96,6 +103,7 @@ fn main() {
                     std::process::id()
                 ));
                 let _ = std::fs::remove_dir_all(&output);
+                std::fs::create_dir_all(&output).expect("temporary folder");
                 let factory = bayesian_factory();
                 let mut progress =
                     |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};

@@ -115,6 +115,40 @@ pub struct RunOptions {
     pub polish: Option<usize>,
 }
 
+/// The running record of one instance: the best candidate, the convergence history and the
+/// counts of simulated and failed candidates.
+#[derive(Default)]
+struct Tally {
+    best: Option<(Evaluation, f64)>,
+    history: Vec<f64>,
+    simulated: usize,
+    failed: usize,
+}
+
+impl Tally {
+    /// Record one evaluated candidate and its objective value (`None`: failed or infeasible).
+    fn record(&mut self, evaluation: Evaluation, value: Option<f64>) {
+        match evaluation.status {
+            Status::Ok => self.simulated += 1,
+            Status::Failed(_) => {
+                self.simulated += 1;
+                self.failed += 1;
+            }
+            Status::Infeasible(_) => {}
+        }
+        if let Some(value) = value {
+            if self.best.as_ref().is_none_or(|(_, b)| value < *b) {
+                self.best = Some((evaluation, value));
+            }
+        }
+        self.history.push(self.best_value().unwrap_or(f64::NAN));
+    }
+
+    fn best_value(&self) -> Option<f64> {
+        self.best.as_ref().map(|b| b.1)
+    }
+}
+
 struct Runner<'a> {
     campaign: &'a Campaign,
     log: SimulationLog,
@@ -186,9 +220,8 @@ impl Runner<'_> {
             .seed
             .wrapping_add(instance as u64);
         let mut proposer = (self.factory)(space, self.budget, self.batch, seed);
-        let mut best: Option<(Evaluation, f64)> = None;
-        let mut history = Vec::new();
-        let (mut simulated, mut failed, mut index) = (0, 0, 0);
+        let mut tally = Tally::default();
+        let mut index = 0;
         while index < self.budget {
             let mut points = proposer.ask();
             if points.is_empty() {
@@ -215,20 +248,7 @@ impl Runner<'_> {
                 })
                 .collect();
             for (evaluation, value) in evaluations.into_iter().zip(&values) {
-                match evaluation.status {
-                    Status::Ok => simulated += 1,
-                    Status::Failed(_) => {
-                        simulated += 1;
-                        failed += 1;
-                    }
-                    Status::Infeasible(_) => {}
-                }
-                if let Some(value) = *value {
-                    if best.as_ref().is_none_or(|(_, b)| value < *b) {
-                        best = Some((evaluation, value));
-                    }
-                }
-                history.push(best.as_ref().map_or(f64::NAN, |b| b.1));
+                tally.record(evaluation, *value);
             }
             // The surrogate models ln(error): errors are positive and heavy-tailed (from the
             // noise floor up to orders of magnitude above it), which a GP fits far better in
@@ -247,12 +267,12 @@ impl Runner<'_> {
                 instance,
                 index,
                 self.budget,
-                best.as_ref().map(|b| b.1),
+                tally.best_value(),
             );
         }
         // Nelder-Mead polish from the best point, one candidate at a time.
         if let (Some((start, start_value)), true) = (
-            best.as_ref().map(|(e, v)| (e.values.clone(), *v)),
+            tally.best.as_ref().map(|(e, v)| (e.values.clone(), *v)),
             self.polish > 0,
         ) {
             let span: Vec<f64> = space
@@ -296,20 +316,7 @@ impl Runner<'_> {
                 } else {
                     None
                 };
-                match evaluation.status {
-                    Status::Ok => simulated += 1,
-                    Status::Failed(_) => {
-                        simulated += 1;
-                        failed += 1;
-                    }
-                    Status::Infeasible(_) => {}
-                }
-                if let Some(v) = value {
-                    if best.as_ref().is_none_or(|(_, b)| v < *b) {
-                        best = Some((evaluation, v));
-                    }
-                }
-                history.push(best.as_ref().map_or(f64::NAN, |b| b.1));
+                tally.record(evaluation, value);
                 simplex.tell(value);
                 index += 1;
                 (self.progress)(
@@ -318,10 +325,16 @@ impl Runner<'_> {
                     instance,
                     index,
                     self.budget + self.polish,
-                    best.as_ref().map(|b| b.1),
+                    tally.best_value(),
                 );
             }
         }
+        let Tally {
+            best,
+            history,
+            simulated,
+            failed,
+        } = tally;
         let (best, fit_error) =
             best.ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone()))?;
         Ok(InstanceResult {

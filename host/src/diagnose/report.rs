@@ -43,13 +43,16 @@ fn span_words(campaign: &Campaign, index: usize, band: &Band) -> String {
     }
 }
 
-/// The headline misfit: the structured experiment with the largest chi-square and its
-/// strongest band, in words.
+/// The headline misfit: the structured fitted experiment with the largest chi-square (a held-out
+/// one if no fitted experiment is structured) and its strongest band, in words.
 fn headline(campaign: &Campaign, misfits: &[ExperimentMisfit]) -> Option<String> {
-    let worst = misfits
-        .iter()
-        .filter(|m| m.structured)
-        .max_by(|a, b| a.chi_square.total_cmp(&b.chi_square))?;
+    let worst_of = |holdout: bool| {
+        misfits
+            .iter()
+            .filter(|m| m.structured && m.holdout == holdout)
+            .max_by(|a, b| a.chi_square.total_cmp(&b.chi_square))
+    };
+    let worst = worst_of(false).or_else(|| worst_of(true))?;
     let mut text = worst.name.clone();
     match worst
         .bands
