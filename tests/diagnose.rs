@@ -57,8 +57,13 @@ fn truth_values(case: &Path, experiment_file: &str) -> Vec<f64> {
 }
 
 /// Calibrate (short budget: the diagnosis refits by least squares from there) and diagnose.
-fn diagnose_case(case: &str, budget: &str, polish: &str) -> (serde_json::Value, PathBuf) {
-    let work = temporary(case);
+fn diagnose_case(
+    case: &str,
+    tag: &str,
+    budget: &str,
+    polish: &str,
+) -> (serde_json::Value, PathBuf) {
+    let work = temporary(&format!("{case}-{tag}"));
     let copy = work.join("case");
     copy_without_truth(&fixtures().join(case), &copy);
     let calibration = work.join("calibration");
@@ -84,7 +89,7 @@ fn diagnose_case(case: &str, budget: &str, polish: &str) -> (serde_json::Value, 
 /// Check a case: the accepted term, and after the refit: reduced chi-square of the fitted
 /// experiments near 1 and the predictions within the noise of the noise-free truth.
 fn check(case: &str, expected: Option<&str>, budget: &str, polish: &str) {
-    let (diagnosis, work) = diagnose_case(case, budget, polish);
+    let (diagnosis, work) = diagnose_case(case, "check", budget, polish);
     let accepted = diagnosis["accepted"].as_str();
     assert_eq!(
         accepted, expected,
@@ -268,4 +273,61 @@ fn every_library_term_gives_back_the_current_model_at_its_null() {
     // Every term of the library applies to one of the two cases (the friction case fixes m,
     // so `thermal-softening` applies there).
     assert_eq!(tested.len(), 10, "{tested:?}");
+}
+
+#[test]
+fn a_rerun_replays_the_log_and_gives_the_same_diagnosis() {
+    // GOAL: a killed or repeated diagnosis loses nothing and is reproducible.
+    // SETUP: the heating case calibrated as above and diagnosed twice into the same folder;
+    //        then the log's last line cut in half (a process killed mid-write) and a third run.
+    // REFERENCE: the second and third runs simulate nothing new except what the cut line held
+    //        and write the same diagnosis (every field but the cost counters).
+    let (first, work) = diagnose_case("heating", "rerun", "16", "16");
+    let calibration = work.join("calibration");
+    let json = |path: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    };
+    let strip = |mut v: serde_json::Value| {
+        v.as_object_mut().unwrap().remove("cost");
+        v
+    };
+    stoss(&["diagnose", calibration.to_str().unwrap()]);
+    let second = json(&calibration.join("diagnosis/diagnosis.json"));
+    assert_eq!(second["cost"]["simulated"], 0, "{}", second["cost"]);
+    assert_eq!(strip(first.clone()), strip(second));
+    let log = calibration.join("diagnosis.jsonl");
+    let text = std::fs::read_to_string(&log).unwrap();
+    std::fs::write(&log, &text[..text.len() - 40]).unwrap();
+    stoss(&["diagnose", calibration.to_str().unwrap()]);
+    let third = json(&calibration.join("diagnosis/diagnosis.json"));
+    assert_eq!(third["cost"]["simulated"], 1, "{}", third["cost"]);
+    assert_eq!(strip(first), strip(third));
+    let _ = std::fs::remove_dir_all(work);
+}
+
+#[test]
+fn bad_calibration_folders_get_clear_errors() {
+    // GOAL: bad input gets a clear error and a non-zero exit, and no report.
+    // SETUP: a folder that is not a calibration; one whose campaign.path names a missing file;
+    //        a bad --alpha.
+    // REFERENCE: each error names the file or the option; exit code 1; no diagnosis/ folder.
+    let work = temporary("bad");
+    let run = |args: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_stoss"))
+            .args(args)
+            .output()
+            .unwrap();
+        assert_eq!(output.status.code(), Some(1));
+        String::from_utf8_lossy(&output.stderr).into_owned()
+    };
+    let folder = work.to_str().unwrap();
+    let error = run(&["diagnose", folder]);
+    assert!(error.contains("campaign.path"), "{error}");
+    std::fs::write(work.join("campaign.path"), "/nonexistent/campaign.toml").unwrap();
+    let error = run(&["diagnose", folder]);
+    assert!(error.contains("/nonexistent/campaign.toml"), "{error}");
+    let error = run(&["diagnose", folder, "--alpha", "2"]);
+    assert!(error.contains("--alpha"), "{error}");
+    assert!(!work.join("diagnosis").exists());
+    let _ = std::fs::remove_dir_all(work);
 }
