@@ -435,8 +435,8 @@ pub fn write(
         line_chart(
             &directory.join(&overlay_file),
             &experiment.file.name,
-            "position",
-            main,
+            x_label(campaign, i),
+            &format!("{main} (SI)"),
             &overlay,
         )?;
         let _ = writeln!(
