@@ -281,7 +281,8 @@ fn a_rerun_replays_the_log_and_gives_the_same_diagnosis() {
     // SETUP: the heating case calibrated as above and diagnosed twice into the same folder;
     //        then the log's last line cut in half (a process killed mid-write) and a third run.
     // REFERENCE: the second and third runs simulate nothing new except what the cut line held
-    //        and write the same diagnosis (every field but the cost counters).
+    //        and write the same diagnosis (every field but the cost counters); a fourth run
+    //        replays everything (the half line was dropped, not glued to the next entry).
     let (first, work) = diagnose_case("heating", "rerun", "16", "16");
     let calibration = work.join("calibration");
     let json = |path: &Path| -> serde_json::Value {
@@ -301,7 +302,12 @@ fn a_rerun_replays_the_log_and_gives_the_same_diagnosis() {
     stoss(&["diagnose", calibration.to_str().unwrap()]);
     let third = json(&calibration.join("diagnosis/diagnosis.json"));
     assert_eq!(third["cost"]["simulated"], 1, "{}", third["cost"]);
-    assert_eq!(strip(first), strip(third));
+    assert_eq!(strip(first.clone()), strip(third));
+    // The re-simulated entry was logged on a line of its own: a fourth run replays everything.
+    stoss(&["diagnose", calibration.to_str().unwrap()]);
+    let fourth = json(&calibration.join("diagnosis/diagnosis.json"));
+    assert_eq!(fourth["cost"]["simulated"], 0, "{}", fourth["cost"]);
+    assert_eq!(strip(first), strip(fourth));
     let _ = std::fs::remove_dir_all(work);
 }
 

@@ -70,7 +70,13 @@ impl<'a> Engine<'a> {
             Some(path) => {
                 let io = |e: std::io::Error| DiagnoseError::Io(format!("{}: {e}", path.display()));
                 if path.exists() {
-                    let text = std::fs::read_to_string(path).map_err(io)?;
+                    let mut text = std::fs::read_to_string(path).map_err(io)?;
+                    if !text.is_empty() && !text.ends_with('\n') {
+                        // A process killed mid-write left half a line: drop it, so the next
+                        // entry starts on a line of its own.
+                        text.truncate(text.rfind('\n').map_or(0, |i| i + 1));
+                        std::fs::write(path, &text).map_err(io)?;
+                    }
                     for line in text.lines() {
                         // A line cut short by a killed process is ignored (and re-simulated).
                         if let Ok(entry) = serde_json::from_str::<LogEntry>(line) {
