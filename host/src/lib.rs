@@ -8,6 +8,7 @@ pub mod cli;
 pub mod diagnose;
 pub mod experiment;
 pub mod input;
+pub mod journal;
 pub mod measure;
 pub mod mesh;
 pub mod optimise;

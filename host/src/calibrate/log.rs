@@ -1,12 +1,12 @@
-//! The simulation log (`simulations.jsonl`): one JSON line per simulated candidate, appended
-//! and synced to disk as soon as its simulations end. A killed run is resumed by replaying the
+//! The simulation log (`simulations.jsonl`, a [`Journal`]): one JSON line per simulated
+//! candidate, appended and synced to disk as soon as its simulations end. A killed run is resumed by replaying the
 //! (deterministic, seeded) optimisation: every proposal found in the log under the same key
 //! and with bit-identical constants is taken from the log instead of being simulated again.
 
 use super::objective::Evaluation;
+use crate::journal::Journal;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Where a candidate belongs: model, fold (`None` = fit on every fitted experiment; `Some(name)`
@@ -65,7 +65,7 @@ impl std::error::Error for LogError {}
 pub struct SimulationLog {
     path: PathBuf,
     entries: HashMap<Key, Entry>,
-    file: std::fs::File,
+    journal: Journal,
     /// Entries reused from the log in this run.
     pub reused: usize,
 }
@@ -74,40 +74,17 @@ impl SimulationLog {
     /// Open `path`: read existing entries (a torn last line from a killed run is dropped) and
     /// append from there.
     pub fn open(path: &Path) -> Result<Self, LogError> {
-        let io = |e| LogError::Io(path.into(), e);
+        let (journal, lines) = Journal::open(path).map_err(|e| LogError::Io(path.into(), e))?;
         let mut entries = HashMap::new();
-        if path.exists() {
-            let text = std::fs::read_to_string(path).map_err(io)?;
-            let lines: Vec<&str> = text.lines().collect();
-            let complete = if text.ends_with('\n') {
-                lines.len()
-            } else {
-                lines.len().saturating_sub(1)
-            };
-            for (index, line) in lines.iter().take(complete).enumerate() {
-                let entry: Entry = serde_json::from_str(line)
-                    .map_err(|e| LogError::Corrupt(path.into(), index + 1, e.to_string()))?;
-                entries.insert(entry.key.clone(), entry);
-            }
-            if complete < lines.len() {
-                // Rewrite without the torn line so appends start on a fresh line.
-                let kept: String = lines
-                    .iter()
-                    .take(complete)
-                    .map(|l| format!("{l}\n"))
-                    .collect();
-                std::fs::write(path, kept).map_err(io)?;
-            }
+        for (index, line) in lines.iter().enumerate() {
+            let entry: Entry = serde_json::from_str(line)
+                .map_err(|e| LogError::Corrupt(path.into(), index + 1, e.to_string()))?;
+            entries.insert(entry.key.clone(), entry);
         }
-        let file = std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(path)
-            .map_err(io)?;
         Ok(Self {
             path: path.into(),
             entries,
-            file,
+            journal,
             reused: 0,
         })
     }
@@ -146,11 +123,9 @@ impl SimulationLog {
 
     /// Append an entry and sync it to disk.
     pub fn append(&mut self, entry: Entry) -> Result<(), LogError> {
-        let io = |e| LogError::Io(self.path.clone(), e);
-        let line = serde_json::to_string(&entry)
-            .map_err(|e| LogError::Io(self.path.clone(), std::io::Error::other(e)))?;
-        writeln!(self.file, "{line}").map_err(io)?;
-        self.file.sync_data().map_err(io)?;
+        self.journal
+            .append(&entry)
+            .map_err(|e| LogError::Io(self.path.clone(), e))?;
         self.entries.insert(entry.key.clone(), entry);
         Ok(())
     }

@@ -1,7 +1,7 @@
 //! Runs the simulations of the diagnosis: batches of candidate constants in parallel (one
 //! thread per simulation, so results do not depend on the thread count), every result appended
-//! to `simulations.jsonl` as it ends; a rerun over the same folder replays the log instead of
-//! simulating again, so a killed diagnosis loses nothing.
+//! to the [`Journal`] `diagnosis.jsonl` as it ends; a rerun over the same folder replays the log
+//! instead of simulating again, so a killed diagnosis loses nothing.
 //!
 //! A log entry is keyed by a 64-bit FNV-1a hash of everything that determines the simulation:
 //! the realised material file, the anvil friction, the lagged-rate mixture and the experiment
@@ -10,12 +10,12 @@
 use super::hypothesis::Hypothesis;
 use super::DiagnoseError;
 use crate::calibrate::Campaign;
+use crate::journal::Journal;
 use crate::solver::SolverSettings;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
-use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Predictions of each requested experiment, or why the simulation failed.
 pub type Predictions = Result<Vec<Vec<f64>>, String>;
@@ -43,7 +43,7 @@ pub struct Engine<'a> {
     pool: rayon::ThreadPool,
     settings: SolverSettings,
     known: HashMap<String, Result<Vec<f64>, String>>,
-    log: Option<(PathBuf, std::fs::File)>,
+    log: Option<Journal>,
     /// Points (sets of constants) evaluated, fresh or replayed.
     pub points: usize,
     /// Experiment simulations run (fresh).
@@ -68,33 +68,20 @@ impl<'a> Engine<'a> {
         let log = match log {
             None => None,
             Some(path) => {
-                let io = |e: std::io::Error| DiagnoseError::Io(format!("{}: {e}", path.display()));
-                if path.exists() {
-                    let mut text = std::fs::read_to_string(path).map_err(io)?;
-                    if !text.is_empty() && !text.ends_with('\n') {
-                        // A process killed mid-write left half a line: drop it, so the next
-                        // entry starts on a line of its own.
-                        text.truncate(text.rfind('\n').map_or(0, |i| i + 1));
-                        std::fs::write(path, &text).map_err(io)?;
-                    }
-                    for line in text.lines() {
-                        // A line cut short by a killed process is ignored (and re-simulated).
-                        if let Ok(entry) = serde_json::from_str::<LogEntry>(line) {
-                            let value = match (entry.predicted, entry.error) {
-                                (Some(p), _) => Ok(p),
-                                (None, Some(e)) => Err(e),
-                                (None, None) => continue,
-                            };
-                            known.insert(entry.key, value);
-                        }
-                    }
+                let (journal, lines) = Journal::open(path)
+                    .map_err(|e| DiagnoseError::Io(format!("{}: {e}", path.display())))?;
+                for (index, line) in lines.iter().enumerate() {
+                    let entry: LogEntry = serde_json::from_str(line).map_err(|e| {
+                        DiagnoseError::Io(format!("{}:{}: {e}", path.display(), index + 1))
+                    })?;
+                    let value = match (entry.predicted, entry.error) {
+                        (Some(p), _) => Ok(p),
+                        (None, Some(e)) => Err(e),
+                        (None, None) => continue,
+                    };
+                    known.insert(entry.key, value);
                 }
-                let file = std::fs::OpenOptions::new()
-                    .create(true)
-                    .append(true)
-                    .open(path)
-                    .map_err(io)?;
-                Some((path.to_path_buf(), file))
+                Some(journal)
             }
         };
         Ok(Self {
@@ -201,7 +188,7 @@ impl<'a> Engine<'a> {
         key: &str,
         result: &Result<Vec<f64>, String>,
     ) -> Result<(), DiagnoseError> {
-        let Some((path, file)) = &mut self.log else {
+        let Some(journal) = &mut self.log else {
             return Ok(());
         };
         let entry = LogEntry {
@@ -209,10 +196,9 @@ impl<'a> Engine<'a> {
             predicted: result.as_ref().ok().cloned(),
             error: result.as_ref().err().cloned(),
         };
-        let line = serde_json::to_string(&entry).map_err(|e| DiagnoseError::Io(e.to_string()))?;
-        writeln!(file, "{line}")
-            .and_then(|_| file.flush())
-            .map_err(|e| DiagnoseError::Io(format!("{}: {e}", path.display())))
+        journal
+            .append(&entry)
+            .map_err(|e| DiagnoseError::Io(format!("{}: {e}", journal.path().display())))
     }
 
     /// Whitened residuals `(predicted - recorded) / uncertainty` of `experiments`,

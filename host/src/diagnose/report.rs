@@ -452,7 +452,7 @@ pub fn write(
     }
     let _ = writeln!(
         md,
-        "- experiment simulations: {} run, {} replayed from `simulations.jsonl`",
+        "- experiment simulations: {} run, {} replayed from `diagnosis.jsonl`",
         diagnosis.cost.simulated, diagnosis.cost.replayed
     );
 
