@@ -378,17 +378,7 @@ pub fn library(
                 },
                 0.0,
                 k,
-                |h| {
-                    h.material.eos = Eos::Polynomial(Polynomial {
-                        a1: k,
-                        a2: 0.0,
-                        a3: 0.0,
-                        b0: 0.0,
-                        b1: 0.0,
-                        t1: k,
-                        t2: 0.0,
-                    })
-                },
+                |h| h.material.eos = Eos::Polynomial(Polynomial::linear(k)),
             ));
         }
         _ => skip(

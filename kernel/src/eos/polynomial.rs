@@ -37,6 +37,21 @@ pub struct Polynomial {
 }
 
 impl Polynomial {
+    /// The linear EoS `p = K mu` written as a polynomial (`A1 = T1 = K`, every other constant
+    /// zero): the same pressures bit for bit, and the nested starting point to which a
+    /// nonlinear term (`A2`) can be added.
+    pub const fn linear(bulk_modulus: f64) -> Self {
+        Self {
+            a1: bulk_modulus,
+            a2: 0.0,
+            a3: 0.0,
+            b0: 0.0,
+            b1: 0.0,
+            t1: bulk_modulus,
+            t2: 0.0,
+        }
+    }
+
     /// Energy-linear terms at compression `mu`, with exact derivatives of both polynomials.
     #[inline]
     pub fn evaluate(&self, mu: f64) -> EnergyLinearPressure {
@@ -90,15 +105,7 @@ mod tests {
         // SETUP: K = 159 GPa, mu in compression and tension.
         // REFERENCE: LinearEos terms; tolerance: bit-for-bit (same arithmetic, K*mu).
         let k = 159.0e9;
-        let poly = Polynomial {
-            a1: k,
-            a2: 0.0,
-            a3: 0.0,
-            b0: 0.0,
-            b1: 0.0,
-            t1: k,
-            t2: 0.0,
-        };
+        let poly = Polynomial::linear(k);
         let linear = LinearEos { bulk_modulus: k };
         for mu in [-0.05, -1e-6, 0.0, 1e-6, 0.01, 0.2] {
             let p = poly.evaluate(mu);
