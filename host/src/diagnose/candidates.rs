@@ -20,7 +20,9 @@
 //! the nuisance constants that a score test must fix (they are not identified at the null);
 //! the values are typical of armour steels and are named in the report.
 
-use super::hypothesis::{Hypothesis, Parameter, ANVIL_FRICTION, EROSION_INTENSITY, LAGGED_MIXTURE};
+use super::hypothesis::{
+    other_rate_treatment, Hypothesis, Parameter, ANVIL_FRICTION, EROSION_INTENSITY, LAGGED_MIXTURE,
+};
 use crate::calibrate::Campaign;
 use crate::experiment::Setup;
 use crate::input::material::StrengthSpec;
@@ -53,9 +55,9 @@ pub struct Candidate {
     pub one_sided: bool,
     /// The current model extended by the term, at its null (the term's constant last).
     pub extended: Hypothesis,
-    /// Refit with the term fixed at this value instead of fitting it (a switch, such as the
-    /// rate treatment).
-    pub refit_fixed: Option<f64>,
+    /// The refit switches the rate treatment instead of fitting the term's constant (the
+    /// lagged-rate term: its mixture weight exists only for the score test).
+    pub switches_rate_treatment: bool,
 }
 
 /// A term of the library that does not apply to this model, and why.
@@ -88,7 +90,7 @@ fn extend(
         null,
         step,
         extended,
-        refit_fixed: None,
+        switches_rate_treatment: false,
     }
 }
 
@@ -407,7 +409,7 @@ pub fn library(
         1.0,
         |_| {},
     );
-    lagged.refit_fixed = Some(1.0);
+    lagged.switches_rate_treatment = true;
     candidates.push(lagged);
     (candidates, skipped)
 }
@@ -416,28 +418,15 @@ impl Candidate {
     /// The hypothesis the refit fits and its starting values (`current_values`: the current
     /// model's fitted constants).
     pub fn refit(&self, current_values: &[f64]) -> (Hypothesis, Vec<f64>) {
-        match self.refit_fixed {
-            None => {
-                let mut start = current_values.to_vec();
-                start.push(self.null);
-                (self.extended.clone(), start)
-            }
-            Some(value) => {
-                let mut hypothesis = self.extended.clone();
-                hypothesis.parameters.pop();
-                if self.parameter.name == LAGGED_MIXTURE && value == 1.0 {
-                    hypothesis.material.rate_treatment = match hypothesis.material.rate_treatment {
-                        RateTreatment::Implicit => RateTreatment::Lagged,
-                        RateTreatment::Lagged => RateTreatment::Implicit,
-                    };
-                }
-                (hypothesis, current_values.to_vec())
-            }
+        if self.switches_rate_treatment {
+            let mut hypothesis = self.extended.clone();
+            hypothesis.parameters.pop();
+            hypothesis.material.rate_treatment =
+                other_rate_treatment(hypothesis.material.rate_treatment);
+            return (hypothesis, current_values.to_vec());
         }
-    }
-
-    /// Constants the term adds to the model (for the information criteria).
-    pub fn added_constants(&self) -> usize {
-        1
+        let mut start = current_values.to_vec();
+        start.push(self.null);
+        (self.extended.clone(), start)
     }
 }

@@ -31,7 +31,8 @@ pub struct Fit {
     pub iterations: usize,
 }
 
-fn to_si(hypothesis: &Hypothesis, unit: &[f64]) -> Vec<f64> {
+/// Unit coordinates of `hypothesis`'s bounds to SI.
+pub fn to_si(hypothesis: &Hypothesis, unit: &[f64]) -> Vec<f64> {
     hypothesis
         .parameters
         .iter()

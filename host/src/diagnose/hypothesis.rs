@@ -197,6 +197,14 @@ impl Hypothesis {
     }
 }
 
+/// The rate treatment the lagged-rate term switches to: implicit <-> lagged.
+pub fn other_rate_treatment(treatment: RateTreatment) -> RateTreatment {
+    match treatment {
+        RateTreatment::Implicit => RateTreatment::Lagged,
+        RateTreatment::Lagged => RateTreatment::Implicit,
+    }
+}
+
 /// The float at dotted path `name` in a TOML tree.
 pub fn get_dotted(tree: &toml::Value, name: &str) -> Option<f64> {
     match name.split_once('.') {
@@ -248,10 +256,7 @@ impl Realisation {
             return Ok(current);
         }
         let mut other = self.material;
-        other.rate_treatment = match other.rate_treatment {
-            RateTreatment::Implicit => RateTreatment::Lagged,
-            RateTreatment::Lagged => RateTreatment::Implicit,
-        };
+        other.rate_treatment = other_rate_treatment(other.rate_treatment);
         let switched = run(&other)?;
         let weight = self.lagged_mixture;
         Ok(current

@@ -272,14 +272,7 @@ fn assess(
                 .zip(&step)
                 .map(|(u, s)| (u + s).clamp(0.0, 1.0))
                 .collect();
-            fold_points.push(
-                hypothesis
-                    .parameters
-                    .iter()
-                    .zip(&unit)
-                    .map(|(p, u)| p.from_unit(*u))
-                    .collect(),
-            );
+            fold_points.push(fit::to_si(hypothesis, &unit));
         }
     } else if fitted.len() >= 2 {
         fold_points = vec![fit.values.clone(); fitted.len()];
@@ -339,6 +332,24 @@ fn max_plastic_strain(outcomes: &[Option<crate::experiment::Outcome>]) -> f64 {
         .flat_map(|h| h.samples.iter())
         .map(|s| s.plastic_strain)
         .fold(0.0, f64::max)
+}
+
+/// Full outcomes (tracked states, fields) of every experiment with `hypothesis` at its current
+/// values, for the locate step; `None` where a simulation fails.
+fn simulate_outcomes(
+    engine: &Engine,
+    hypothesis: &Hypothesis,
+) -> Result<Vec<Option<crate::experiment::Outcome>>, DiagnoseError> {
+    let values = hypothesis.values().map_err(DiagnoseError::Calibration)?;
+    let realised = hypothesis
+        .realise(&values)
+        .map_err(DiagnoseError::Calibration)?;
+    Ok(engine
+        .campaign
+        .experiments
+        .iter()
+        .map(|e| realised.outcome(e, engine.settings()).ok())
+        .collect())
 }
 
 /// Locate the misfit of every experiment.
@@ -423,14 +434,7 @@ pub fn diagnose(
     stage(&engine, "refit of the calibrated model", mark, &mut cost);
 
     progress("locate");
-    let realised = base
-        .realise(&base_fit.values)
-        .map_err(DiagnoseError::Calibration)?;
-    let outcomes: Vec<Option<crate::experiment::Outcome>> = campaign
-        .experiments
-        .iter()
-        .map(|e| realised.outcome(e, engine.settings()).ok())
-        .collect();
+    let outcomes = simulate_outcomes(&engine, &base)?;
     let misfit_before = locate_all(
         &engine,
         &predictions_before,
@@ -496,10 +500,10 @@ pub fn diagnose(
             .map_err(DiagnoseError::Calibration)?;
         hypothesis.label = candidate.name.clone();
         let (mut assessment, predictions) = assess(&mut engine, &hypothesis, &refit, &fitted)?;
-        if candidate.refit_fixed.is_some() {
+        if candidate.switches_rate_treatment {
             // The switch is a constant of the model too.
             let n = assessment.residuals as f64;
-            assessment.constants_fitted += candidate.added_constants();
+            assessment.constants_fitted += 1;
             assessment.aic += 2.0;
             assessment.bic += n.ln();
         }
@@ -551,20 +555,7 @@ pub fn diagnose(
     let (misfit_after, predictions_after, accepted_name) = match &accepted {
         Some((index, predictions)) => {
             let refit = &refits[*index];
-            let realised = refit
-                .hypothesis
-                .realise(
-                    &refit
-                        .hypothesis
-                        .values()
-                        .map_err(DiagnoseError::Calibration)?,
-                )
-                .map_err(DiagnoseError::Calibration)?;
-            let outcomes: Vec<Option<crate::experiment::Outcome>> = campaign
-                .experiments
-                .iter()
-                .map(|e| realised.outcome(e, engine.settings()).ok())
-                .collect();
+            let outcomes = simulate_outcomes(&engine, &refit.hypothesis)?;
             (
                 Some(locate_all(
                     &engine,
