@@ -1,5 +1,6 @@
 //! SVG figures (plotters, SVG backend: no fonts or system libraries needed).
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -50,6 +51,32 @@ fn colour(index: usize) -> RGBColor {
     RGBColor(r, g, b)
 }
 
+/// The axes of a 720 x 450 chart: caption, label areas, mesh and axis labels.
+fn frame<'a, 'b>(
+    root: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    error: &dyn Fn(&dyn std::fmt::Display) -> String,
+) -> Result<ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>, String> {
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| error(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .draw()
+        .map_err(|e| error(&e))?;
+    Ok(chart)
+}
+
 /// A line/marker chart of several series.
 pub fn line_chart(
     path: &Path,
@@ -63,19 +90,7 @@ pub fn line_chart(
     root.fill(&WHITE).map_err(|e| error(&e))?;
     let (x0, x1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
     let (y0, y1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| error(&e))?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .draw()
-        .map_err(|e| error(&e))?;
+    let mut chart = frame(&root, title, x_label, y_label, (x0, x1), (y0, y1), &error)?;
     for s in series {
         let c = colour(s.colour);
         let points = s
@@ -230,19 +245,15 @@ pub fn residual_chart(
             .flat_map(|s| s.points.iter().map(|p| p.1))
             .chain([-3.0, 3.0]),
     );
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| error(&e))?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc("(predicted - recorded) / uncertainty")
-        .draw()
-        .map_err(|e| error(&e))?;
+    let mut chart = frame(
+        &root,
+        title,
+        x_label,
+        "(predicted - recorded) / uncertainty",
+        (x0, x1),
+        (y0, y1),
+        &error,
+    )?;
     let pad = 0.01 * (x1 - x0);
     chart
         .draw_series(shades.iter().map(|s| {
