@@ -229,5 +229,10 @@ pub fn kind_name(setup: &Setup) -> &'static str {
     }
 }
 
+/// Initial temperature of an experiment file that gives none: room temperature (K).
+pub(crate) fn default_temperature() -> f64 {
+    298.0
+}
+
 /// A validation callback: `(field, ok, message)`.
 pub type Check<'a> = dyn Fn(&str, bool, &str) -> Result<(), InputError> + 'a;

@@ -62,6 +62,7 @@
 //! `T + rise <= 2 d_i / c0`, `<= 2 (L_i - d_i) / c0` and `<= 2 (L_t - d_t) / c0`; the spec is
 //! rejected otherwise.
 
+use super::default_temperature;
 use super::{Check, FieldOutput, Outcome, SimulationError};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
@@ -129,9 +130,6 @@ fn default_gauge() -> f64 {
 }
 fn default_friction() -> f64 {
     0.05
-}
-fn default_temperature() -> f64 {
-    298.0
 }
 fn default_bar_radial_elements() -> usize {
     4

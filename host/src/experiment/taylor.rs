@@ -2,6 +2,7 @@
 //! `final_length` (m), `footprint_diameter` (m, at the impact face), `diameter` (m) at
 //! `position` = distance from the impact face in the deformed rod (m).
 
+use super::default_temperature;
 use super::{Check, FieldOutput, Outcome, SimulationError};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
@@ -16,10 +17,6 @@ use stoss_kernel::Material;
 
 /// Quantities a Taylor test records.
 pub const QUANTITIES: &[&str] = &["final_length", "footprint_diameter", "diameter"];
-
-fn default_temperature() -> f64 {
-    298.0
-}
 
 fn default_radial() -> usize {
     8

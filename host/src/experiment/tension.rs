@@ -14,6 +14,7 @@
 //! (for 4340 JC at rates <= 1 /s, where the JC rate term gives no stabilisation, beyond a true
 //! strain of about 0.12); past that the mid-section stress is no longer uniaxial.
 
+use super::default_temperature;
 use super::{Check, FieldOutput, Outcome, SimulationError};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
@@ -34,9 +35,6 @@ fn default_length() -> f64 {
 }
 fn default_element_size() -> f64 {
     0.2e-3
-}
-fn default_temperature() -> f64 {
-    298.0
 }
 fn default_rise() -> f64 {
     0.02
