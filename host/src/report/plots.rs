@@ -77,6 +77,21 @@ fn frame<'a, 'b>(
     Ok(chart)
 }
 
+/// Draw the legend of a [`frame`] chart and write the file.
+fn finish<'a, 'b: 'a>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    root: &DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    error: &dyn Fn(&dyn std::fmt::Display) -> String,
+) -> PlotResult {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| error(&e))?;
+    root.present().map_err(|e| error(&e))
+}
+
 /// A line/marker chart of several series.
 pub fn line_chart(
     path: &Path,
@@ -113,13 +128,7 @@ pub fn line_chart(
                 .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled())),
         };
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| error(&e))?;
-    root.present().map_err(|e| error(&e))
+    finish(&mut chart, &root, &error)
 }
 
 /// A histogram of `values` with `bins` bins.
@@ -299,11 +308,5 @@ pub fn residual_chart(
             .label(s.label.clone())
             .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| error(&e))?;
-    root.present().map_err(|e| error(&e))
+    finish(&mut chart, &root, &error)
 }
