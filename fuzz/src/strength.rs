@@ -203,6 +203,8 @@ pub fn material_with(src: &mut Source, strength: Strength) -> Material {
             johnson_cook,
             erosion_plastic_strain,
             erode_on_failure,
+            erosion_geometric_strain: None,
+            failure_principal_strain: None,
             pressure_cutoff,
         },
         rate_treatment,

@@ -618,6 +618,7 @@ impl ShpbSpec {
             ],
             walls: Vec::new(),
             contacts,
+            eroding_contact: None,
             settings: SolverSettings {
                 end_time,
                 damping: None,

@@ -136,6 +136,7 @@ impl TaylorSpec {
                 nodes: Vec::new(),
             }],
             contacts: Vec::new(),
+            eroding_contact: None,
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {
@@ -183,6 +184,7 @@ impl TaylorSpec {
                 nodes: Vec::new(),
             }],
             contacts: Vec::new(),
+            eroding_contact: None,
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {

@@ -212,6 +212,7 @@ impl TensionSpec {
             ],
             walls: Vec::new(),
             contacts: Vec::new(),
+            eroding_contact: None,
             settings: SolverSettings {
                 end_time: self.duration(),
                 damping: None,

@@ -96,12 +96,54 @@ impl Discretisation for QuadMesh {
         (part.material, &part.name)
     }
 
+    fn element_part(&self, e: usize) -> usize {
+        self.element_part[e]
+    }
+
+    fn part_count(&self) -> usize {
+        self.parts.len()
+    }
+
     fn element_volume(&self, e: usize, x: &[Vector]) -> f64 {
         let geom = geometry(self.corners(e, x));
         if geom.area <= 0.0 || geom.mean_radius <= 0.0 {
             return 0.0;
         }
         geom.area * geom.mean_radius
+    }
+
+    /// Principal logarithmic strains from the centroidal deformation gradient: in-plane
+    /// `F = sum_k x_k (x) b_k` with the reference-configuration gradients `b_k`, hoop stretch
+    /// `r_bar / R_bar` (mean nodal radii); `e_i = ln(lambda_i)` with `lambda_i^2` the
+    /// eigenvalues of `F^T F`.
+    fn element_principal_strains(
+        &self,
+        e: usize,
+        reference: &[Vector],
+        x: &[Vector],
+    ) -> Option<[f64; 3]> {
+        let initial = geometry(self.corners(e, reference));
+        let current = self.corners(e, x);
+        let mut f = [[0.0; 2]; 2];
+        for (k, p) in current.iter().enumerate() {
+            f[0][0] += p[0] * initial.b_r[k];
+            f[0][1] += p[0] * initial.b_z[k];
+            f[1][0] += p[1] * initial.b_r[k];
+            f[1][1] += p[1] * initial.b_z[k];
+        }
+        let c11 = f[0][0] * f[0][0] + f[1][0] * f[1][0];
+        let c22 = f[0][1] * f[0][1] + f[1][1] * f[1][1];
+        let c12 = f[0][0] * f[0][1] + f[1][0] * f[1][1];
+        let mean = 0.5 * (c11 + c22);
+        let radius = (0.25 * (c11 - c22) * (c11 - c22) + c12 * c12).sqrt();
+        let hoop = 0.25 * (current[0][0] + current[1][0] + current[2][0] + current[3][0])
+            / initial.mean_radius;
+        let stretch2 = [mean + radius, (mean - radius).max(f64::MIN_POSITIVE)];
+        Some([
+            0.5 * libm::log(stretch2[0]),
+            0.5 * libm::log(stretch2[1]),
+            libm::log(hoop.max(f64::MIN_POSITIVE)),
+        ])
     }
 
     fn element_time_step(&self, e: usize, x: &[Vector], wave_speed: f64) -> f64 {
@@ -136,7 +178,11 @@ impl Discretisation for QuadMesh {
         let mid = geometry(nodes_mid);
         let new = geometry(nodes_new);
         if mid.area <= 0.0 || new.area <= 0.0 || new.mean_radius <= 0.0 {
-            return Err(SolverError::InvertedElement { element: e, time });
+            return Err(SolverError::InvertedElement {
+                element: e,
+                part: self.parts[self.element_part[e]].name.clone(),
+                time,
+            });
         }
         let mut grad = [[0.0; 2]; 2]; // grad[i][j] = d v_i / d x_j, x = (r, z)
         for (k, velocity) in vel.iter().enumerate() {

@@ -7,7 +7,9 @@
 //! serially in a fixed order, so the loop stays bit-identical for any thread count), and their
 //! work is booked as `EnergyBalance::contact` with the same mid-step velocities as the walls'.
 
-use super::contact::{ContactPair, PenaltyContact};
+use super::contact::{
+    ContactPair, ContactStatistics, ErodingContact, ErodingSurfaces, PenaltyContact,
+};
 use super::energy::EnergyBalance;
 use super::loads::{RigidWall, VelocityConstraint};
 use super::{SolverError, SolverSettings};
@@ -54,6 +56,21 @@ pub trait Discretisation: Sync {
     fn element_nodes(&self, e: usize) -> &[usize];
     /// Material index of element `e`, and its part name (for messages).
     fn element_material(&self, e: usize) -> (usize, &str);
+    /// Part index of element `e`.
+    fn element_part(&self, e: usize) -> usize;
+    /// Number of parts.
+    fn part_count(&self) -> usize;
+    /// Principal logarithmic strains of element `e` between the reference positions
+    /// `reference` and positions `x` (for the kinematic failure and erosion criteria), or
+    /// `None` if the formulation does not provide them.
+    fn element_principal_strains(
+        &self,
+        _e: usize,
+        _reference: &[Vector],
+        _x: &[Vector],
+    ) -> Option<[f64; 3]> {
+        None
+    }
     /// Volume of element `e` in the integration measure at positions `x` (<= 0: inverted).
     fn element_volume(&self, e: usize, x: &[Vector]) -> f64;
     /// Stable time step of element `e` at positions `x` for a wave speed, at rest.
@@ -93,6 +110,8 @@ pub struct ExplicitModel<M> {
     pub walls: Vec<RigidWall>,
     /// Penalty contact pairs between parts (2D models only).
     pub contacts: Vec<ContactPair>,
+    /// Contact between parts that follows erosion (2D models only).
+    pub eroding_contact: Option<ErodingContact>,
     /// Numerical settings.
     pub settings: SolverSettings,
     /// Elements whose state history is recorded.
@@ -120,6 +139,8 @@ pub struct ExplicitRun {
     pub steps: usize,
     /// Element updates performed (element-cycles).
     pub element_cycles: u64,
+    /// The eroding contact's statistics (default when the model has none).
+    pub contact: ContactStatistics,
 }
 
 impl ExplicitRun {
@@ -131,6 +152,15 @@ impl ExplicitRun {
 
 fn dot(a: &Vector, b: &Vector, dimension: usize) -> f64 {
     (0..dimension).map(|d| a[d] * b[d]).sum()
+}
+
+/// Kinetic energy `measure sum m v.v / 2`.
+fn kinetic(v: &[Vector], mass: &[f64], measure: f64, dimension: usize) -> f64 {
+    measure
+        * v.iter()
+            .zip(mass)
+            .map(|(vel, m)| 0.5 * m * dot(vel, vel, dimension))
+            .sum::<f64>()
 }
 
 impl<M: Discretisation> ExplicitModel<M> {
@@ -185,6 +215,7 @@ impl<M: Discretisation> ExplicitModel<M> {
             if volume <= 0.0 || !volume.is_finite() {
                 return Err(SolverError::InvertedElement {
                     element: e,
+                    part: name.to_string(),
                     time: 0.0,
                 });
             }
@@ -239,16 +270,36 @@ impl<M: Discretisation> ExplicitModel<M> {
         dt *= settings.time_step_safety;
         let minimum_dt = dt * 1e-4;
         let mut contact = PenaltyContact::new(&self.contacts, &mass, dt, dimension)?;
-
-        let kinetic = |v: &[Vector]| -> f64 {
-            measure
-                * v.iter()
-                    .zip(&mass)
-                    .map(|(vel, m)| 0.5 * m * dot(vel, vel, dimension))
-                    .sum::<f64>()
+        let mut eroding = match &self.eroding_contact {
+            Some(settings) => Some(ErodingSurfaces::new(
+                settings,
+                element_count,
+                |e| (mesh.element_nodes(e), mesh.element_part(e)),
+                mesh.part_count(),
+                &x,
+                dt,
+                dimension,
+            )?),
+            None => None,
         };
+        let kinematic_criteria = self
+            .materials
+            .iter()
+            .any(|m| m.failure.has_kinematic_criteria());
+        let reference = x.clone();
+        if kinematic_criteria
+            && (element_count > 0 && mesh.element_principal_strains(0, &x, &x).is_none())
+        {
+            return Err(SolverError::Model(
+                "geometric-strain erosion and principal-strain failure are implemented for 2D \
+                 (axisymmetric) models only"
+                    .into(),
+            ));
+        }
+        let mut newly_eroded: Vec<usize> = Vec::new();
+
         let mut energy = EnergyBalance {
-            kinetic: kinetic(&v),
+            kinetic: kinetic(&v, &mass, measure, dimension),
             ..EnergyBalance::default()
         };
         energy.initial = energy.total();
@@ -307,6 +358,9 @@ impl<M: Discretisation> ExplicitModel<M> {
         while time < settings.end_time {
             let dt_average = 0.5 * (dt_previous + dt);
             contact.add_forces(&x, &v, dt_average, &mut force);
+            if let Some(surfaces) = eroding.as_mut() {
+                surfaces.add_forces(&x, &v, &mass, dt_average, &mut force);
+            }
             v_old.copy_from_slice(&v);
             for n in 0..node_count {
                 if mass[n] > 0.0 {
@@ -383,25 +437,40 @@ impl<M: Discretisation> ExplicitModel<M> {
             if contact.is_active() {
                 energy.contact += measure * contact.absorbed(&v_old, &v, dt_average);
             }
+            if let Some(surfaces) = &eroding {
+                energy.contact += measure * surfaces.absorbed(&v_old, &v, dt_average);
+            }
 
             // Elements in parallel; results kept in element order.
             results.par_iter_mut().enumerate().for_each(|(e, slot)| {
                 *slot = if eroded[e] {
                     Ok(None)
                 } else {
+                    let material = &self.materials[material_of[e]];
                     mesh.element_step(
                         e,
                         &x,
                         &x_new,
                         &v,
                         &states[e],
-                        &self.materials[material_of[e]],
+                        material,
                         reference_volume[e],
                         dt,
                         settings,
                         time,
                     )
-                    .map(Some)
+                    .map(|mut step| {
+                        if material.failure.has_kinematic_criteria() {
+                            if let Some(strains) =
+                                mesh.element_principal_strains(e, &reference, &x_new)
+                            {
+                                step.state
+                                    .flags
+                                    .insert(material.failure.kinematic_flags(strains).0);
+                            }
+                        }
+                        Some(step)
+                    })
                 };
             });
 
@@ -422,6 +491,7 @@ impl<M: Discretisation> ExplicitModel<M> {
                 states[e] = step.state;
                 if step.state.flags.contains(StateFlags::ERODE) {
                     eroded[e] = true;
+                    newly_eroded.push(e);
                     energy.eroded += measure * step.state.internal_energy * reference_volume[e];
                     continue;
                 }
@@ -432,11 +502,24 @@ impl<M: Discretisation> ExplicitModel<M> {
                 }
                 dt_next = dt_next.min(step.stable_dt);
             }
+            if !newly_eroded.is_empty() {
+                if let Some(surfaces) = eroding.as_mut() {
+                    let removed = surfaces.on_erosion(
+                        &newly_eroded,
+                        |e| mesh.element_nodes(e),
+                        &eroded,
+                        &mut mass,
+                        &mut v,
+                    );
+                    energy.eroded += measure * removed;
+                }
+                newly_eroded.clear();
+            }
             std::mem::swap(&mut x, &mut x_new);
             time += dt;
             steps += 1;
             energy.time = time;
-            energy.kinetic = kinetic(&v);
+            energy.kinetic = kinetic(&v, &mass, measure, dimension);
             energy.internal = measure
                 * states
                     .iter()
@@ -490,6 +573,10 @@ impl<M: Discretisation> ExplicitModel<M> {
             constraint_forces,
             steps,
             element_cycles,
+            contact: eroding
+                .as_ref()
+                .map(ErodingSurfaces::statistics)
+                .unwrap_or_default(),
         })
     }
 }

@@ -150,6 +150,14 @@ impl Discretisation for HexMesh {
         (part.material, &part.name)
     }
 
+    fn element_part(&self, e: usize) -> usize {
+        self.element_part[e]
+    }
+
+    fn part_count(&self) -> usize {
+        self.parts.len()
+    }
+
     fn element_volume(&self, e: usize, x: &[Vector]) -> f64 {
         geometry(&self.corners(e, x)).volume
     }
@@ -180,7 +188,11 @@ impl Discretisation for HexMesh {
         let mid = geometry(&nodes_mid);
         let new = geometry(&nodes_new);
         if !(mid.volume > 0.0 && new.volume > 0.0) {
-            return Err(SolverError::InvertedElement { element: e, time });
+            return Err(SolverError::InvertedElement {
+                element: e,
+                part: self.parts[self.element_part[e]].name.clone(),
+                time,
+            });
         }
         // Velocity gradient L[i][j] = d v_i / d x_j at mid-step.
         let mut grad = [[0.0; 3]; 3];

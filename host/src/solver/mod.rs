@@ -20,7 +20,7 @@ pub mod hexahedral;
 pub mod loads;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
-pub use contact::ContactPair;
+pub use contact::{ContactPair, ContactStatistics, ErodingContact};
 pub use energy::EnergyBalance;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun};
 pub use hexahedral::{HexModel, HexRun};
@@ -123,6 +123,8 @@ pub enum SolverError {
     InvertedElement {
         /// Element index.
         element: usize,
+        /// Its part.
+        part: String,
         /// Time (s).
         time: f64,
     },
@@ -146,8 +148,15 @@ impl std::fmt::Display for SolverError {
                 time,
                 error,
             } => write!(f, "element {element} at t = {time:.4e} s: {error}"),
-            SolverError::InvertedElement { element, time } => {
-                write!(f, "element {element} inverted at t = {time:.4e} s")
+            SolverError::InvertedElement {
+                element,
+                part,
+                time,
+            } => {
+                write!(
+                    f,
+                    "element {element} of part {part} inverted at t = {time:.4e} s"
+                )
             }
             SolverError::TimeStepCollapse { time, time_step } => write!(
                 f,

@@ -559,6 +559,8 @@ fn johnson_cook_failure() -> CheckResult {
         johnson_cook: Some(JohnsonCookFailure::STEEL_4340),
         erosion_plastic_strain: None,
         erode_on_failure: true,
+        erosion_geometric_strain: None,
+        failure_principal_strain: None,
         pressure_cutoff: None,
     };
     let jc = JohnsonCookFailure::STEEL_4340;

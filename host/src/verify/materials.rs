@@ -106,6 +106,8 @@ pub fn reference_materials() -> Vec<ReferenceMaterial> {
         johnson_cook: Some(JohnsonCookFailure::STEEL_4340),
         erosion_plastic_strain: None,
         erode_on_failure: true,
+        erosion_geometric_strain: None,
+        failure_principal_strain: None,
         pressure_cutoff: None,
     };
     vec![

@@ -1009,6 +1009,8 @@ impl StossMaterialBlock {
             erosion_plastic_strain: switch("failure.erosion_enabled", f.erosion_enabled)?
                 .then_some(f.erosion_plastic_strain),
             erode_on_failure: switch("failure.erode_on_failure", f.erode_on_failure)?,
+            erosion_geometric_strain: None,
+            failure_principal_strain: None,
             pressure_cutoff: switch("failure.pressure_cutoff_enabled", f.pressure_cutoff_enabled)?
                 .then_some(f.pressure_cutoff),
         };

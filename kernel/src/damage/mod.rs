@@ -8,6 +8,8 @@ mod johnson_cook_failure;
 pub use johnson_cook_failure::JohnsonCookFailure;
 
 use crate::error::{check, ParameterError};
+use crate::math::sqrt;
+use crate::StateFlags;
 
 /// Failure and erosion settings of a material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -23,6 +25,17 @@ pub struct Failure {
     /// Erode (not only fail) when damage reaches 1, as LS-DYNA *MAT_JOHNSON_COOK does.
     #[cfg_attr(feature = "serde", serde(default))]
     pub erode_on_failure: bool,
+    /// Autodyn-style *instantaneous geometric strain* at which the host erodes an element
+    /// (seed 001 uses 1.5): the equivalent of the element's total logarithmic strain, see
+    /// [`Failure::geometric_strain`]. The kernel has no geometry: the host FE code evaluates
+    /// it from the element's deformation ([`Failure::kinematic_flags`]). `None`: never.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub erosion_geometric_strain: Option<f64>,
+    /// Largest principal *tensile* logarithmic strain at which the point fails (becomes a
+    /// fluid without shear or tensile strength, as on Johnson-Cook failure; seed 001 uses 1.2
+    /// for HNS), evaluated by the host FE code like the geometric strain. `None`: never.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub failure_principal_strain: Option<f64>,
     /// Hydrodynamic tensile limit `p_min <= 0` (Pa): pressure is never below it (spall
     /// cut-off, Autodyn "hydro tensile limit"). `None`: no cut-off for intact material.
     pub pressure_cutoff: Option<f64>,
@@ -34,8 +47,48 @@ impl Failure {
         johnson_cook: None,
         erosion_plastic_strain: None,
         erode_on_failure: false,
+        erosion_geometric_strain: None,
+        failure_principal_strain: None,
         pressure_cutoff: None,
     };
+
+    /// Whether a criterion needs the element's total strain (host-evaluated).
+    pub fn has_kinematic_criteria(&self) -> bool {
+        self.erosion_geometric_strain.is_some() || self.failure_principal_strain.is_some()
+    }
+
+    /// Equivalent total strain from the principal logarithmic strains `e_i`:
+    /// `sqrt(2/3 e':e')` with `e'` the deviator (von Mises equivalent; it equals the axial
+    /// strain in incompressible uniaxial stretching and the effective plastic strain along
+    /// proportional incompressible paths).
+    pub fn geometric_strain(principal_strains: [f64; 3]) -> f64 {
+        let [a, b, c] = principal_strains;
+        let mean = (a + b + c) / 3.0;
+        let (a, b, c) = (a - mean, b - mean, c - mean);
+        sqrt(2.0 / 3.0 * (a * a + b * b + c * c))
+    }
+
+    /// The flags the kinematic criteria set for an element with principal logarithmic strains
+    /// `principal_strains`: [`StateFlags::FAILED`] when the largest reaches
+    /// `failure_principal_strain`, [`StateFlags::ERODE`] when the geometric strain reaches
+    /// `erosion_geometric_strain`.
+    pub fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {
+        let mut flags = StateFlags(0);
+        if let Some(limit) = self.failure_principal_strain {
+            let largest = principal_strains[0]
+                .max(principal_strains[1])
+                .max(principal_strains[2]);
+            if largest >= limit {
+                flags.insert(StateFlags::FAILED);
+            }
+        }
+        if let Some(limit) = self.erosion_geometric_strain {
+            if Self::geometric_strain(principal_strains) >= limit {
+                flags.insert(StateFlags::ERODE);
+            }
+        }
+        flags
+    }
 
     /// Reject non-physical settings.
     pub fn validate(&self) -> Result<(), ParameterError> {
@@ -44,6 +97,12 @@ impl Failure {
         }
         if let Some(strain) = self.erosion_plastic_strain {
             check::positive("erosion_plastic_strain", strain)?;
+        }
+        if let Some(strain) = self.erosion_geometric_strain {
+            check::positive("erosion_geometric_strain", strain)?;
+        }
+        if let Some(strain) = self.failure_principal_strain {
+            check::positive("failure_principal_strain", strain)?;
         }
         if let Some(cutoff) = self.pressure_cutoff {
             check::finite("pressure_cutoff", cutoff)?;

@@ -41,6 +41,12 @@
 //! `-dt_avg sum f . (v_{n-1/2} + v_{n+1/2}) / 2` (the same form as the walls'), so the penalty
 //! energy stored while in contact and the friction dissipation close the balance.
 
+mod eroding;
+
+pub use eroding::ContactStatistics;
+pub use eroding::ErodingContact;
+pub(crate) use eroding::ErodingSurfaces;
+
 use super::explicit::Vector;
 use super::SolverError;
 
@@ -195,86 +201,153 @@ impl<'a> PenaltyContact<'a> {
 
     fn apply(&mut self, pair: &ContactPair, s: usize, hit: &Hit, v: &[Vector], dt: f64) {
         let [a, b] = pair.master_segments[hit.segment];
-        let (m_s, m_a, m_b) = (self.mass[s], self.mass[a], self.mass[b]);
+        let law = PenaltyLaw {
+            penalty_scale: pair.penalty_scale,
+            friction: pair.friction,
+            inverse_dt2: self.inverse_dt2,
+        };
+        if let Some(f) = law.force(&self.mass, [s, a, b], hit, v, dt) {
+            distribute(&mut self.forces, [s, a, b], hit.xi, f);
+        }
+    }
+}
+
+/// The penalty and friction law of one slave node against one master segment (see the
+/// module notes): `k = s m* / dt0^2` on the reduced mass, Coulomb friction up to the stick
+/// limit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PenaltyLaw {
+    /// Penalty scale `s`.
+    pub penalty_scale: f64,
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+    /// `1 / dt0^2`.
+    pub inverse_dt2: f64,
+}
+
+impl PenaltyLaw {
+    /// The force on slave node `s` penetrating segment `[a, b]` (`nodes = [s, a, b]`), or
+    /// `None` if a node carries no mass.
+    pub(crate) fn force(
+        &self,
+        mass: &[f64],
+        nodes: [usize; 3],
+        hit: &Hit,
+        v: &[Vector],
+        dt: f64,
+    ) -> Option<[f64; 2]> {
+        let [s, a, b] = nodes;
+        let (m_s, m_a, m_b) = (mass[s], mass[a], mass[b]);
         if m_s <= 0.0 || m_a <= 0.0 || m_b <= 0.0 {
-            return;
+            return None;
         }
         let xi = hit.xi;
         let m_segment = 0.5 * (m_a + m_b);
         let reduced = m_s * m_segment / (m_s + m_segment);
-        let normal_force = pair.penalty_scale * reduced * self.inverse_dt2 * (-hit.gap);
+        let normal_force = self.penalty_scale * reduced * self.inverse_dt2 * (-hit.gap);
         let n = hit.normal;
         let t = [-n[1], n[0]];
         let mut f = [normal_force * n[0], normal_force * n[1]];
-        if pair.friction > 0.0 && dt > 0.0 {
+        if self.friction > 0.0 && dt > 0.0 {
             let relative: [f64; 2] =
                 core::array::from_fn(|d| v[s][d] - (1.0 - xi) * v[a][d] - xi * v[b][d]);
             let slip = relative[0] * t[0] + relative[1] * t[1];
             let inverse_mass = 1.0 / m_s + (1.0 - xi) * (1.0 - xi) / m_a + xi * xi / m_b;
             let stick = slip.abs() / (inverse_mass * dt);
-            let magnitude = (pair.friction * normal_force).min(stick);
+            let magnitude = (self.friction * normal_force).min(stick);
             let sign = if slip > 0.0 { -1.0 } else { 1.0 };
             f[0] += sign * magnitude * t[0];
             f[1] += sign * magnitude * t[1];
         }
-        for (d, &component) in f.iter().enumerate() {
-            self.forces[s][d] += component;
-            self.forces[a][d] -= (1.0 - xi) * component;
-            self.forces[b][d] -= xi * component;
-        }
+        Some(f)
+    }
+}
+
+/// Add force `f` on slave node `s` and its reaction on segment `[a, b]` in the proportions
+/// `1 - xi` and `xi` (`nodes = [s, a, b]`): forces and momentum balance exactly.
+pub(crate) fn distribute(forces: &mut [Vector], nodes: [usize; 3], xi: f64, f: [f64; 2]) {
+    let [s, a, b] = nodes;
+    for (d, &component) in f.iter().enumerate() {
+        forces[s][d] += component;
+        forces[a][d] -= (1.0 - xi) * component;
+        forces[b][d] -= xi * component;
     }
 }
 
 /// A slave node's penetration of a master segment.
 #[derive(Clone, Copy, Debug)]
-struct Hit {
+pub(crate) struct Hit {
+    /// Index of the segment in its list.
+    pub segment: usize,
+    /// Position of the projection along the segment, `0..=1` from `a` to `b`.
+    pub xi: f64,
+    /// Signed gap along the outward normal (negative: penetrating).
+    pub gap: f64,
+    /// Outward unit normal of the segment.
+    pub normal: [f64; 2],
+}
+
+/// The projection of point `p` on segment `[x_a, x_b]`: `(distance, hit, segment length)`, or
+/// `None` if the projection falls more than [`END_TOLERANCE`] beyond the segment's ends.
+pub(crate) fn project(
+    p: &Vector,
+    x_a: &Vector,
+    x_b: &Vector,
     segment: usize,
-    xi: f64,
-    gap: f64,
-    normal: [f64; 2],
+) -> Option<(f64, Hit, f64)> {
+    let t = [x_b[0] - x_a[0], x_b[1] - x_a[1]];
+    let length2 = t[0] * t[0] + t[1] * t[1];
+    if length2 <= 0.0 {
+        return None;
+    }
+    let offset = [p[0] - x_a[0], p[1] - x_a[1]];
+    let xi = (offset[0] * t[0] + offset[1] * t[1]) / length2;
+    if !(-END_TOLERANCE..=1.0 + END_TOLERANCE).contains(&xi) {
+        return None;
+    }
+    let xi = xi.clamp(0.0, 1.0);
+    let length = length2.sqrt();
+    let normal = [t[1] / length, -t[0] / length];
+    let d = [offset[0] - xi * t[0], offset[1] - xi * t[1]];
+    let distance = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    let gap = d[0] * normal[0] + d[1] * normal[1];
+    Some((
+        distance,
+        Hit {
+            segment,
+            xi,
+            gap,
+            normal,
+        },
+        length,
+    ))
+}
+
+/// Of the candidate projections, the nearest one if it penetrates (`-length < gap < 0`).
+pub(crate) fn penetrating_nearest(
+    candidates: impl Iterator<Item = (f64, Hit, f64)>,
+) -> Option<Hit> {
+    let mut best: Option<(f64, Hit, f64)> = None;
+    for candidate in candidates {
+        if best
+            .as_ref()
+            .is_none_or(|(closest, _, _)| candidate.0 < *closest)
+        {
+            best = Some(candidate);
+        }
+    }
+    best.and_then(|(_, hit, length)| (hit.gap < 0.0 && -hit.gap < length).then_some(hit))
 }
 
 /// The nearest master segment of slave node `s`, if the node penetrates it.
 fn nearest(pair: &ContactPair, s: usize, x: &[Vector]) -> Option<Hit> {
-    let p = x[s];
-    let mut best: Option<(f64, Hit, f64)> = None;
-    for (k, &[a, b]) in pair.master_segments.iter().enumerate() {
-        if s == a || s == b {
-            continue;
-        }
-        let t = [x[b][0] - x[a][0], x[b][1] - x[a][1]];
-        let length2 = t[0] * t[0] + t[1] * t[1];
-        if length2 <= 0.0 {
-            continue;
-        }
-        let offset = [p[0] - x[a][0], p[1] - x[a][1]];
-        let xi = (offset[0] * t[0] + offset[1] * t[1]) / length2;
-        if !(-END_TOLERANCE..=1.0 + END_TOLERANCE).contains(&xi) {
-            continue;
-        }
-        let xi = xi.clamp(0.0, 1.0);
-        let length = length2.sqrt();
-        let normal = [t[1] / length, -t[0] / length];
-        let d = [offset[0] - xi * t[0], offset[1] - xi * t[1]];
-        let distance = (d[0] * d[0] + d[1] * d[1]).sqrt();
-        let gap = d[0] * normal[0] + d[1] * normal[1];
-        if best
-            .as_ref()
-            .is_none_or(|(closest, _, _)| distance < *closest)
-        {
-            best = Some((
-                distance,
-                Hit {
-                    segment: k,
-                    xi,
-                    gap,
-                    normal,
-                },
-                length,
-            ));
-        }
-    }
-    best.and_then(|(_, hit, length)| (hit.gap < 0.0 && -hit.gap < length).then_some(hit))
+    penetrating_nearest(
+        pair.master_segments
+            .iter()
+            .enumerate()
+            .filter(|(_, &[a, b])| s != a && s != b)
+            .filter_map(|(k, &[a, b])| project(&x[s], &x[a], &x[b], k)),
+    )
 }
 
 #[cfg(test)]

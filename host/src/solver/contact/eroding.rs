@@ -1,0 +1,573 @@
+//! Eroding contact: penalty node-to-segment contact whose surfaces follow element erosion
+//! (2D axisymmetric; the idea of LS-DYNA's `*CONTACT_ERODING_SURFACE_TO_SURFACE` and
+//! OpenRadioss `/INTER/TYPE25` with `Idel`).
+//!
+//! **Surfaces.** The surface of each part in the contact is its *exposed boundary*: the
+//! element edges owned by exactly one live element of the part. Edges on the symmetry axis
+//! (both nodes at `r = 0` in the reference configuration) are never surfaces. When elements
+//! erode, the surfaces are rebuilt: the edges behind an eroded element become master
+//! segments, their nodes slave nodes. A boundary edge is oriented as in its live element
+//! (counter-clockwise), so its outward normal is the tangent turned clockwise, as for
+//! [`super::ContactPair`].
+//!
+//! **Two-way.** Every part is both slave and master: the slave nodes of each part are checked
+//! against the segments of the *other* parts of the contact (a part does not contact itself:
+//! self-contact of a folding crater lip or a mushrooming rod head is not treated).
+//!
+//! **Eroded mass (LS-DYNA ENMASS).** With `keep_eroded_mass` (the default), a node whose
+//! elements have all eroded keeps its mass and momentum and becomes a free mass point that
+//! still meets the other parts' surfaces as a slave node; its kinetic energy stays in the
+//! balance's kinetic energy. Without it, the node's mass is removed and its kinetic energy is
+//! booked as eroded.
+//!
+//! **Search.** Each step the segments are binned into a uniform grid (cell size the longest
+//! segment; every segment in the cells its bounding box, grown by its length, covers), so a
+//! slave node only meets the segments of its own cell: `O(slaves + segments)`, not all pairs.
+//! Within the candidates the force law is [`super::PenaltyLaw`] on the nearest penetrated
+//! segment. Everything runs serially in the fixed order of nodes and segments: results are
+//! bit-identical for any thread count.
+//!
+//! **Penalty.** The stiffness `k = s m* / dt0^2` on the reduced mass bounds the contact
+//! frequency at `sqrt(s)/dt0` whatever the materials, so the stable time step is unchanged;
+//! the default scale for eroding contact is larger than for the pair contact
+//! ([`DEFAULT_ERODING_PENALTY_SCALE`]) because hypervelocity interfaces carry pressures of
+//! tens of GPa.
+
+use super::{distribute, penetrating_nearest, project, Hit, PenaltyLaw};
+use crate::solver::explicit::Vector;
+use crate::solver::SolverError;
+use std::collections::HashMap;
+
+/// Default penalty scale of the eroding contact: `omega dt0 = sqrt(0.5) = 0.71`, inside the
+/// central-difference limit of 2 with the element's own frequency (at most
+/// `2 x time_step_safety`) added in quadrature.
+pub const DEFAULT_ERODING_PENALTY_SCALE: f64 = 0.5;
+
+/// Largest number of search-grid cells; beyond it the cells grow.
+const MAXIMUM_CELLS: usize = 1 << 22;
+
+/// An eroding contact between parts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ErodingContact {
+    /// Part indices of the mesh that meet each other (each both slave and master).
+    pub parts: Vec<usize>,
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+    /// Penalty scale `s` in `k = s m* / dt0^2` (0 < s <= 1).
+    pub penalty_scale: f64,
+    /// Keep the mass and momentum of eroded elements on their nodes (LS-DYNA ENMASS).
+    pub keep_eroded_mass: bool,
+}
+
+impl ErodingContact {
+    /// A contact between `parts` with friction `mu`, the default penalty scale, eroded mass
+    /// kept.
+    pub fn new(parts: Vec<usize>, friction: f64) -> Self {
+        Self {
+            parts,
+            friction,
+            penalty_scale: DEFAULT_ERODING_PENALTY_SCALE,
+            keep_eroded_mass: true,
+        }
+    }
+}
+
+const NONE: usize = usize::MAX;
+
+/// An element edge: its nodes as traversed by its first owner, and its owners.
+#[derive(Clone, Copy, Debug)]
+struct Edge {
+    nodes: [usize; 2],
+    owners: [usize; 2],
+    /// On the symmetry axis: never a surface.
+    on_axis: bool,
+}
+
+/// A master segment of the current surfaces.
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    nodes: [usize; 2],
+    part: usize,
+}
+
+/// Statistics of a run's eroding contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactStatistics {
+    /// Largest penetration found at any step (m).
+    pub largest_penetration: f64,
+    /// Surface rebuilds after erosion.
+    pub rebuilds: u64,
+    /// Master segments at the end.
+    pub segments: usize,
+    /// Slave nodes at the end (free mass points included).
+    pub slave_nodes: usize,
+    /// Wall time spent in the contact (s).
+    pub seconds: f64,
+}
+
+/// The state of an eroding contact during a run.
+#[derive(Debug)]
+pub(crate) struct ErodingSurfaces {
+    law: PenaltyLaw,
+    keep_eroded_mass: bool,
+    edges: Vec<Edge>,
+    /// Part of each node in the contact (`NONE` outside it).
+    node_part: Vec<usize>,
+    /// Live elements around each node (all elements, for the eroded mass).
+    live_around: Vec<u32>,
+    segments: Vec<Segment>,
+    slaves: Vec<usize>,
+    forces: Vec<Vector>,
+    touched: Vec<usize>,
+    cell_start: Vec<usize>,
+    cell_items: Vec<usize>,
+    statistics: ContactStatistics,
+}
+
+impl ErodingSurfaces {
+    /// Build the edges of the contact's parts and the initial surfaces. `element(e)` gives the
+    /// element's counter-clockwise nodes and its part index.
+    pub(crate) fn new<'m>(
+        contact: &ErodingContact,
+        element_count: usize,
+        element: impl Fn(usize) -> (&'m [usize], usize),
+        part_count: usize,
+        reference: &[Vector],
+        dt0: f64,
+        dimension: usize,
+    ) -> Result<Self, SolverError> {
+        let bad = |what: String| SolverError::Model(format!("eroding contact: {what}"));
+        if dimension != 2 {
+            return Err(bad(
+                "implemented for 2D (axisymmetric) models only".to_string()
+            ));
+        }
+        if !(contact.friction >= 0.0 && contact.friction.is_finite()) {
+            return Err(bad(format!(
+                "friction must be >= 0, got {}",
+                contact.friction
+            )));
+        }
+        if !(contact.penalty_scale > 0.0 && contact.penalty_scale <= 1.0) {
+            return Err(bad(format!(
+                "penalty scale must be in (0, 1], got {}",
+                contact.penalty_scale
+            )));
+        }
+        if contact.parts.len() < 2 {
+            return Err(bad("needs at least two parts".to_string()));
+        }
+        if let Some(&p) = contact.parts.iter().find(|&&p| p >= part_count) {
+            return Err(bad(format!("part {p} does not exist")));
+        }
+        let node_count = reference.len();
+        let mut node_part = vec![NONE; node_count];
+        let mut live_around = vec![0u32; node_count];
+        let mut edges: Vec<Edge> = Vec::new();
+        let mut index: HashMap<(usize, usize), usize> = HashMap::new();
+        let axis_tolerance = 1e-12
+            * reference
+                .iter()
+                .map(|p| p[0].abs().max(p[1].abs()))
+                .fold(0.0, f64::max);
+        for e in 0..element_count {
+            let (nodes, part) = element(e);
+            for &n in nodes {
+                live_around[n] += 1;
+            }
+            if !contact.parts.contains(&part) {
+                continue;
+            }
+            for (k, &a) in nodes.iter().enumerate() {
+                let b = nodes[(k + 1) % nodes.len()];
+                node_part[a] = part;
+                let key = (a.min(b), a.max(b));
+                match index.get(&key) {
+                    Some(&id) => edges[id].owners[1] = e,
+                    None => {
+                        index.insert(key, edges.len());
+                        edges.push(Edge {
+                            nodes: [a, b],
+                            owners: [e, NONE],
+                            on_axis: reference[a][0].abs() <= axis_tolerance
+                                && reference[b][0].abs() <= axis_tolerance,
+                        });
+                    }
+                }
+            }
+        }
+        let mut surfaces = Self {
+            law: PenaltyLaw {
+                penalty_scale: contact.penalty_scale,
+                friction: contact.friction,
+                inverse_dt2: 1.0 / (dt0 * dt0),
+            },
+            keep_eroded_mass: contact.keep_eroded_mass,
+            edges,
+            node_part,
+            live_around,
+            segments: Vec::new(),
+            slaves: Vec::new(),
+            forces: vec![[0.0; 3]; node_count],
+            touched: Vec::new(),
+            cell_start: Vec::new(),
+            cell_items: Vec::new(),
+            statistics: ContactStatistics::default(),
+        };
+        let nobody_eroded = vec![false; element_count];
+        surfaces.rebuild(&nobody_eroded);
+        surfaces.statistics.rebuilds = 0;
+        Ok(surfaces)
+    }
+
+    /// The run's statistics so far.
+    pub(crate) fn statistics(&self) -> ContactStatistics {
+        ContactStatistics {
+            segments: self.segments.len(),
+            slave_nodes: self.slaves.len(),
+            ..self.statistics
+        }
+    }
+
+    /// Rebuild the surfaces from the live elements.
+    fn rebuild(&mut self, eroded: &[bool]) {
+        self.statistics.rebuilds += 1;
+        self.segments.clear();
+        self.slaves.clear();
+        let live = |e: usize| e != NONE && !eroded[e];
+        for edge in &self.edges {
+            if edge.on_axis {
+                continue;
+            }
+            let nodes = match (live(edge.owners[0]), live(edge.owners[1])) {
+                (true, false) => edge.nodes,
+                (false, true) => [edge.nodes[1], edge.nodes[0]],
+                _ => continue,
+            };
+            self.segments.push(Segment {
+                nodes,
+                part: self.node_part[nodes[0]],
+            });
+            self.slaves.extend_from_slice(&nodes);
+        }
+        if self.keep_eroded_mass {
+            for (n, (&part, &count)) in self.node_part.iter().zip(&self.live_around).enumerate() {
+                if part != NONE && count == 0 {
+                    self.slaves.push(n);
+                }
+            }
+        }
+        self.slaves.sort_unstable();
+        self.slaves.dedup();
+    }
+
+    /// Elements `newly_eroded` have just eroded (`eroded` already marks them): update the
+    /// live counts and the surfaces. Without `keep_eroded_mass`, nodes left without a live
+    /// element lose their mass and velocity; the kinetic energy they carried (per unit
+    /// integration measure) is returned.
+    pub(crate) fn on_erosion<'m>(
+        &mut self,
+        newly_eroded: &[usize],
+        element_nodes: impl Fn(usize) -> &'m [usize],
+        eroded: &[bool],
+        mass: &mut [f64],
+        v: &mut [Vector],
+    ) -> f64 {
+        let mut removed_kinetic = 0.0;
+        for &e in newly_eroded {
+            for &n in element_nodes(e) {
+                self.live_around[n] -= 1;
+                if self.live_around[n] == 0 && !self.keep_eroded_mass {
+                    let speed2: f64 = v[n].iter().map(|c| c * c).sum();
+                    removed_kinetic += 0.5 * mass[n] * speed2;
+                    mass[n] = 0.0;
+                    v[n] = [0.0; 3];
+                }
+            }
+        }
+        self.rebuild(eroded);
+        removed_kinetic
+    }
+
+    /// Bin the segments at positions `x` into the search grid. Returns the grid's origin,
+    /// cell size and dimensions.
+    fn bin(&mut self, x: &[Vector]) -> ([f64; 2], f64, [usize; 2]) {
+        let mut low = [f64::INFINITY; 2];
+        let mut high = [f64::NEG_INFINITY; 2];
+        let mut cell: f64 = 0.0;
+        for segment in &self.segments {
+            let [a, b] = segment.nodes;
+            let length = ((x[b][0] - x[a][0]).powi(2) + (x[b][1] - x[a][1]).powi(2)).sqrt();
+            cell = cell.max(length);
+            for d in 0..2 {
+                low[d] = low[d].min(x[a][d].min(x[b][d]) - length);
+                high[d] = high[d].max(x[a][d].max(x[b][d]) + length);
+            }
+        }
+        if self.segments.is_empty() || !(cell > 0.0) || !cell.is_finite() {
+            self.cell_start.clear();
+            return ([0.0; 2], 1.0, [0, 0]);
+        }
+        let count = |cell: f64| -> [usize; 2] {
+            core::array::from_fn(|d| (((high[d] - low[d]) / cell).floor() as usize + 1).max(1))
+        };
+        let mut dims = count(cell);
+        while dims[0].saturating_mul(dims[1]) > MAXIMUM_CELLS {
+            cell *= 2.0;
+            dims = count(cell);
+        }
+        let cells = dims[0] * dims[1];
+        let range = |segment: &Segment| -> [[usize; 2]; 2] {
+            let [a, b] = segment.nodes;
+            let length = ((x[b][0] - x[a][0]).powi(2) + (x[b][1] - x[a][1]).powi(2)).sqrt();
+            core::array::from_fn(|d| {
+                let lo = x[a][d].min(x[b][d]) - length;
+                let hi = x[a][d].max(x[b][d]) + length;
+                let first = ((lo - low[d]) / cell).floor().max(0.0) as usize;
+                let last = ((hi - low[d]) / cell).floor().max(0.0) as usize;
+                [first.min(dims[d] - 1), last.min(dims[d] - 1)]
+            })
+        };
+        // Counting pass, then fill (compressed rows: cell_start[c]..cell_start[c + 1]).
+        self.cell_start.clear();
+        self.cell_start.resize(cells + 1, 0);
+        for segment in &self.segments {
+            let [[i0, i1], [j0, j1]] = range(segment);
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    self.cell_start[j * dims[0] + i + 1] += 1;
+                }
+            }
+        }
+        for c in 0..cells {
+            self.cell_start[c + 1] += self.cell_start[c];
+        }
+        self.cell_items.clear();
+        self.cell_items.resize(self.cell_start[cells], 0);
+        let mut fill = self.cell_start.clone();
+        for (k, segment) in self.segments.iter().enumerate() {
+            let [[i0, i1], [j0, j1]] = range(segment);
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let c = j * dims[0] + i;
+                    self.cell_items[fill[c]] = k;
+                    fill[c] += 1;
+                }
+            }
+        }
+        (low, cell, dims)
+    }
+
+    /// Compute the contact forces at positions `x` with velocities `v` (`v_{n-1/2}`) and
+    /// nodal masses `mass` for a velocity update over `dt`, and add them to `force`.
+    pub(crate) fn add_forces(
+        &mut self,
+        x: &[Vector],
+        v: &[Vector],
+        mass: &[f64],
+        dt: f64,
+        force: &mut [Vector],
+    ) {
+        let started = std::time::Instant::now();
+        for &n in &self.touched {
+            self.forces[n] = [0.0; 3];
+        }
+        self.touched.clear();
+        let (low, cell, dims) = self.bin(x);
+        if dims[0] == 0 {
+            return;
+        }
+        for &s in &self.slaves {
+            let p = x[s];
+            let i = ((p[0] - low[0]) / cell).floor();
+            let j = ((p[1] - low[1]) / cell).floor();
+            if !(i >= 0.0 && j >= 0.0 && (i as usize) < dims[0] && (j as usize) < dims[1]) {
+                continue;
+            }
+            let c = j as usize * dims[0] + i as usize;
+            let own = self.node_part[s];
+            let segments = &self.segments;
+            let hit: Option<Hit> = penetrating_nearest(
+                self.cell_items[self.cell_start[c]..self.cell_start[c + 1]]
+                    .iter()
+                    .filter(|&&k| segments[k].part != own)
+                    .filter_map(|&k| {
+                        let [a, b] = segments[k].nodes;
+                        project(&p, &x[a], &x[b], k)
+                    }),
+            );
+            let Some(hit) = hit else { continue };
+            let [a, b] = self.segments[hit.segment].nodes;
+            if let Some(f) = self.law.force(mass, [s, a, b], &hit, v, dt) {
+                self.statistics.largest_penetration =
+                    self.statistics.largest_penetration.max(-hit.gap);
+                distribute(&mut self.forces, [s, a, b], hit.xi, f);
+                self.touched.extend_from_slice(&[s, a, b]);
+            }
+        }
+        self.touched.sort_unstable();
+        self.touched.dedup();
+        for &n in &self.touched {
+            force[n][0] += self.forces[n][0];
+            force[n][1] += self.forces[n][1];
+        }
+        self.statistics.seconds += started.elapsed().as_secs_f64();
+    }
+
+    /// Energy absorbed by the contact over the step, per unit integration measure:
+    /// `-dt sum f . (v_old + v_new) / 2`.
+    pub(crate) fn absorbed(&self, v_old: &[Vector], v_new: &[Vector], dt: f64) -> f64 {
+        let mut work = 0.0;
+        for &n in &self.touched {
+            let f = self.forces[n];
+            work +=
+                f[0] * 0.5 * (v_old[n][0] + v_new[n][0]) + f[1] * 0.5 * (v_old[n][1] + v_new[n][1]);
+        }
+        -dt * work
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two parts: a 2 x 2 block of unit quads (part 0, elements 0-3) on z in [0, 2], r in
+    /// [0, 2], and a single quad (part 1) above it, r in [0.5, 1.5], z in [2, 3].
+    fn two_blocks() -> (Vec<Vector>, Vec<[usize; 4]>, Vec<usize>) {
+        let mut x = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                x.push([i as f64, j as f64, 0.0]);
+            }
+        }
+        let node = |i: usize, j: usize| j * 3 + i;
+        let mut elements = Vec::new();
+        for j in 0..2 {
+            for i in 0..2 {
+                elements.push([
+                    node(i, j),
+                    node(i + 1, j),
+                    node(i + 1, j + 1),
+                    node(i, j + 1),
+                ]);
+            }
+        }
+        let base = x.len();
+        x.extend([
+            [0.5, 2.0, 0.0],
+            [1.5, 2.0, 0.0],
+            [1.5, 3.0, 0.0],
+            [0.5, 3.0, 0.0],
+        ]);
+        elements.push([base, base + 1, base + 2, base + 3]);
+        (x, elements, vec![0, 0, 0, 0, 1])
+    }
+
+    fn surfaces(x: &[Vector], elements: &[[usize; 4]], parts: &[usize]) -> ErodingSurfaces {
+        ErodingSurfaces::new(
+            &ErodingContact::new(vec![0, 1], 0.0),
+            elements.len(),
+            |e| (&elements[e][..], parts[e]),
+            2,
+            x,
+            0.1,
+            2,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn exposed_boundary_excludes_the_axis_and_follows_erosion() {
+        // GOAL: the surfaces are the edges with one live element, not on the axis, oriented
+        //       counter-clockwise; erosion exposes the edges behind the eroded element.
+        // SETUP: the two blocks above; then element 3 (top right of part 0) erodes.
+        // REFERENCE: by hand: part 0 has 8 boundary edges, 2 on the axis -> 6 segments; the
+        //   quad of part 1 has 4, none on the axis (r >= 0.5) -> 10. After erosion part 0 loses
+        //   the 2 outer edges of element 3 and gains its 2 inner ones: still 10; the new ones
+        //   run counter-clockwise in elements 1 and 2.
+        let (x, elements, parts) = two_blocks();
+        let mut contact = surfaces(&x, &elements, &parts);
+        assert_eq!(contact.segments.len(), 10);
+        for segment in &contact.segments {
+            let [a, b] = segment.nodes;
+            assert!(!(x[a][0] == 0.0 && x[b][0] == 0.0), "axis edge {a}-{b}");
+        }
+        // Top face of part 0 runs from r = 2 to r = 0 (outward normal +z): [8, 7] and [7, 6].
+        assert!(contact.segments.iter().any(|s| s.nodes == [8, 7]));
+        let mut eroded = vec![false; 5];
+        eroded[3] = true;
+        let mut mass = vec![1.0; x.len()];
+        let mut v = vec![[0.0; 3]; x.len()];
+        contact.on_erosion(&[3], |e| &elements[e][..], &eroded, &mut mass, &mut v);
+        assert_eq!(contact.segments.len(), 10);
+        // Element 1 = [1, 2, 5, 4]: its top edge runs 5 -> 4, outward normal +z.
+        assert!(contact.segments.iter().any(|s| s.nodes == [5, 4]));
+        // Element 2's right edge: element 2 = [3, 4, 7, 6], edge 4 -> 7, normal +r.
+        assert!(contact.segments.iter().any(|s| s.nodes == [4, 7]));
+        assert!(!contact.segments.iter().any(|s| s.nodes == [8, 7]));
+        // Node 8 lost its only element: it stays as a free mass point among the slaves.
+        assert!(contact.slaves.contains(&8));
+        assert_eq!(mass[8], 1.0);
+    }
+
+    #[test]
+    fn without_eroded_mass_free_nodes_lose_mass_and_book_their_kinetic_energy() {
+        // GOAL: LS-DYNA ENMASS = 0: a node without live elements loses its mass; its kinetic
+        //       energy is returned for the balance.
+        // SETUP: element 3 erodes, node 8 (its only element) moves at (3, 4) with mass 2.
+        // REFERENCE: 1/2 2 (9 + 16) = 25; mass and velocity of node 8 set to zero.
+        let (x, elements, parts) = two_blocks();
+        let mut contact = ErodingSurfaces::new(
+            &ErodingContact {
+                keep_eroded_mass: false,
+                ..ErodingContact::new(vec![0, 1], 0.0)
+            },
+            elements.len(),
+            |e| (&elements[e][..], parts[e]),
+            2,
+            &x,
+            0.1,
+            2,
+        )
+        .unwrap();
+        let mut eroded = vec![false; 5];
+        eroded[3] = true;
+        let mut mass = vec![2.0; x.len()];
+        let mut v = vec![[0.0; 3]; x.len()];
+        v[8] = [3.0, 4.0, 0.0];
+        let removed = contact.on_erosion(&[3], |e| &elements[e][..], &eroded, &mut mass, &mut v);
+        assert_eq!(removed, 25.0);
+        assert_eq!(mass[8], 0.0);
+        assert_eq!(v[8], [0.0; 3]);
+        assert!(!contact.slaves.contains(&8));
+    }
+
+    #[test]
+    fn both_parts_are_slaves_and_masters_and_forces_balance() {
+        // GOAL: two-way contact: a node of part 1 inside part 0 and a node of part 0 inside
+        //       part 1 are both pushed out; forces sum to zero (momentum).
+        // SETUP: the quad of part 1 moved down by 0.01 (its bottom nodes penetrate part 0's
+        //        top face); masses 1; dt0 0.1.
+        // REFERENCE: k = 0.5 m*/dt0^2 with m* = 1/2, penetration d = 0.01 both ways: part 1's
+        //   bottom nodes 9, 10 get k d (+z) as slaves plus half the reaction of node 7 (which
+        //   sits mid-segment and is pushed -z by k d): 1.5 k d; node 7 gets -k d and half the
+        //   reactions of nodes 9 and 10: -2 k d; sum of z forces 0.
+        let (mut x, elements, parts) = two_blocks();
+        for p in x.iter_mut().skip(9) {
+            p[1] -= 0.01;
+        }
+        let mut contact = surfaces(&x, &elements, &parts);
+        let mass = vec![1.0; x.len()];
+        let v = vec![[0.0; 3]; x.len()];
+        let mut force = vec![[0.0; 3]; x.len()];
+        contact.add_forces(&x, &v, &mass, 0.1, &mut force);
+        let k = 0.5 * 0.5 / 0.01;
+        let d = 0.01;
+        assert!((force[9][1] - 1.5 * k * d).abs() < 1e-9, "{:?}", force[9]);
+        assert!((force[10][1] - 1.5 * k * d).abs() < 1e-9, "{:?}", force[10]);
+        assert!((force[7][1] + 2.0 * k * d).abs() < 1e-9, "{:?}", force[7]);
+        let sum: f64 = force.iter().map(|f| f[1]).sum();
+        assert!(sum.abs() < 1e-9);
+        assert!((contact.statistics().largest_penetration - d).abs() < 1e-9);
+    }
+}
