@@ -3,6 +3,7 @@
 //! Host side of stoss: verification of the kernel, and (as the project grows) meshes, the
 //! explicit solver, the functional experiments, calibration and diagnosis.
 
+pub mod analytic;
 pub mod calibrate;
 pub mod cli;
 pub mod diagnose;

@@ -76,11 +76,22 @@ impl QuadMesh {
         grading_r: Grading,
         grading_z: Grading,
     ) -> Self {
-        let rs = grading_r.positions(r.0, r.1, nr);
-        let zs = grading_z.positions(z.0, z.1, nz);
+        Self::structured(
+            part,
+            material,
+            &grading_r.positions(r.0, r.1, nr),
+            &grading_z.positions(z.0, z.1, nz),
+        )
+    }
+
+    /// A structured block on the node coordinates `rs` x `zs` (each strictly increasing,
+    /// at least two), as part `part`, with the node and element sets of [`QuadMesh::block`].
+    pub fn structured(part: &str, material: usize, rs: &[f64], zs: &[f64]) -> Self {
+        let nr = rs.len().saturating_sub(1);
+        let nz = zs.len().saturating_sub(1);
         let mut mesh = QuadMesh::default();
-        for &zv in &zs {
-            for &rv in &rs {
+        for &zv in zs {
+            for &rv in rs {
                 mesh.nodes.push([rv, zv]);
             }
         }
@@ -107,7 +118,7 @@ impl QuadMesh {
         set("top", (0..=nr).map(|i| node(i, nz)).collect());
         set("outer", (0..=nz).map(|j| node(nr, j)).collect());
         set("inner", (0..=nz).map(|j| node(0, j)).collect());
-        if r.0 == 0.0 {
+        if rs.first() == Some(&0.0) {
             set("axis", (0..=nz).map(|j| node(0, j)).collect());
         }
         mesh.element_sets
