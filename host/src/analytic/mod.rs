@@ -1,0 +1,3 @@
+//! Closed-form and ODE models that cross-check the FE experiments.
+
+pub mod penetration;
