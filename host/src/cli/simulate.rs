@@ -4,7 +4,8 @@
 //! output folder (all written to a temporary folder first and moved into place, so a failed
 //! run leaves no partial output).
 
-use crate::experiment::Experiment;
+use crate::analytic::penetration::depth_at;
+use crate::experiment::{Experiment, Outcome, PenetrationSpec, Setup};
 use crate::input::{material, InputError};
 use crate::report::vtk;
 use crate::solver::SolverSettings;
@@ -161,6 +162,9 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
             100.0 * (predicted - point.value) / point.value.abs().max(1e-300)
         );
     }
+    if let Setup::Penetration(spec) = &experiment.file.setup {
+        print_cross_check(spec, &material, &experiment, &outcome);
+    }
     let output = args.output.clone().unwrap_or_else(|| {
         PathBuf::from("out").join(
             args.experiment
@@ -176,4 +180,53 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     std::fs::rename(&temporary, &output).map_err(|e| format!("{}: {e}", output.display()))?;
     println!("\nwrote {}", output.display());
     Ok(())
+}
+
+/// The Walker–Anderson and Tate–Alekseevskii nose depths beside the FE and the recording, at
+/// each recorded time (semi-infinite target; see [`PenetrationSpec::cross_check`]).
+fn print_cross_check(
+    spec: &PenetrationSpec,
+    material: &stoss_kernel::Material,
+    experiment: &Experiment,
+    outcome: &Outcome,
+) {
+    let check = match spec.cross_check(material) {
+        Ok(check) => check,
+        Err(message) => {
+            println!("\nanalytic cross-check not available: {message}");
+            return;
+        }
+    };
+    let case = &check.case;
+    println!(
+        "\nanalytic cross-check (semi-infinite target; rod strength {:.3} GPa, target strength \
+         {:.3} GPa, Tate R_t {:.3} GPa)",
+        case.rod_strength * 1e-9,
+        case.target_strength * 1e-9,
+        case.target_resistance * 1e-9
+    );
+    println!(
+        "{:<12} {:>12} {:>12} {:>16} {:>12}",
+        "time (us)", "recorded", "FE", "Walker-Anderson", "Tate"
+    );
+    let mut times: Vec<(f64, f64, f64)> = experiment
+        .recording
+        .iter()
+        .zip(&outcome.predicted)
+        .filter(|(point, _)| point.quantity == "nose_depth")
+        .map(|(point, &fe)| (point.position, point.value, fe))
+        .collect();
+    if times.is_empty() {
+        times.push((spec.end_time, f64::NAN, f64::NAN));
+    }
+    for (time, recorded, fe) in times {
+        println!(
+            "{:<12.2} {:>9.2} mm {:>9.2} mm {:>13.2} mm {:>9.2} mm",
+            time * 1e6,
+            recorded * 1e3,
+            fe * 1e3,
+            depth_at(&check.walker_anderson, time) * 1e3,
+            depth_at(&check.tate, time) * 1e3
+        );
+    }
 }

@@ -18,6 +18,7 @@
 //! every recorded point, in the recording's order, with the energy balance and the state
 //! histories of the points that drive the measurements.
 
+pub mod penetration;
 pub mod shpb;
 pub mod taylor;
 pub mod tension;
@@ -32,6 +33,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use stoss_kernel::{Material, MaterialState};
 
+pub use penetration::PenetrationSpec;
 pub use shpb::ShpbSpec;
 pub use taylor::TaylorSpec;
 pub use tension::TensionSpec;
@@ -50,6 +52,8 @@ pub enum Setup {
     Taylor(TaylorSpec),
     /// Split Hopkinson compression bar.
     Shpb(ShpbSpec),
+    /// Long-rod penetration against time.
+    Penetration(PenetrationSpec),
 }
 
 impl Setup {
@@ -60,6 +64,7 @@ impl Setup {
             Setup::Tension(_) => tension::QUANTITIES,
             Setup::Taylor(_) => taylor::QUANTITIES,
             Setup::Shpb(_) => shpb::QUANTITIES,
+            Setup::Penetration(_) => penetration::QUANTITIES,
         }
     }
 }
@@ -153,7 +158,7 @@ impl Experiment {
     /// Load an experiment file and its recording. Errors name the file, line and field.
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = input::read_text(path)?;
-        let file: ExperimentFile = input::parse_toml(path, &text)?;
+        let mut file: ExperimentFile = input::parse_toml(path, &text)?;
         let check = |field: &str, ok: bool, message: &str| {
             if ok {
                 Ok(())
@@ -166,6 +171,15 @@ impl Experiment {
             Setup::Tension(spec) => spec.validate(&check)?,
             Setup::Taylor(spec) => spec.validate(&check)?,
             Setup::Shpb(spec) => spec.validate(&check)?,
+            Setup::Penetration(spec) => spec.validate(&check)?,
+        }
+        if let Setup::Penetration(spec) = &mut file.setup {
+            let rod_path = path
+                .parent()
+                .unwrap_or(Path::new("."))
+                .join(&spec.rod_material);
+            let (_, rod) = input::material::load(&rod_path)?;
+            spec.rod = Some(rod);
         }
         let recording_path = path
             .parent()
@@ -187,6 +201,25 @@ impl Experiment {
                         known.join(", ")
                     ),
                 });
+            }
+        }
+        if let Setup::Penetration(spec) = &file.setup {
+            for (index, point) in recording.iter().enumerate() {
+                let history = matches!(point.quantity.as_str(), "nose_depth" | "rod_length");
+                if history && !(point.position >= 0.0 && point.position <= spec.end_time) {
+                    return Err(InputError::Field {
+                        path: recording_path.clone(),
+                        line: None,
+                        field: "position".into(),
+                        message: format!(
+                            "point {}: time {} s is outside the simulated 0..{} s after impact \
+                             (setup.end_time)",
+                            index + 1,
+                            point.position,
+                            spec.end_time
+                        ),
+                    });
+                }
             }
         }
         Ok(Self {
@@ -215,6 +248,7 @@ impl Experiment {
             Setup::Tension(spec) => spec.simulate(material, settings, &self.recording),
             Setup::Taylor(spec) => spec.simulate(material, settings, &self.recording),
             Setup::Shpb(spec) => spec.simulate(material, settings, &self.recording),
+            Setup::Penetration(spec) => spec.simulate(material, settings, &self.recording),
         }
     }
 }
@@ -226,6 +260,7 @@ pub fn kind_name(setup: &Setup) -> &'static str {
         Setup::Tension(_) => "tension",
         Setup::Taylor(_) => "taylor",
         Setup::Shpb(_) => "shpb",
+        Setup::Penetration(_) => "penetration",
     }
 }
 

@@ -163,25 +163,51 @@ fn kinetic(v: &[Vector], mass: &[f64], measure: f64, dimension: usize) -> f64 {
             .sum::<f64>()
 }
 
+/// The model's state at an output time, for observers that measure during a run.
+#[derive(Clone, Copy, Debug)]
+pub struct Snapshot<'a> {
+    /// Time (s).
+    pub time: f64,
+    /// Nodal positions.
+    pub positions: &'a [Vector],
+    /// Nodal velocities (`v_{n+1/2}` of the last step).
+    pub velocities: &'a [Vector],
+    /// Element states.
+    pub states: &'a [MaterialState],
+    /// Eroded elements.
+    pub eroded: &'a [bool],
+    /// The energy balance.
+    pub energy: &'a EnergyBalance,
+}
+
 impl<M: Discretisation> ExplicitModel<M> {
     /// Run to `settings.end_time`; `progress(time, energy)` at every output interval.
     pub fn run(
         &self,
         progress: &mut (dyn FnMut(f64, &EnergyBalance) + Send),
     ) -> Result<ExplicitRun, SolverError> {
+        self.run_observed(&mut |snapshot| progress(snapshot.time, snapshot.energy))
+    }
+
+    /// Run to `settings.end_time`; `observer` sees the model at every output interval (and at
+    /// the end).
+    pub fn run_observed(
+        &self,
+        observer: &mut (dyn FnMut(&Snapshot) + Send),
+    ) -> Result<ExplicitRun, SolverError> {
         match self.settings.threads {
             Some(threads) => rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .map_err(|e| SolverError::Model(format!("thread pool: {e}")))?
-                .install(|| self.run_in_pool(progress)),
-            None => self.run_in_pool(progress),
+                .install(|| self.run_in_pool(observer)),
+            None => self.run_in_pool(observer),
         }
     }
 
     fn run_in_pool(
         &self,
-        progress: &mut (dyn FnMut(f64, &EnergyBalance) + Send),
+        observer: &mut (dyn FnMut(&Snapshot) + Send),
     ) -> Result<ExplicitRun, SolverError> {
         let dimension = M::DIMENSION;
         let measure = M::MEASURE;
@@ -548,7 +574,14 @@ impl<M: Discretisation> ExplicitModel<M> {
                         M::AXIAL_COMPONENT,
                     ));
                 }
-                progress(time, &energy);
+                observer(&Snapshot {
+                    time,
+                    positions: &x,
+                    velocities: &v,
+                    states: &states,
+                    eroded: &eroded,
+                    energy: &energy,
+                });
                 if settings.rest_fraction > 0.0 {
                     if let Some(damping) = settings.damping {
                         if time > damping.start_time

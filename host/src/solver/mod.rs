@@ -22,7 +22,7 @@ pub mod loads;
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
 pub use contact::{ContactPair, ContactStatistics, ErodingContact};
 pub use energy::EnergyBalance;
-pub use explicit::{Discretisation, ExplicitModel, ExplicitRun};
+pub use explicit::{Discretisation, ExplicitModel, ExplicitRun, Snapshot};
 pub use hexahedral::{HexModel, HexRun};
 pub use loads::{Amplitude, NodalDamping, RigidWall, VelocityConstraint};
 

@@ -20,6 +20,14 @@
 //! balance's kinetic energy. Without it, the node's mass is removed and its kinetic energy is
 //! booked as eroded.
 //!
+//! **Penetrations found on exposure (LS-DYNA `IGNORE = 1` style).** When a node's penetration
+//! grows by more than the relative normal approach of the step can explain (twice `v_n dt`),
+//! the node was already inside when erosion exposed the segment (or took away the one it
+//! touched). Pushing it out with the full penalty would launch it (the spring holds
+//! `k d^2/2`); instead the unexplained depth is *tolerated*: the force acts on the penetration
+//! beyond it, and the tolerance ratchets down as the node comes out, so the node is released,
+//! not fired. A node leaving contact forgets its tolerance.
+//!
 //! **Search.** Each step the segments are binned into a uniform grid (cell size the longest
 //! segment; every segment in the cells its bounding box, grown by its length, covers), so a
 //! slave node only meets the segments of its own cell: `O(slaves + segments)`, not all pairs.
@@ -27,21 +35,24 @@
 //! segment. Everything runs serially in the fixed order of nodes and segments: results are
 //! bit-identical for any thread count.
 //!
-//! **Penalty.** The stiffness `k = s m* / dt0^2` on the reduced mass bounds the contact
-//! frequency at `sqrt(s)/dt0` whatever the materials, so the stable time step is unchanged;
-//! the default scale for eroding contact is larger than for the pair contact
-//! ([`DEFAULT_ERODING_PENALTY_SCALE`]) because hypervelocity interfaces carry pressures of
-//! tens of GPa.
+//! **Penalty (LS-DYNA SOFT = 1 style, on the current step).** The stiffness
+//! `k = s m* / dt^2` on the reduced mass and the *current* time step `dt` keeps the contact
+//! frequency at `omega dt = sqrt(s)` whatever the materials and however far distorted elements
+//! pull the step down, so the stable time step is unchanged and the penetration shrinks with
+//! the step. The default scale ([`DEFAULT_ERODING_PENALTY_SCALE`]) is larger than the pair
+//! contact's because hypervelocity interfaces carry pressures of tens of GPa. `k` follows the
+//! step, so the normal force is not exactly conservative; its work is booked as it is done,
+//! so the energy balance stays exact.
 
 use super::{distribute, penetrating_nearest, project, Hit, PenaltyLaw};
 use crate::solver::explicit::Vector;
 use crate::solver::SolverError;
 use std::collections::HashMap;
 
-/// Default penalty scale of the eroding contact: `omega dt0 = sqrt(0.5) = 0.71`, inside the
+/// Default penalty scale of the eroding contact: `omega dt = sqrt(0.5) = 0.71`, inside the
 /// central-difference limit of 2 with the element's own frequency (at most
 /// `2 x time_step_safety`) added in quadrature.
-pub const DEFAULT_ERODING_PENALTY_SCALE: f64 = 0.5;
+pub const DEFAULT_ERODING_PENALTY_SCALE: f64 = 1.0;
 
 /// Largest number of search-grid cells; beyond it the cells grow.
 const MAXIMUM_CELLS: usize = 1 << 22;
@@ -53,7 +64,7 @@ pub struct ErodingContact {
     pub parts: Vec<usize>,
     /// Coulomb friction coefficient.
     pub friction: f64,
-    /// Penalty scale `s` in `k = s m* / dt0^2` (0 < s <= 1).
+    /// Penalty scale `s` in `k = s m* / dt^2` (0 < s <= 1).
     pub penalty_scale: f64,
     /// Keep the mass and momentum of eroded elements on their nodes (LS-DYNA ENMASS).
     pub keep_eroded_mass: bool,
@@ -93,8 +104,15 @@ struct Segment {
 /// Statistics of a run's eroding contact.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactStatistics {
-    /// Largest penetration found at any step (m).
+    /// Largest penetration of a surface node (a node of a live element) the penalty acted on
+    /// at any step, beyond tolerated initial penetrations (m): the interpenetration of the
+    /// surfaces, which the penalty stiffness controls.
     pub largest_penetration: f64,
+    /// Largest penetration of a free mass point (a node of eroded elements only) (m): debris
+    /// squeezed between the surfaces.
+    pub largest_free_node_penetration: f64,
+    /// Largest initial penetration found on a newly exposed segment and tolerated (m).
+    pub largest_initial_penetration: f64,
     /// Surface rebuilds after erosion.
     pub rebuilds: u64,
     /// Master segments at the end.
@@ -119,6 +137,10 @@ pub(crate) struct ErodingSurfaces {
     slaves: Vec<usize>,
     forces: Vec<Vector>,
     touched: Vec<usize>,
+    /// Per node: its penetration at the last step (0: not in contact).
+    depth: Vec<f64>,
+    /// Per node: the tolerated initial penetration (m).
+    tolerated: Vec<f64>,
     cell_start: Vec<usize>,
     cell_items: Vec<usize>,
     statistics: ContactStatistics,
@@ -210,6 +232,8 @@ impl ErodingSurfaces {
             slaves: Vec::new(),
             forces: vec![[0.0; 3]; node_count],
             touched: Vec::new(),
+            depth: vec![0.0; node_count],
+            tolerated: vec![0.0; node_count],
             cell_start: Vec::new(),
             cell_items: Vec::new(),
             statistics: ContactStatistics::default(),
@@ -304,7 +328,7 @@ impl ErodingSurfaces {
                 high[d] = high[d].max(x[a][d].max(x[b][d]) + length);
             }
         }
-        if self.segments.is_empty() || !(cell > 0.0) || !cell.is_finite() {
+        if self.segments.is_empty() || cell.is_nan() || cell <= 0.0 || !cell.is_finite() {
             self.cell_start.clear();
             return ([0.0; 2], 1.0, [0, 0]);
         }
@@ -387,6 +411,8 @@ impl ErodingSurfaces {
             let c = j as usize * dims[0] + i as usize;
             let own = self.node_part[s];
             let segments = &self.segments;
+            // The nearest of the segments the node is inside of (not the nearest overall: near
+            // a crater's lip the nearest segment may be one the node is outside of).
             let hit: Option<Hit> = penetrating_nearest(
                 self.cell_items[self.cell_start[c]..self.cell_start[c + 1]]
                     .iter()
@@ -394,13 +420,43 @@ impl ErodingSurfaces {
                     .filter_map(|&k| {
                         let [a, b] = segments[k].nodes;
                         project(&p, &x[a], &x[b], k)
-                    }),
+                    })
+                    .filter(|(_, hit, length)| hit.gap < 0.0 && -hit.gap < *length),
             );
-            let Some(hit) = hit else { continue };
+            let Some(mut hit) = hit else {
+                self.depth[s] = 0.0;
+                self.tolerated[s] = 0.0;
+                continue;
+            };
             let [a, b] = self.segments[hit.segment].nodes;
+            let depth = -hit.gap;
+            let xi = hit.xi;
+            let approach: f64 = (0..2)
+                .map(|d| (v[s][d] - (1.0 - xi) * v[a][d] - xi * v[b][d]) * hit.normal[d])
+                .sum();
+            let reach = 2.0 * (-approach).max(0.0) * dt;
+            let jump = depth - self.depth[s] - reach;
+            if jump > 0.0 {
+                self.tolerated[s] += jump;
+                self.statistics.largest_initial_penetration = self
+                    .statistics
+                    .largest_initial_penetration
+                    .max(self.tolerated[s]);
+            }
+            self.tolerated[s] = self.tolerated[s].min(depth);
+            self.depth[s] = depth;
+            let acting = depth - self.tolerated[s];
+            if acting <= 0.0 {
+                continue;
+            }
+            hit.gap = -acting;
             if let Some(f) = self.law.force(mass, [s, a, b], &hit, v, dt) {
-                self.statistics.largest_penetration =
-                    self.statistics.largest_penetration.max(-hit.gap);
+                let largest = if self.live_around[s] == 0 {
+                    &mut self.statistics.largest_free_node_penetration
+                } else {
+                    &mut self.statistics.largest_penetration
+                };
+                *largest = largest.max(acting);
                 distribute(&mut self.forces, [s, a, b], hit.xi, f);
                 self.touched.extend_from_slice(&[s, a, b]);
             }

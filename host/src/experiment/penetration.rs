@@ -1,0 +1,648 @@
+//! Long-rod penetration against time (seed 000 experiments 1 and 2; Anderson, Hohler, Walker &
+//! Stilp, IJIE 16 (1995) 1-18): a rod strikes a target plate along its axis; flash radiographs
+//! give the position of the rod's nose inside the target at several times after impact.
+//!
+//! Quantities (`position` is the time after impact, s, for the histories; 0 otherwise):
+//! - `nose_depth` (m): the depth of the rod's nose below the target's original front face: the
+//!   lowest point of the rod's remaining (not eroded) elements;
+//! - `rod_length` (m): the remaining rod length, tail to nose;
+//! - `residual_velocity` (m/s, at the end of the run): the mass-averaged axial velocity of the
+//!   rod's remaining elements, positive along the direction of flight;
+//! - `residual_mass` (kg, at the end of the run): the mass of the rod's remaining elements.
+//!
+//! # Model (axisymmetric, [`crate::solver`])
+//!
+//! - Target (part `target`, the calibrated material): `z in [-T, 0]`, `r in [0, R_t]`; square
+//!   elements of `element_size` out to `fine_radius` (default four rod radii, the cavity zone),
+//!   then elements growing by `grading_ratio` per element to the rim; the rim clamped
+//!   (`v_r = v_z = 0`, seed 000) or free.
+//! - Rod (part `rod`, the material file `rod_material`, fixed during a calibration):
+//!   `z in [gap, gap + L]`, `r in [0, D/2]`, square elements of `element_size` (rounded to fit
+//!   the radius), flat nose, moving at `-velocity`. Time zero of the recording is the impact,
+//!   `gap / velocity` after the start of the run.
+//! - Eroding contact ([`crate::solver::ErodingContact`]) between rod and target with Coulomb
+//!   friction `friction` (default 0: seed 000 does not give its coefficient), eroded mass kept
+//!   as free contact nodes (LS-DYNA ENMASS) unless `keep_eroded_mass = false`.
+//! - Erosion and failure come from each material file's `[failure]` table (for example
+//!   `erosion_geometric_strain = 1.5`, seed 001's Autodyn setting). A run without erosion in
+//!   either material stops with an inverted element: the cavity needs erosion.
+//! - Tracked states (seed 000 sec. 5): the target elements of two columns, one on the axis and
+//!   one at the rod's outer radius, at up to 24 depths each.
+
+use super::default_temperature;
+use super::{Check, FieldOutput, Outcome, SimulationError};
+use crate::analytic::penetration::{
+    tate_history, tate_resistance_estimate, walker_anderson_history, PenetrationSample,
+    RodTarget, STEEL_HUGONIOT, TUNGSTEN_ALLOY_HUGONIOT,
+};
+use crate::input::recording::RecordedPoint;
+use crate::input::InputError;
+use crate::measure::{interpolate, StateHistory};
+use crate::mesh::QuadMesh;
+use crate::solver::{
+    Amplitude, AxisymmetricModel, ErodingContact, ExplicitRun, Snapshot, SolverError,
+    SolverSettings, VelocityConstraint,
+};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+use stoss_kernel::Material;
+
+/// Quantities a penetration experiment records.
+pub const QUANTITIES: &[&str] = &[
+    "nose_depth",
+    "rod_length",
+    "residual_velocity",
+    "residual_mass",
+];
+
+/// Interval of the nose-position history (s).
+pub const SAMPLING: f64 = 0.25e-6;
+
+/// Tracked target elements per column, at most.
+const TRACKED_PER_COLUMN: usize = 24;
+
+/// Boundary condition of the target's outer rim.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Rim {
+    /// Rim nodes fixed (seed 000).
+    #[default]
+    Clamped,
+    /// Rim free.
+    Free,
+}
+
+fn default_element_size() -> f64 {
+    0.4e-3
+}
+fn default_grading_ratio() -> f64 {
+    1.1
+}
+fn default_keep_eroded_mass() -> bool {
+    true
+}
+
+/// Geometry, materials, loading and discretisation of a long-rod penetration test.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PenetrationSpec {
+    /// Rod length `L` (m).
+    pub rod_length: f64,
+    /// Rod diameter `D` (m).
+    pub rod_diameter: f64,
+    /// The rod's material file, relative to the experiment file (the calibrated material is
+    /// the target's).
+    pub rod_material: String,
+    /// Striking velocity (m/s).
+    pub velocity: f64,
+    /// Target thickness `T` (m).
+    pub target_thickness: f64,
+    /// Target radius `R_t` (m).
+    pub target_radius: f64,
+    /// Rim condition.
+    #[serde(default)]
+    pub target_rim: Rim,
+    /// Element edge in the rod and the cavity zone (m): 0.4 mm for calibration, 0.2 mm as in
+    /// seed 000.
+    #[serde(default = "default_element_size")]
+    pub element_size: f64,
+    /// Radius of the target's uniformly fine zone (m); default four rod radii.
+    #[serde(default)]
+    pub fine_radius: Option<f64>,
+    /// Growth of the target's element size per element outside the fine zone.
+    #[serde(default = "default_grading_ratio")]
+    pub grading_ratio: f64,
+    /// Initial gap between the rod's nose and the target (m); default a tenth of an element.
+    #[serde(default)]
+    pub gap: Option<f64>,
+    /// Coulomb friction between rod and target.
+    #[serde(default)]
+    pub friction: f64,
+    /// Keep the mass of eroded elements as free contact nodes (LS-DYNA ENMASS).
+    #[serde(default = "default_keep_eroded_mass")]
+    pub keep_eroded_mass: bool,
+    /// End of the simulated time after impact (s).
+    pub end_time: f64,
+    /// Initial temperature (K).
+    #[serde(default = "default_temperature")]
+    pub temperature: f64,
+    /// The rod's material, loaded from `rod_material` with the experiment.
+    #[serde(skip)]
+    pub rod: Option<Material>,
+}
+
+/// Measured histories of a penetration run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PenetrationResult {
+    /// `(time after impact, nose depth)`.
+    pub nose_depth: Vec<(f64, f64)>,
+    /// `(time after impact, remaining rod length)`.
+    pub rod_length: Vec<(f64, f64)>,
+    /// `(time after impact, mass-averaged rod velocity along the flight)`.
+    pub rod_velocity: Vec<(f64, f64)>,
+    /// Remaining rod mass at the end (kg).
+    pub residual_mass: f64,
+    /// Mass-averaged rod velocity at the end (m/s).
+    pub residual_velocity: f64,
+}
+
+/// The meshed model and the element and node sets the measurements use.
+#[derive(Clone, Debug)]
+pub struct PenetrationModel {
+    /// The explicit model.
+    pub model: AxisymmetricModel,
+    /// The rod's elements.
+    pub rod_elements: Vec<usize>,
+    /// Time of impact in the run (s).
+    pub impact_time: f64,
+    /// Smallest element edge (m).
+    pub smallest_element: f64,
+}
+
+impl PenetrationSpec {
+    pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
+        let positive = |field: &str, value: f64, unit: &str| {
+            check(
+                field,
+                value > 0.0 && value.is_finite(),
+                &format!("must be > 0 ({unit})"),
+            )
+        };
+        positive("rod_length", self.rod_length, "m")?;
+        positive("rod_diameter", self.rod_diameter, "m")?;
+        positive("velocity", self.velocity, "m/s")?;
+        positive("target_thickness", self.target_thickness, "m")?;
+        positive("target_radius", self.target_radius, "m")?;
+        positive("element_size", self.element_size, "m")?;
+        positive("end_time", self.end_time, "s")?;
+        positive("temperature", self.temperature, "K")?;
+        if let Some(gap) = self.gap {
+            positive("gap", gap, "m")?;
+            check(
+                "gap",
+                gap < self.rod_length,
+                "must be smaller than the rod (m)",
+            )?;
+        }
+        check(
+            "target_radius",
+            self.target_radius > 0.5 * self.rod_diameter,
+            "must exceed the rod radius: the rod would overlap the rim",
+        )?;
+        check(
+            "element_size",
+            self.element_size <= 0.25 * self.rod_diameter
+                && self.element_size <= 0.25 * self.target_thickness,
+            "must fit at least two elements across the rod radius and four through the target",
+        )?;
+        if let Some(fine) = self.fine_radius {
+            positive("fine_radius", fine, "m")?;
+        }
+        check(
+            "grading_ratio",
+            (1.0..=1.5).contains(&self.grading_ratio),
+            "must be in 1..=1.5",
+        )?;
+        check(
+            "friction",
+            self.friction >= 0.0 && self.friction.is_finite(),
+            "must be >= 0",
+        )?;
+        // A run must stay affordable: the element count at the given size.
+        let elements = self.element_count_estimate();
+        check(
+            "element_size",
+            elements <= 2.0e6,
+            &format!(
+                "gives about {elements:.0} elements (more than 2 million): check the units (m)"
+            ),
+        )
+    }
+
+    /// Rough element count of the mesh (for the size guard).
+    fn element_count_estimate(&self) -> f64 {
+        let h = self.element_size;
+        let rod = (0.5 * self.rod_diameter / h).ceil() * (self.rod_length / h).ceil();
+        let fine = self.fine_radius().min(self.target_radius);
+        let graded = if self.grading_ratio > 1.0 {
+            ((self.target_radius - fine) / h * (self.grading_ratio - 1.0) + 1.0).ln()
+                / self.grading_ratio.ln()
+        } else {
+            (self.target_radius - fine) / h
+        };
+        rod + (fine / h + graded.max(0.0)).ceil() * (self.target_thickness / h).ceil()
+    }
+
+    /// Radius of the uniformly fine zone of the target (m).
+    pub fn fine_radius(&self) -> f64 {
+        self.fine_radius.unwrap_or(2.0 * self.rod_diameter)
+    }
+
+    /// Initial gap (m).
+    pub fn gap(&self) -> f64 {
+        self.gap.unwrap_or(0.1 * self.element_size)
+    }
+
+    /// Radial node coordinates of the target: uniform to the fine radius, then growing by the
+    /// grading ratio, the last element closing on the rim.
+    fn target_radii(&self) -> Vec<f64> {
+        let h = self.element_size;
+        let fine = self.fine_radius().min(self.target_radius);
+        let uniform = ((fine / h).round() as usize).max(1);
+        let mut radii: Vec<f64> = (0..=uniform)
+            .map(|i| fine * i as f64 / uniform as f64)
+            .collect();
+        let mut size = fine / uniform as f64;
+        let mut r = fine;
+        while self.target_radius - r > 1e-9 * self.target_radius {
+            size *= self.grading_ratio;
+            let remaining = self.target_radius - r;
+            // Close on the rim rather than leave a sliver below half an element.
+            r = if remaining < 1.5 * size {
+                self.target_radius
+            } else {
+                r + size
+            };
+            radii.push(r);
+        }
+        radii
+    }
+
+    /// The finite-element model with `target` the calibrated material and `rod` the rod's.
+    pub fn model(
+        &self,
+        target: &Material,
+        rod: &Material,
+        settings: &SolverSettings,
+    ) -> PenetrationModel {
+        let h = self.element_size;
+        let radius = 0.5 * self.rod_diameter;
+        let thickness = self.target_thickness;
+        let axial = ((thickness / h).round() as usize).max(4);
+        let zs: Vec<f64> = (0..=axial)
+            .map(|j| -thickness + thickness * j as f64 / axial as f64)
+            .collect();
+        let mut mesh = QuadMesh::structured("target", 0, &self.target_radii(), &zs);
+        let target_radial = mesh.node_set("target.bottom").map_or(0, |s| s.len() - 1);
+        let target_elements = mesh.elements.len();
+        let gap = self.gap();
+        let rod_first_node = mesh.nodes.len();
+        let rod_radial = ((radius / h).round() as usize).max(2);
+        let rod_axial = ((self.rod_length / h).round() as usize).max(4);
+        let rod_rs: Vec<f64> = (0..=rod_radial)
+            .map(|i| radius * i as f64 / rod_radial as f64)
+            .collect();
+        let rod_zs: Vec<f64> = (0..=rod_axial)
+            .map(|j| gap + self.rod_length * j as f64 / rod_axial as f64)
+            .collect();
+        mesh.append(QuadMesh::structured("rod", 1, &rod_rs, &rod_zs));
+        let rod_elements: Vec<usize> = (target_elements..mesh.elements.len()).collect();
+        let mut initial_velocity = vec![[0.0; 3]; mesh.nodes.len()];
+        for velocity in initial_velocity.iter_mut().skip(rod_first_node) {
+            velocity[1] = -self.velocity;
+        }
+        let set = |name: &str| mesh.node_set(name).unwrap_or(&[]).to_vec();
+        let fixed = |nodes: Vec<usize>, dof: usize| VelocityConstraint {
+            nodes,
+            dof,
+            velocity: Amplitude::constant(0.0),
+        };
+        let mut constraints = vec![fixed(set("target.axis"), 0), fixed(set("rod.axis"), 0)];
+        if self.target_rim == Rim::Clamped {
+            constraints.push(fixed(set("target.outer"), 0));
+            constraints.push(fixed(set("target.outer"), 1));
+        }
+        // Two target columns (axis; rod's outer radius), up to 24 depths each, front first.
+        let radii = self.target_radii();
+        let outer_column = radii
+            .windows(2)
+            .position(|w| w[1] >= radius)
+            .unwrap_or(0)
+            .min(target_radial.saturating_sub(1));
+        let stride = axial.div_ceil(TRACKED_PER_COLUMN).max(1);
+        let mut tracked_elements = Vec::new();
+        for column in [0, outer_column] {
+            for row in (0..axial).rev().step_by(stride) {
+                tracked_elements.push(row * target_radial + column);
+            }
+        }
+        let impact_time = gap / self.velocity;
+        let end_time = impact_time + self.end_time;
+        let model = AxisymmetricModel {
+            mesh,
+            materials: vec![*target, *rod],
+            initial_temperature: self.temperature,
+            initial_velocity,
+            constraints,
+            walls: Vec::new(),
+            contacts: Vec::new(),
+            eroding_contact: Some(ErodingContact {
+                keep_eroded_mass: self.keep_eroded_mass,
+                ..ErodingContact::new(vec![0, 1], self.friction)
+            }),
+            settings: SolverSettings {
+                end_time,
+                damping: None,
+                output_interval: SAMPLING,
+                ..settings.clone()
+            },
+            tracked_elements,
+        };
+        let smallest_element = (thickness / axial as f64)
+            .min(radius / rod_radial as f64)
+            .min(self.rod_length / rod_axial as f64)
+            .min(radii[1] - radii[0]);
+        PenetrationModel {
+            model,
+            rod_elements,
+            impact_time,
+            smallest_element,
+        }
+    }
+
+    /// Run the model and measure the rod's histories.
+    pub fn run(
+        &self,
+        target: &Material,
+        settings: &SolverSettings,
+    ) -> Result<(PenetrationResult, ExplicitRun, PenetrationModel), SolverError> {
+        let rod = self.rod.ok_or_else(|| {
+            SolverError::Model(format!(
+                "the rod material `{}` was not loaded",
+                self.rod_material
+            ))
+        })?;
+        let built = self.model(target, &rod, settings);
+        let mesh = &built.model.mesh;
+        let rod_density = rod.density;
+        let reference_mass: Vec<f64> = built
+            .rod_elements
+            .iter()
+            .map(|&e| {
+                let nodes = mesh.elements[e].map(|n| mesh.nodes[n]);
+                let mean_radius = 0.25 * nodes.iter().map(|p| p[0]).sum::<f64>();
+                2.0 * PI * rod_density * mesh.area(e) * mean_radius
+            })
+            .collect();
+        let mut result = PenetrationResult::default();
+        let impact_time = built.impact_time;
+        let mut body = RodBody::new(mesh, &built.rod_elements);
+        let mut measure = |snapshot: &Snapshot, result: &mut PenetrationResult| {
+            let mut low = f64::INFINITY;
+            let mut high = f64::NEG_INFINITY;
+            let mut mass = 0.0;
+            let mut momentum = 0.0;
+            body.find(mesh, snapshot.eroded);
+            for ((&e, &m), &in_body) in built
+                .rod_elements
+                .iter()
+                .zip(&reference_mass)
+                .zip(&body.member)
+            {
+                if !in_body {
+                    continue;
+                }
+                let nodes = &mesh.elements[e];
+                for &n in nodes {
+                    low = low.min(snapshot.positions[n][1]);
+                    high = high.max(snapshot.positions[n][1]);
+                }
+                let v_z = 0.25 * nodes.iter().map(|&n| snapshot.velocities[n][1]).sum::<f64>();
+                mass += m;
+                momentum += m * v_z;
+            }
+            let time = snapshot.time - impact_time;
+            let velocity = if mass > 0.0 { -momentum / mass } else { 0.0 };
+            if low.is_finite() {
+                result.nose_depth.push((time, (-low).max(0.0)));
+                result.rod_length.push((time, high - low));
+            } else {
+                result.nose_depth.push((time, f64::NAN));
+                result.rod_length.push((time, 0.0));
+            }
+            result.rod_velocity.push((time, velocity));
+            result.residual_mass = mass;
+            result.residual_velocity = velocity;
+        };
+        let run = built
+            .model
+            .run_observed(&mut |snapshot| measure(snapshot, &mut result))?;
+        Ok((result, run, built))
+    }
+
+    pub(super) fn simulate(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+        recording: &[RecordedPoint],
+    ) -> Result<Outcome, SimulationError> {
+        let (result, run, built) = self.run(material, settings)?;
+        let predicted = recording
+            .iter()
+            .map(|point| match point.quantity.as_str() {
+                "nose_depth" => interpolate(&result.nose_depth, point.position),
+                "rod_length" => interpolate(&result.rod_length, point.position),
+                "residual_velocity" => result.residual_velocity,
+                "residual_mass" => result.residual_mass,
+                _ => f64::NAN,
+            })
+            .collect();
+        let final_depth = result.nose_depth.last().map_or(f64::NAN, |p| p.1);
+        let final_length = result.rod_length.last().map_or(f64::NAN, |p| p.1);
+        let states: Vec<StateHistory> = run
+            .tracked
+            .iter()
+            .zip(&built.model.tracked_elements)
+            .map(|(history, &e)| {
+                let mesh = &built.model.mesh;
+                let depth = -mesh.elements[e]
+                    .iter()
+                    .map(|&n| mesh.nodes[n][1])
+                    .sum::<f64>()
+                    / 4.0;
+                let column = if mesh.elements[e].iter().any(|&n| mesh.nodes[n][0] == 0.0) {
+                    "axis"
+                } else {
+                    "rod-radius"
+                };
+                StateHistory {
+                    label: format!(
+                        "target {column} column element {e}, depth {:.2} mm",
+                        depth * 1e3
+                    ),
+                    samples: history.samples.clone(),
+                }
+            })
+            .collect();
+        Ok(Outcome {
+            predicted,
+            summary: vec![
+                ("final_nose_depth".into(), final_depth),
+                ("final_rod_length".into(), final_length),
+                ("residual_velocity".into(), result.residual_velocity),
+                ("residual_mass".into(), result.residual_mass),
+                (
+                    "largest_surface_penetration".into(),
+                    run.contact.largest_penetration,
+                ),
+                (
+                    "largest_debris_penetration".into(),
+                    run.contact.largest_free_node_penetration,
+                ),
+                ("smallest_element".into(), built.smallest_element),
+                ("contact_seconds".into(), run.contact.seconds),
+            ],
+            energy: Some(run.energy()),
+            states,
+            element_cycles: run.element_cycles,
+            field: Some(FieldOutput {
+                mesh: built.model.mesh,
+                positions: run.positions,
+                states: run.states,
+                eroded: run.eroded,
+            }),
+        })
+    }
+}
+
+/// The rod's main body: the live rod elements connected (through shared nodes) to the live
+/// element nearest the tail. Fragments that broke off the nose or flew back from the crater
+/// are not the rod whose nose a radiograph shows.
+struct RodBody {
+    /// Rod elements around each node (node -> positions in the rod element list).
+    around: std::collections::HashMap<usize, Vec<usize>>,
+    /// Whether each rod element belongs to the body.
+    member: Vec<bool>,
+    stack: Vec<usize>,
+}
+
+impl RodBody {
+    fn new(mesh: &QuadMesh, rod_elements: &[usize]) -> Self {
+        let mut around: std::collections::HashMap<usize, Vec<usize>> = Default::default();
+        for (k, &e) in rod_elements.iter().enumerate() {
+            for &n in &mesh.elements[e] {
+                around.entry(n).or_default().push(k);
+            }
+        }
+        Self {
+            around,
+            member: vec![false; rod_elements.len()],
+            stack: Vec::new(),
+        }
+    }
+
+    /// Mark the body among the live rod elements (the rod's elements are numbered from the
+    /// nose to the tail, so the last live one is nearest the tail).
+    fn find(&mut self, mesh: &QuadMesh, eroded: &[bool]) {
+        self.member.iter_mut().for_each(|m| *m = false);
+        let first = mesh.elements.len() - self.member.len();
+        let Some(seed) = (0..self.member.len()).rev().find(|&k| !eroded[first + k]) else {
+            return;
+        };
+        self.stack.clear();
+        self.stack.push(seed);
+        self.member[seed] = true;
+        while let Some(k) = self.stack.pop() {
+            for n in mesh.elements[first + k] {
+                for &other in &self.around[&n] {
+                    if !self.member[other] && !eroded[first + other] {
+                        self.member[other] = true;
+                        self.stack.push(other);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The analytic cross-checks of a penetration test (`stoss simulate` prints them beside the FE
+/// result): Walker–Anderson's time history and Tate–Alekseevskii's, for a semi-infinite target
+/// ([`crate::analytic::penetration`]).
+///
+/// Inputs from the two materials: the strengths are each material's flow stress at zero
+/// plastic strain, zero rate and the initial temperature (the quasi-static yield that users of
+/// these models insert); the target's bulk modulus from its longitudinal wave speed at rest
+/// (`K = rho c_L^2 - 4G/3`); Tate's `R_t` from Tate's (1986) cavity-expansion estimate; the
+/// Hugoniots from Mie-Grüneisen EoS where given (else the steel and tungsten-alloy defaults);
+/// the rod's bar wave speed `sqrt(E/rho)`.
+#[derive(Clone, Debug)]
+pub struct CrossCheck {
+    /// The inputs used.
+    pub case: RodTarget,
+    /// Walker–Anderson history.
+    pub walker_anderson: Vec<PenetrationSample>,
+    /// Tate–Alekseevskii history.
+    pub tate: Vec<PenetrationSample>,
+}
+
+/// Elastic moduli `(K, G)` of a material at rest, `K` from the kernel's wave speed.
+fn moduli(material: &Material, temperature: f64) -> Result<(f64, f64), String> {
+    let mut state = stoss_kernel::MaterialState::initial(temperature);
+    state.eos_history = material.eos.initial_history();
+    let output = stoss_kernel::update(
+        material,
+        &mut state,
+        &stoss_kernel::StepInput {
+            strain_increment: [0.0; 6],
+            dt: 1.0,
+            relative_volume: 1.0,
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let shear = material.shear_modulus;
+    let bulk = material.density * output.wave_speed * output.wave_speed - 4.0 / 3.0 * shear;
+    Ok((bulk, shear))
+}
+
+fn hugoniot(material: &Material, default: (f64, f64)) -> (f64, f64) {
+    match material.eos {
+        stoss_kernel::eos::Eos::MieGruneisen(m) => (m.sound_speed, m.s1),
+        _ => default,
+    }
+}
+
+impl PenetrationSpec {
+    /// Walker–Anderson and Tate histories for this test with `target` as the target material,
+    /// sampled every [`SAMPLING`] to `end_time`.
+    pub fn cross_check(&self, target: &Material) -> Result<CrossCheck, String> {
+        let rod = self
+            .rod
+            .ok_or_else(|| format!("the rod material `{}` was not loaded", self.rod_material))?;
+        let strength = |m: &Material| {
+            m.strength
+                .flow_stress(0.0, 0.0, self.temperature)
+                .value
+        };
+        let (rod_bulk, rod_shear) = moduli(&rod, self.temperature)?;
+        let (target_bulk, target_shear) = moduli(target, self.temperature)?;
+        let young = |k: f64, g: f64| 9.0 * k * g / (3.0 * k + g);
+        let target_strength = strength(target);
+        let case = RodTarget {
+            rod_density: rod.density,
+            rod_strength: strength(&rod),
+            rod_length: self.rod_length,
+            rod_diameter: self.rod_diameter,
+            rod_bar_wave_speed: (young(rod_bulk, rod_shear) / rod.density).sqrt(),
+            rod_hugoniot: hugoniot(&rod, TUNGSTEN_ALLOY_HUGONIOT),
+            target_density: target.density,
+            target_strength,
+            target_resistance: tate_resistance_estimate(
+                target_strength,
+                young(target_bulk, target_shear),
+            )
+            .map_err(|e| e.to_string())?,
+            target_bulk_modulus: target_bulk,
+            target_shear_modulus: target_shear,
+            target_hugoniot: hugoniot(target, STEEL_HUGONIOT),
+            striking_velocity: self.velocity,
+        };
+        let walker_anderson = walker_anderson_history(&case, None, self.end_time, SAMPLING)
+            .map_err(|e| e.to_string())?;
+        let tate = tate_history(&case, self.end_time, SAMPLING).map_err(|e| e.to_string())?;
+        Ok(CrossCheck {
+            case,
+            walker_anderson,
+            tate,
+        })
+    }
+}
