@@ -32,8 +32,8 @@
 use super::default_temperature;
 use super::{Check, FieldOutput, Outcome, SimulationError};
 use crate::analytic::penetration::{
-    tate_history, tate_resistance_estimate, walker_anderson_history, PenetrationSample,
-    RodTarget, STEEL_HUGONIOT, TUNGSTEN_ALLOY_HUGONIOT,
+    tate_history, tate_resistance_estimate, walker_anderson_history, PenetrationSample, RodTarget,
+    STEEL_HUGONIOT, TUNGSTEN_ALLOY_HUGONIOT,
 };
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
@@ -407,7 +407,11 @@ impl PenetrationSpec {
                     low = low.min(snapshot.positions[n][1]);
                     high = high.max(snapshot.positions[n][1]);
                 }
-                let v_z = 0.25 * nodes.iter().map(|&n| snapshot.velocities[n][1]).sum::<f64>();
+                let v_z = 0.25
+                    * nodes
+                        .iter()
+                        .map(|&n| snapshot.velocities[n][1])
+                        .sum::<f64>();
                 mass += m;
                 momentum += m * v_z;
             }
@@ -608,11 +612,7 @@ impl PenetrationSpec {
         let rod = self
             .rod
             .ok_or_else(|| format!("the rod material `{}` was not loaded", self.rod_material))?;
-        let strength = |m: &Material| {
-            m.strength
-                .flow_stress(0.0, 0.0, self.temperature)
-                .value
-        };
+        let strength = |m: &Material| m.strength.flow_stress(0.0, 0.0, self.temperature).value;
         let (rod_bulk, rod_shear) = moduli(&rod, self.temperature)?;
         let (target_bulk, target_shear) = moduli(target, self.temperature)?;
         let young = |k: f64, g: f64| 9.0 * k * g / (3.0 * k + g);
