@@ -267,6 +267,30 @@ fn conditions(
             }
             (region, samples)
         }
+        Setup::Penetration(_) => {
+            // The two tracked target columns (axis; rod radius) over the recorded times.
+            let (from, to) = match quantity {
+                "nose_depth" | "rod_length" => (start, end),
+                _ => (f64::NEG_INFINITY, f64::INFINITY),
+            };
+            let samples: Vec<&StateSample> = outcome
+                .states
+                .iter()
+                .filter(|h| h.label.starts_with("target "))
+                .flat_map(|h| h.samples.iter())
+                .filter(|s| s.time >= from && s.time <= to)
+                .collect();
+            let region = if from.is_finite() {
+                format!(
+                    "the target columns ahead of the rod (axis and rod radius) at {:.1}-{:.1} us",
+                    from * 1e6,
+                    to * 1e6
+                )
+            } else {
+                "the target columns ahead of the rod (axis and rod radius)".to_string()
+            };
+            (region, samples)
+        }
         _ => (
             "the tracked elements".to_string(),
             outcome

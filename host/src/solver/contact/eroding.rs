@@ -116,8 +116,10 @@ pub struct ContactStatistics {
     /// Largest penetration of a free mass point (a node of eroded elements only) (m): debris
     /// squeezed between the surfaces.
     pub largest_free_node_penetration: f64,
-    /// Largest initial penetration found on a newly exposed segment and tolerated (m).
+    /// Largest penetration of a surface node found on exposure and tolerated (m).
     pub largest_initial_penetration: f64,
+    /// Times a surface node's penetration jumped on exposure.
+    pub exposures: u64,
     /// Surface rebuilds after erosion.
     pub rebuilds: u64,
     /// Master segments at the end.
@@ -452,10 +454,13 @@ impl ErodingSurfaces {
             let jump = depth - self.depth[s] - reach;
             if jump > 0.0 {
                 self.tolerated[s] += jump;
-                self.statistics.largest_initial_penetration = self
-                    .statistics
-                    .largest_initial_penetration
-                    .max(self.tolerated[s]);
+                if self.live_around[s] > 0 {
+                    self.statistics.largest_initial_penetration = self
+                        .statistics
+                        .largest_initial_penetration
+                        .max(self.tolerated[s]);
+                    self.statistics.exposures += 1;
+                }
             }
             self.tolerated[s] = self.tolerated[s].min(depth);
             self.depth[s] = depth;
