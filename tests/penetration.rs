@@ -258,3 +258,29 @@ fn bad_penetration_input_names_the_file_line_and_field() {
     );
     let _ = std::fs::remove_dir_all(&scratch);
 }
+
+#[test]
+fn the_penetration_campaign_holds_seed_000s_published_final_depths() {
+    // GOAL: the bundled campaign loads both penetration experiments, with the rod material
+    //       resolved, and their recordings are the published numbers.
+    // SETUP: fixtures/campaigns/penetration-hzb.toml.
+    // REFERENCE: seed 000 sec. 5 (Anderson et al. 1995): 2.32 cm at 55.0 us (1250 m/s, 29.0 mm)
+    //   and 4.56 cm at 60.3 us (1700 m/s, 49.5 mm), +/- 0.06 cm.
+    let campaign =
+        stoss::calibrate::Campaign::load(&fixture("campaigns/penetration-hzb.toml")).unwrap();
+    let expected = [(55.0e-6, 2.32e-2, 29.0e-3), (60.3e-6, 4.56e-2, 49.5e-3)];
+    assert_eq!(campaign.experiments.len(), 2);
+    for (experiment, (time, depth, thickness)) in campaign.experiments.iter().zip(expected) {
+        let Setup::Penetration(spec) = &experiment.file.setup else {
+            panic!("not a penetration experiment");
+        };
+        assert!(spec.rod.is_some());
+        assert_eq!(spec.target_thickness, thickness);
+        let last = experiment.recording.last().unwrap();
+        assert_eq!(last.quantity, "nose_depth");
+        assert_eq!(
+            (last.position, last.value, last.uncertainty),
+            (time, depth, 0.06e-2)
+        );
+    }
+}

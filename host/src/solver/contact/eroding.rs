@@ -622,8 +622,9 @@ mod tests {
         // GOAL: two-way contact: a node of part 1 inside part 0 and a node of part 0 inside
         //       part 1 are both pushed out; forces sum to zero (momentum).
         // SETUP: the quad of part 1 moved down by 0.01 (its bottom nodes penetrate part 0's
-        //        top face); masses 1; dt0 0.1.
-        // REFERENCE: k = 0.5 m*/dt0^2 with m* = 1/2, penetration d = 0.01 both ways: part 1's
+        //        top face) and approaching at 1 (so the depth is explained by the approach,
+        //        2 x 1 x 0.1 > 0.01, not found on exposure); masses 1; dt0 0.1.
+        // REFERENCE: k = s m*/dt0^2 with m* = 1/2, penetration d = 0.01 both ways: part 1's
         //   bottom nodes 9, 10 get k d (+z) as slaves plus half the reaction of node 7 (which
         //   sits mid-segment and is pushed -z by k d): 1.5 k d; node 7 gets -k d and half the
         //   reactions of nodes 9 and 10: -2 k d; sum of z forces 0.
@@ -633,10 +634,13 @@ mod tests {
         }
         let mut contact = surfaces(&x, &elements, &parts);
         let mass = vec![1.0; x.len()];
-        let v = vec![[0.0; 3]; x.len()];
+        let mut v = vec![[0.0; 3]; x.len()];
+        for velocity in v.iter_mut().skip(9) {
+            velocity[1] = -1.0;
+        }
         let mut force = vec![[0.0; 3]; x.len()];
         contact.add_forces(&x, &v, &mass, 0.1, &mut force);
-        let k = 0.5 * 0.5 / 0.01;
+        let k = DEFAULT_ERODING_PENALTY_SCALE * 0.5 / 0.01;
         let d = 0.01;
         assert!((force[9][1] - 1.5 * k * d).abs() < 1e-9, "{:?}", force[9]);
         assert!((force[10][1] - 1.5 * k * d).abs() < 1e-9, "{:?}", force[10]);
@@ -644,5 +648,110 @@ mod tests {
         let sum: f64 = force.iter().map(|f| f[1]).sum();
         assert!(sum.abs() < 1e-9);
         assert!((contact.statistics().largest_penetration - d).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_penetration_found_on_exposure_is_tolerated_then_released() {
+        // GOAL: LS-DYNA IGNORE-style exposure: a node found inside without having approached
+        //       is not fired out; only deeper penetration is pushed back, and the tolerance
+        //       ratchets down as the node comes out.
+        // SETUP: part 1 moved down by 0.01 at rest (v = 0): found on exposure. Then moved
+        //        down by a further 0.002 at 0.001 per step (explained), then back up to
+        //        0.004 deep.
+        // REFERENCE: first call: no force; second: 1.5 k 0.002 on node 9 (see the two-way
+        //   test for 1.5); third: the tolerance has become 0.004, no force.
+        let (mut x, elements, parts) = two_blocks();
+        let shift = |x: &mut Vec<Vector>, dz: f64| {
+            for p in x.iter_mut().skip(9) {
+                p[1] -= dz;
+            }
+        };
+        shift(&mut x, 0.01);
+        let mut contact = surfaces(&x, &elements, &parts);
+        let mass = vec![1.0; x.len()];
+        let mut v = vec![[0.0; 3]; x.len()];
+        let mut force = vec![[0.0; 3]; x.len()];
+        contact.add_forces(&x, &v, &mass, 0.1, &mut force);
+        assert!(force.iter().all(|f| f == &[0.0; 3]), "{force:?}");
+        shift(&mut x, 0.002);
+        for velocity in v.iter_mut().skip(9) {
+            velocity[1] = -0.01;
+        }
+        let mut force = vec![[0.0; 3]; x.len()];
+        contact.add_forces(&x, &v, &mass, 0.1, &mut force);
+        let k = DEFAULT_ERODING_PENALTY_SCALE * 0.5 / 0.01;
+        assert!(
+            (force[9][1] - 1.5 * k * 0.002).abs() < 1e-9,
+            "{:?}",
+            force[9]
+        );
+        shift(&mut x, -0.008);
+        for velocity in v.iter_mut().skip(9) {
+            velocity[1] = 0.08;
+        }
+        let mut force = vec![[0.0; 3]; x.len()];
+        contact.add_forces(&x, &v, &mass, 0.1, &mut force);
+        assert!(force.iter().all(|f| f[1].abs() < 1e-12), "{force:?}");
+        assert!((contact.tolerated[9] - 0.004).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_bucket_search_finds_what_a_search_of_all_segments_finds() {
+        // GOAL: the grid search is a pure speed-up: every penetrating node finds the same
+        //       nearest penetrated segment as a search over all segments.
+        // SETUP: the two blocks with part 1 pushed 0.3 into part 0 and the nodes scattered by
+        //        a deterministic pseudo-random 0.05; all nodes approaching at 10 (no exposure
+        //        tolerance).
+        // REFERENCE: brute force over every segment of the other part, same selection rule.
+        let (mut x, elements, parts) = two_blocks();
+        let mut state = 12345_u64;
+        let mut random = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for (n, p) in x.iter_mut().enumerate() {
+            if n >= 9 {
+                p[1] -= 0.3;
+            }
+            if p[0] > 0.0 {
+                p[0] += 0.1 * random();
+            }
+            p[1] += 0.1 * random();
+        }
+        let mut contact = surfaces(&x, &elements, &parts);
+        let mass = vec![1.0; x.len()];
+        let v: Vec<Vector> = (0..x.len())
+            .map(|n| if n >= 9 { [0.0, -10.0, 0.0] } else { [0.0; 3] })
+            .collect();
+        let mut force = vec![[0.0; 3]; x.len()];
+        contact.add_forces(&x, &v, &mass, 0.1, &mut force);
+        let mut expected = vec![[0.0; 3]; x.len()];
+        let law = contact.law;
+        for &s in &contact.slaves {
+            let own = contact.node_part[s];
+            let hit = penetrating_nearest(
+                contact
+                    .segments
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, segment)| segment.part != own)
+                    .filter_map(|(k, segment)| {
+                        let [a, b] = segment.nodes;
+                        project(&x[s], &x[a], &x[b], k)
+                    })
+                    .filter(|(_, hit, length)| hit.gap < 0.0 && -hit.gap < *length),
+            );
+            if let Some(hit) = hit {
+                let [a, b] = contact.segments[hit.segment].nodes;
+                let f = law.force(&mass, [s, a, b], &hit, &v, 0.1).unwrap();
+                distribute(&mut expected, [s, a, b], hit.xi, f);
+            }
+        }
+        assert!(expected.iter().any(|f| f[1] != 0.0));
+        for (got, want) in force.iter().zip(&expected) {
+            assert!((got[0] - want[0]).abs() < 1e-12 && (got[1] - want[1]).abs() < 1e-12);
+        }
     }
 }
