@@ -117,7 +117,7 @@ fn quasi_steady_penetration_rate_agrees_with_walker_anderson() {
     //   0.80 mm/us against u_WA 0.78 (+2.3 %). (At 1250 m/s the same comparison gives +29 %:
     //   see docs/solver.md, "Penetration".)
     let (_, mut spec, _) = seed_experiment();
-    spec.rod = Some(perfectly_plastic("wha-jc.toml", 1.5e9));
+    spec.rod = Some(Box::new(perfectly_plastic("wha-jc.toml", 1.5e9)));
     spec.target_thickness = 80.0e-3;
     spec.end_time = 48.0e-6;
     let target = perfectly_plastic("hzb-w-jc.toml", 1.45e9);

@@ -179,7 +179,7 @@ impl Experiment {
                 .unwrap_or(Path::new("."))
                 .join(&spec.rod_material);
             let (_, rod) = input::material::load(&rod_path)?;
-            spec.rod = Some(rod);
+            spec.rod = Some(Box::new(rod));
         }
         let recording_path = path
             .parent()

@@ -128,7 +128,7 @@ pub struct PenetrationSpec {
     pub temperature: f64,
     /// The rod's material, loaded from `rod_material` with the experiment.
     #[serde(skip)]
-    pub rod: Option<Material>,
+    pub rod: Option<Box<Material>>,
 }
 
 /// Measured histories of a penetration run.
@@ -366,7 +366,7 @@ impl PenetrationSpec {
         target: &Material,
         settings: &SolverSettings,
     ) -> Result<(PenetrationResult, ExplicitRun, PenetrationModel), SolverError> {
-        let rod = self.rod.ok_or_else(|| {
+        let rod = self.rod.as_deref().copied().ok_or_else(|| {
             SolverError::Model(format!(
                 "the rod material `{}` was not loaded",
                 self.rod_material
@@ -609,9 +609,10 @@ impl PenetrationSpec {
     /// Walker–Anderson and Tate histories for this test with `target` as the target material,
     /// sampled every [`SAMPLING`] to `end_time`.
     pub fn cross_check(&self, target: &Material) -> Result<CrossCheck, String> {
-        let rod = self
-            .rod
-            .ok_or_else(|| format!("the rod material `{}` was not loaded", self.rod_material))?;
+        let rod =
+            self.rod.as_deref().copied().ok_or_else(|| {
+                format!("the rod material `{}` was not loaded", self.rod_material)
+            })?;
         let strength = |m: &Material| m.strength.flow_stress(0.0, 0.0, self.temperature).value;
         let (rod_bulk, rod_shear) = moduli(&rod, self.temperature)?;
         let (target_bulk, target_shear) = moduli(target, self.temperature)?;
