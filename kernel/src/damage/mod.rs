@@ -57,14 +57,12 @@ impl Failure {
         self.erosion_geometric_strain.is_some() || self.failure_principal_strain.is_some()
     }
 
-    /// Equivalent total strain from the principal logarithmic strains `e_i`:
-    /// `sqrt(2/3 e':e')` with `e'` the deviator (von Mises equivalent; it equals the axial
-    /// strain in incompressible uniaxial stretching and the effective plastic strain along
-    /// proportional incompressible paths).
+    /// Autodyn's effective geometric strain from the principal logarithmic strains `e_i` of
+    /// the total deformation: `sqrt(2/3 e:e)` over the *whole* tensor (the volumetric part
+    /// included, so crushed elements count too). It equals the axial strain in
+    /// incompressible uniaxial stretching.
     pub fn geometric_strain(principal_strains: [f64; 3]) -> f64 {
         let [a, b, c] = principal_strains;
-        let mean = (a + b + c) / 3.0;
-        let (a, b, c) = (a - mean, b - mean, c - mean);
         sqrt(2.0 / 3.0 * (a * a + b * b + c * c))
     }
 
@@ -116,5 +114,41 @@ impl Failure {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn geometric_strain_and_the_kinematic_flags() {
+        // GOAL: Autodyn's effective geometric strain and the host-evaluated criteria.
+        // SETUP: incompressible uniaxial stretch (e, -e/2, -e/2), e = 1.6; pure volumetric
+        //        compression ln(0.5)/3 each way; limits 1.5 (erosion) and 1.2 (failure).
+        // REFERENCE: sqrt(2/3 (e^2 + e^2/4 + e^2/4)) = e exactly in reals (to round-off
+        //   here); volumetric: sqrt(2/3 * 3 v^2) = sqrt(2) |v|; uniaxial 1.6 passes both
+        //   limits (largest principal 1.6 >= 1.2), compression reaches neither.
+        let e = 1.6;
+        let stretch = [e, -0.5 * e, -0.5 * e];
+        assert!((Failure::geometric_strain(stretch) - e).abs() < 1e-15);
+        let v = libm::log(0.5) / 3.0;
+        let squeeze = [v, v, v];
+        assert!((Failure::geometric_strain(squeeze) - sqrt(2.0) * v.abs()).abs() < 1e-15);
+        let failure = Failure {
+            erosion_geometric_strain: Some(1.5),
+            failure_principal_strain: Some(1.2),
+            ..Failure::NONE
+        };
+        assert!(failure.has_kinematic_criteria());
+        let flags = failure.kinematic_flags(stretch);
+        assert!(flags.contains(StateFlags::ERODE) && flags.contains(StateFlags::FAILED));
+        assert_eq!(failure.kinematic_flags(squeeze), StateFlags(0));
+        assert!(!Failure::NONE.has_kinematic_criteria());
+        let bad = Failure {
+            erosion_geometric_strain: Some(0.0),
+            ..Failure::NONE
+        };
+        assert!(bad.validate().is_err());
     }
 }
