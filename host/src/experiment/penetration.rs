@@ -494,7 +494,6 @@ impl PenetrationSpec {
                     run.contact.largest_free_node_penetration,
                 ),
                 ("smallest_element".into(), built.smallest_element),
-                ("contact_seconds".into(), run.contact.seconds),
             ],
             energy: Some(run.energy()),
             states,

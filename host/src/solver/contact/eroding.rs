@@ -126,7 +126,8 @@ pub struct ContactStatistics {
     pub segments: usize,
     /// Slave nodes at the end (free mass points included).
     pub slave_nodes: usize,
-    /// Wall time spent in the contact (s).
+    /// Wall time spent in the contact (s): a measurement of this run, not a result (it is
+    /// not written into outputs that must be byte-identical).
     pub seconds: f64,
 }
 
