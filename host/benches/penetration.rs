@@ -46,7 +46,17 @@ fn main() {
             ..SolverSettings::default()
         };
         let started = Instant::now();
-        let (result, run, built) = spec.run(&target, &settings).expect("run completes");
+        let (result, run, built) = match spec.run(&target, &settings) {
+            Ok(done) => done,
+            Err(error) => {
+                println!(
+                    "| {name} | {:.1} mm | {threads} | failed: {error} | | | | | | | {:.1} | |",
+                    size * 1e3,
+                    started.elapsed().as_secs_f64()
+                );
+                continue;
+            }
+        };
         let wall = started.elapsed().as_secs_f64();
         let point = &experiment.recording[experiment.recording.len() - 1];
         let check = spec.cross_check(&target).expect("cross-check");
