@@ -271,3 +271,17 @@ pub(crate) fn default_temperature() -> f64 {
 
 /// A validation callback: `(field, ok, message)`.
 pub type Check<'a> = dyn Fn(&str, bool, &str) -> Result<(), InputError> + 'a;
+
+/// Check that `value` is finite and > 0; the message names its unit.
+pub(crate) fn check_positive(
+    check: &Check,
+    field: &str,
+    value: f64,
+    unit: &str,
+) -> Result<(), InputError> {
+    check(
+        field,
+        value > 0.0 && value.is_finite(),
+        &format!("must be > 0 ({unit})"),
+    )
+}

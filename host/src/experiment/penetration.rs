@@ -30,7 +30,7 @@
 //!   one at the rod's outer radius, at up to 24 depths each.
 
 use super::default_temperature;
-use super::{Check, FieldOutput, Outcome, SimulationError};
+use super::{check_positive, Check, FieldOutput, Outcome, SimulationError};
 use crate::analytic::penetration::{
     tate_history, tate_resistance_estimate, walker_anderson_history, PenetrationSample, RodTarget,
     STEEL_HUGONIOT, TUNGSTEN_ALLOY_HUGONIOT,
@@ -161,13 +161,8 @@ pub struct PenetrationModel {
 
 impl PenetrationSpec {
     pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
-        let positive = |field: &str, value: f64, unit: &str| {
-            check(
-                field,
-                value > 0.0 && value.is_finite(),
-                &format!("must be > 0 ({unit})"),
-            )
-        };
+        let positive =
+            |field: &str, value: f64, unit: &str| check_positive(check, field, value, unit);
         positive("rod_length", self.rod_length, "m")?;
         positive("rod_diameter", self.rod_diameter, "m")?;
         positive("velocity", self.velocity, "m/s")?;

@@ -63,7 +63,7 @@
 //! rejected otherwise.
 
 use super::default_temperature;
-use super::{Check, FieldOutput, Outcome, SimulationError};
+use super::{check_positive, Check, FieldOutput, Outcome, SimulationError};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory};
@@ -347,13 +347,8 @@ impl ShpbSpec {
     }
 
     pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
-        let positive = |field: &str, value: f64, unit: &str| {
-            check(
-                field,
-                value > 0.0 && value.is_finite(),
-                &format!("must be > 0 ({unit})"),
-            )
-        };
+        let positive =
+            |field: &str, value: f64, unit: &str| check_positive(check, field, value, unit);
         positive("bar_diameter", self.bar_diameter, "m")?;
         positive("incident_length", self.incident_length, "m")?;
         positive("transmitter_length", self.transmitter_length, "m")?;

@@ -44,7 +44,7 @@
 //! interfaces carry pressures of tens of GPa. Its work is booked as it is done, so the energy
 //! balance stays exact.
 
-use super::{distribute, penetrating_nearest, project, Hit, PenaltyLaw};
+use super::{absorbed_work, distribute, penetrating_nearest, project, Hit, PenaltyLaw};
 use crate::solver::explicit::Vector;
 use crate::solver::SolverError;
 use std::collections::HashMap;
@@ -494,13 +494,7 @@ impl ErodingSurfaces {
     /// Energy absorbed by the contact over the step, per unit integration measure:
     /// `-dt sum f . (v_old + v_new) / 2`.
     pub(crate) fn absorbed(&self, v_old: &[Vector], v_new: &[Vector], dt: f64) -> f64 {
-        let mut work = 0.0;
-        for &n in &self.touched {
-            let f = self.forces[n];
-            work +=
-                f[0] * 0.5 * (v_old[n][0] + v_new[n][0]) + f[1] * 0.5 * (v_old[n][1] + v_new[n][1]);
-        }
-        -dt * work
+        absorbed_work(&self.forces, &self.touched, v_old, v_new, dt)
     }
 }
 

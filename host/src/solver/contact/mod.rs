@@ -190,13 +190,7 @@ impl<'a> PenaltyContact<'a> {
     /// Energy absorbed by contact over the step (the negative of the contact forces' work),
     /// per unit integration measure: `-dt sum f . (v_old + v_new) / 2`.
     pub(crate) fn absorbed(&self, v_old: &[Vector], v_new: &[Vector], dt: f64) -> f64 {
-        let mut work = 0.0;
-        for &n in &self.nodes {
-            let f = self.forces[n];
-            work +=
-                f[0] * 0.5 * (v_old[n][0] + v_new[n][0]) + f[1] * 0.5 * (v_old[n][1] + v_new[n][1]);
-        }
-        -dt * work
+        absorbed_work(&self.forces, &self.nodes, v_old, v_new, dt)
     }
 
     fn apply(&mut self, pair: &ContactPair, s: usize, hit: &Hit, v: &[Vector], dt: f64) {
@@ -261,6 +255,23 @@ impl PenaltyLaw {
         }
         Some(f)
     }
+}
+
+/// Energy absorbed over a step by contact forces `forces` on `nodes` (the negative of their
+/// work), per unit integration measure: `-dt sum f . (v_old + v_new) / 2`.
+pub(crate) fn absorbed_work(
+    forces: &[Vector],
+    nodes: &[usize],
+    v_old: &[Vector],
+    v_new: &[Vector],
+    dt: f64,
+) -> f64 {
+    let mut work = 0.0;
+    for &n in nodes {
+        let f = forces[n];
+        work += f[0] * 0.5 * (v_old[n][0] + v_new[n][0]) + f[1] * 0.5 * (v_old[n][1] + v_new[n][1]);
+    }
+    -dt * work
 }
 
 /// Add force `f` on slave node `s` and its reaction on segment `[a, b]` in the proportions
