@@ -197,13 +197,14 @@ fn write_variant(folder: &Path, replace: &[(&str, &str)]) -> PathBuf {
 #[test]
 fn bad_penetration_input_names_the_file_line_and_field() {
     // GOAL: a zero or negative gap, a rod wider than the target, an element size that does
-    //       not fit, a recording outside the simulated time and an erosion strain <= 0 are
-    //       errors naming the file, the line and the field.
+    //       not fit, a recording outside the simulated time, an end time in seconds instead
+    //       of microseconds (a runaway run) and an erosion strain <= 0 are errors naming the
+    //       file, the line and the field.
     // SETUP: variants of penetration-hzb-1700.toml in a scratch folder.
     // REFERENCE: the error message names the file and the field (and the line for TOML
     //   fields; the recording's time is checked against `end_time`).
     let scratch = std::env::temp_dir().join(format!("stoss-penetration-{}", std::process::id()));
-    let cases: [(&str, &str, &str); 5] = [
+    let cases: [(&str, &str, &str); 6] = [
         ("end_time = 60.3e-6", "gap = 0.0\nend_time = 60.3e-6", "gap"),
         (
             "end_time = 60.3e-6",
@@ -221,12 +222,13 @@ fn bad_penetration_input_names_the_file_line_and_field() {
             "element_size",
         ),
         ("end_time = 60.3e-6", "end_time = 50.0e-6", "end_time"),
+        ("end_time = 60.3e-6", "end_time = 60.3", "end_time"),
     ];
     for (k, (from, to, field)) in cases.iter().enumerate() {
         let path = write_variant(&scratch.join(format!("case-{k}")), &[(from, to)]);
         let error = Experiment::load(&path).unwrap_err().to_string();
         assert!(error.contains(field), "{to}: {error}");
-        if *field == "end_time" {
+        if *to == "end_time = 50.0e-6" {
             // The recording's point is out of range: the recording file and point are named.
             assert!(error.contains("recording.csv"), "{to}: {error}");
         } else {

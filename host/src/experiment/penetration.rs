@@ -58,6 +58,15 @@ pub const QUANTITIES: &[&str] = &[
 /// Interval of the nose-position history (s).
 pub const SAMPLING: f64 = 0.25e-6;
 
+/// Largest mesh accepted (elements).
+const MAXIMUM_ELEMENTS: f64 = 2.0e6;
+
+/// Largest number of time steps accepted (estimated at the undeformed stable step).
+const MAXIMUM_STEPS: f64 = 1.0e6;
+
+/// Largest estimated run accepted (element-cycles): about 2 hours at 2.5 M element-cycles/s.
+const MAXIMUM_ELEMENT_CYCLES: f64 = 2.0e10;
+
 /// Tracked target elements per column, at most.
 const TRACKED_PER_COLUMN: usize = 24;
 
@@ -203,15 +212,35 @@ impl PenetrationSpec {
             self.friction >= 0.0 && self.friction.is_finite(),
             "must be >= 0",
         )?;
-        // A run must stay affordable: the element count at the given size.
+        // A run must stay affordable: the element count at the given size, and the steps to
+        // `end_time` at the undeformed stable step (distortion near the erosion strain makes
+        // the real count several times larger).
         let elements = self.element_count_estimate();
         check(
             "element_size",
-            elements <= 2.0e6,
+            elements <= MAXIMUM_ELEMENTS,
             &format!(
-                "gives about {elements:.0} elements (more than 2 million): check the units (m)"
+                "gives about {elements:.0} elements (more than {MAXIMUM_ELEMENTS:.0}): check the \
+                 units (m)"
+            ),
+        )?;
+        let steps = self.end_time / self.undeformed_time_step();
+        check(
+            "end_time",
+            steps <= MAXIMUM_STEPS && steps * elements <= MAXIMUM_ELEMENT_CYCLES,
+            &format!(
+                "needs at least {steps:.0} steps of {elements:.0} elements ({:.1e} \
+                 element-cycles; at most {MAXIMUM_STEPS:.0} steps and {MAXIMUM_ELEMENT_CYCLES:.0e} \
+                 element-cycles, several hours on 2 cores): check the units (s)",
+                steps * elements
             ),
         )
+    }
+
+    /// The stable step of an undeformed square element at the fastest elastic wave a metal
+    /// rod or target carries (about 6000 m/s), with the default safety factor 0.67 (s).
+    fn undeformed_time_step(&self) -> f64 {
+        0.67 * self.element_size / std::f64::consts::SQRT_2 / 6000.0
     }
 
     /// Rough element count of the mesh (for the size guard).
