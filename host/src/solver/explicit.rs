@@ -20,6 +20,9 @@ use stoss_kernel::{update, Material, MaterialState, StateFlags, StepInput};
 /// Nodal vectors are stored with three components; 2D formulations use the first two.
 pub type Vector = [f64; 3];
 
+/// Largest worker-thread count a run accepts (a guard against a runaway thread pool).
+pub const MAXIMUM_THREADS: usize = 256;
+
 /// Largest number of nodes per element.
 pub const MAX_NODES: usize = 8;
 
@@ -195,6 +198,13 @@ impl<M: Discretisation> ExplicitModel<M> {
         &self,
         observer: &mut (dyn FnMut(&Snapshot) + Send),
     ) -> Result<ExplicitRun, SolverError> {
+        if let Some(threads) = self.settings.threads {
+            if !(1..=MAXIMUM_THREADS).contains(&threads) {
+                return Err(SolverError::Model(format!(
+                    "threads must be in 1..={MAXIMUM_THREADS}, got {threads}"
+                )));
+            }
+        }
         match self.settings.threads {
             Some(threads) => rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
