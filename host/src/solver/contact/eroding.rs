@@ -154,6 +154,9 @@ pub(crate) struct ErodingSurfaces {
     tolerated: Vec<f64>,
     cell_start: Vec<usize>,
     cell_items: Vec<usize>,
+    /// Work arrays of the binning: grown segment boxes, fill cursors.
+    boxes: Vec<[[f64; 2]; 2]>,
+    fill: Vec<usize>,
     statistics: ContactStatistics,
 }
 
@@ -249,6 +252,8 @@ impl ErodingSurfaces {
             tolerated: vec![0.0; node_count],
             cell_start: Vec::new(),
             cell_items: Vec::new(),
+            boxes: Vec::new(),
+            fill: Vec::new(),
             statistics: ContactStatistics::default(),
         };
         let nobody_eroded = vec![false; element_count];
@@ -332,14 +337,20 @@ impl ErodingSurfaces {
         let mut low = [f64::INFINITY; 2];
         let mut high = [f64::NEG_INFINITY; 2];
         let mut cell: f64 = 0.0;
+        // Each segment's bounding box grown by its length, computed once per step.
+        self.boxes.clear();
         for segment in &self.segments {
             let [a, b] = segment.nodes;
             let length = ((x[b][0] - x[a][0]).powi(2) + (x[b][1] - x[a][1]).powi(2)).sqrt();
             cell = cell.max(length);
+            let grown: [[f64; 2]; 2] = core::array::from_fn(|d| {
+                [x[a][d].min(x[b][d]) - length, x[a][d].max(x[b][d]) + length]
+            });
             for d in 0..2 {
-                low[d] = low[d].min(x[a][d].min(x[b][d]) - length);
-                high[d] = high[d].max(x[a][d].max(x[b][d]) + length);
+                low[d] = low[d].min(grown[d][0]);
+                high[d] = high[d].max(grown[d][1]);
             }
+            self.boxes.push(grown);
         }
         if self.segments.is_empty() || cell.is_nan() || cell <= 0.0 || !cell.is_finite() {
             self.cell_start.clear();
@@ -354,22 +365,18 @@ impl ErodingSurfaces {
             dims = count(cell);
         }
         let cells = dims[0] * dims[1];
-        let range = |segment: &Segment| -> [[usize; 2]; 2] {
-            let [a, b] = segment.nodes;
-            let length = ((x[b][0] - x[a][0]).powi(2) + (x[b][1] - x[a][1]).powi(2)).sqrt();
+        let range = |grown: &[[f64; 2]; 2]| -> [[usize; 2]; 2] {
             core::array::from_fn(|d| {
-                let lo = x[a][d].min(x[b][d]) - length;
-                let hi = x[a][d].max(x[b][d]) + length;
-                let first = ((lo - low[d]) / cell).floor().max(0.0) as usize;
-                let last = ((hi - low[d]) / cell).floor().max(0.0) as usize;
+                let first = ((grown[d][0] - low[d]) / cell).floor().max(0.0) as usize;
+                let last = ((grown[d][1] - low[d]) / cell).floor().max(0.0) as usize;
                 [first.min(dims[d] - 1), last.min(dims[d] - 1)]
             })
         };
         // Counting pass, then fill (compressed rows: cell_start[c]..cell_start[c + 1]).
         self.cell_start.clear();
         self.cell_start.resize(cells + 1, 0);
-        for segment in &self.segments {
-            let [[i0, i1], [j0, j1]] = range(segment);
+        for grown in &self.boxes {
+            let [[i0, i1], [j0, j1]] = range(grown);
             for j in j0..=j1 {
                 for i in i0..=i1 {
                     self.cell_start[j * dims[0] + i + 1] += 1;
@@ -381,14 +388,15 @@ impl ErodingSurfaces {
         }
         self.cell_items.clear();
         self.cell_items.resize(self.cell_start[cells], 0);
-        let mut fill = self.cell_start.clone();
-        for (k, segment) in self.segments.iter().enumerate() {
-            let [[i0, i1], [j0, j1]] = range(segment);
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.cell_start);
+        for (k, grown) in self.boxes.iter().enumerate() {
+            let [[i0, i1], [j0, j1]] = range(grown);
             for j in j0..=j1 {
                 for i in i0..=i1 {
                     let c = j * dims[0] + i;
-                    self.cell_items[fill[c]] = k;
-                    fill[c] += 1;
+                    self.cell_items[self.fill[c]] = k;
+                    self.fill[c] += 1;
                 }
             }
         }
