@@ -159,6 +159,20 @@ impl QuadMesh {
         0.5 * ((c[0] - a[0]) * (d[1] - b[1]) - (d[0] - b[0]) * (c[1] - a[1]))
     }
 
+    /// Shortest element edge of the mesh in the reference configuration (m).
+    pub fn smallest_edge(&self) -> f64 {
+        self.elements
+            .iter()
+            .flat_map(|element| {
+                (0..4).map(move |k| {
+                    let a = self.nodes[element[k]];
+                    let b = self.nodes[element[(k + 1) % 4]];
+                    libm::hypot(b[0] - a[0], b[1] - a[1])
+                })
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// A node set by name.
     pub fn node_set(&self, name: &str) -> Option<&[usize]> {
         self.node_sets.get(name).map(Vec::as_slice)
