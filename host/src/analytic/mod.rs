@@ -1,3 +1,4 @@
 //! Closed-form and ODE models that cross-check the FE experiments.
 
+pub mod ballistic;
 pub mod penetration;

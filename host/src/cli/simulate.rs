@@ -7,7 +7,7 @@
 use crate::analytic::penetration::depth_at;
 use crate::experiment::{Experiment, Outcome, PenetrationSpec, Setup};
 use crate::input::{material, InputError};
-use crate::report::vtk;
+use crate::report::{plots, vtk};
 use crate::solver::SolverSettings;
 use clap::Args;
 use std::fmt::Write as _;
@@ -90,6 +90,19 @@ fn write_outputs(
     if let Some(field) = &outcome.field {
         std::fs::write(directory.join("final.vtu"), vtk::render(field))?;
     }
+    if let Some(report) = &outcome.report {
+        std::fs::write(directory.join("report.txt"), &report.text)?;
+        for chart in &report.charts {
+            plots::line_chart(
+                &directory.join(&chart.file),
+                &chart.title,
+                &chart.x_label,
+                &chart.y_label,
+                &chart.series,
+            )
+            .map_err(std::io::Error::other)?;
+        }
+    }
     Ok(())
 }
 
@@ -164,6 +177,9 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     }
     if let Setup::Penetration(spec) = &experiment.file.setup {
         print_cross_check(spec, &material, &experiment, &outcome);
+    }
+    if let Some(report) = &outcome.report {
+        print!("{}", report.text);
     }
     let output = args.output.clone().unwrap_or_else(|| {
         PathBuf::from("out").join(

@@ -18,6 +18,7 @@
 //! every recorded point, in the recording's order, with the energy balance and the state
 //! histories of the points that drive the measurements.
 
+pub mod ballistic;
 pub mod penetration;
 pub mod shpb;
 pub mod taylor;
@@ -33,6 +34,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use stoss_kernel::{Material, MaterialState};
 
+pub use ballistic::BallisticLimitSpec;
 pub use penetration::PenetrationSpec;
 pub use shpb::ShpbSpec;
 pub use taylor::TaylorSpec;
@@ -54,6 +56,8 @@ pub enum Setup {
     Shpb(ShpbSpec),
     /// Long-rod penetration against time.
     Penetration(PenetrationSpec),
+    /// Ballistic limit: residual against impact velocity of a core through a plate.
+    BallisticLimit(BallisticLimitSpec),
 }
 
 impl Setup {
@@ -65,6 +69,7 @@ impl Setup {
             Setup::Taylor(_) => taylor::QUANTITIES,
             Setup::Shpb(_) => shpb::QUANTITIES,
             Setup::Penetration(_) => penetration::QUANTITIES,
+            Setup::BallisticLimit(_) => ballistic::QUANTITIES,
         }
     }
 }
@@ -126,6 +131,33 @@ pub struct Outcome {
     pub field: Option<FieldOutput>,
     /// Element-cycles of the run (0 for driver runs).
     pub element_cycles: u64,
+    /// A protocol's own report (e.g. the ballistic-limit table and fit), printed by
+    /// `stoss simulate` and written beside its other outputs.
+    pub report: Option<ExperimentReport>,
+}
+
+/// The text and figures of an experiment's own report.
+#[derive(Clone, Debug, Default)]
+pub struct ExperimentReport {
+    /// Printed after the comparison with the recording.
+    pub text: String,
+    /// Figures written into the output folder.
+    pub charts: Vec<Chart>,
+}
+
+/// A line chart of an experiment's report ([`crate::report::plots::line_chart`]).
+#[derive(Clone, Debug)]
+pub struct Chart {
+    /// File name in the output folder (`.svg`).
+    pub file: String,
+    /// Title.
+    pub title: String,
+    /// Axis labels.
+    pub x_label: String,
+    /// Axis labels.
+    pub y_label: String,
+    /// The series.
+    pub series: Vec<crate::report::plots::Series>,
 }
 
 /// Why a simulation failed.
@@ -172,6 +204,7 @@ impl Experiment {
             Setup::Taylor(spec) => spec.validate(&check)?,
             Setup::Shpb(spec) => spec.validate(&check)?,
             Setup::Penetration(spec) => spec.validate(&check)?,
+            Setup::BallisticLimit(spec) => spec.validate(&check)?,
         }
         if let Setup::Penetration(spec) = &mut file.setup {
             let rod_path = path
@@ -180,6 +213,14 @@ impl Experiment {
                 .join(&spec.rod_material);
             let (_, rod) = input::material::load(&rod_path)?;
             spec.rod = Some(Box::new(rod));
+        }
+        if let Setup::BallisticLimit(spec) = &mut file.setup {
+            let projectile_path = path
+                .parent()
+                .unwrap_or(Path::new("."))
+                .join(&spec.projectile_material);
+            let (_, projectile) = input::material::load(&projectile_path)?;
+            spec.projectile = Some(Box::new(projectile));
         }
         let recording_path = path
             .parent()
@@ -222,6 +263,25 @@ impl Experiment {
                 }
             }
         }
+        if let Setup::BallisticLimit(_) = &file.setup {
+            for (index, point) in recording.iter().enumerate() {
+                let per_shot = point.quantity != "ballistic_limit";
+                if per_shot && !(point.position > 0.0 && point.position.is_finite()) {
+                    return Err(InputError::Field {
+                        path: recording_path.clone(),
+                        line: None,
+                        field: "position".into(),
+                        message: format!(
+                            "point {}: `{}` is recorded at an impact velocity (m/s, > 0), not \
+                             {}",
+                            index + 1,
+                            point.quantity,
+                            point.position
+                        ),
+                    });
+                }
+            }
+        }
         Ok(Self {
             path: path.into(),
             file,
@@ -249,6 +309,7 @@ impl Experiment {
             Setup::Taylor(spec) => spec.simulate(material, settings, &self.recording),
             Setup::Shpb(spec) => spec.simulate(material, settings, &self.recording),
             Setup::Penetration(spec) => spec.simulate(material, settings, &self.recording),
+            Setup::BallisticLimit(spec) => spec.simulate(material, settings, &self.recording),
         }
     }
 }
@@ -261,6 +322,7 @@ pub fn kind_name(setup: &Setup) -> &'static str {
         Setup::Taylor(_) => "taylor",
         Setup::Shpb(_) => "shpb",
         Setup::Penetration(_) => "penetration",
+        Setup::BallisticLimit(_) => "ballistic-limit",
     }
 }
 

@@ -542,7 +542,7 @@ impl PenetrationSpec {
             .collect();
         let mut result = PenetrationResult::default();
         let impact_time = built.impact_time;
-        let mut body = RodBody::new(mesh, &built.rod_elements);
+        let mut body = ConnectedBody::new(mesh, &built.rod_elements);
         let mut measure = |snapshot: &Snapshot, result: &mut PenetrationResult| {
             let mut low = f64::INFINITY;
             let mut high = f64::NEG_INFINITY;
@@ -654,6 +654,7 @@ impl PenetrationSpec {
             energy: Some(run.energy()),
             states,
             element_cycles: run.element_cycles,
+            report: None,
             field: Some(FieldOutput {
                 mesh: built.model.mesh,
                 positions: run.positions,
@@ -664,47 +665,53 @@ impl PenetrationSpec {
     }
 }
 
-/// The rod's main body: the live rod elements connected (through shared nodes) to the live
-/// element nearest the tail. Fragments that broke off the nose or flew back from the crater
-/// are not the rod whose nose a radiograph shows.
-struct RodBody {
-    /// Rod elements around each node (node -> positions in the rod element list).
+/// The main body of a part: its live elements connected (through shared nodes) to the last
+/// live element of its list. For the rod (numbered nose to tail) that is the rod behind its
+/// nose: fragments that broke off the nose or flew back from the crater are not the rod whose
+/// nose a radiograph shows. For the target (numbered front face outward, the rim last) it is
+/// the plate held at the rim, without a plug or debris.
+pub(super) struct ConnectedBody {
+    /// The part's elements, in the order that puts the seed last.
+    elements: Vec<usize>,
+    /// Positions in `elements` of the elements around each node.
     around: std::collections::HashMap<usize, Vec<usize>>,
-    /// Whether each rod element belongs to the body.
-    member: Vec<bool>,
+    /// Whether each element belongs to the body.
+    pub(super) member: Vec<bool>,
     stack: Vec<usize>,
 }
 
-impl RodBody {
-    fn new(mesh: &QuadMesh, rod_elements: &[usize]) -> Self {
+impl ConnectedBody {
+    pub(super) fn new(mesh: &QuadMesh, elements: &[usize]) -> Self {
         let mut around: std::collections::HashMap<usize, Vec<usize>> = Default::default();
-        for (k, &e) in rod_elements.iter().enumerate() {
+        for (k, &e) in elements.iter().enumerate() {
             for &n in &mesh.elements[e] {
                 around.entry(n).or_default().push(k);
             }
         }
         Self {
+            elements: elements.to_vec(),
             around,
-            member: vec![false; rod_elements.len()],
+            member: vec![false; elements.len()],
             stack: Vec::new(),
         }
     }
 
-    /// Mark the body among the live rod elements (the rod's elements are numbered from the
-    /// nose to the tail, so the last live one is nearest the tail).
-    fn find(&mut self, mesh: &QuadMesh, eroded: &[bool]) {
+    /// Mark the body among the live elements, seeded at the last live one of the list.
+    pub(super) fn find(&mut self, mesh: &QuadMesh, eroded: &[bool]) {
         self.member.iter_mut().for_each(|m| *m = false);
-        let first = mesh.elements.len() - self.member.len();
-        let Some(seed) = (0..self.member.len()).rev().find(|&k| !eroded[first + k]) else {
+        let Some(seed) = (0..self.elements.len())
+            .rev()
+            .find(|&k| !eroded[self.elements[k]])
+        else {
             return;
         };
         self.stack.clear();
         self.stack.push(seed);
         self.member[seed] = true;
         while let Some(k) = self.stack.pop() {
-            for n in mesh.elements[first + k] {
+            for n in mesh.elements[self.elements[k]] {
                 for &other in &self.around[&n] {
-                    if !self.member[other] && !eroded[first + other] {
+                    if !self.member[other] && !eroded[self.elements[other]] {
                         self.member[other] = true;
                         self.stack.push(other);
                     }

@@ -772,6 +772,7 @@ impl ShpbSpec {
             energy: Some(run.energy()),
             states,
             element_cycles: run.element_cycles,
+            report: None,
             field: Some(FieldOutput {
                 mesh: model.mesh,
                 positions: run.positions,

@@ -254,6 +254,7 @@ impl TaylorSpec {
             energy: Some(run.energy()),
             states: run.tracked.clone(),
             element_cycles: run.element_cycles,
+            report: None,
             field: Some(FieldOutput {
                 mesh: model.mesh,
                 positions: run.positions,

@@ -310,6 +310,7 @@ impl TensionSpec {
             energy: Some(run.energy()),
             states: result.mid_section,
             element_cycles: run.element_cycles,
+            report: None,
             field: Some(FieldOutput {
                 mesh: model.mesh,
                 positions: run.positions,

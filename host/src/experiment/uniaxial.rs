@@ -128,6 +128,7 @@ impl UniaxialSpec {
             states: vec![history],
             field: None,
             element_cycles: 0,
+            report: None,
         })
     }
 }

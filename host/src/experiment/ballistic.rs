@@ -1,0 +1,595 @@
+//! Ballistic limit (seed 001 sec. 3): a hard core strikes a plate along its axis at several
+//! impact velocities; the residual (exit) velocity against the impact velocity gives the
+//! ballistic limit `V_bl` through the Lambert–Jonas law ([`crate::analytic::ballistic`]).
+//!
+//! Quantities (`position` is the impact velocity, m/s, for the per-shot quantities):
+//! - `residual_velocity` (m/s): the mass-averaged axial velocity of the projectile's remaining
+//!   body at `end_time` if it has left the plate, 0 if it was stopped. Smooth in the material
+//!   constants: the quantity to calibrate on (at two or three fixed impact velocities).
+//! - `residual_mass` (kg): the projectile's remaining mass at `end_time`.
+//! - `ballistic_limit` (m/s, position 0): `V_bl` of the protocol below. Each evaluation is a
+//!   whole search (about ten runs): for `stoss simulate`, not for calibration.
+//!
+//! # The protocol ([`BallisticLimitSpec::search`])
+//! 1. **Sweep:** one run at each of `impact_velocities` (increasing), in parallel.
+//! 2. **Bracket:** the highest stop below the lowest perforation. None of either: `V_bl` is
+//!    stated as not determined, never made up.
+//! 3. **Bisection:** two runs per round at the thirds of the bracket, in parallel, until the
+//!    bracket is at most `2 * bisection_tolerance` wide (the bracket's midpoint is then within
+//!    `bisection_tolerance` of the limit).
+//! 4. **Fit:** Lambert–Jonas (free `p`, bounded) and Recht–Ipson (`p = 2`) on all shots, `V_bl`
+//!    constrained to the bracket.
+//!
+//! # One shot
+//! The axisymmetric model of [`PenetrationSpec`]: the projectile (part `rod`: an ogive core by
+//! default, its own material file, its own element size) meets the plate (part `target`, the
+//! calibrated material, clamped rim) through the eroding contact. A shot **perforates** when the
+//! projectile's shoulder (the end of its nose, its widest section) has passed the lowest point
+//! of the plate's main body (the live plate elements connected to the rim: a plug or debris does
+//! not hold the projectile); behind the shoulder a frictionless shank meets no resistance but
+//! the hole's elastic grip, which the table shows as the velocity change over the last 5 us. It is
+//! **stopped** when it has not, and the projectile's velocity along the flight is below 10 %
+//! of the impact velocity (rebounding or embedded). Any other state at `end_time` (still
+//! ploughing through the plate) is an error that asks for a longer `end_time`.
+
+use super::penetration::{ConnectedBody, Nose, PenetrationSpec, Rim};
+use super::{
+    check_positive, default_temperature, Check, ExperimentReport, FieldOutput, Outcome,
+    SimulationError,
+};
+use crate::analytic::ballistic::{fit_lambert_jonas, LambertJonas, Shot};
+use crate::input::recording::RecordedPoint;
+use crate::input::InputError;
+use crate::report::plots::{Series, Style};
+use crate::solver::{EnergyBalance, SolverError, SolverSettings};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use stoss_kernel::Material;
+
+/// Quantities a ballistic-limit experiment records.
+pub const QUANTITIES: &[&str] = &["residual_velocity", "residual_mass", "ballistic_limit"];
+
+/// A projectile slower than this fraction of its impact velocity, still in the plate, is
+/// stopped.
+const STOPPED_FRACTION: f64 = 0.1;
+
+/// Largest number of bisection rounds (each halves the bracket at least).
+const MAXIMUM_ROUNDS: usize = 24;
+
+fn default_nose() -> Nose {
+    Nose::Ogive
+}
+fn default_plate_element_size() -> f64 {
+    0.2e-3
+}
+fn default_projectile_element_size() -> f64 {
+    0.4e-3
+}
+fn default_gap() -> f64 {
+    0.02e-3
+}
+fn default_grading_ratio() -> f64 {
+    1.1
+}
+fn default_tolerance() -> f64 {
+    2.0
+}
+
+/// Geometry, materials, meshes and the velocity protocol of a ballistic-limit test.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BallisticLimitSpec {
+    /// Projectile (core) length, tip to base (m).
+    pub projectile_length: f64,
+    /// Projectile diameter (m).
+    pub projectile_diameter: f64,
+    /// The projectile's material file, relative to the experiment file (the calibrated
+    /// material is the plate's).
+    pub projectile_material: String,
+    /// Nose shape (default a tangent ogive).
+    #[serde(default = "default_nose")]
+    pub nose: Nose,
+    /// Nose length (m; required for an ogive).
+    #[serde(default)]
+    pub nose_length: Option<f64>,
+    /// Radius of the flat tip that blunts the nose for the mesh (m; default a tenth of the
+    /// diameter).
+    #[serde(default)]
+    pub tip_radius: Option<f64>,
+    /// Plate thickness (m).
+    pub plate_thickness: f64,
+    /// Plate radius (m).
+    pub plate_radius: f64,
+    /// Rim condition.
+    #[serde(default)]
+    pub plate_rim: Rim,
+    /// Element edge in the plate's fine zone (m; seed 001: 0.2 mm, refined 0.1 mm).
+    #[serde(default = "default_plate_element_size")]
+    pub element_size: f64,
+    /// Element edge in the projectile (m; seed 001: 0.4 mm, refined 0.1 mm).
+    #[serde(default = "default_projectile_element_size")]
+    pub projectile_element_size: f64,
+    /// Radius of the plate's uniformly fine zone (m; default two projectile diameters).
+    #[serde(default)]
+    pub fine_radius: Option<f64>,
+    /// Growth of the plate's element size per element outside the fine zone.
+    #[serde(default = "default_grading_ratio")]
+    pub grading_ratio: f64,
+    /// Initial gap between tip and plate (m; seed 001: 0.02 mm).
+    #[serde(default = "default_gap")]
+    pub gap: f64,
+    /// Coulomb friction between projectile and plate.
+    #[serde(default)]
+    pub friction: f64,
+    /// Impact velocities of the sweep (m/s, increasing).
+    pub impact_velocities: Vec<f64>,
+    /// Half-width to which the bisection narrows the bracket (m/s).
+    #[serde(default = "default_tolerance")]
+    pub bisection_tolerance: f64,
+    /// Simulated time after impact of each shot (m/s): long enough for the projectile to
+    /// leave the plate and its velocity to settle.
+    pub end_time: f64,
+    /// Initial temperature (K).
+    #[serde(default = "default_temperature")]
+    pub temperature: f64,
+    /// The projectile's material, loaded from `projectile_material` with the experiment.
+    #[serde(skip)]
+    pub projectile: Option<Box<Material>>,
+}
+
+/// How a shot ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShotOutcome {
+    /// The projectile left the plate.
+    Perforated,
+    /// The projectile was stopped (embedded or rebounding).
+    Stopped,
+}
+
+/// One simulated shot.
+#[derive(Clone, Debug)]
+pub struct ShotResult {
+    /// Impact velocity (m/s).
+    pub impact_velocity: f64,
+    /// Residual velocity (m/s): the projectile's mass-averaged axial velocity if perforated,
+    /// 0 if stopped.
+    pub residual_velocity: f64,
+    /// The projectile's mass-averaged axial velocity at the end, whatever the outcome (m/s).
+    pub final_velocity: f64,
+    /// The change of the projectile's velocity over the last 5 us of the run (m/s): how
+    /// steady `residual_velocity` is.
+    pub late_velocity_change: f64,
+    /// Remaining projectile mass (kg).
+    pub residual_mass: f64,
+    /// Perforated or stopped.
+    pub outcome: ShotOutcome,
+    /// Energy balance of the run.
+    pub energy: EnergyBalance,
+    /// Element-cycles of the run.
+    pub element_cycles: u64,
+    /// Final fields.
+    pub field: FieldOutput,
+}
+
+/// The result of the whole protocol.
+#[derive(Clone, Debug)]
+pub struct BallisticSearch {
+    /// Every shot, by increasing impact velocity.
+    pub shots: Vec<ShotResult>,
+    /// Highest stop and lowest perforation, if both exist.
+    pub bracket: Option<(f64, f64)>,
+    /// Lambert–Jonas fit (free `p`), or why there is none.
+    pub lambert_jonas: Result<LambertJonas, String>,
+    /// Recht–Ipson fit (`p = 2`), or why there is none.
+    pub recht_ipson: Result<LambertJonas, String>,
+}
+
+impl BallisticSearch {
+    /// The ballistic limit: the Lambert–Jonas `V_bl` if fitted, else the bracket's midpoint
+    /// if the bisection closed it, else none.
+    pub fn ballistic_limit(&self, tolerance: f64) -> Option<f64> {
+        match (&self.lambert_jonas, self.bracket) {
+            (Ok(fit), _) => Some(fit.ballistic_limit),
+            (Err(_), Some((low, high))) if high - low <= 2.0 * tolerance + 1e-9 => {
+                Some(0.5 * (low + high))
+            }
+            _ => None,
+        }
+    }
+}
+
+impl BallisticLimitSpec {
+    pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
+        let positive =
+            |field: &str, value: f64, unit: &str| check_positive(check, field, value, unit);
+        positive("bisection_tolerance", self.bisection_tolerance, "m/s")?;
+        check(
+            "impact_velocities",
+            !self.impact_velocities.is_empty(),
+            "needs at least one impact velocity (m/s)",
+        )?;
+        check(
+            "impact_velocities",
+            self.impact_velocities
+                .iter()
+                .all(|v| v.is_finite() && *v > 0.0),
+            "must be finite and > 0 (m/s)",
+        )?;
+        check(
+            "impact_velocities",
+            self.impact_velocities.windows(2).all(|w| w[1] > w[0]),
+            "must be strictly increasing (m/s)",
+        )?;
+        // The geometry, mesh and run-size checks of one shot, at the fastest velocity, with
+        // this kind's field names.
+        let rename = |field: &str| -> &'static str {
+            match field {
+                "rod_length" => "projectile_length",
+                "rod_diameter" => "projectile_diameter",
+                "rod_element_size" => "projectile_element_size",
+                "target_thickness" => "plate_thickness",
+                "target_radius" => "plate_radius",
+                "velocity" => "impact_velocities",
+                "nose_length" => "nose_length",
+                "tip_radius" => "tip_radius",
+                "element_size" => "element_size",
+                "fine_radius" => "fine_radius",
+                "grading_ratio" => "grading_ratio",
+                "gap" => "gap",
+                "friction" => "friction",
+                "end_time" => "end_time",
+                "temperature" => "temperature",
+                _ => "setup",
+            }
+        };
+        let renamed = |field: &str, ok: bool, message: &str| check(rename(field), ok, message);
+        let fastest = self.impact_velocities.last().copied().unwrap_or(1.0);
+        self.shot(fastest).validate(&renamed)
+    }
+
+    /// The penetration model of one shot at `velocity`.
+    pub fn shot(&self, velocity: f64) -> PenetrationSpec {
+        PenetrationSpec {
+            rod_length: self.projectile_length,
+            rod_diameter: self.projectile_diameter,
+            rod_material: self.projectile_material.clone(),
+            velocity,
+            target_thickness: self.plate_thickness,
+            target_radius: self.plate_radius,
+            target_rim: self.plate_rim,
+            element_size: self.element_size,
+            rod_element_size: Some(self.projectile_element_size),
+            nose: self.nose,
+            nose_length: self.nose_length,
+            tip_radius: self.tip_radius,
+            fine_radius: self.fine_radius,
+            grading_ratio: self.grading_ratio,
+            gap: Some(self.gap),
+            friction: self.friction,
+            keep_eroded_mass: true,
+            end_time: self.end_time,
+            temperature: self.temperature,
+            rod: self.projectile.clone(),
+        }
+    }
+
+    /// Fire one shot at `velocity` into a plate of `plate`.
+    pub fn fire(
+        &self,
+        plate: &Material,
+        velocity: f64,
+        settings: &SolverSettings,
+    ) -> Result<ShotResult, SolverError> {
+        let spec = self.shot(velocity);
+        let (result, run, built) = spec.run(plate, settings)?;
+        let mesh = &built.model.mesh;
+        let first_rod = built.rod_elements.first().copied().unwrap_or(0);
+        let plate_elements: Vec<usize> = (0..first_rod).collect();
+        let mut plate_body = ConnectedBody::new(mesh, &plate_elements);
+        plate_body.find(mesh, &run.eroded);
+        let plate_bottom = plate_elements
+            .iter()
+            .zip(&plate_body.member)
+            .filter(|(_, &member)| member)
+            .flat_map(|(&e, _)| mesh.elements[e].map(|n| run.positions[n][1]))
+            .fold(f64::INFINITY, f64::min);
+        let nose_depth = result.nose_depth.last().map_or(f64::NAN, |p| p.1);
+        // Depth of the projectile's shoulder (the end of the nose: the widest section)
+        // below the original front face; the core barely deforms (seed 001 sec. 3.5).
+        let shoulder_depth = nose_depth - spec.nose_length();
+        let final_velocity = result.residual_velocity;
+        let late = result
+            .rod_velocity
+            .iter()
+            .rev()
+            .find(|(t, _)| *t <= self.end_time - 5.0e-6)
+            .map_or(f64::NAN, |p| p.1);
+        let perforated = shoulder_depth.is_finite() && -shoulder_depth < plate_bottom;
+        let outcome = if perforated {
+            ShotOutcome::Perforated
+        } else if final_velocity < STOPPED_FRACTION * velocity {
+            ShotOutcome::Stopped
+        } else {
+            return Err(SolverError::Model(format!(
+                "the shot at {velocity} m/s is still in the plate at end_time = {:e} s after \
+                 impact, moving at {final_velocity:.1} m/s: raise end_time",
+                self.end_time
+            )));
+        };
+        Ok(ShotResult {
+            impact_velocity: velocity,
+            residual_velocity: if perforated { final_velocity } else { 0.0 },
+            final_velocity,
+            late_velocity_change: final_velocity - late,
+            residual_mass: result.residual_mass,
+            outcome,
+            energy: run.energy(),
+            element_cycles: run.element_cycles,
+            field: FieldOutput {
+                mesh: built.model.mesh,
+                positions: run.positions,
+                states: run.states,
+                eroded: run.eroded,
+            },
+        })
+    }
+
+    /// Fire the shots at `velocities` in parallel (one solver thread each, on a pool of
+    /// `settings.threads` workers; each shot's result does not depend on the pool).
+    pub fn fire_all(
+        &self,
+        plate: &Material,
+        velocities: &[f64],
+        settings: &SolverSettings,
+    ) -> Result<Vec<ShotResult>, SolverError> {
+        let single = SolverSettings {
+            threads: Some(1),
+            ..settings.clone()
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(settings.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| SolverError::Model(format!("thread pool: {e}")))?;
+        pool.install(|| {
+            velocities
+                .par_iter()
+                .map(|&v| self.fire(plate, v, &single))
+                .collect()
+        })
+    }
+
+    /// The whole protocol: sweep, bracket, bisection by thirds, Lambert–Jonas and
+    /// Recht–Ipson fits.
+    pub fn search(
+        &self,
+        plate: &Material,
+        settings: &SolverSettings,
+    ) -> Result<BallisticSearch, SolverError> {
+        let mut shots = self.fire_all(plate, &self.impact_velocities, settings)?;
+        let bracket = |shots: &[ShotResult]| {
+            let low = shots
+                .iter()
+                .filter(|s| s.outcome == ShotOutcome::Stopped)
+                .map(|s| s.impact_velocity)
+                .fold(f64::NEG_INFINITY, f64::max);
+            let high = shots
+                .iter()
+                .filter(|s| s.outcome == ShotOutcome::Perforated)
+                .map(|s| s.impact_velocity)
+                .fold(f64::INFINITY, f64::min);
+            (low.is_finite() && high.is_finite() && low < high).then_some((low, high))
+        };
+        for _ in 0..MAXIMUM_ROUNDS {
+            let Some((low, high)) = bracket(&shots) else {
+                break;
+            };
+            if high - low <= 2.0 * self.bisection_tolerance {
+                break;
+            }
+            let third = (high - low) / 3.0;
+            let next = self.fire_all(plate, &[low + third, high - third], settings)?;
+            shots.extend(next);
+            shots.sort_by(|a, b| a.impact_velocity.total_cmp(&b.impact_velocity));
+        }
+        let bracket = bracket(&shots);
+        let points: Vec<Shot> = shots
+            .iter()
+            .map(|s| Shot {
+                impact_velocity: s.impact_velocity,
+                residual_velocity: s.residual_velocity,
+            })
+            .collect();
+        let lambert_jonas = fit_lambert_jonas(&points, None).map_err(|e| e.to_string());
+        let recht_ipson = fit_lambert_jonas(&points, Some(2.0)).map_err(|e| e.to_string());
+        Ok(BallisticSearch {
+            shots,
+            bracket,
+            lambert_jonas,
+            recht_ipson,
+        })
+    }
+
+    pub(super) fn simulate(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+        recording: &[RecordedPoint],
+    ) -> Result<Outcome, SimulationError> {
+        let wants_limit = recording.iter().any(|p| p.quantity == "ballistic_limit");
+        let (shots, search) = if wants_limit {
+            let search = self.search(material, settings)?;
+            (search.shots.clone(), Some(search))
+        } else {
+            let mut velocities: Vec<f64> = recording.iter().map(|p| p.position).collect();
+            velocities.sort_by(f64::total_cmp);
+            velocities.dedup();
+            (self.fire_all(material, &velocities, settings)?, None)
+        };
+        let at = |velocity: f64| shots.iter().find(|s| s.impact_velocity == velocity);
+        let limit = search
+            .as_ref()
+            .and_then(|s| s.ballistic_limit(self.bisection_tolerance));
+        let predicted = recording
+            .iter()
+            .map(|point| match point.quantity.as_str() {
+                "ballistic_limit" => limit.unwrap_or(f64::NAN),
+                "residual_velocity" => at(point.position).map_or(f64::NAN, |s| s.residual_velocity),
+                "residual_mass" => at(point.position).map_or(f64::NAN, |s| s.residual_mass),
+                _ => f64::NAN,
+            })
+            .collect();
+        let mut summary = Vec::new();
+        if let Some(search) = &search {
+            summary.push(("ballistic_limit".to_string(), limit.unwrap_or(f64::NAN)));
+            if let Some((low, high)) = search.bracket {
+                summary.push(("highest_stop".into(), low));
+                summary.push(("lowest_perforation".into(), high));
+            }
+            for (name, fit) in [
+                ("lambert_jonas", &search.lambert_jonas),
+                ("recht_ipson", &search.recht_ipson),
+            ] {
+                if let Ok(fit) = fit {
+                    summary.push((format!("{name}_a"), fit.a));
+                    summary.push((format!("{name}_p"), fit.p));
+                    summary.push((format!("{name}_ballistic_limit"), fit.ballistic_limit));
+                }
+            }
+        }
+        summary.push(("shots".into(), shots.len() as f64));
+        // The worst energy balance of the shots stands for the experiment.
+        let energy = shots
+            .iter()
+            .map(|s| s.energy)
+            .max_by(|a, b| a.error_percent().abs().total_cmp(&b.error_percent().abs()));
+        let element_cycles = shots.iter().map(|s| s.element_cycles).sum();
+        let report = self.report(&shots, search.as_ref(), limit);
+        // The field of the slowest perforating shot (nearest the limit).
+        let field = shots
+            .iter()
+            .find(|s| s.outcome == ShotOutcome::Perforated)
+            .or(shots.last())
+            .map(|s| s.field.clone());
+        Ok(Outcome {
+            predicted,
+            summary,
+            energy,
+            states: Vec::new(),
+            field,
+            element_cycles,
+            report: Some(report),
+        })
+    }
+
+    /// The Vi -> Vr table, the fits and the figure.
+    fn report(
+        &self,
+        shots: &[ShotResult],
+        search: Option<&BallisticSearch>,
+        limit: Option<f64>,
+    ) -> ExperimentReport {
+        let mut text = String::from(
+            "\nshots (residual velocity: projectile's mass-averaged axial velocity after exit)\n",
+        );
+        let _ = writeln!(
+            text,
+            "{:>10} {:>10} {:>12} {:>13} {:>12} {:>9}",
+            "Vi (m/s)", "Vr (m/s)", "outcome", "dVr last 5us", "mass (g)", "energy %"
+        );
+        for s in shots {
+            let _ = writeln!(
+                text,
+                "{:>10.1} {:>10.1} {:>12} {:>13.1} {:>12.4} {:>+9.3}",
+                s.impact_velocity,
+                s.residual_velocity,
+                match s.outcome {
+                    ShotOutcome::Perforated => "perforated",
+                    ShotOutcome::Stopped => "stopped",
+                },
+                s.late_velocity_change,
+                s.residual_mass * 1e3,
+                s.energy.error_percent()
+            );
+        }
+        let mut series = vec![Series {
+            label: "simulated shots".into(),
+            points: shots
+                .iter()
+                .map(|s| (s.impact_velocity, s.residual_velocity))
+                .collect(),
+            style: Style::Markers,
+            colour: 0,
+        }];
+        if let Some(search) = search {
+            match search.bracket {
+                Some((low, high)) => {
+                    let _ = writeln!(
+                        text,
+                        "bracket: stopped at {low:.1}, perforated at {high:.1} m/s"
+                    );
+                }
+                None => {
+                    let _ = writeln!(
+                        text,
+                        "bracket: none (the sweep needs a stop below a perforation): V_bl not \
+                         determined"
+                    );
+                }
+            }
+            let fits = [
+                ("Lambert-Jonas", &search.lambert_jonas, 1),
+                ("Recht-Ipson (p = 2)", &search.recht_ipson, 2),
+            ];
+            for (name, fit, colour) in fits {
+                match fit {
+                    Ok(fit) => {
+                        let _ = writeln!(
+                            text,
+                            "{name:<20} a {:.3}  p {:.3}  V_bl {:.1} m/s  (rms {:.1} m/s, {} \
+                             points)",
+                            fit.a, fit.p, fit.ballistic_limit, fit.rms_residual, fit.points_used
+                        );
+                        let v_max = shots
+                            .last()
+                            .map_or(fit.ballistic_limit, |s| s.impact_velocity);
+                        let points = (0..=100)
+                            .map(|k| {
+                                let v = fit.ballistic_limit
+                                    + (v_max - fit.ballistic_limit) * k as f64 / 100.0;
+                                (v, fit.residual_velocity(v))
+                            })
+                            .collect();
+                        series.push(Series {
+                            label: format!("{name}: V_bl {:.0} m/s", fit.ballistic_limit),
+                            points,
+                            style: Style::Line,
+                            colour,
+                        });
+                    }
+                    Err(reason) => {
+                        let _ = writeln!(text, "{name:<20} not determined: {reason}");
+                    }
+                }
+            }
+            match limit {
+                Some(v) => {
+                    let _ = writeln!(text, "ballistic limit V_bl = {v:.1} m/s");
+                }
+                None => {
+                    let _ = writeln!(text, "ballistic limit: not determined");
+                }
+            }
+        }
+        ExperimentReport {
+            text,
+            charts: vec![super::Chart {
+                file: "residual-velocity.svg".into(),
+                title: "Residual against impact velocity".into(),
+                x_label: "impact velocity (m/s)".into(),
+                y_label: "residual velocity (m/s)".into(),
+                series,
+            }],
+        }
+    }
+}

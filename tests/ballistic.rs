@@ -1,0 +1,189 @@
+//! Ballistic limit: shot outcomes, the search protocol (sweep, bisection, Lambert–Jonas fit),
+//! threads, energy and bad input, on a coarse mesh. The seed's 0.2 / 0.1 mm meshes and the
+//! implicit-against-lagged comparison are in docs/solver.md ("Ballistic limit"), from
+//! `stoss simulate fixtures/experiments/ballistic-hns-wc*.toml`, not here. The fits themselves
+//! are tested against seed 001's tables in `stoss::analytic::ballistic`.
+
+use std::path::{Path, PathBuf};
+use stoss::experiment::ballistic::ShotOutcome;
+use stoss::experiment::{BallisticLimitSpec, Experiment, Setup};
+use stoss::input::material;
+use stoss::solver::SolverSettings;
+use stoss_kernel::Material;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures")
+        .join(name)
+}
+
+/// The seed 001 fixture on a coarse mesh (plate 0.4 mm, core 0.5 mm), and the HNS plate.
+fn coarse_experiment() -> (BallisticLimitSpec, Material) {
+    let experiment = Experiment::load(&fixture("experiments/ballistic-hns-wc.toml")).unwrap();
+    let (_, plate) = material::load(&experiment.default_material_path().unwrap()).unwrap();
+    let Setup::BallisticLimit(spec) = &experiment.file.setup else {
+        panic!("not a ballistic-limit experiment");
+    };
+    let mut spec = spec.clone();
+    spec.element_size = 0.4e-3;
+    spec.projectile_element_size = 0.5e-3;
+    spec.plate_radius = 15.0e-3;
+    (spec, plate)
+}
+
+#[test]
+fn a_core_stops_slow_and_perforates_fast_with_thread_independent_results() {
+    // GOAL: (a) a slow shot is stopped and a fast one perforates with a residual velocity
+    //       between 0 and the impact velocity; (b) 1 and 2 solver threads give bit-identical
+    //       shots; (c) each shot's energy balance closes to 2 % with failure and erosion on
+    //       (seed 001's runs: 0-2 %).
+    // SETUP: the seed 001 fixture (WC core, 10.8 mm HNS, implicit rate) on a coarse mesh,
+    //        shots at 300 and 1200 m/s.
+    // REFERENCE: (a) physical bounds: the measured limit is 762 m/s (seed 001), so 300 m/s
+    //   stops and 1200 m/s perforates; a rigid core loses speed: 0 < Vr < Vi. (b) exact.
+    //   (c) |error| <= 2 %.
+    let (spec, plate) = coarse_experiment();
+    let serial = SolverSettings {
+        threads: Some(1),
+        ..SolverSettings::default()
+    };
+    let slow = spec.fire(&plate, 300.0, &serial).unwrap();
+    assert_eq!(slow.outcome, ShotOutcome::Stopped);
+    assert_eq!(slow.residual_velocity, 0.0);
+    let fast = spec.fire(&plate, 1200.0, &serial).unwrap();
+    assert_eq!(fast.outcome, ShotOutcome::Perforated);
+    assert!(
+        fast.residual_velocity > 0.0 && fast.residual_velocity < 1200.0,
+        "Vr {}",
+        fast.residual_velocity
+    );
+    let parallel = spec
+        .fire(
+            &plate,
+            1200.0,
+            &SolverSettings {
+                threads: Some(2),
+                ..SolverSettings::default()
+            },
+        )
+        .unwrap();
+    assert_eq!(
+        fast.residual_velocity.to_bits(),
+        parallel.residual_velocity.to_bits()
+    );
+    let bits = |v: &[[f64; 3]]| v.iter().flatten().map(|c| c.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&fast.field.positions), bits(&parallel.field.positions));
+    for shot in [&slow, &fast] {
+        let error = shot.energy.error_percent();
+        assert!(
+            error.abs() <= 2.0,
+            "{} m/s: energy error {error:.3} %",
+            shot.impact_velocity
+        );
+    }
+}
+
+#[test]
+fn the_search_brackets_bisects_and_fits_within_its_bracket() {
+    // GOAL: the protocol: a sweep with a stop below a perforation is bisected (by thirds, two
+    //       shots per round) until the bracket is at most twice the tolerance; the
+    //       Lambert–Jonas and Recht–Ipson limits lie in the bracket; residual velocity grows
+    //       with impact velocity.
+    // SETUP: the coarse fixture, sweep 400 / 900 / 1100 / 1300 m/s, tolerance 40 m/s.
+    // REFERENCE: the protocol's definition (module docs of stoss::experiment::ballistic);
+    //   monotonicity of Vr(Vi) for a rigid core (Lambert & Jonas 1976).
+    let (mut spec, plate) = coarse_experiment();
+    spec.impact_velocities = vec![400.0, 900.0, 1100.0, 1300.0];
+    spec.bisection_tolerance = 40.0;
+    let search = spec.search(&plate, &SolverSettings::default()).unwrap();
+    let (low, high) = search.bracket.expect("a stop below a perforation");
+    assert!(high - low <= 80.0, "bracket {low}..{high}");
+    assert!(search.shots.len() >= 6, "{} shots", search.shots.len());
+    let fit = search.lambert_jonas.as_ref().expect("Lambert-Jonas fit");
+    assert!(
+        fit.ballistic_limit >= low && fit.ballistic_limit <= high,
+        "V_bl {} outside {low}..{high}",
+        fit.ballistic_limit
+    );
+    let recht_ipson = search.recht_ipson.as_ref().expect("Recht-Ipson fit");
+    assert!(recht_ipson.ballistic_limit >= low && recht_ipson.ballistic_limit <= high);
+    let perforating: Vec<f64> = search
+        .shots
+        .iter()
+        .filter(|s| s.outcome == ShotOutcome::Perforated)
+        .map(|s| s.residual_velocity)
+        .collect();
+    assert!(
+        perforating.windows(2).all(|w| w[1] > w[0]),
+        "residual velocities {perforating:?}"
+    );
+    assert_eq!(
+        search.ballistic_limit(spec.bisection_tolerance),
+        Some(fit.ballistic_limit)
+    );
+}
+
+/// Write the ballistic fixture with `setup` lines replaced into `folder`.
+fn write_variant(folder: &Path, from: &str, to: &str) -> PathBuf {
+    std::fs::create_dir_all(folder).unwrap();
+    let text = std::fs::read_to_string(fixture("experiments/ballistic-hns-wc.toml"))
+        .unwrap()
+        .replace("../materials", &fixture("materials").display().to_string());
+    assert!(text.contains(from), "{from}");
+    std::fs::copy(
+        fixture("experiments/ballistic-hns-wc.csv"),
+        folder.join("ballistic-hns-wc.csv"),
+    )
+    .unwrap();
+    let path = folder.join("experiment.toml");
+    std::fs::write(&path, text.replace(from, to)).unwrap();
+    path
+}
+
+#[test]
+fn bad_ballistic_input_names_the_file_line_and_field() {
+    // GOAL: impact velocities not increasing, none, or negative; a tolerance <= 0; a nose
+    //       shorter than the core radius; a core wider than the plate: errors naming the file,
+    //       line and field, before any run.
+    // SETUP: variants of ballistic-hns-wc.toml in a scratch folder.
+    // REFERENCE: the error names `experiment.toml:<line>` and the field.
+    let scratch = std::env::temp_dir().join(format!("stoss-ballistic-{}", std::process::id()));
+    let velocities = "impact_velocities = [500.0, 600.0, 700.0, 800.0, 900.0]";
+    let cases = [
+        (
+            velocities,
+            "impact_velocities = [600.0, 500.0]",
+            "impact_velocities",
+        ),
+        (velocities, "impact_velocities = []", "impact_velocities"),
+        (
+            velocities,
+            "impact_velocities = [-5.0, 500.0]",
+            "impact_velocities",
+        ),
+        (
+            "bisection_tolerance = 2.0",
+            "bisection_tolerance = 0.0",
+            "bisection_tolerance",
+        ),
+        (
+            "nose_length = 6.0e-3",
+            "nose_length = 1.0e-3",
+            "nose_length",
+        ),
+        (
+            "plate_radius = 30.0e-3",
+            "plate_radius = 1.0e-3",
+            "plate_radius",
+        ),
+    ];
+    for (k, (from, to, field)) in cases.iter().enumerate() {
+        let path = write_variant(&scratch.join(format!("case-{k}")), from, to);
+        let error = Experiment::load(&path).unwrap_err().to_string();
+        assert!(
+            error.contains(field) && error.contains("experiment.toml:"),
+            "{to}: {error}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+}
