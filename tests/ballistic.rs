@@ -187,3 +187,43 @@ fn bad_ballistic_input_names_the_file_line_and_field() {
     }
     let _ = std::fs::remove_dir_all(&scratch);
 }
+
+#[test]
+fn residual_velocities_at_fixed_impact_velocities_are_simulated_for_calibration() {
+    // GOAL: the calibration path: an experiment recording residual velocity and mass at fixed
+    //       impact velocities is simulated shot by shot (no search), each point predicted.
+    // SETUP: the coarse fixture (plate 0.4 mm, core 0.5 mm) with a recording of
+    //        residual_velocity and residual_mass at 1200 m/s and residual_velocity at 300.
+    // REFERENCE: the shot outcomes of the first test: Vr(300) = 0, 0 < Vr(1200) < 1200;
+    //   the core (no erosion) keeps its mass: 14000 kg/m^3 times the meshed volume, > 2 g.
+    let folder = std::env::temp_dir().join(format!("stoss-ballistic-cal-{}", std::process::id()));
+    let path = write_variant(&folder, "element_size = 0.2e-3", "element_size = 0.4e-3");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace(
+            "projectile_element_size = 0.4e-3",
+            "projectile_element_size = 0.5e-3",
+        )
+        .replace("plate_radius = 30.0e-3", "plate_radius = 15.0e-3");
+    std::fs::write(&path, text).unwrap();
+    std::fs::write(
+        folder.join("ballistic-hns-wc.csv"),
+        "quantity,position,value,uncertainty\n\
+         residual_velocity,1200,500,10\n\
+         residual_mass,1200,2.4e-3,1e-4\n\
+         residual_velocity,300,0,10\n",
+    )
+    .unwrap();
+    let experiment = Experiment::load(&path).unwrap();
+    let (_, plate) = material::load(&experiment.default_material_path().unwrap()).unwrap();
+    let outcome = experiment
+        .simulate(&plate, &SolverSettings::default())
+        .unwrap();
+    let [fast, mass, slow] = outcome.predicted[..] else {
+        panic!("three predictions");
+    };
+    assert!(fast > 0.0 && fast < 1200.0, "Vr(1200) {fast}");
+    assert!(mass > 2.0e-3 && mass < 3.0e-3, "mass {mass}");
+    assert_eq!(slow, 0.0);
+    let _ = std::fs::remove_dir_all(&folder);
+}

@@ -29,10 +29,12 @@
 //! not hold the projectile); behind the shoulder a frictionless shank meets no resistance but
 //! the hole's elastic grip, which the table shows as the velocity change over the last 5 us. It is
 //! **stopped** when it has not, and the projectile's velocity along the flight is below 10 %
-//! of the impact velocity (rebounding or embedded). Any other state at `end_time` (still
-//! ploughing through the plate) is an error that asks for a longer `end_time`.
+//! of the impact velocity (rebounding or embedded). A shot in neither state at `end_time`
+//! (still ploughing through the plate) is fired once more for three times as long; if it is
+//! still undetermined it is reported as such ("in plate", residual velocity NaN) and enters
+//! neither the bracket nor the fits.
 
-use super::penetration::{ConnectedBody, Nose, PenetrationSpec, Rim};
+use super::penetration::{ConnectedBody, Nose, PenetrationResult, PenetrationSpec, Rim};
 use super::{
     check_positive, default_temperature, Check, ExperimentReport, FieldOutput, Outcome,
     SimulationError,
@@ -40,11 +42,13 @@ use super::{
 use crate::analytic::ballistic::{fit_lambert_jonas, LambertJonas, Shot};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
+use crate::mesh::QuadMesh;
 use crate::report::plots::{Series, Style};
-use crate::solver::{EnergyBalance, SolverError, SolverSettings};
+use crate::solver::{EnergyBalance, Snapshot, SolverError, SolverSettings};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
+use std::ops::ControlFlow;
 use stoss_kernel::Material;
 
 /// Quantities a ballistic-limit experiment records.
@@ -53,6 +57,13 @@ pub const QUANTITIES: &[&str] = &["residual_velocity", "residual_mass", "ballist
 /// A projectile slower than this fraction of its impact velocity, still in the plate, is
 /// stopped.
 const STOPPED_FRACTION: f64 = 0.1;
+
+/// Simulated time after the shoulder clears the plate, for the residual velocity to settle
+/// (s).
+const SETTLING: f64 = 10.0e-6;
+
+/// A shot still in the plate at `end_time` is repeated with this many times the time.
+const RETRY_FACTOR: f64 = 3.0;
 
 /// Largest number of bisection rounds (each halves the bracket at least).
 const MAXIMUM_ROUNDS: usize = 24;
@@ -127,8 +138,9 @@ pub struct BallisticLimitSpec {
     /// Half-width to which the bisection narrows the bracket (m/s).
     #[serde(default = "default_tolerance")]
     pub bisection_tolerance: f64,
-    /// Simulated time after impact of each shot (m/s): long enough for the projectile to
-    /// leave the plate and its velocity to settle.
+    /// Longest simulated time after impact of a shot (s): long enough for a slow projectile
+    /// to clear the plate. A shot ends earlier once decided: 10 us after the projectile's
+    /// shoulder clears the plate, or when it comes to rest or rebounds.
     pub end_time: f64,
     /// Initial temperature (K).
     #[serde(default = "default_temperature")]
@@ -145,6 +157,9 @@ pub enum ShotOutcome {
     Perforated,
     /// The projectile was stopped (embedded or rebounding).
     Stopped,
+    /// Still moving through the plate at the end, even after the one retry with three times
+    /// the `end_time`: a shot at the limit. It brackets nothing and enters no fit.
+    Undetermined,
 }
 
 /// One simulated shot.
@@ -282,44 +297,69 @@ impl BallisticLimitSpec {
         settings: &SolverSettings,
     ) -> Result<ShotResult, SolverError> {
         let spec = self.shot(velocity);
-        let (result, run, built) = spec.run(plate, settings)?;
-        let mesh = &built.model.mesh;
-        let first_rod = built.rod_elements.first().copied().unwrap_or(0);
-        let plate_elements: Vec<usize> = (0..first_rod).collect();
-        let mut plate_body = ConnectedBody::new(mesh, &plate_elements);
-        plate_body.find(mesh, &run.eroded);
-        let plate_bottom = plate_elements
-            .iter()
-            .zip(&plate_body.member)
-            .filter(|(_, &member)| member)
-            .flat_map(|(&e, _)| mesh.elements[e].map(|n| run.positions[n][1]))
-            .fold(f64::INFINITY, f64::min);
-        let nose_depth = result.nose_depth.last().map_or(f64::NAN, |p| p.1);
-        // Depth of the projectile's shoulder (the end of the nose: the widest section)
-        // below the original front face; the core barely deforms (seed 001 sec. 3.5).
-        let shoulder_depth = nose_depth - spec.nose_length();
+        let nose_length = spec.nose_length();
+        let mut plate_body: Option<(Vec<usize>, ConnectedBody)> = None;
+        let mut exit_time: Option<f64> = None;
+        let mut perforated = false;
+        // Decide the shot at each output: perforated once the shoulder has cleared the plate
+        // (the run ends `SETTLING` later, the residual velocity settled); stopped as soon as
+        // the projectile moves backwards or rests; else on to `end_time`.
+        let mut decided = |mesh: &QuadMesh, snapshot: &Snapshot, result: &PenetrationResult| {
+            let time = result.nose_depth.last().map_or(0.0, |p| p.0);
+            if time <= 0.0 {
+                return ControlFlow::Continue(());
+            }
+            let (elements, body) = plate_body.get_or_insert_with(|| {
+                let elements: Vec<usize> = (0..mesh.elements.len())
+                    .filter(|&e| mesh.element_part[e] == 0)
+                    .collect();
+                let body = ConnectedBody::new(mesh, &elements);
+                (elements, body)
+            });
+            body.find(mesh, snapshot.eroded);
+            let plate_bottom = elements
+                .iter()
+                .zip(&body.member)
+                .filter(|(_, &member)| member)
+                .flat_map(|(&e, _)| mesh.elements[e].map(|n| snapshot.positions[n][1]))
+                .fold(f64::INFINITY, f64::min);
+            // Depth of the projectile's shoulder (the end of the nose, the widest section)
+            // below the original front face; the core barely deforms (seed 001 sec. 3.5).
+            let shoulder_depth = result.nose_depth.last().map_or(f64::NAN, |p| p.1) - nose_length;
+            perforated = shoulder_depth.is_finite() && -shoulder_depth < plate_bottom;
+            if perforated {
+                let exit = *exit_time.get_or_insert(time);
+                if time >= exit + SETTLING {
+                    return ControlFlow::Break(());
+                }
+            } else if result.residual_velocity <= 0.0 {
+                return ControlFlow::Break(());
+            }
+            ControlFlow::Continue(())
+        };
+        let (result, run, built) = spec.run_until(plate, settings, &mut decided)?;
         let final_velocity = result.residual_velocity;
+        let final_time = result.rod_velocity.last().map_or(0.0, |p| p.0);
         let late = result
             .rod_velocity
             .iter()
             .rev()
-            .find(|(t, _)| *t <= self.end_time - 5.0e-6)
+            .find(|(t, _)| *t <= final_time - 5.0e-6)
             .map_or(f64::NAN, |p| p.1);
-        let perforated = shoulder_depth.is_finite() && -shoulder_depth < plate_bottom;
         let outcome = if perforated {
             ShotOutcome::Perforated
         } else if final_velocity < STOPPED_FRACTION * velocity {
             ShotOutcome::Stopped
         } else {
-            return Err(SolverError::Model(format!(
-                "the shot at {velocity} m/s is still in the plate at end_time = {:e} s after \
-                 impact, moving at {final_velocity:.1} m/s: raise end_time",
-                self.end_time
-            )));
+            ShotOutcome::Undetermined
         };
         Ok(ShotResult {
             impact_velocity: velocity,
-            residual_velocity: if perforated { final_velocity } else { 0.0 },
+            residual_velocity: match outcome {
+                ShotOutcome::Perforated => final_velocity,
+                ShotOutcome::Stopped => 0.0,
+                ShotOutcome::Undetermined => f64::NAN,
+            },
             final_velocity,
             late_velocity_change: final_velocity - late,
             residual_mass: result.residual_mass,
@@ -351,10 +391,23 @@ impl BallisticLimitSpec {
             .num_threads(settings.threads.unwrap_or(0))
             .build()
             .map_err(|e| SolverError::Model(format!("thread pool: {e}")))?;
+        // A shot still in the plate at `end_time` is fired once more for three times as
+        // long (slow shots near the limit take longer to clear the plate).
+        let longer = Self {
+            end_time: RETRY_FACTOR * self.end_time,
+            ..self.clone()
+        };
         pool.install(|| {
             velocities
                 .par_iter()
-                .map(|&v| self.fire(plate, v, &single))
+                .map(|&v| {
+                    let shot = self.fire(plate, v, &single)?;
+                    if shot.outcome == ShotOutcome::Undetermined {
+                        longer.fire(plate, v, &single)
+                    } else {
+                        Ok(shot)
+                    }
+                })
                 .collect()
         })
     }
@@ -389,12 +442,19 @@ impl BallisticLimitSpec {
             }
             let third = (high - low) / 3.0;
             let next = self.fire_all(plate, &[low + third, high - third], settings)?;
+            // A shot that stays undetermined sits at the limit: the bracket can close no
+            // further by these criteria.
+            let stalled = next.iter().any(|s| s.outcome == ShotOutcome::Undetermined);
             shots.extend(next);
             shots.sort_by(|a, b| a.impact_velocity.total_cmp(&b.impact_velocity));
+            if stalled {
+                break;
+            }
         }
         let bracket = bracket(&shots);
         let points: Vec<Shot> = shots
             .iter()
+            .filter(|s| s.outcome != ShotOutcome::Undetermined)
             .map(|s| Shot {
                 impact_velocity: s.impact_velocity,
                 residual_velocity: s.residual_velocity,
@@ -506,6 +566,7 @@ impl BallisticLimitSpec {
                 match s.outcome {
                     ShotOutcome::Perforated => "perforated",
                     ShotOutcome::Stopped => "stopped",
+                    ShotOutcome::Undetermined => "in plate",
                 },
                 s.late_velocity_change,
                 s.residual_mass * 1e3,

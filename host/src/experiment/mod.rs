@@ -9,7 +9,7 @@
 //! material = "../materials/4340-jc.toml"   # default material; `--material` overrides
 //!
 //! [setup]
-//! kind = "taylor"                          # uniaxial | tension | taylor | shpb
+//! kind = "taylor"                          # uniaxial | tension | taylor | shpb | penetration | ballistic-limit
 //! length = 25.4e-3
 //! ...
 //! ```

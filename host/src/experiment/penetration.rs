@@ -45,6 +45,7 @@ use crate::solver::{
 };
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
+use std::ops::ControlFlow;
 use stoss_kernel::Material;
 
 /// Quantities a penetration experiment records.
@@ -516,11 +517,23 @@ impl PenetrationSpec {
         }
     }
 
-    /// Run the model and measure the rod's histories.
+    /// Run the model to `end_time` and measure the rod's histories.
     pub fn run(
         &self,
         target: &Material,
         settings: &SolverSettings,
+    ) -> Result<(PenetrationResult, ExplicitRun, PenetrationModel), SolverError> {
+        self.run_until(target, settings, &mut |_, _, _| ControlFlow::Continue(()))
+    }
+
+    /// Run the model and measure the rod's histories until `decided` breaks (it sees the mesh,
+    /// each output snapshot and the histories so far) or `end_time`.
+    pub fn run_until(
+        &self,
+        target: &Material,
+        settings: &SolverSettings,
+        decided: &mut (dyn FnMut(&QuadMesh, &Snapshot, &PenetrationResult) -> ControlFlow<()>
+                  + Send),
     ) -> Result<(PenetrationResult, ExplicitRun, PenetrationModel), SolverError> {
         let rod = self.rod.as_deref().copied().ok_or_else(|| {
             SolverError::Model(format!(
@@ -584,9 +597,10 @@ impl PenetrationSpec {
             result.residual_mass = mass;
             result.residual_velocity = velocity;
         };
-        let run = built
-            .model
-            .run_observed(&mut |snapshot| measure(snapshot, &mut result))?;
+        let run = built.model.run_observed(&mut |snapshot| {
+            measure(snapshot, &mut result);
+            decided(mesh, snapshot, &result)
+        })?;
         Ok((result, run, built))
     }
 

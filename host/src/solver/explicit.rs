@@ -15,6 +15,7 @@ use super::loads::{RigidWall, VelocityConstraint};
 use super::{SolverError, SolverSettings};
 use crate::measure::{StateHistory, StateSample};
 use rayon::prelude::*;
+use std::ops::ControlFlow;
 use stoss_kernel::{update, Material, MaterialState, StateFlags, StepInput};
 
 /// Nodal vectors are stored with three components; 2D formulations use the first two.
@@ -189,14 +190,18 @@ impl<M: Discretisation> ExplicitModel<M> {
         &self,
         progress: &mut (dyn FnMut(f64, &EnergyBalance) + Send),
     ) -> Result<ExplicitRun, SolverError> {
-        self.run_observed(&mut |snapshot| progress(snapshot.time, snapshot.energy))
+        self.run_observed(&mut |snapshot| {
+            progress(snapshot.time, snapshot.energy);
+            ControlFlow::Continue(())
+        })
     }
 
     /// Run to `settings.end_time`; `observer` sees the model at every output interval (and at
-    /// the end).
+    /// the end) and may end the run there by returning `ControlFlow::Break` (an experiment
+    /// whose outcome is decided).
     pub fn run_observed(
         &self,
-        observer: &mut (dyn FnMut(&Snapshot) + Send),
+        observer: &mut (dyn FnMut(&Snapshot) -> ControlFlow<()> + Send),
     ) -> Result<ExplicitRun, SolverError> {
         if let Some(threads) = self.settings.threads {
             if !(1..=MAXIMUM_THREADS).contains(&threads) {
@@ -217,7 +222,7 @@ impl<M: Discretisation> ExplicitModel<M> {
 
     fn run_in_pool(
         &self,
-        observer: &mut (dyn FnMut(&Snapshot) + Send),
+        observer: &mut (dyn FnMut(&Snapshot) -> ControlFlow<()> + Send),
     ) -> Result<ExplicitRun, SolverError> {
         let dimension = M::DIMENSION;
         let measure = M::MEASURE;
@@ -584,7 +589,7 @@ impl<M: Discretisation> ExplicitModel<M> {
                         M::AXIAL_COMPONENT,
                     ));
                 }
-                observer(&Snapshot {
+                let decision = observer(&Snapshot {
                     time,
                     positions: &x,
                     velocities: &v,
@@ -592,6 +597,9 @@ impl<M: Discretisation> ExplicitModel<M> {
                     eroded: &eroded,
                     energy: &energy,
                 });
+                if decision.is_break() {
+                    break;
+                }
                 if settings.rest_fraction > 0.0 {
                     if let Some(damping) = settings.damping {
                         if time > damping.start_time
