@@ -524,7 +524,12 @@ impl BallisticLimitSpec {
             .map(|s| s.energy)
             .max_by(|a, b| a.error_percent().abs().total_cmp(&b.error_percent().abs()));
         let element_cycles = shots.iter().map(|s| s.element_cycles).sum();
-        let report = self.report(&shots, search.as_ref(), limit);
+        let measured: Vec<(f64, f64)> = recording
+            .iter()
+            .filter(|p| p.quantity == "ballistic_limit")
+            .map(|p| (p.value, p.uncertainty))
+            .collect();
+        let report = self.report(&shots, search.as_ref(), limit, &measured);
         // The field of the slowest perforating shot (nearest the limit).
         let field = shots
             .iter()
@@ -548,6 +553,7 @@ impl BallisticLimitSpec {
         shots: &[ShotResult],
         search: Option<&BallisticSearch>,
         limit: Option<f64>,
+        measured: &[(f64, f64)],
     ) -> ExperimentReport {
         let mut text = String::from(
             "\nshots (residual velocity: projectile's mass-averaged axial velocity after exit)\n",
@@ -582,6 +588,19 @@ impl BallisticLimitSpec {
             style: Style::Markers,
             colour: 0,
         }];
+        for (k, &(value, uncertainty)) in measured.iter().enumerate() {
+            // The recorded limit and its band, on the Vi axis.
+            series.push(Series {
+                label: format!("recorded V_bl {value:.0} +/- {uncertainty:.0} m/s"),
+                points: vec![
+                    (value - uncertainty, 0.0),
+                    (value, 0.0),
+                    (value + uncertainty, 0.0),
+                ],
+                style: Style::Markers,
+                colour: 3 + k,
+            });
+        }
         if let Some(search) = search {
             match search.bracket {
                 Some((low, high)) => {
