@@ -17,8 +17,10 @@
 //!   then elements growing by `grading_ratio` per element to the rim; the rim clamped
 //!   (`v_r = v_z = 0`, seed 000) or free.
 //! - Rod (part `rod`, the material file `rod_material`, fixed during a calibration):
-//!   `z in [gap, gap + L]`, `r in [0, D/2]`, square elements of `element_size` (rounded to fit
-//!   the radius), flat nose, moving at `-velocity`. Time zero of the recording is the impact,
+//!   `z in [gap, gap + L]`, `r in [0, D/2]`, square elements of `rod_element_size` (default
+//!   `element_size`, rounded to fit the radius), moving at `-velocity`; a flat nose, or a
+//!   hemispherical or tangent-ogive one mapped onto the same structured mesh and blunted to a
+//!   flat tip of `tip_radius`. Time zero of the recording is the impact,
 //!   `gap / velocity` after the start of the run.
 //! - Eroding contact ([`crate::solver::ErodingContact`]) between rod and target with Coulomb
 //!   friction `friction` (default 0: seed 000 does not give its coefficient), eroded mass kept
