@@ -4,6 +4,7 @@
 //! explicit solver, the functional experiments, calibration and diagnosis.
 
 pub mod analytic;
+pub mod blast;
 pub mod calibrate;
 pub mod cli;
 pub mod diagnose;

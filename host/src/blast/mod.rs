@@ -1,0 +1,8 @@
+//! Blast loads on structures.
+//!
+//! - [`euler`]: a 2D (planar or axisymmetric) second-order Godunov solver for detonation
+//!   products and air, with programmed burn, that records the pressure on a rigid wall;
+//! - [`fluid`]: the JWL products / ideal-gas air mixture it uses.
+
+pub mod euler;
+pub mod fluid;
