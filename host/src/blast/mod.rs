@@ -6,3 +6,4 @@
 
 pub mod euler;
 pub mod fluid;
+pub mod near_field;

@@ -15,7 +15,7 @@
 
 use super::EnergyLinearPressure;
 use crate::error::{check, ParameterError};
-use crate::math::exp;
+use crate::math::{exp, sqrt};
 
 /// JWL constants (SI) and the published detonation data that go with them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,6 +65,23 @@ impl Jwl {
         cj_pressure: 28.0e9,
     };
 
+    /// TNT, LLNL Explosives Handbook (Dobratz & Crawford, UCRL-52997 Change 2, 1985), JWL
+    /// table: rho0 1.630 g/cm^3, D 0.693 cm/us, P_CJ 0.210 Mbar, A 3.712 Mbar, B 0.03231 Mbar,
+    /// R1 4.15, R2 0.95, w 0.30, E0 0.070 Mbar; the same set is OpenRadioss's `/MAT/JWL`
+    /// TNT example. The test `tnt_chapman_jouguet_state_matches_the_published_values`
+    /// recomputes D and P_CJ from the constants.
+    pub const TNT: Jwl = Jwl {
+        a: 371.2e9,
+        b: 3.231e9,
+        r1: 4.15,
+        r2: 0.95,
+        omega: 0.30,
+        reference_density: 1630.0,
+        detonation_energy: 7.0e9,
+        detonation_velocity: 6930.0,
+        cj_pressure: 21.0e9,
+    };
+
     /// Energy-linear terms at compression `mu` (`V = 1/(1 + mu)`).
     ///
     /// With `g_i(V) = (1 - w/(R_i V)) exp(-R_i V)`,
@@ -87,43 +104,22 @@ impl Jwl {
         }
     }
 
-    /// `A, R1, R2, w, rho0, E0, D, P_CJ > 0`; `B` finite (negative `B` is used for
-    /// reactant fits).
-    pub fn validate(&self) -> Result<(), ParameterError> {
-        check::positive("a", self.a)?;
-        check::finite("b", self.b)?;
-        check::positive("r1", self.r1)?;
-        check::positive("r2", self.r2)?;
-        check::positive("omega", self.omega)?;
-        check::positive("reference_density", self.reference_density)?;
-        check::positive("detonation_energy", self.detonation_energy)?;
-        check::positive("detonation_velocity", self.detonation_velocity)?;
-        check::positive("cj_pressure", self.cj_pressure)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::math::sqrt;
-
-    /// Products Hugoniot centred on the unreacted state `(V = 1, p = 0, E = E0)`:
-    /// `E - E0 = p (1 - V)/2` with `p = base(V) + (w/V) E` gives
+    /// Pressure on the products Hugoniot centred on the unreacted state `(V = 1, p = 0,
+    /// E = E0)`: `E - E0 = p (1 - V)/2` with `p = base(V) + (w/V) E` gives
     /// `p_H(V) = [base(V) + (w/V) E0] / [1 - (w/V)(1 - V)/2]`.
-    fn products_hugoniot(eos: &Jwl, v: f64) -> f64 {
-        let terms = eos.evaluate(1.0 / v - 1.0);
+    pub fn products_hugoniot(&self, v: f64) -> f64 {
+        let terms = self.evaluate(1.0 / v - 1.0);
         let coefficient = terms.energy_coefficient;
-        (terms.base + coefficient * eos.detonation_energy) / (1.0 - 0.5 * coefficient * (1.0 - v))
+        (terms.base + coefficient * self.detonation_energy) / (1.0 - 0.5 * coefficient * (1.0 - v))
     }
 
-    /// Chapman-Jouguet state: the Rayleigh line `p = rho0 D^2 (1 - V)` from `(1, 0)` that
-    /// touches the products Hugoniot, i.e. the minimum over `V` of its slope
-    /// `p_H(V)/(1 - V) = rho0 D^2`. Golden-section search on `V` in
-    /// `(w/(2 + w), 1)` (where the Hugoniot denominator is positive), 200 fixed iterations.
-    /// Returns `(V_CJ, P_CJ, D)`.
-    fn chapman_jouguet(eos: &Jwl) -> (f64, f64, f64) {
-        let slope = |v: f64| products_hugoniot(eos, v) / (1.0 - v);
-        let w = eos.omega;
+    /// The Chapman-Jouguet state these constants imply: the Rayleigh line
+    /// `p = rho0 D^2 (1 - V)` from `(1, 0)` that touches the products Hugoniot, i.e. the
+    /// minimum over `V` of its slope `p_H(V)/(1 - V) = rho0 D^2`. Golden-section search on `V`
+    /// in `(w/(2 + w), 1)` (where the Hugoniot denominator is positive), 200 fixed iterations.
+    pub fn chapman_jouguet(&self) -> ChapmanJouguet {
+        let slope = |v: f64| self.products_hugoniot(v) / (1.0 - v);
+        let w = self.omega;
         let mut lo = w / (2.0 + w) + 1e-6;
         let mut hi = 1.0 - 1e-6;
         let ratio = 0.5 * (sqrt(5.0) - 1.0);
@@ -147,21 +143,58 @@ mod tests {
             }
         }
         let v = 0.5 * (lo + hi);
-        let pressure = products_hugoniot(eos, v);
-        let velocity = sqrt(slope(v) / eos.reference_density);
-        (v, pressure, velocity)
+        let velocity = sqrt(slope(v) / self.reference_density);
+        ChapmanJouguet {
+            relative_volume: v,
+            pressure: self.products_hugoniot(v),
+            detonation_velocity: velocity,
+            particle_velocity: velocity * (1.0 - v),
+        }
     }
+
+    /// `A, R1, R2, w, rho0, E0, D, P_CJ > 0`; `B` finite (negative `B` is used for
+    /// reactant fits).
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        check::positive("a", self.a)?;
+        check::finite("b", self.b)?;
+        check::positive("r1", self.r1)?;
+        check::positive("r2", self.r2)?;
+        check::positive("omega", self.omega)?;
+        check::positive("reference_density", self.reference_density)?;
+        check::positive("detonation_energy", self.detonation_energy)?;
+        check::positive("detonation_velocity", self.detonation_velocity)?;
+        check::positive("cj_pressure", self.cj_pressure)
+    }
+}
+
+/// A Chapman-Jouguet detonation state (SI).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChapmanJouguet {
+    /// `V_CJ = rho0/rho_CJ`.
+    pub relative_volume: f64,
+    /// `P_CJ` (Pa).
+    pub pressure: f64,
+    /// `D` (m/s).
+    pub detonation_velocity: f64,
+    /// `u_CJ = D (1 - V_CJ)` (m/s), the particle velocity behind the front.
+    pub particle_velocity: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
 
     #[test]
     fn c4_chapman_jouguet_state_matches_the_published_values() {
         // GOAL: the shipped C-4 constants are self-consistent with the published CJ data.
         // SETUP: Jwl::C4. CJ state = tangency of the Rayleigh line from (V = 1, p = 0) with
         //   the products Hugoniot through (V = 1, E = E0), found by minimising the Rayleigh
-        //   slope p_H(V)/(1 - V) = rho0 D^2 (golden section, see `chapman_jouguet`).
+        //   slope p_H(V)/(1 - V) = rho0 D^2 (golden section, `Jwl::chapman_jouguet`).
         // REFERENCE: Dobratz & Crawford (1985): D = 8193 m/s, P_CJ = 28.0 GPa, given to 3-4
         //   significant digits; tolerance 0.5 % (measured: D 8193.0 m/s, P_CJ 28.00 GPa,
         //   V_CJ 0.7395).
-        let (v, pressure, velocity) = chapman_jouguet(&Jwl::C4);
+        let cj = Jwl::C4.chapman_jouguet();
+        let (v, pressure, velocity) = (cj.relative_volume, cj.pressure, cj.detonation_velocity);
         std::println!(
             "C-4 CJ: V {v:.5}, P {:.4} GPa, D {velocity:.2} m/s",
             pressure / 1e9
@@ -181,6 +214,27 @@ mod tests {
         let dp_dv_isentrope = -dp_dmu_isentrope / (v * v);
         let rayleigh = -Jwl::C4.reference_density * velocity * velocity;
         assert!(((dp_dv_isentrope - rayleigh) / rayleigh).abs() < 1e-4);
+    }
+
+    #[test]
+    fn tnt_chapman_jouguet_state_matches_the_published_values() {
+        // GOAL: the shipped TNT constants are self-consistent with the published CJ data.
+        // SETUP: Jwl::TNT; CJ state by `Jwl::chapman_jouguet`.
+        // REFERENCE: Dobratz & Crawford (1985): D = 6930 m/s, P_CJ = 21.0 GPa (3 digits);
+        //   tolerance 1.5 % on P_CJ and 0.5 % on D (the published pair is rounded).
+        let cj = Jwl::TNT.chapman_jouguet();
+        std::println!(
+            "TNT CJ: V {:.5}, P {:.4} GPa, D {:.2} m/s",
+            cj.relative_volume,
+            cj.pressure / 1e9,
+            cj.detonation_velocity
+        );
+        assert!(
+            (cj.pressure / 21.0e9 - 1.0).abs() < 1.5e-2,
+            "{}",
+            cj.pressure
+        );
+        assert!((cj.detonation_velocity / 6930.0 - 1.0).abs() < 5e-3);
     }
 
     #[test]

@@ -13,7 +13,7 @@ mod p_alpha;
 mod polynomial;
 mod tabulated_compaction;
 
-pub use jwl::Jwl;
+pub use jwl::{ChapmanJouguet, Jwl};
 pub use linear::LinearEos;
 pub use mie_gruneisen::MieGruneisen;
 pub use p_alpha::{PAlpha, MAX_DISTENSION_ITERATIONS};
