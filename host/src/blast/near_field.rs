@@ -1,7 +1,7 @@
 //! The near-field blast load on a plate: a charge on the plate's axis, detonated in air, its
 //! products and air shock reflected by the plate taken as a rigid wall, computed with the
 //! [`euler`](super::euler) solver on an axisymmetric grid. The result is the overpressure
-//! history on the wall, [`WallPressure`].
+//! history on the wall, a [`PressureHistory`].
 //!
 //! **One-way coupling.** The wall does not move, so the load does not depend on the plate's
 //! constants and is computed once per charge and stand-off. This holds while the plate moves
@@ -16,6 +16,7 @@ use super::euler::{
     Boundaries, Boundary, Conserved, EulerError, EulerSolver, Floors, Geometry, Grid,
 };
 use super::fluid::Fluids;
+use crate::solver::PressureHistory;
 
 /// The explosive's products.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -199,89 +200,12 @@ pub struct NearFieldBlast {
     pub euler: EulerSettings,
 }
 
-/// Overpressure on the wall `z = 0`, recorded as interval means so that its time integral
-/// is the impulse the Euler solver delivered.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct WallPressure {
-    /// Radii of the samples (m): the centres of the wall cells.
-    pub radii: Vec<f64>,
-    /// Length of each record interval (s); record `k` covers `[k dt, (k + 1) dt)`.
-    pub interval: f64,
-    /// `overpressure[k][i]`: mean of `p - p_ambient` over record `k` at `radii[i]` (Pa).
-    pub overpressure: Vec<Vec<f64>>,
-}
-
-impl WallPressure {
-    /// Overpressure at radius `r` and time `t`: the record containing `t`, linear in `r`
-    /// between samples, constant beyond the last one; zero after the last record.
-    pub fn at(&self, radius: f64, time: f64) -> f64 {
-        if time < 0.0 || self.radii.is_empty() {
-            return 0.0;
-        }
-        let k = (time / self.interval) as usize;
-        let Some(row) = self.overpressure.get(k) else {
-            return 0.0;
-        };
-        interpolate(&self.radii, row, radius)
-    }
-
-    /// Overpressure impulse at radius `r` (Pa s).
-    pub fn impulse(&self, radius: f64) -> f64 {
-        self.overpressure
-            .iter()
-            .map(|row| interpolate(&self.radii, row, radius))
-            .sum::<f64>()
-            * self.interval
-    }
-
-    /// Time of the last record's end (s).
-    pub fn duration(&self) -> f64 {
-        self.overpressure.len() as f64 * self.interval
-    }
-
-    /// The largest recorded overpressure and its radius.
-    pub fn peak(&self) -> (f64, f64) {
-        let mut best = (0.0, 0.0);
-        for row in &self.overpressure {
-            for (value, radius) in row.iter().zip(&self.radii) {
-                if *value > best.0 {
-                    best = (*value, *radius);
-                }
-            }
-        }
-        best
-    }
-
-    /// Scale every pressure by `factor` (an impulse scale nuisance constant).
-    pub fn scaled(&self, factor: f64) -> Self {
-        Self {
-            radii: self.radii.clone(),
-            interval: self.interval,
-            overpressure: self
-                .overpressure
-                .iter()
-                .map(|row| row.iter().map(|p| p * factor).collect())
-                .collect(),
-        }
-    }
-}
-
-fn interpolate(radii: &[f64], values: &[f64], radius: f64) -> f64 {
-    match radii.iter().position(|&r| r > radius) {
-        None => values.last().copied().unwrap_or(0.0),
-        Some(0) => values[0],
-        Some(k) => {
-            let t = (radius - radii[k - 1]) / (radii[k] - radii[k - 1]);
-            values[k - 1] + t * (values[k] - values[k - 1])
-        }
-    }
-}
-
 /// What a near-field blast calculation reports besides the wall pressure.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlastRun {
-    /// The wall pressure.
-    pub wall: WallPressure,
+    /// The overpressure `p - p_ambient` on the wall `z = 0`, as interval means (its time
+    /// integral is the impulse the Euler solver delivered).
+    pub wall: PressureHistory,
     /// Euler steps taken.
     pub steps: usize,
     /// Grid cells.
@@ -547,10 +471,10 @@ impl NearFieldBlast {
             progress(solver.time);
         }
         Ok(BlastRun {
-            wall: WallPressure {
+            wall: PressureHistory {
                 radii,
                 interval: e.output_interval,
-                overpressure,
+                values: overpressure,
             },
             steps: solver.steps,
             cells: solver.grid.cell_count(),

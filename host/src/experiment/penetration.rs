@@ -502,6 +502,7 @@ impl PenetrationSpec {
                 keep_eroded_mass: self.keep_eroded_mass,
                 ..ErodingContact::new(vec![0, 1], self.friction)
             }),
+            pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: None,

@@ -614,6 +614,7 @@ impl ShpbSpec {
             walls: Vec::new(),
             contacts,
             eroding_contact: None,
+            pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: None,

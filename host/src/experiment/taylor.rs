@@ -137,6 +137,7 @@ impl TaylorSpec {
             }],
             contacts: Vec::new(),
             eroding_contact: None,
+            pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {
@@ -185,6 +186,7 @@ impl TaylorSpec {
             }],
             contacts: Vec::new(),
             eroding_contact: None,
+            pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {

@@ -7,11 +7,9 @@
 //! serially in a fixed order, so the loop stays bit-identical for any thread count), and their
 //! work is booked as `EnergyBalance::contact` with the same mid-step velocities as the walls'.
 
-use super::contact::{
-    ContactPair, ContactStatistics, ErodingContact, ErodingSurfaces, PenaltyContact,
-};
+use super::contact::{absorbed_work, ContactPair, ContactStatistics, ErodingContact, ErodingSurfaces, PenaltyContact,};
 use super::energy::EnergyBalance;
-use super::loads::{RigidWall, VelocityConstraint};
+use super::loads::{PressureLoad, RigidWall, VelocityConstraint};
 use super::{SolverError, SolverSettings};
 use crate::measure::{StateHistory, StateSample};
 use rayon::prelude::*;
@@ -116,6 +114,8 @@ pub struct ExplicitModel<M> {
     pub contacts: Vec<ContactPair>,
     /// Contact between parts that follows erosion (2D models only).
     pub eroding_contact: Option<ErodingContact>,
+    /// Pressures on boundary segments (2D models only).
+    pub pressure_loads: Vec<PressureLoad>,
     /// Numerical settings.
     pub settings: SolverSettings,
     /// Elements whose state history is recorded.
@@ -338,6 +338,27 @@ impl<M: Discretisation> ExplicitModel<M> {
             ));
         }
         let mut newly_eroded: Vec<usize> = Vec::new();
+        if !self.pressure_loads.is_empty() && dimension != 2 {
+            return Err(SolverError::Model(
+                "pressure loads are implemented for 2D (axisymmetric) models only".into(),
+            ));
+        }
+        let mut loaded_nodes: Vec<usize> = Vec::new();
+        for load in &self.pressure_loads {
+            for segment in &load.segments {
+                for &n in segment {
+                    if n >= node_count {
+                        return Err(SolverError::Model(format!(
+                            "a pressure-load segment names node {n}; the mesh has {node_count}"
+                        )));
+                    }
+                    loaded_nodes.push(n);
+                }
+            }
+        }
+        loaded_nodes.sort_unstable();
+        loaded_nodes.dedup();
+        let mut pressure_force = vec![[0.0; 3]; node_count];
 
         let mut energy = EnergyBalance {
             kinetic: kinetic(&v, &mass, measure, dimension),
@@ -401,6 +422,19 @@ impl<M: Discretisation> ExplicitModel<M> {
             contact.add_forces(&x, &v, dt_average, &mut force);
             if let Some(surfaces) = eroding.as_mut() {
                 surfaces.add_forces(&x, &v, &mass, dt_average, &mut force);
+            }
+            if !loaded_nodes.is_empty() {
+                for &n in &loaded_nodes {
+                    pressure_force[n] = [0.0; 3];
+                }
+                for load in &self.pressure_loads {
+                    add_pressure_forces(load, &reference, &x, time, &mut pressure_force);
+                }
+                for &n in &loaded_nodes {
+                    for d in 0..dimension {
+                        force[n][d] += pressure_force[n][d];
+                    }
+                }
             }
             v_old.copy_from_slice(&v);
             for n in 0..node_count {
@@ -477,6 +511,10 @@ impl<M: Discretisation> ExplicitModel<M> {
             }
             if contact.is_active() {
                 energy.contact += measure * contact.absorbed(&v_old, &v, dt_average);
+            }
+            if !loaded_nodes.is_empty() {
+                energy.external_work -=
+                    measure * absorbed_work(&pressure_force, &loaded_nodes, &v_old, &v, dt_average);
             }
             if let Some(surfaces) = &eroding {
                 energy.contact += measure * surfaces.absorbed(&v_old, &v, dt_average);
@@ -629,5 +667,32 @@ impl<M: Discretisation> ExplicitModel<M> {
                 .map(ErodingSurfaces::statistics)
                 .unwrap_or_default(),
         })
+    }
+}
+
+/// Add the consistent nodal forces per radian of a pressure load at time `time`
+/// (see [`PressureLoad`]).
+fn add_pressure_forces(
+    load: &PressureLoad,
+    reference: &[Vector],
+    x: &[Vector],
+    time: f64,
+    forces: &mut [Vector],
+) {
+    for &[a, b] in &load.segments {
+        let radius = 0.5 * (reference[a][0] + reference[b][0]);
+        let p = load.scale * load.history.at(radius, time);
+        if p == 0.0 {
+            continue;
+        }
+        let (ra, rb) = (x[a][0], x[b][0]);
+        // Left normal times length: (-(z_b - z_a), r_b - r_a).
+        let n = [-(x[b][1] - x[a][1]), x[b][0] - x[a][0]];
+        let wa = (2.0 * ra + rb) / 6.0;
+        let wb = (ra + 2.0 * rb) / 6.0;
+        for d in 0..2 {
+            forces[a][d] += p * n[d] * wa;
+            forces[b][d] += p * n[d] * wb;
+        }
     }
 }

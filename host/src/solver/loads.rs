@@ -74,3 +74,87 @@ pub struct NodalDamping {
     /// Damping coefficient (1/s).
     pub coefficient: f64,
 }
+
+/// A pressure history over a surface, as a function of the initial radius and of time:
+/// piecewise constant in time over records of length `interval` (record `k` covers
+/// `[k interval, (k + 1) interval)`), linear in radius between `radii`, constant beyond the
+/// last radius, zero before `t = 0` and after the last record. Stored as interval means, its
+/// time integral is exact.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PressureHistory {
+    /// Radii of the samples (m), increasing.
+    pub radii: Vec<f64>,
+    /// Length of each record (s).
+    pub interval: f64,
+    /// `values[k][i]`: mean pressure over record `k` at `radii[i]` (Pa).
+    pub values: Vec<Vec<f64>>,
+}
+
+impl PressureHistory {
+    /// Pressure at radius `r` and time `t`.
+    pub fn at(&self, radius: f64, time: f64) -> f64 {
+        if !(time >= 0.0) || self.radii.is_empty() {
+            return 0.0;
+        }
+        let k = (time / self.interval) as usize;
+        match self.values.get(k) {
+            Some(row) => interpolate_radius(&self.radii, row, radius),
+            None => 0.0,
+        }
+    }
+
+    /// Time integral of the pressure at radius `r` (Pa s).
+    pub fn impulse(&self, radius: f64) -> f64 {
+        self.values
+            .iter()
+            .map(|row| interpolate_radius(&self.radii, row, radius))
+            .sum::<f64>()
+            * self.interval
+    }
+
+    /// End of the last record (s).
+    pub fn duration(&self) -> f64 {
+        self.values.len() as f64 * self.interval
+    }
+
+    /// The largest recorded pressure and its radius.
+    pub fn peak(&self) -> (f64, f64) {
+        let mut best = (0.0, 0.0);
+        for row in &self.values {
+            for (value, radius) in row.iter().zip(&self.radii) {
+                if *value > best.0 {
+                    best = (*value, *radius);
+                }
+            }
+        }
+        best
+    }
+}
+
+fn interpolate_radius(radii: &[f64], values: &[f64], radius: f64) -> f64 {
+    match radii.iter().position(|&r| r > radius) {
+        None => values.last().copied().unwrap_or(0.0),
+        Some(0) => values[0],
+        Some(k) => {
+            let t = (radius - radii[k - 1]) / (radii[k] - radii[k - 1]);
+            values[k - 1] + t * (values[k] - values[k - 1])
+        }
+    }
+}
+
+/// A pressure applied to boundary segments of a 2D axisymmetric model.
+///
+/// Segment `[a, b]` is pushed along its left normal `(-(z_b - z_a), r_b - r_a)/L` (order the
+/// nodes so that it points into the body). The pressure is looked up at the segment's
+/// initial mid-radius (the load stays with the material it was computed for) and times
+/// `scale`; the consistent nodal forces per radian are `p n L (2 r_a + r_b)/6` and
+/// `p n L (r_a + 2 r_b)/6`, with the current geometry (a follower load).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PressureLoad {
+    /// Boundary segments.
+    pub segments: Vec<[usize; 2]>,
+    /// The pressure history.
+    pub history: std::sync::Arc<PressureHistory>,
+    /// Factor on the history.
+    pub scale: f64,
+}

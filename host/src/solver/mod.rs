@@ -24,7 +24,9 @@ pub use contact::{ContactPair, ContactStatistics, ErodingContact};
 pub use energy::EnergyBalance;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun, Snapshot};
 pub use hexahedral::{HexModel, HexRun};
-pub use loads::{Amplitude, NodalDamping, RigidWall, VelocityConstraint};
+pub use loads::{
+    Amplitude, NodalDamping, PressureHistory, PressureLoad, RigidWall, VelocityConstraint,
+};
 
 /// Numerical settings of a run.
 #[derive(Clone, Debug, PartialEq)]
