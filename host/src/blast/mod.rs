@@ -4,6 +4,7 @@
 //!   products and air, with programmed burn, that records the pressure on a rigid wall;
 //! - [`fluid`]: the JWL products / ideal-gas air mixture it uses.
 
+pub mod cache;
 pub mod euler;
 pub mod fluid;
 pub mod near_field;

@@ -41,15 +41,12 @@ impl Explosive {
 }
 
 /// The charge's shape; its axis is the plate's axis.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum ChargeShape {
-    /// A disc or cylinder of the given diameter (m), its flat face parallel to the plate; the
+    /// A disc or cylinder of the given `diameter`, its flat face parallel to the plate; the
     /// height follows from the mass.
-    Cylinder {
-        /// Diameter (m).
-        diameter: f64,
-    },
+    Cylinder,
     /// A sphere; its diameter follows from the mass.
     Sphere,
 }
@@ -76,8 +73,10 @@ pub struct Charge {
     /// The explosive.
     pub explosive: Explosive,
     /// Its shape.
-    #[serde(flatten)]
     pub shape: ChargeShape,
+    /// Diameter of a cylindrical charge (m).
+    #[serde(default)]
+    pub diameter: Option<f64>,
     /// Stand-off: from the plate to the nearest point of the charge (m).
     pub standoff: f64,
     /// Detonator position.
@@ -90,8 +89,8 @@ impl Charge {
     pub fn dimensions(&self) -> (f64, f64) {
         let volume = self.mass / self.explosive.jwl().reference_density;
         match self.shape {
-            ChargeShape::Cylinder { diameter } => {
-                let radius = 0.5 * diameter;
+            ChargeShape::Cylinder => {
+                let radius = 0.5 * self.diameter.unwrap_or(f64::NAN);
                 (radius, volume / (core::f64::consts::PI * radius * radius))
             }
             ChargeShape::Sphere => {
@@ -105,7 +104,7 @@ impl Charge {
     fn contains(&self, r: f64, z: f64) -> bool {
         let (radius, height) = self.dimensions();
         match self.shape {
-            ChargeShape::Cylinder { .. } => {
+            ChargeShape::Cylinder => {
                 r <= radius && z >= self.standoff && z <= self.standoff + height
             }
             ChargeShape::Sphere => {
@@ -283,8 +282,15 @@ impl NearFieldBlast {
                 ),
             ));
         }
-        if let ChargeShape::Cylinder { diameter } = c.shape {
-            positive("charge.diameter", diameter)?;
+        match (c.shape, c.diameter) {
+            (ChargeShape::Cylinder, Some(diameter)) => positive("charge.diameter", diameter)?,
+            (ChargeShape::Cylinder, None) => {
+                return Err(invalid("charge.diameter", "a cylindrical charge needs its diameter (m)".into()))
+            }
+            (ChargeShape::Sphere, Some(_)) => {
+                return Err(invalid("charge.diameter", "a sphere's diameter follows from its mass; remove it".into()))
+            }
+            (ChargeShape::Sphere, None) => {}
         }
         positive("air.density", self.air.density)?;
         positive("air.pressure", self.air.pressure)?;

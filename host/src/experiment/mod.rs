@@ -9,7 +9,7 @@
 //! material = "../materials/4340-jc.toml"   # default material; `--material` overrides
 //!
 //! [setup]
-//! kind = "taylor"                          # uniaxial | tension | taylor | shpb | penetration | ballistic-limit
+//! kind = "taylor"                          # uniaxial | tension | taylor | shpb | penetration | ballistic-limit | blast-plate
 //! length = 25.4e-3
 //! ...
 //! ```
@@ -19,6 +19,7 @@
 //! histories of the points that drive the measurements.
 
 pub mod ballistic;
+pub mod blast_plate;
 pub mod penetration;
 pub mod shpb;
 pub mod taylor;
@@ -35,6 +36,7 @@ use std::path::{Path, PathBuf};
 use stoss_kernel::{Material, MaterialState};
 
 pub use ballistic::BallisticLimitSpec;
+pub use blast_plate::BlastPlateSpec;
 pub use penetration::PenetrationSpec;
 pub use shpb::ShpbSpec;
 pub use taylor::TaylorSpec;
@@ -58,6 +60,8 @@ pub enum Setup {
     Penetration(PenetrationSpec),
     /// Ballistic limit: residual against impact velocity of a core through a plate.
     BallisticLimit(BallisticLimitSpec),
+    /// Near-field blast-bulged plate: the permanent deflection profile.
+    BlastPlate(BlastPlateSpec),
 }
 
 impl Setup {
@@ -70,6 +74,7 @@ impl Setup {
             Setup::Shpb(_) => shpb::QUANTITIES,
             Setup::Penetration(_) => penetration::QUANTITIES,
             Setup::BallisticLimit(_) => ballistic::QUANTITIES,
+            Setup::BlastPlate(_) => blast_plate::QUANTITIES,
         }
     }
 }
@@ -205,6 +210,13 @@ impl Experiment {
             Setup::Shpb(spec) => spec.validate(&check)?,
             Setup::Penetration(spec) => spec.validate(&check)?,
             Setup::BallisticLimit(spec) => spec.validate(&check)?,
+            Setup::BlastPlate(spec) => spec.validate(&check)?,
+        }
+        if let Setup::BlastPlate(spec) = &mut file.setup {
+            spec.cache_folder = Some(match &spec.load_cache {
+                Some(folder) => path.parent().unwrap_or(Path::new(".")).join(folder),
+                None => crate::blast::cache::default_folder(),
+            });
         }
         if let Setup::Penetration(spec) = &mut file.setup {
             let rod_path = path
@@ -310,6 +322,7 @@ impl Experiment {
             Setup::Shpb(spec) => spec.simulate(material, settings, &self.recording),
             Setup::Penetration(spec) => spec.simulate(material, settings, &self.recording),
             Setup::BallisticLimit(spec) => spec.simulate(material, settings, &self.recording),
+            Setup::BlastPlate(spec) => spec.simulate(material, settings, &self.recording),
         }
     }
 }
@@ -323,6 +336,7 @@ pub fn kind_name(setup: &Setup) -> &'static str {
         Setup::Shpb(_) => "shpb",
         Setup::Penetration(_) => "penetration",
         Setup::BallisticLimit(_) => "ballistic-limit",
+        Setup::BlastPlate(_) => "blast-plate",
     }
 }
 

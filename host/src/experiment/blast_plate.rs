@@ -1,0 +1,481 @@
+//! Near-field blast-bulged plate (seed 000 sec. 2.3/3.3): a clamped circular plate loaded by
+//! the overpressure of a charge on its axis, computed once by the built-in Euler blast
+//! solver ([`crate::blast`]) and cached; the plate's permanent deflection profile is
+//! measured once the shape is steady.
+//!
+//! - **Plate:** 2D axisymmetric quads, `layers` through the thickness (square elements);
+//!   the clamped annulus beyond `exposed_radius` is rigid, so it is not meshed: the nodes of
+//!   the plate's edge at `exposed_radius` are fixed in `r` and `z` (a fully clamped rim
+//!   without pull-in).
+//! - **Load:** the loaded face is `z = 0`, the charge above it; the plate occupies
+//!   `-thickness <= z <= 0`. The pressure is applied to the loaded face's segments, times the
+//!   optional nuisance constant `impulse_scale`.
+//! - **Settling:** nodal damping from `damping_start` (LS-DYNA `*DAMPING_GLOBAL`); the run
+//!   stops once the centre deflection has changed by less than `steady_tolerance` over
+//!   `STEADY_WINDOW` and the kinetic energy is below 0.1 % of the work the load did, or at
+//!   `end_time`.
+//! - **Quantities:** `deflection` (m) of the rear face at `position` = radius (m), measured
+//!   at the rear face's current radius; `peak_deflection` (m), the largest over the profile
+//!   (`position` unused).
+
+use std::ops::ControlFlow;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use super::{check_positive, default_temperature, Chart, ExperimentReport};
+use super::{Check, FieldOutput, Outcome, SimulationError};
+use crate::blast::cache;
+use crate::blast::near_field::{Air, Charge, EulerSettings, NearFieldBlast};
+use crate::input::recording::RecordedPoint;
+use crate::input::InputError;
+use crate::measure::interpolate;
+use crate::mesh::{Grading, QuadMesh};
+use crate::report::plots::{Series, Style};
+use crate::solver::{
+    Amplitude, AxisymmetricModel, NodalDamping, PressureHistory, PressureLoad, SolverError,
+    SolverSettings, VelocityConstraint,
+};
+use serde::{Deserialize, Serialize};
+use stoss_kernel::Material;
+
+/// Quantities a blast-plate test records.
+pub const QUANTITIES: &[&str] = &["deflection", "peak_deflection"];
+
+/// Window over which the centre deflection must be steady (s).
+pub const STEADY_WINDOW: f64 = 1.0e-4;
+
+/// Kinetic energy, as a fraction of the load's work, below which the plate may be at rest.
+pub const REST_FRACTION: f64 = 1.0e-3;
+
+fn default_layers() -> usize {
+    8
+}
+fn default_damping_start() -> f64 {
+    1.0e-3
+}
+fn default_end_time() -> f64 {
+    6.0e-3
+}
+fn default_steady_tolerance() -> f64 {
+    1.0e-5
+}
+fn one() -> f64 {
+    1.0
+}
+
+/// Geometry, load and discretisation of a blast-plate test.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BlastPlateSpec {
+    /// Plate thickness (m).
+    pub thickness: f64,
+    /// Radius inside the clamp (m).
+    pub exposed_radius: f64,
+    /// Elements through the thickness (square elements; at least 4, 8 or more recommended).
+    #[serde(default = "default_layers")]
+    pub layers: usize,
+    /// Initial temperature (K).
+    #[serde(default = "default_temperature")]
+    pub temperature: f64,
+    /// The charge.
+    pub charge: Charge,
+    /// The air.
+    #[serde(default)]
+    pub air: Air,
+    /// The Euler grid of the load calculation (its radius defaults to the exposed radius
+    /// plus 25 %).
+    #[serde(default)]
+    pub euler: EulerSettings,
+    /// Factor on the load (a nuisance constant for explosive and charge-shape differences).
+    #[serde(default = "one")]
+    pub impulse_scale: f64,
+    /// Start of nodal damping (s).
+    #[serde(default = "default_damping_start")]
+    pub damping_start: f64,
+    /// Nodal damping coefficient (1/s); default twice the circular frequency of the clamped
+    /// plate's fundamental mode, `2 (10.22/a^2) sqrt(D/(rho h))` (Leissa 1969).
+    #[serde(default)]
+    pub damping_coefficient: Option<f64>,
+    /// Latest end of the run (s).
+    #[serde(default = "default_end_time")]
+    pub end_time: f64,
+    /// Change of the centre deflection over the steady window below which the shape is
+    /// final (m).
+    #[serde(default = "default_steady_tolerance")]
+    pub steady_tolerance: f64,
+    /// Folder of the blast-load cache (relative to the experiment file); default
+    /// [`cache::default_folder`].
+    #[serde(default)]
+    pub load_cache: Option<String>,
+    /// The resolved cache folder (set when the experiment is loaded).
+    #[serde(skip)]
+    pub cache_folder: Option<PathBuf>,
+}
+
+/// The plate's final shape and the run's figures.
+#[derive(Clone, Debug)]
+pub struct BlastPlateResult {
+    /// Rear-face profile `(current radius, deflection)` (m), sorted by radius.
+    pub profile: Vec<(f64, f64)>,
+    /// Time at which the shape was read (s).
+    pub settled_at: f64,
+    /// Whether it was steady then (else `end_time` was reached).
+    pub steady: bool,
+    /// Centre deflection at the end of the load record (m): how far the plate had moved
+    /// while the rigid-wall load was acting.
+    pub deflection_at_load_end: f64,
+}
+
+impl BlastPlateResult {
+    /// Deflection at radius `r`.
+    pub fn deflection_at(&self, radius: f64) -> f64 {
+        interpolate(&self.profile, radius)
+    }
+
+    /// Largest deflection.
+    pub fn peak(&self) -> f64 {
+        self.profile.iter().map(|p| p.1).fold(0.0, f64::max)
+    }
+}
+
+impl BlastPlateSpec {
+    pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
+        check_positive(check, "thickness", self.thickness, "m")?;
+        check_positive(check, "exposed_radius", self.exposed_radius, "m")?;
+        check(
+            "layers",
+            (4..=40).contains(&self.layers),
+            "must be in 4..=40 (elements through the thickness)",
+        )?;
+        let elements = self.radial_elements() as f64 * self.layers as f64;
+        check(
+            "layers",
+            elements <= 2.0e5,
+            &format!("gives {elements:.0} plate elements (limit 200000)"),
+        )?;
+        check_positive(check, "temperature", self.temperature, "K")?;
+        check_positive(check, "impulse_scale", self.impulse_scale, "-")?;
+        check_positive(check, "damping_start", self.damping_start, "s")?;
+        if let Some(c) = self.damping_coefficient {
+            check_positive(check, "damping_coefficient", c, "1/s")?;
+        }
+        check(
+            "end_time",
+            self.end_time > self.damping_start && self.end_time.is_finite(),
+            "must exceed damping_start (s)",
+        )?;
+        check_positive(check, "steady_tolerance", self.steady_tolerance, "m")?;
+        let blast = self.blast();
+        if let Err(error) = blast.validate(self.load_radius()) {
+            let (field, message) = match &error {
+                crate::blast::near_field::BlastError::Invalid { field, reason } => {
+                    (*field, reason.clone())
+                }
+                other => ("charge", other.to_string()),
+            };
+            return check(field, false, &message);
+        }
+        Ok(())
+    }
+
+    /// The near-field blast this plate sees.
+    pub fn blast(&self) -> NearFieldBlast {
+        NearFieldBlast {
+            charge: self.charge,
+            air: self.air,
+            euler: self.euler,
+        }
+    }
+
+    /// Radius the load must cover: the Euler grid's radius (default 1.25 x exposed radius).
+    fn load_radius(&self) -> f64 {
+        1.25 * self.exposed_radius
+    }
+
+    /// Elements along the radius (square elements).
+    pub fn radial_elements(&self) -> usize {
+        let size = self.thickness / self.layers as f64;
+        ((self.exposed_radius / size).round() as usize).max(1)
+    }
+
+    /// The nodal damping coefficient.
+    pub fn damping(&self, material: &Material) -> f64 {
+        self.damping_coefficient.unwrap_or_else(|| {
+            // Elastic constants at the reference state: K = dp/dmu at mu = 0, E = 0.
+            let (terms, _) = material.eos.evaluate(0.0, material.eos.initial_history());
+            let bulk = terms.d_pressure_d_mu(0.0);
+            let shear = material.shear_modulus;
+            let modulus = 9.0 * bulk * shear / (3.0 * bulk + shear);
+            let nu = (3.0 * bulk - 2.0 * shear) / (2.0 * (3.0 * bulk + shear));
+            let rigidity = modulus * self.thickness.powi(3) / (12.0 * (1.0 - nu * nu));
+            let omega = 10.22 / (self.exposed_radius * self.exposed_radius)
+                * libm::sqrt(rigidity / (material.density * self.thickness));
+            2.0 * omega
+        })
+    }
+
+    /// The wall load (from the cache or computed).
+    pub fn load(&self) -> Result<cache::CachedLoad, SolverError> {
+        let folder = self
+            .cache_folder
+            .clone()
+            .unwrap_or_else(cache::default_folder);
+        cache::load(&self.blast(), self.load_radius(), &folder, &mut |_| {})
+            .map_err(|e| SolverError::Model(e.to_string()))
+    }
+
+    /// The finite-element model with `material` and the wall load `wall`.
+    pub fn model(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+        wall: Arc<PressureHistory>,
+    ) -> AxisymmetricModel {
+        let nr = self.radial_elements();
+        let mesh = QuadMesh::block(
+            "plate",
+            0,
+            (0.0, self.exposed_radius),
+            (-self.thickness, 0.0),
+            nr,
+            self.layers,
+            Grading::UNIFORM,
+            Grading::UNIFORM,
+        );
+        let axis = mesh.node_set("plate.axis").unwrap_or(&[]).to_vec();
+        let rim = mesh.node_set("plate.outer").unwrap_or(&[]).to_vec();
+        let top = mesh.node_set("plate.top").unwrap_or(&[]).to_vec();
+        // Outer node first: the left normal of [outer, inner] on z = 0 points into the plate.
+        let segments = top.windows(2).map(|w| [w[1], w[0]]).collect();
+        let fixed = |nodes: &[usize], dof| VelocityConstraint {
+            nodes: nodes.to_vec(),
+            dof,
+            velocity: Amplitude::constant(0.0),
+        };
+        // The rear-face elements (bottom row) are the tracked states.
+        let tracked = (0..nr).step_by((nr / 20).max(1)).collect();
+        AxisymmetricModel {
+            mesh,
+            materials: vec![*material],
+            initial_temperature: self.temperature,
+            initial_velocity: Vec::new(),
+            constraints: vec![fixed(&axis, 0), fixed(&rim, 0), fixed(&rim, 1)],
+            walls: Vec::new(),
+            contacts: Vec::new(),
+            eroding_contact: None,
+            pressure_loads: vec![PressureLoad {
+                segments,
+                history: wall,
+                scale: self.impulse_scale,
+            }],
+            settings: SolverSettings {
+                end_time: self.end_time,
+                damping: Some(NodalDamping {
+                    start_time: self.damping_start,
+                    coefficient: self.damping(material),
+                }),
+                output_interval: 2.0e-5,
+                rest_fraction: 0.0,
+                ..settings.clone()
+            },
+            tracked_elements: tracked,
+        }
+    }
+
+    /// Run the plate to a steady shape.
+    pub fn run(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+    ) -> Result<(BlastPlateResult, crate::solver::AxisymmetricRun, AxisymmetricModel), SolverError>
+    {
+        let loaded = self.load()?;
+        let load_end = loaded.wall.duration();
+        let model = self.model(material, settings, loaded.wall);
+        let rear = model.mesh.node_set("plate.bottom").unwrap_or(&[]).to_vec();
+        let centre = rear.first().copied().unwrap_or(0);
+        let z0 = -self.thickness;
+        let damping_start = self.damping_start;
+        let tolerance = self.steady_tolerance;
+        let mut history: Vec<(f64, f64)> = Vec::new();
+        let mut at_load_end = None;
+        let mut steady = false;
+        let run = model.run_observed(&mut |snapshot| {
+            let deflection = z0 - snapshot.positions[centre][1];
+            if at_load_end.is_none() && snapshot.time >= load_end {
+                at_load_end = Some(deflection);
+            }
+            history.push((snapshot.time, deflection));
+            if snapshot.time > damping_start + STEADY_WINDOW {
+                let earlier = history
+                    .iter()
+                    .rev()
+                    .find(|(t, _)| *t <= snapshot.time - STEADY_WINDOW)
+                    .map_or(f64::INFINITY, |p| p.1);
+                let work = snapshot.energy.external_work.abs();
+                if (deflection - earlier).abs() < tolerance
+                    && snapshot.energy.kinetic < REST_FRACTION * work
+                {
+                    steady = true;
+                    return ControlFlow::Break(());
+                }
+            }
+            ControlFlow::Continue(())
+        })?;
+        let mut profile: Vec<(f64, f64)> = rear
+            .iter()
+            .map(|&n| (run.positions[n][0], z0 - run.positions[n][1]))
+            .collect();
+        profile.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let settled_at = run.energy().time;
+        Ok((
+            BlastPlateResult {
+                profile,
+                settled_at,
+                steady,
+                deflection_at_load_end: at_load_end.unwrap_or(f64::NAN),
+            },
+            run,
+            model,
+        ))
+    }
+
+    pub(super) fn simulate(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+        recording: &[RecordedPoint],
+    ) -> Result<Outcome, SimulationError> {
+        let (result, run, model) = self.run(material, settings)?;
+        let predicted = recording
+            .iter()
+            .map(|point| match point.quantity.as_str() {
+                "deflection" => result.deflection_at(point.position),
+                "peak_deflection" => result.peak(),
+                _ => f64::NAN,
+            })
+            .collect();
+        let report = self.report(&result, recording, &run);
+        Ok(Outcome {
+            predicted,
+            summary: vec![
+                ("peak_deflection".into(), result.peak()),
+                ("centre_deflection".into(), result.deflection_at(0.0)),
+                ("settled_at".into(), result.settled_at),
+                (
+                    "centre_deflection_at_load_end".into(),
+                    result.deflection_at_load_end,
+                ),
+            ],
+            energy: Some(run.energy()),
+            states: run.tracked.clone(),
+            element_cycles: run.element_cycles,
+            report: Some(report),
+            field: Some(FieldOutput {
+                mesh: model.mesh,
+                positions: run.positions,
+                states: run.states,
+                eroded: run.eroded,
+            }),
+        })
+    }
+
+    fn report(
+        &self,
+        result: &BlastPlateResult,
+        recording: &[RecordedPoint],
+        run: &crate::solver::AxisymmetricRun,
+    ) -> ExperimentReport {
+        let mut text = String::new();
+        let (radius, height) = self.charge.dimensions();
+        text.push_str(&format!(
+            "blast plate: {:.1} g charge ({:.1} mm x {:.2} mm), stand-off {:.1} mm; plate {:.1} mm, exposed radius {:.0} mm, {} x {} elements\n",
+            self.charge.mass * 1e3,
+            2.0 * radius * 1e3,
+            height * 1e3,
+            self.charge.standoff * 1e3,
+            self.thickness * 1e3,
+            self.exposed_radius * 1e3,
+            self.radial_elements(),
+            self.layers
+        ));
+        text.push_str(&format!(
+            "shape read at {:.2} ms ({}); centre deflection when the load record ends: {:.3} mm\n",
+            result.settled_at * 1e3,
+            if result.steady {
+                "steady"
+            } else {
+                "end_time reached, NOT steady"
+            },
+            result.deflection_at_load_end * 1e3
+        ));
+        text.push_str("  r (mm)   deflection (mm)   recorded (mm)\n");
+        let radii = [
+            0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 100.0, 120.0, 140.0,
+            160.0, 180.0, 200.0,
+        ];
+        for r in radii {
+            let r_m = r * 1e-3;
+            if r_m > self.exposed_radius + 1e-12 {
+                break;
+            }
+            let recorded = recording
+                .iter()
+                .find(|p| p.quantity == "deflection" && (p.position - r_m).abs() < 1e-6)
+                .map_or(String::from("-"), |p| format!("{:.2}", p.value * 1e3));
+            text.push_str(&format!(
+                "  {r:6.1}   {:15.3}   {recorded:>13}\n",
+                result.deflection_at(r_m) * 1e3
+            ));
+        }
+        for p in recording.iter().filter(|p| p.quantity == "peak_deflection") {
+            text.push_str(&format!(
+                "  peak deflection {:.3} mm, recorded {:.2} +/- {:.2} mm\n",
+                result.peak() * 1e3,
+                p.value * 1e3,
+                p.uncertainty * 1e3
+            ));
+        }
+        text.push_str(&run.energy().report());
+        text.push('\n');
+        let mut series = vec![Series {
+            label: "stoss".into(),
+            points: result
+                .profile
+                .iter()
+                .map(|(r, d)| (r * 1e3, d * 1e3))
+                .collect(),
+            style: Style::Line,
+            colour: 0,
+        }];
+        let recorded: Vec<(f64, f64)> = recording
+            .iter()
+            .filter(|p| p.quantity == "deflection")
+            .map(|p| (p.position * 1e3, p.value * 1e3))
+            .chain(
+                recording
+                    .iter()
+                    .filter(|p| p.quantity == "peak_deflection")
+                    .map(|p| (0.0, p.value * 1e3)),
+            )
+            .collect();
+        if !recorded.is_empty() {
+            series.push(Series {
+                label: "recorded".into(),
+                points: recorded,
+                style: Style::Markers,
+                colour: 1,
+            });
+        }
+        ExperimentReport {
+            text,
+            charts: vec![Chart {
+                file: "deflection-profile.svg".into(),
+                title: "Permanent deflection of the rear face".into(),
+                x_label: "radius (mm)".into(),
+                y_label: "deflection (mm)".into(),
+                series,
+            }],
+        }
+    }
+}
