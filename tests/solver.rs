@@ -71,6 +71,7 @@ fn elastic_bar_wave_speed_amplitude_and_free_end_reflection() {
         walls: Vec::new(),
         contacts: Vec::new(),
         eroding_contact: None,
+        pressure_loads: Vec::new(),
         settings: SolverSettings {
             end_time: 26.0e-6,
             output_interval: 0.02e-6,

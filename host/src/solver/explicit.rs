@@ -358,6 +358,17 @@ impl<M: Discretisation> ExplicitModel<M> {
         }
         loaded_nodes.sort_unstable();
         loaded_nodes.dedup();
+        // Each segment's interpolation weights in its history, from its initial mid-radius.
+        let load_weights: Vec<Vec<(usize, usize, f64)>> = self
+            .pressure_loads
+            .iter()
+            .map(|load| {
+                load.segments
+                    .iter()
+                    .map(|&[a, b]| load.history.radial_weights(0.5 * (x[a][0] + x[b][0])))
+                    .collect()
+            })
+            .collect();
         let mut pressure_force = vec![[0.0; 3]; node_count];
 
         let mut energy = EnergyBalance {
@@ -427,8 +438,8 @@ impl<M: Discretisation> ExplicitModel<M> {
                 for &n in &loaded_nodes {
                     pressure_force[n] = [0.0; 3];
                 }
-                for load in &self.pressure_loads {
-                    add_pressure_forces(load, &reference, &x, time, &mut pressure_force);
+                for (load, weights) in self.pressure_loads.iter().zip(&load_weights) {
+                    add_pressure_forces(load, weights, &x, time, &mut pressure_force);
                 }
                 for &n in &loaded_nodes {
                     for d in 0..dimension {
@@ -671,17 +682,19 @@ impl<M: Discretisation> ExplicitModel<M> {
 }
 
 /// Add the consistent nodal forces per radian of a pressure load at time `time`
-/// (see [`PressureLoad`]).
+/// (see [`PressureLoad`]); `weights` are its segments' radial interpolation weights.
 fn add_pressure_forces(
     load: &PressureLoad,
-    reference: &[Vector],
+    weights: &[(usize, usize, f64)],
     x: &[Vector],
     time: f64,
     forces: &mut [Vector],
 ) {
-    for &[a, b] in &load.segments {
-        let radius = 0.5 * (reference[a][0] + reference[b][0]);
-        let p = load.scale * load.history.at(radius, time);
+    let Some(record) = load.history.record(time) else {
+        return;
+    };
+    for (&[a, b], &(lo, hi, w)) in load.segments.iter().zip(weights) {
+        let p = load.scale * ((1.0 - w) * record[lo] + w * record[hi]);
         if p == 0.0 {
             continue;
         }

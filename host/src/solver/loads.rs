@@ -103,6 +103,28 @@ impl PressureHistory {
         }
     }
 
+    /// The record in force at time `t` (`None` before 0 and after the last record).
+    pub fn record(&self, time: f64) -> Option<&[f64]> {
+        if !(time >= 0.0) {
+            return None;
+        }
+        self.values.get((time / self.interval) as usize).map(Vec::as_slice)
+    }
+
+    /// Interpolation weights of radius `r`: `value = (1 - w) row[lo] + w row[hi]`.
+    pub fn radial_weights(&self, radius: f64) -> (usize, usize, f64) {
+        let last = self.radii.len().saturating_sub(1);
+        match self.radii.iter().position(|&r| r > radius) {
+            None => (last, last, 0.0),
+            Some(0) => (0, 0, 0.0),
+            Some(k) => (
+                k - 1,
+                k,
+                (radius - self.radii[k - 1]) / (self.radii[k] - self.radii[k - 1]),
+            ),
+        }
+    }
+
     /// Time integral of the pressure at radius `r` (Pa s).
     pub fn impulse(&self, radius: f64) -> f64 {
         self.values
