@@ -130,9 +130,7 @@ pub fn load(
     folder: &Path,
     progress: &mut dyn FnMut(f64),
 ) -> Result<CachedLoad, CacheError> {
-    blast
-        .validate(plate_radius)
-        .map_err(CacheError::Blast)?;
+    blast.validate(plate_radius).map_err(CacheError::Blast)?;
     let key = key(blast, plate_radius);
     let path = folder.join(format!("near-field-{:016x}.json", fnv1a(&key)));
     if let Some(wall) = memory().lock().map_err(|e| io(&path, e))?.get(&key) {

@@ -213,10 +213,8 @@ impl EulerSolver {
                 "the grid needs at least one cell in each direction".into(),
             ));
         }
-        if !(grid.spacing_r > 0.0 && grid.spacing_z > 0.0)
-            || !grid.spacing_r.is_finite()
-            || !grid.spacing_z.is_finite()
-        {
+        let size_ok = |h: f64| h > 0.0 && h.is_finite();
+        if !(size_ok(grid.spacing_r) && size_ok(grid.spacing_z)) {
             return Err(EulerError::Setup("cell sizes must be positive".into()));
         }
         if grid.geometry == Geometry::Axisymmetric && boundaries.inner != Boundary::Reflective {
@@ -232,7 +230,7 @@ impl EulerSolver {
                 grid.cell_count()
             )));
         }
-        if !(fluids.air_gamma > 1.0) {
+        if fluids.air_gamma.is_nan() || fluids.air_gamma <= 1.0 {
             return Err(EulerError::Setup(format!(
                 "air_gamma must exceed 1, got {}",
                 fluids.air_gamma
@@ -242,7 +240,7 @@ impl EulerSolver {
             .products
             .validate()
             .map_err(|e| EulerError::Setup(format!("products JWL: {e}")))?;
-        if !(burn_duration > 0.0) {
+        if burn_duration.is_nan() || burn_duration <= 0.0 {
             return Err(EulerError::Setup("burn duration must be positive".into()));
         }
         if !(floors.density > 0.0 && floors.pressure > 0.0) {
@@ -664,7 +662,8 @@ impl EulerSolver {
                         let kinetic = 0.5 * (cell[1] * cell[1] + cell[2] * cell[2]) / rho;
                         let y = cell[4] / rho;
                         let e = (cell[3] - kinetic) / rho;
-                        if !(fluids.pressure(rho, e, y) >= floors.pressure) {
+                        let pressure = fluids.pressure(rho, e, y);
+                        if pressure.is_nan() || pressure < floors.pressure {
                             let e = fluids.specific_energy(rho, floors.pressure, y);
                             cell[3] = rho * e + kinetic;
                             floored += 1;

@@ -285,10 +285,16 @@ impl NearFieldBlast {
         match (c.shape, c.diameter) {
             (ChargeShape::Cylinder, Some(diameter)) => positive("charge.diameter", diameter)?,
             (ChargeShape::Cylinder, None) => {
-                return Err(invalid("charge.diameter", "a cylindrical charge needs its diameter (m)".into()))
+                return Err(invalid(
+                    "charge.diameter",
+                    "a cylindrical charge needs its diameter (m)".into(),
+                ))
             }
             (ChargeShape::Sphere, Some(_)) => {
-                return Err(invalid("charge.diameter", "a sphere's diameter follows from its mass; remove it".into()))
+                return Err(invalid(
+                    "charge.diameter",
+                    "a sphere's diameter follows from its mass; remove it".into(),
+                ))
             }
             (ChargeShape::Sphere, None) => {}
         }

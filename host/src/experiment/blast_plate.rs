@@ -287,8 +287,14 @@ impl BlastPlateSpec {
         &self,
         material: &Material,
         settings: &SolverSettings,
-    ) -> Result<(BlastPlateResult, crate::solver::AxisymmetricRun, AxisymmetricModel), SolverError>
-    {
+    ) -> Result<
+        (
+            BlastPlateResult,
+            crate::solver::AxisymmetricRun,
+            AxisymmetricModel,
+        ),
+        SolverError,
+    > {
         let loaded = self.load()?;
         let load_end = loaded.wall.duration();
         let model = self.model(material, settings, loaded.wall);

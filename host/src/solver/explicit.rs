@@ -7,7 +7,9 @@
 //! serially in a fixed order, so the loop stays bit-identical for any thread count), and their
 //! work is booked as `EnergyBalance::contact` with the same mid-step velocities as the walls'.
 
-use super::contact::{absorbed_work, ContactPair, ContactStatistics, ErodingContact, ErodingSurfaces, PenaltyContact,};
+use super::contact::{
+    absorbed_work, ContactPair, ContactStatistics, ErodingContact, ErodingSurfaces, PenaltyContact,
+};
 use super::energy::EnergyBalance;
 use super::loads::{PressureLoad, RigidWall, VelocityConstraint};
 use super::{SolverError, SolverSettings};
@@ -370,6 +372,7 @@ impl<M: Discretisation> ExplicitModel<M> {
             })
             .collect();
         let mut pressure_force = vec![[0.0; 3]; node_count];
+        let mut shares: Vec<(usize, f64)> = Vec::new();
 
         let mut energy = EnergyBalance {
             kinetic: kinetic(&v, &mass, measure, dimension),
@@ -438,8 +441,11 @@ impl<M: Discretisation> ExplicitModel<M> {
                 for &n in &loaded_nodes {
                     pressure_force[n] = [0.0; 3];
                 }
+                // The force at t_n stands for [t_n - dt_previous/2, t_n + dt/2).
+                let window = (time - 0.5 * dt_previous, time + 0.5 * dt);
                 for (load, weights) in self.pressure_loads.iter().zip(&load_weights) {
-                    add_pressure_forces(load, weights, &x, time, &mut pressure_force);
+                    load.history.overlaps(window.0, window.1, &mut shares);
+                    add_pressure_forces(load, weights, &shares, &x, &mut pressure_force);
                 }
                 for &n in &loaded_nodes {
                     for d in 0..dimension {
@@ -681,20 +687,26 @@ impl<M: Discretisation> ExplicitModel<M> {
     }
 }
 
-/// Add the consistent nodal forces per radian of a pressure load at time `time`
-/// (see [`PressureLoad`]); `weights` are its segments' radial interpolation weights.
+/// Add the consistent nodal forces per radian of a pressure load (see [`PressureLoad`]):
+/// `weights` are its segments' radial interpolation weights, `shares` the records that
+/// overlap the step's window and their shares of it.
 fn add_pressure_forces(
     load: &PressureLoad,
     weights: &[(usize, usize, f64)],
+    shares: &[(usize, f64)],
     x: &[Vector],
-    time: f64,
     forces: &mut [Vector],
 ) {
-    let Some(record) = load.history.record(time) else {
+    if shares.is_empty() {
         return;
-    };
+    }
     for (&[a, b], &(lo, hi, w)) in load.segments.iter().zip(weights) {
-        let p = load.scale * ((1.0 - w) * record[lo] + w * record[hi]);
+        let mut p = 0.0;
+        for &(k, share) in shares {
+            let record = &load.history.values[k];
+            p += share * ((1.0 - w) * record[lo] + w * record[hi]);
+        }
+        let p = load.scale * p;
         if p == 0.0 {
             continue;
         }

@@ -93,7 +93,7 @@ pub struct PressureHistory {
 impl PressureHistory {
     /// Pressure at radius `r` and time `t`.
     pub fn at(&self, radius: f64, time: f64) -> f64 {
-        if !(time >= 0.0) || self.radii.is_empty() {
+        if time.is_nan() || time < 0.0 || self.radii.is_empty() {
             return 0.0;
         }
         let k = (time / self.interval) as usize;
@@ -105,10 +105,33 @@ impl PressureHistory {
 
     /// The record in force at time `t` (`None` before 0 and after the last record).
     pub fn record(&self, time: f64) -> Option<&[f64]> {
-        if !(time >= 0.0) {
+        if time.is_nan() || time < 0.0 {
             return None;
         }
-        self.values.get((time / self.interval) as usize).map(Vec::as_slice)
+        self.values
+            .get((time / self.interval) as usize)
+            .map(Vec::as_slice)
+    }
+
+    /// The records overlapping `[start, end)` and their shares of it: the mean pressure over
+    /// the interval is `sum share_k record_k`, so a central-difference step that applies it
+    /// over `[t - dt_previous/2, t + dt/2)` delivers exactly the recorded impulse.
+    pub fn overlaps(&self, start: f64, end: f64, shares: &mut Vec<(usize, f64)>) {
+        shares.clear();
+        let span = end - start;
+        let (lo_time, hi_time) = (start.max(0.0), end.min(self.duration()));
+        if !(span > 0.0 && hi_time > lo_time) {
+            return;
+        }
+        let first = (lo_time / self.interval) as usize;
+        let last = ((hi_time / self.interval) as usize).min(self.values.len() - 1);
+        for k in first..=last {
+            let lo = (k as f64 * self.interval).max(lo_time);
+            let hi = ((k + 1) as f64 * self.interval).min(hi_time);
+            if hi > lo {
+                shares.push((k, (hi - lo) / span));
+            }
+        }
     }
 
     /// Interpolation weights of radius `r`: `value = (1 - w) row[lo] + w row[hi]`.
