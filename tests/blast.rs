@@ -336,3 +336,52 @@ mod plate {
         let _ = std::fs::remove_dir_all(&folder);
     }
 }
+
+/// GOAL: far from the charge, the Euler solver's reflected impulse matches the
+/// Kingery-Bulmash fit.
+/// SETUP: 1 kg TNT sphere (Jwl::TNT), centre 1.0 m above a rigid wall; 10 mm cells
+/// (10.5 across the charge), grid radius 0.25 m, detonated at the centre; the impulse on the
+/// wall cell at the axis to 3.5 ms.
+/// REFERENCE: UFC 3-340-02 Fig. 2-7 (`blast::kingery_bulmash`): Ir = 559 Pa s at Z = 1
+/// (normal reflection). Tolerance 15 % (the issue's). Measured: 531 Pa s (-5.0 %). At 2 m on
+/// this narrow grid the impulse is not yet right (docs/solver.md, "Blast load").
+#[test]
+fn tnt_reflected_impulse_matches_kingery_bulmash() {
+    use stoss::blast::kingery_bulmash;
+    use stoss::blast::near_field::{
+        Air, Charge, ChargeShape, Detonation, EulerSettings, Explosive, NearFieldBlast,
+    };
+    {
+        let centre_height = 1.0;
+        let radius = libm::cbrt(3.0 / (4.0 * std::f64::consts::PI * 1630.0));
+        let blast = NearFieldBlast {
+            charge: Charge {
+                mass: 1.0,
+                explosive: Explosive::Tnt,
+                shape: ChargeShape::Sphere,
+                diameter: None,
+                standoff: centre_height - radius,
+                detonation: Detonation::Centre,
+            },
+            air: Air::default(),
+            euler: EulerSettings {
+                cell_size: 0.01,
+                radius: 0.25,
+                headroom: 0.1,
+                end_time: 3.5e-3,
+                output_interval: 5.0e-6,
+                ..EulerSettings::default()
+            },
+        };
+        let run = blast.solve(0.25, &mut |_| {}).unwrap();
+        let impulse = run.wall.impulse(0.0);
+        let expected = kingery_bulmash::reflected_impulse(1.0, centre_height).unwrap();
+        println!(
+            "1 kg TNT at {centre_height} m: Euler {impulse:.1} Pa s, Kingery-Bulmash {expected:.1} \
+             ({:+.1} %), {} steps",
+            100.0 * (impulse / expected - 1.0),
+            run.steps
+        );
+        assert!((impulse / expected - 1.0).abs() < 0.15);
+    }
+}

@@ -7,4 +7,5 @@
 pub mod cache;
 pub mod euler;
 pub mod fluid;
+pub mod kingery_bulmash;
 pub mod near_field;

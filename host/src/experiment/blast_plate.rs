@@ -44,6 +44,34 @@ pub const QUANTITIES: &[&str] = &["deflection", "peak_deflection"];
 /// Window over which the centre deflection must be steady (s).
 pub const STEADY_WINDOW: f64 = 1.0e-4;
 
+/// Interval at which the run is observed (s).
+pub const OBSERVATION_INTERVAL: f64 = 2.0e-6;
+
+/// Time by which `fraction` of the impulse of `wall` on the disc `r <= radius` is delivered.
+pub fn impulse_time(wall: &PressureHistory, radius: f64, fraction: f64) -> f64 {
+    let rings = 200;
+    let dr = radius / rings as f64;
+    let force: Vec<f64> = (0..wall.values.len())
+        .map(|k| {
+            (0..rings)
+                .map(|i| {
+                    let r = (i as f64 + 0.5) * dr;
+                    wall.at(r, (k as f64 + 0.5) * wall.interval) * r * dr
+                })
+                .sum::<f64>()
+        })
+        .collect();
+    let total: f64 = force.iter().sum();
+    let mut sum = 0.0;
+    for (k, f) in force.iter().enumerate() {
+        sum += f;
+        if sum >= fraction * total {
+            return (k + 1) as f64 * wall.interval;
+        }
+    }
+    wall.duration()
+}
+
 /// Kinetic energy, as a fraction of the load's work, below which the plate may be at rest.
 pub const REST_FRACTION: f64 = 1.0e-3;
 
@@ -121,9 +149,14 @@ pub struct BlastPlateResult {
     pub settled_at: f64,
     /// Whether it was steady then (else `end_time` was reached).
     pub steady: bool,
-    /// Centre deflection at the end of the load record (m): how far the plate had moved
-    /// while the rigid-wall load was acting.
-    pub deflection_at_load_end: f64,
+    /// Time by which 95 % of the load's impulse on the exposed plate is delivered (s).
+    pub load_time: f64,
+    /// Centre deflection at `load_time` (m): how far the plate had moved away from the rigid
+    /// wall the load was computed on while the load acted (the one-way coupling's error
+    /// measure).
+    pub deflection_at_load_time: f64,
+    /// Where the load came from and the wall time it took (s).
+    pub load_source: (cache::Source, f64),
 }
 
 impl BlastPlateResult {
@@ -274,7 +307,7 @@ impl BlastPlateSpec {
                     start_time: self.damping_start,
                     coefficient: self.damping(material),
                 }),
-                output_interval: 2.0e-5,
+                output_interval: OBSERVATION_INTERVAL,
                 rest_fraction: 0.0,
                 ..settings.clone()
             },
@@ -295,8 +328,10 @@ impl BlastPlateSpec {
         ),
         SolverError,
     > {
+        let clock = std::time::Instant::now();
         let loaded = self.load()?;
-        let load_end = loaded.wall.duration();
+        let load_source = (loaded.source, clock.elapsed().as_secs_f64());
+        let load_time = impulse_time(&loaded.wall, self.exposed_radius, 0.95);
         let model = self.model(material, settings, loaded.wall);
         let rear = model.mesh.node_set("plate.bottom").unwrap_or(&[]).to_vec();
         let centre = rear.first().copied().unwrap_or(0);
@@ -304,12 +339,12 @@ impl BlastPlateSpec {
         let damping_start = self.damping_start;
         let tolerance = self.steady_tolerance;
         let mut history: Vec<(f64, f64)> = Vec::new();
-        let mut at_load_end = None;
+        let mut at_load_time = None;
         let mut steady = false;
         let run = model.run_observed(&mut |snapshot| {
             let deflection = z0 - snapshot.positions[centre][1];
-            if at_load_end.is_none() && snapshot.time >= load_end {
-                at_load_end = Some(deflection);
+            if at_load_time.is_none() && snapshot.time >= load_time {
+                at_load_time = Some(deflection);
             }
             history.push((snapshot.time, deflection));
             if snapshot.time > damping_start + STEADY_WINDOW {
@@ -339,7 +374,9 @@ impl BlastPlateSpec {
                 profile,
                 settled_at,
                 steady,
-                deflection_at_load_end: at_load_end.unwrap_or(f64::NAN),
+                load_time,
+                deflection_at_load_time: at_load_time.unwrap_or(f64::NAN),
+                load_source,
             },
             run,
             model,
@@ -368,9 +405,10 @@ impl BlastPlateSpec {
                 ("peak_deflection".into(), result.peak()),
                 ("centre_deflection".into(), result.deflection_at(0.0)),
                 ("settled_at".into(), result.settled_at),
+                ("load_time".into(), result.load_time),
                 (
-                    "centre_deflection_at_load_end".into(),
-                    result.deflection_at_load_end,
+                    "centre_deflection_at_load_time".into(),
+                    result.deflection_at_load_time,
                 ),
             ],
             energy: Some(run.energy()),
@@ -406,14 +444,22 @@ impl BlastPlateSpec {
             self.layers
         ));
         text.push_str(&format!(
-            "shape read at {:.2} ms ({}); centre deflection when the load record ends: {:.3} mm\n",
+            "load: {} in {:.2} s\nshape read at {:.2} ms ({})\none-way load: 95 % of its impulse delivered by {:.1} us, when the centre had moved {:.2} mm (stand-off {:.1} mm) away from the rigid wall it was computed on\n",
+            match result.load_source.0 {
+                cache::Source::Computed => "computed by the Euler blast solver and cached",
+                cache::Source::Disk => "read from the cache",
+                cache::Source::Memory => "reused from memory",
+            },
+            result.load_source.1,
             result.settled_at * 1e3,
             if result.steady {
                 "steady"
             } else {
                 "end_time reached, NOT steady"
             },
-            result.deflection_at_load_end * 1e3
+            result.load_time * 1e6,
+            result.deflection_at_load_time * 1e3,
+            self.charge.standoff * 1e3
         ));
         text.push_str("  r (mm)   deflection (mm)   recorded (mm)\n");
         let radii = [
