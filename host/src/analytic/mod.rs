@@ -2,3 +2,4 @@
 
 pub mod ballistic;
 pub mod penetration;
+pub mod riemann;
