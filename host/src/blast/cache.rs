@@ -190,3 +190,10 @@ pub fn load(
         path,
     })
 }
+
+/// Forget the loads kept in this process's memory (the next [`load`] reads the disk).
+pub fn forget_memory() {
+    if let Ok(mut map) = memory().lock() {
+        map.clear();
+    }
+}

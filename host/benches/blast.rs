@@ -1,0 +1,149 @@
+//! Blast-load and blast-plate figures (issue "near-field blast-bulged plate"): the Euler load
+//! per charge at two cell sizes (wall time, cell updates per second, impulse on the exposed
+//! plate and at its centre), the Euler reflected impulse of 1 kg TNT at 1, 2 and 3 m against
+//! Kingery-Bulmash on grids wide enough not to confine the wave, the cache hit from disk,
+//! and one plate simulation per fixture at the calibration mesh.
+//!
+//! Run: `cargo bench -p stoss --bench blast` (about 10 minutes on 2 cores). The figures are in
+//! docs/solver.md, "Blast load and the blast-bulged plate".
+
+use std::path::PathBuf;
+use std::time::Instant;
+use stoss::blast::cache;
+use stoss::blast::kingery_bulmash;
+use stoss::blast::near_field::{
+    Air, Charge, ChargeShape, Detonation, EulerSettings, Explosive, NearFieldBlast,
+};
+use stoss::experiment::{Experiment, Setup};
+use stoss::input::material;
+use stoss::solver::{PressureHistory, SolverSettings};
+
+/// Impulse of `wall` on the disc `r <= radius` (N s).
+fn total_impulse(wall: &PressureHistory, radius: f64) -> f64 {
+    let rings = 400;
+    let dr = radius / rings as f64;
+    (0..rings)
+        .map(|i| {
+            let r = (i as f64 + 0.5) * dr;
+            wall.impulse(r) * 2.0 * std::f64::consts::PI * r * dr
+        })
+        .sum()
+}
+
+fn main() {
+    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+    let folder = std::env::temp_dir().join(format!("stoss-bench-blast-{}", std::process::id()));
+    let names = ["blast-hha-37g-13mm", "blast-hha-57g-25mm"];
+
+    println!("## Euler load per charge (2 threads)\n");
+    println!("| charge | cell | cells | steps | wall (s) | cell updates/s | impulse r<=200 mm (N s) | centre impulse (Pa s) | peak (GPa) |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for name in names {
+        let experiment = Experiment::load(&fixtures.join(format!("experiments/{name}.toml")))
+            .expect("fixture loads");
+        let Setup::BlastPlate(spec) = &experiment.file.setup else {
+            panic!("{name} is not a blast plate");
+        };
+        for cell in [1.0e-3, 0.5e-3] {
+            let mut blast = spec.blast();
+            blast.euler.cell_size = cell;
+            let clock = Instant::now();
+            let run = blast
+                .solve(1.25 * spec.exposed_radius, &mut |_| {})
+                .expect("Euler run");
+            let wall = clock.elapsed().as_secs_f64();
+            println!(
+                "| {name} | {:.1} mm | {} | {} | {wall:.1} | {:.2e} | {:.2} | {:.0} | {:.2} |",
+                cell * 1e3,
+                run.cells,
+                run.steps,
+                run.cell_updates as f64 / wall,
+                total_impulse(&run.wall, spec.exposed_radius),
+                run.wall.impulse(0.0),
+                run.wall.peak().0 / 1e9
+            );
+        }
+    }
+
+    println!("\n## 1 kg TNT, reflected impulse at the axis against Kingery-Bulmash (10 mm cells)\n");
+    println!("| height (m) | grid radius (m) | Euler (Pa s) | Kingery-Bulmash (Pa s) | difference | wall (s) |");
+    println!("|---|---|---|---|---|---|");
+    for height in [1.0, 2.0, 3.0] {
+        let radius = libm::cbrt(3.0 / (4.0 * std::f64::consts::PI * 1630.0));
+        let grid_radius = 1.2 * height;
+        let blast = NearFieldBlast {
+            charge: Charge {
+                mass: 1.0,
+                explosive: Explosive::Tnt,
+                shape: ChargeShape::Sphere,
+                diameter: None,
+                standoff: height - radius,
+                detonation: Detonation::Centre,
+            },
+            air: Air::default(),
+            euler: EulerSettings {
+                cell_size: 0.01,
+                radius: grid_radius,
+                headroom: 0.5 * height,
+                end_time: 1.0e-3 + 3.0e-3 * height,
+                output_interval: 5.0e-6,
+                ..EulerSettings::default()
+            },
+        };
+        let clock = Instant::now();
+        let run = blast.solve(grid_radius, &mut |_| {}).expect("Euler run");
+        // Positive phase only, as the fit.
+        let positive: f64 = run
+            .wall
+            .values
+            .iter()
+            .map(|row| row[0].max(0.0))
+            .sum::<f64>()
+            * run.wall.interval;
+        let expected = kingery_bulmash::reflected_impulse(1.0, height).expect("in range");
+        println!(
+            "| {height:.1} | {grid_radius:.1} | {positive:.1} | {expected:.1} | {:+.1} % | {:.1} |",
+            100.0 * (positive / expected - 1.0),
+            clock.elapsed().as_secs_f64()
+        );
+    }
+
+    println!("\n## Cache and plate (2 threads, calibration mesh)\n");
+    for name in names {
+        let path = fixtures.join(format!("experiments/{name}.toml"));
+        let mut experiment = Experiment::load(&path).expect("fixture loads");
+        let (_, steel) = material::load(&experiment.default_material_path().expect("material"))
+            .expect("material loads");
+        let Setup::BlastPlate(spec) = &mut experiment.file.setup else {
+            panic!("{name} is not a blast plate");
+        };
+        spec.cache_folder = Some(folder.clone());
+        let clock = Instant::now();
+        let computed = spec.load().expect("load");
+        let computing = clock.elapsed().as_secs_f64();
+        cache::forget_memory();
+        let clock = Instant::now();
+        let from_disk = spec.load().expect("load");
+        let reading = clock.elapsed().as_secs_f64();
+        assert_eq!(computed.wall, from_disk.wall);
+        let clock = Instant::now();
+        let (result, run, model) = spec
+            .run(&steel, &SolverSettings::default())
+            .expect("plate run");
+        let wall = clock.elapsed().as_secs_f64();
+        println!(
+            "{name}: load computed {computing:.1} s, read from disk {reading:.3} s; plate {} elements, \
+             {:.2e} element-cycles in {wall:.1} s ({:.2e}/s), shape read at {:.2} ms, peak {:.2} mm, \
+             95 % of the impulse by {:.1} us with the centre {:.2} mm away, energy error {:+.3} %",
+            model.mesh.elements.len(),
+            run.element_cycles as f64,
+            run.element_cycles as f64 / wall,
+            result.settled_at * 1e3,
+            result.peak() * 1e3,
+            result.load_time * 1e6,
+            result.deflection_at_load_time * 1e3,
+            run.energy().error_percent()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&folder);
+}
