@@ -65,7 +65,9 @@ fn main() {
         }
     }
 
-    println!("\n## 1 kg TNT, reflected impulse at the axis against Kingery-Bulmash (10 mm cells)\n");
+    println!(
+        "\n## 1 kg TNT, reflected impulse at the axis against Kingery-Bulmash (10 mm cells)\n"
+    );
     println!("| height (m) | grid radius (m) | Euler (Pa s) | Kingery-Bulmash (Pa s) | difference | wall (s) |");
     println!("|---|---|---|---|---|---|");
     for height in [1.0, 2.0, 3.0] {

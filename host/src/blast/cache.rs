@@ -25,7 +25,7 @@ pub enum Source {
     Computed,
     /// Read from the cache folder.
     Disk,
-    /// Already in this process's memory.
+    /// Already in this process's memory (from the same folder).
     Memory,
 }
 
@@ -133,7 +133,9 @@ pub fn load(
     blast.validate(plate_radius).map_err(CacheError::Blast)?;
     let key = key(blast, plate_radius);
     let path = folder.join(format!("near-field-{:016x}.json", fnv1a(&key)));
-    if let Some(wall) = memory().lock().map_err(|e| io(&path, e))?.get(&key) {
+    // The memory layer mirrors the folder's entries, so it is keyed by the entry's path too.
+    let memory_key = format!("{}\n{key}", path.display());
+    if let Some(wall) = memory().lock().map_err(|e| io(&path, e))?.get(&memory_key) {
         return Ok(CachedLoad {
             wall: wall.clone(),
             source: Source::Memory,
@@ -148,7 +150,7 @@ pub fn load(
                 memory()
                     .lock()
                     .map_err(|e| io(&path, e))?
-                    .insert(key, wall.clone());
+                    .insert(memory_key, wall.clone());
                 return Ok(CachedLoad {
                     wall,
                     source: Source::Disk,
@@ -182,7 +184,7 @@ pub fn load(
     memory()
         .lock()
         .map_err(|e| io(&path, e))?
-        .insert(key, wall.clone());
+        .insert(memory_key, wall.clone());
     Ok(CachedLoad {
         wall,
         source: Source::Computed,

@@ -173,6 +173,11 @@ pub struct EulerSolver {
     /// Time integral of the normal momentum flux through each face of the bottom edge
     /// (Pa s, absolute pressure): the impulse per unit area delivered to a wall there.
     pub bottom_impulse: Vec<f64>,
+    /// Normal (z) velocity of a reflective bottom edge in each column (m/s; 0 = fixed).
+    /// A wall that moves this way is treated in the transpiration approximation: its
+    /// velocity enters the Riemann problem at its fixed position `z = 0`, and gas crosses the
+    /// edge at that velocity (Lesoinne & Farhat 1996).
+    pub bottom_wall_velocity: Vec<f64>,
     // Work arrays over the padded grid.
     primitive: Vec<[f64; 5]>,
     sound: Vec<f64>,
@@ -259,6 +264,7 @@ impl EulerSolver {
             boundaries,
             fluids,
             bottom_impulse: vec![0.0; grid.cells_r],
+            bottom_wall_velocity: vec![0.0; grid.cells_r],
             cells,
             burn_time,
             burn_duration,
@@ -387,6 +393,12 @@ impl EulerSolver {
                     2,
                     self.boundaries.bottom,
                 );
+                if self.boundaries.bottom == Boundary::Reflective {
+                    // A moving wall: mirror the normal velocity about the wall's.
+                    let column = ip.saturating_sub(GHOSTS).min(nr - 1);
+                    self.primitive[ghost * width + ip][2] +=
+                        2.0 * self.bottom_wall_velocity[column];
+                }
                 let (ghost, source) = match self.boundaries.top {
                     Boundary::Reflective => (GHOSTS + nz + g, GHOSTS + nz - 1 - g),
                     Boundary::Transmissive => (GHOSTS + nz + g, GHOSTS + nz - 1),
@@ -674,8 +686,15 @@ impl EulerSolver {
             })
             .collect();
         self.floor_count += floor_counts.iter().sum::<u64>();
-        for (impulse, flux) in self.bottom_impulse.iter_mut().zip(&self.flux_z[..nr]) {
-            *impulse += dt * flux[2];
+        // The wall feels the pressure: the momentum flux less what the gas crossing the
+        // (moving) wall carries, `F_rho_v - F_rho v_wall`.
+        for ((impulse, flux), wall) in self
+            .bottom_impulse
+            .iter_mut()
+            .zip(&self.flux_z[..nr])
+            .zip(&self.bottom_wall_velocity)
+        {
+            *impulse += dt * (flux[2] - flux[0] * wall);
         }
         self.time += dt;
         self.steps += 1;

@@ -20,7 +20,6 @@
 
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-use std::sync::Arc;
 
 use super::{check_positive, default_temperature, Chart, ExperimentReport};
 use super::{Check, FieldOutput, Outcome, SimulationError};
@@ -32,8 +31,8 @@ use crate::measure::interpolate;
 use crate::mesh::{Grading, QuadMesh};
 use crate::report::plots::{Series, Style};
 use crate::solver::{
-    Amplitude, AxisymmetricModel, NodalDamping, PressureHistory, PressureLoad, SolverError,
-    SolverSettings, VelocityConstraint,
+    shared, Amplitude, AxisymmetricModel, NodalDamping, PressureHistory, PressureLoad,
+    SharedPressure, SolverError, SolverSettings, VelocityConstraint,
 };
 use serde::{Deserialize, Serialize};
 use stoss_kernel::Material;
@@ -91,6 +90,134 @@ fn one() -> f64 {
     1.0
 }
 
+/// How the blast load and the plate are coupled.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Coupling {
+    /// The load is computed once on a rigid wall and cached (it does not depend on the
+    /// plate's constants).
+    #[default]
+    OneWay,
+    /// The Euler calculation runs alongside the plate: every record interval the plate's
+    /// loaded-face velocity becomes the wall velocity of the Euler grid (transpiration
+    /// boundary, [`crate::blast::euler::EulerSolver::bottom_wall_velocity`]), so the plate's
+    /// motion relieves the pressure on it. Recomputed for every simulation.
+    TwoWay,
+}
+
+/// The Euler calculation of a two-way coupled run, kept two records ahead of the plate.
+struct CoupledLoad {
+    euler: crate::blast::euler::EulerSolver,
+    history: SharedPressure,
+    previous: Vec<f64>,
+    interval: f64,
+    records: usize,
+    ambient: f64,
+    courant: f64,
+    radii: Vec<f64>,
+    exposed_radius: f64,
+    seconds: f64,
+}
+
+impl CoupledLoad {
+    fn new(spec: &BlastPlateSpec) -> Result<Self, SolverError> {
+        let euler = spec
+            .blast()
+            .solver(spec.load_radius())
+            .map_err(|e| SolverError::Model(e.to_string()))?;
+        let radii: Vec<f64> = (0..euler.grid.cells_r)
+            .map(|i| euler.grid.centre(i, 0).0)
+            .collect();
+        let interval = spec.euler.output_interval;
+        Ok(Self {
+            previous: euler.bottom_impulse.clone(),
+            history: shared(PressureHistory {
+                radii: radii.clone(),
+                interval,
+                values: Vec::new(),
+            }),
+            euler,
+            interval,
+            records: libm::ceil(spec.euler.end_time / interval - 1e-9) as usize,
+            ambient: spec.air.pressure,
+            courant: spec.euler.courant,
+            radii,
+            exposed_radius: spec.exposed_radius,
+            seconds: 0.0,
+        })
+    }
+
+    fn recorded(&self) -> Result<usize, SolverError> {
+        Ok(self
+            .history
+            .read()
+            .map_err(|_| SolverError::Model("the blast load's lock is poisoned".into()))?
+            .values
+            .len())
+    }
+
+    /// Run the Euler grid over the next record interval and append the record.
+    fn advance(&mut self) -> Result<(), SolverError> {
+        let clock = std::time::Instant::now();
+        let k = self.recorded()?;
+        let end = (k + 1) as f64 * self.interval;
+        while self.euler.time < end * (1.0 - 1e-12) {
+            self.euler
+                .step(self.courant, end - self.euler.time)
+                .map_err(|e| SolverError::Model(e.to_string()))?;
+        }
+        let row: Vec<f64> = self
+            .euler
+            .bottom_impulse
+            .iter()
+            .zip(&self.previous)
+            .map(|(now, before)| (now - before) / self.interval - self.ambient)
+            .collect();
+        self.previous.copy_from_slice(&self.euler.bottom_impulse);
+        self.history
+            .write()
+            .map_err(|_| SolverError::Model("the blast load's lock is poisoned".into()))?
+            .values
+            .push(row);
+        self.seconds += clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// At plate time `time`, with the loaded face's nodes at initial radii `radii` moving at
+    /// `velocities` (z), set the Euler wall velocity and keep two records ahead.
+    fn follow(&mut self, time: f64, radii: &[f64], velocities: &[f64]) -> Result<(), SolverError> {
+        let profile: Vec<(f64, f64)> = radii
+            .iter()
+            .copied()
+            .zip(velocities.iter().copied())
+            .collect();
+        for (wall, &r) in self.euler.bottom_wall_velocity.iter_mut().zip(&self.radii) {
+            *wall = if r <= self.exposed_radius {
+                interpolate(&profile, r)
+            } else {
+                0.0
+            };
+        }
+        let wanted = ((time / self.interval) as usize + 2).min(self.records);
+        while self.recorded()? < wanted {
+            self.advance()?;
+        }
+        Ok(())
+    }
+}
+
+/// Impulse of `wall` on the disc `r <= radius` (N s).
+pub fn total_impulse(wall: &PressureHistory, radius: f64) -> f64 {
+    let rings = 400;
+    let dr = radius / rings as f64;
+    (0..rings)
+        .map(|i| {
+            let r = (i as f64 + 0.5) * dr;
+            wall.impulse(r) * 2.0 * std::f64::consts::PI * r * dr
+        })
+        .sum()
+}
+
 /// Geometry, load and discretisation of a blast-plate test.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -114,6 +241,9 @@ pub struct BlastPlateSpec {
     /// plus 25 %).
     #[serde(default)]
     pub euler: EulerSettings,
+    /// One-way (cached rigid-wall load, default) or two-way coupling.
+    #[serde(default)]
+    pub coupling: Coupling,
     /// Factor on the load (a nuisance constant for explosive and charge-shape differences).
     #[serde(default = "one")]
     pub impulse_scale: f64,
@@ -155,8 +285,11 @@ pub struct BlastPlateResult {
     /// wall the load was computed on while the load acted (the one-way coupling's error
     /// measure).
     pub deflection_at_load_time: f64,
-    /// Where the load came from and the wall time it took (s).
-    pub load_source: (cache::Source, f64),
+    /// Where a one-way load came from (`None`: computed with the plate, two-way) and the
+    /// wall time the load took (s).
+    pub load_source: (Option<cache::Source>, f64),
+    /// Impulse the load delivered to the exposed plate (N s).
+    pub load_impulse: f64,
 }
 
 impl BlastPlateResult {
@@ -262,7 +395,7 @@ impl BlastPlateSpec {
         &self,
         material: &Material,
         settings: &SolverSettings,
-        wall: Arc<PressureHistory>,
+        wall: SharedPressure,
     ) -> AxisymmetricModel {
         let nr = self.radial_elements();
         let mesh = QuadMesh::block(
@@ -329,26 +462,51 @@ impl BlastPlateSpec {
         SolverError,
     > {
         let clock = std::time::Instant::now();
-        let loaded = self.load()?;
-        let load_source = (loaded.source, clock.elapsed().as_secs_f64());
-        let load_time = impulse_time(&loaded.wall, self.exposed_radius, 0.95);
-        let model = self.model(material, settings, loaded.wall);
+        let mut coupled = None;
+        let (history, load_source) = match self.coupling {
+            Coupling::OneWay => {
+                let loaded = self.load()?;
+                (
+                    shared((*loaded.wall).clone()),
+                    (Some(loaded.source), clock.elapsed().as_secs_f64()),
+                )
+            }
+            Coupling::TwoWay => {
+                let mut load = CoupledLoad::new(self)?;
+                // Two records ahead of the plate, with the plate at rest.
+                load.advance()?;
+                load.advance()?;
+                let history = load.history.clone();
+                coupled = Some(load);
+                (history, (None, 0.0))
+            }
+        };
+        let mut model = self.model(material, settings, history.clone());
+        if coupled.is_some() {
+            model.settings.output_interval = self.euler.output_interval;
+        }
         let rear = model.mesh.node_set("plate.bottom").unwrap_or(&[]).to_vec();
+        let top = model.mesh.node_set("plate.top").unwrap_or(&[]).to_vec();
+        let top_radii: Vec<f64> = top.iter().map(|&n| model.mesh.nodes[n][0]).collect();
         let centre = rear.first().copied().unwrap_or(0);
         let z0 = -self.thickness;
         let damping_start = self.damping_start;
         let tolerance = self.steady_tolerance;
-        let mut history: Vec<(f64, f64)> = Vec::new();
-        let mut at_load_time = None;
+        let mut deflections: Vec<(f64, f64)> = Vec::new();
         let mut steady = false;
+        let mut failure = None;
         let run = model.run_observed(&mut |snapshot| {
-            let deflection = z0 - snapshot.positions[centre][1];
-            if at_load_time.is_none() && snapshot.time >= load_time {
-                at_load_time = Some(deflection);
+            if let Some(load) = coupled.as_mut() {
+                let velocities: Vec<f64> = top.iter().map(|&n| snapshot.velocities[n][1]).collect();
+                if let Err(error) = load.follow(snapshot.time, &top_radii, &velocities) {
+                    failure = Some(error);
+                    return ControlFlow::Break(());
+                }
             }
-            history.push((snapshot.time, deflection));
+            let deflection = z0 - snapshot.positions[centre][1];
+            deflections.push((snapshot.time, deflection));
             if snapshot.time > damping_start + STEADY_WINDOW {
-                let earlier = history
+                let earlier = deflections
                     .iter()
                     .rev()
                     .find(|(t, _)| *t <= snapshot.time - STEADY_WINDOW)
@@ -363,6 +521,22 @@ impl BlastPlateSpec {
             }
             ControlFlow::Continue(())
         })?;
+        if let Some(error) = failure {
+            return Err(error);
+        }
+        let load_seconds = match &coupled {
+            Some(load) => load.seconds,
+            None => load_source.1,
+        };
+        let wall = history
+            .read()
+            .map_err(|_| SolverError::Model("the blast load's lock is poisoned".into()))?
+            .clone();
+        let load_time = impulse_time(&wall, self.exposed_radius, 0.95);
+        let deflection_at_load_time = interpolate(
+            &deflections,
+            load_time.min(deflections.last().map_or(0.0, |d| d.0)),
+        );
         let mut profile: Vec<(f64, f64)> = rear
             .iter()
             .map(|&n| (run.positions[n][0], z0 - run.positions[n][1]))
@@ -375,8 +549,9 @@ impl BlastPlateSpec {
                 settled_at,
                 steady,
                 load_time,
-                deflection_at_load_time: at_load_time.unwrap_or(f64::NAN),
-                load_source,
+                deflection_at_load_time,
+                load_source: (load_source.0, load_seconds),
+                load_impulse: total_impulse(&wall, self.exposed_radius) * self.impulse_scale,
             },
             run,
             model,
@@ -406,6 +581,7 @@ impl BlastPlateSpec {
                 ("centre_deflection".into(), result.deflection_at(0.0)),
                 ("settled_at".into(), result.settled_at),
                 ("load_time".into(), result.load_time),
+                ("load_impulse".into(), result.load_impulse),
                 (
                     "centre_deflection_at_load_time".into(),
                     result.deflection_at_load_time,
@@ -444,11 +620,14 @@ impl BlastPlateSpec {
             self.layers
         ));
         text.push_str(&format!(
-            "load: {} in {:.2} s\nshape read at {:.2} ms ({})\none-way load: 95 % of its impulse delivered by {:.1} us, when the centre had moved {:.2} mm (stand-off {:.1} mm) away from the rigid wall it was computed on\n",
+            "load: {} in {:.2} s\nshape read at {:.2} ms ({})\nload impulse on the exposed plate {:.2} N s; 95 % of it delivered by {:.1} us, when the centre had moved {:.2} mm (stand-off {:.1} mm)\n",
             match result.load_source.0 {
-                cache::Source::Computed => "computed by the Euler blast solver and cached",
-                cache::Source::Disk => "read from the cache",
-                cache::Source::Memory => "reused from memory",
+                Some(cache::Source::Computed) => {
+                    "one-way, computed by the Euler blast solver and cached"
+                }
+                Some(cache::Source::Disk) => "one-way, read from the cache",
+                Some(cache::Source::Memory) => "one-way, reused from memory",
+                None => "two-way, computed alongside the plate",
             },
             result.load_source.1,
             result.settled_at * 1e3,
@@ -457,6 +636,7 @@ impl BlastPlateSpec {
             } else {
                 "end_time reached, NOT steady"
             },
+            result.load_impulse,
             result.load_time * 1e6,
             result.deflection_at_load_time * 1e3,
             self.charge.standoff * 1e3

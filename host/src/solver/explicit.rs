@@ -11,7 +11,7 @@ use super::contact::{
     absorbed_work, ContactPair, ContactStatistics, ErodingContact, ErodingSurfaces, PenaltyContact,
 };
 use super::energy::EnergyBalance;
-use super::loads::{PressureLoad, RigidWall, VelocityConstraint};
+use super::loads::{PressureHistory, PressureLoad, RigidWall, VelocityConstraint};
 use super::{SolverError, SolverSettings};
 use crate::measure::{StateHistory, StateSample};
 use rayon::prelude::*;
@@ -365,12 +365,16 @@ impl<M: Discretisation> ExplicitModel<M> {
             .pressure_loads
             .iter()
             .map(|load| {
-                load.segments
+                let history = load.history.read().map_err(|_| {
+                    SolverError::Model("a pressure history's lock is poisoned".into())
+                })?;
+                Ok(load
+                    .segments
                     .iter()
-                    .map(|&[a, b]| load.history.radial_weights(0.5 * (x[a][0] + x[b][0])))
-                    .collect()
+                    .map(|&[a, b]| history.radial_weights(0.5 * (x[a][0] + x[b][0])))
+                    .collect())
             })
-            .collect();
+            .collect::<Result<_, SolverError>>()?;
         let mut pressure_force = vec![[0.0; 3]; node_count];
         let mut shares: Vec<(usize, f64)> = Vec::new();
 
@@ -444,8 +448,11 @@ impl<M: Discretisation> ExplicitModel<M> {
                 // The force at t_n stands for [t_n - dt_previous/2, t_n + dt/2).
                 let window = (time - 0.5 * dt_previous, time + 0.5 * dt);
                 for (load, weights) in self.pressure_loads.iter().zip(&load_weights) {
-                    load.history.overlaps(window.0, window.1, &mut shares);
-                    add_pressure_forces(load, weights, &shares, &x, &mut pressure_force);
+                    let history = load.history.read().map_err(|_| {
+                        SolverError::Model("a pressure history's lock is poisoned".into())
+                    })?;
+                    history.overlaps(window.0, window.1, &mut shares);
+                    add_pressure_forces(load, &history, weights, &shares, &x, &mut pressure_force);
                 }
                 for &n in &loaded_nodes {
                     for d in 0..dimension {
@@ -692,6 +699,7 @@ impl<M: Discretisation> ExplicitModel<M> {
 /// overlap the step's window and their shares of it.
 fn add_pressure_forces(
     load: &PressureLoad,
+    history: &PressureHistory,
     weights: &[(usize, usize, f64)],
     shares: &[(usize, f64)],
     x: &[Vector],
@@ -703,7 +711,7 @@ fn add_pressure_forces(
     for (&[a, b], &(lo, hi, w)) in load.segments.iter().zip(weights) {
         let mut p = 0.0;
         for &(k, share) in shares {
-            let record = &load.history.values[k];
+            let record = &history.values[k];
             p += share * ((1.0 - w) * record[lo] + w * record[hi]);
         }
         let p = load.scale * p;

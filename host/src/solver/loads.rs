@@ -187,6 +187,14 @@ fn interpolate_radius(radii: &[f64], values: &[f64], radius: f64) -> f64 {
     }
 }
 
+/// A pressure history shared between the solver and whoever extends it.
+pub type SharedPressure = std::sync::Arc<std::sync::RwLock<PressureHistory>>;
+
+/// Share `history`.
+pub fn shared(history: PressureHistory) -> SharedPressure {
+    std::sync::Arc::new(std::sync::RwLock::new(history))
+}
+
 /// A pressure applied to boundary segments of a 2D axisymmetric model.
 ///
 /// Segment `[a, b]` is pushed along its left normal `(-(z_b - z_a), r_b - r_a)/L` (order the
@@ -194,12 +202,13 @@ fn interpolate_radius(radii: &[f64], values: &[f64], radius: f64) -> f64 {
 /// initial mid-radius (the load stays with the material it was computed for) and times
 /// `scale`; the consistent nodal forces per radian are `p n L (2 r_a + r_b)/6` and
 /// `p n L (r_a + 2 r_b)/6`, with the current geometry (a follower load).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct PressureLoad {
     /// Boundary segments.
     pub segments: Vec<[usize; 2]>,
-    /// The pressure history.
-    pub history: std::sync::Arc<PressureHistory>,
+    /// The pressure history, shared so that a coupled calculation can extend it while the
+    /// model runs (the solver reads it at every step).
+    pub history: SharedPressure,
     /// Factor on the history.
     pub scale: f64,
 }

@@ -25,7 +25,8 @@ pub use energy::EnergyBalance;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun, Snapshot};
 pub use hexahedral::{HexModel, HexRun};
 pub use loads::{
-    Amplitude, NodalDamping, PressureHistory, PressureLoad, RigidWall, VelocityConstraint,
+    shared, Amplitude, NodalDamping, PressureHistory, PressureLoad, RigidWall, SharedPressure,
+    VelocityConstraint,
 };
 
 /// Numerical settings of a run.
