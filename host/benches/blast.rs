@@ -14,6 +14,7 @@ use stoss::blast::kingery_bulmash;
 use stoss::blast::near_field::{
     Air, Charge, ChargeShape, Detonation, EulerSettings, Explosive, NearFieldBlast,
 };
+use stoss::experiment::blast_plate::Coupling;
 use stoss::experiment::{Experiment, Setup};
 use stoss::input::material;
 use stoss::solver::{PressureHistory, SolverSettings};
@@ -128,24 +129,29 @@ fn main() {
         let from_disk = spec.load().expect("load");
         let reading = clock.elapsed().as_secs_f64();
         assert_eq!(computed.wall, from_disk.wall);
-        let clock = Instant::now();
-        let (result, run, model) = spec
-            .run(&steel, &SolverSettings::default())
-            .expect("plate run");
-        let wall = clock.elapsed().as_secs_f64();
-        println!(
-            "{name}: load computed {computing:.1} s, read from disk {reading:.3} s; plate {} elements, \
+        println!("{name}: load computed {computing:.1} s, read from disk {reading:.3} s");
+        for coupling in [Coupling::OneWay, Coupling::TwoWay] {
+            spec.coupling = coupling;
+            let clock = Instant::now();
+            let (result, run, model) = spec
+                .run(&steel, &SolverSettings::default())
+                .expect("plate run");
+            let wall = clock.elapsed().as_secs_f64();
+            println!(
+            "{name} {coupling:?}: plate {} elements, \
              {:.2e} element-cycles in {wall:.1} s ({:.2e}/s), shape read at {:.2} ms, peak {:.2} mm, \
-             95 % of the impulse by {:.1} us with the centre {:.2} mm away, energy error {:+.3} %",
+             impulse {:.2} N s, 95 % of it by {:.1} us with the centre {:.2} mm away, energy error {:+.3} %",
             model.mesh.elements.len(),
             run.element_cycles as f64,
             run.element_cycles as f64 / wall,
             result.settled_at * 1e3,
             result.peak() * 1e3,
+            result.load_impulse,
             result.load_time * 1e6,
             result.deflection_at_load_time * 1e3,
             run.energy().error_percent()
         );
+        }
     }
     let _ = std::fs::remove_dir_all(&folder);
 }
