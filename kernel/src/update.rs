@@ -20,7 +20,7 @@ use crate::error::UpdateError;
 use crate::material::{Material, RateTreatment};
 use crate::math::sqrt;
 use crate::state::{MaterialState, StateFlags};
-use crate::strength::FlowStress;
+use crate::strength::{FlowAtTemperature, FlowStress};
 use crate::tensor::{self, Matrix6, Sym};
 
 /// Bound on return-mapping iterations. Geometric then arithmetic bisection reaches any
@@ -158,21 +158,22 @@ fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateErr
     Ok(())
 }
 
-/// Solve `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T) = 0` for `dl` (seed 001 eq. 3.8).
+/// Solve `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T) = 0` for `dl` (seed 001 eq. 3.8)
+/// with the flow stress `flow` at the step's temperature `T_n` and `yield_at_zero =
+/// sigma_y(eps_p, 0, T_n)` (the yield check's value, which is `g(0) = q_trial - yield_at_zero`).
 /// Requires `g(0) > 0`. Returns `(dl, flow stress at dl, iterations)`.
 fn implicit_return(
-    material: &Material,
+    flow: &FlowAtTemperature<'_>,
+    shear_modulus: f64,
     trial_equivalent: f64,
     plastic_strain: f64,
-    temperature: f64,
+    yield_at_zero: f64,
     previous_rate: f64,
     dt: f64,
 ) -> Result<(f64, FlowStress, u32), UpdateError> {
-    let three_g = 3.0 * material.shear_modulus;
+    let three_g = 3.0 * shear_modulus;
     let residual = |dl: f64| -> (f64, f64, FlowStress) {
-        let flow = material
-            .strength
-            .flow_stress(plastic_strain + dl, dl / dt, temperature);
+        let flow = flow.flow_stress(plastic_strain + dl, dl / dt);
         let g = trial_equivalent - three_g * dl - flow.value;
         let dg = -three_g - flow.d_plastic_strain - flow.d_rate / dt;
         (g, dg, flow)
@@ -183,7 +184,7 @@ fn implicit_return(
     // Start from the previous step's plastic rate (exact in steady flow); at the onset of
     // flow, from the perfectly plastic estimate, an upper bound of the root for
     // non-softening models.
-    let (g0, _, _) = residual(0.0);
+    let g0 = trial_equivalent - yield_at_zero;
     let mut dl = g0 / three_g;
     let previous = previous_rate * dt;
     if previous > 0.0 && previous < dl {
@@ -287,19 +288,19 @@ fn compute(
             RateTreatment::Implicit => 0.0,
             RateTreatment::Lagged => state.plastic_strain_rate,
         };
-        let flow_now =
-            material
-                .strength
-                .flow_stress(state.plastic_strain, check_rate, state.temperature);
+        // The temperature is T_n throughout the check and the return.
+        let at_temperature = material.strength.at_temperature(state.temperature);
+        let flow_now = at_temperature.flow_stress(state.plastic_strain, check_rate);
         if trial_equivalent > flow_now.value {
             plastic = true;
             let flow = match material.rate_treatment {
                 RateTreatment::Implicit => {
                     let (dl, flow, count) = implicit_return(
-                        material,
+                        &at_temperature,
+                        shear,
                         trial_equivalent,
                         state.plastic_strain,
-                        state.temperature,
+                        flow_now.value,
                         state.plastic_strain_rate,
                         dt,
                     )?;

@@ -27,9 +27,25 @@ impl ComposedStrength {
         plastic_strain_rate: f64,
         temperature: f64,
     ) -> FlowStress {
+        self.flow_stress_with_thermal(
+            plastic_strain,
+            plastic_strain_rate,
+            temperature,
+            self.thermal.evaluate(temperature),
+        )
+    }
+
+    /// [`Self::flow_stress`] with the thermal factor `theta = thermal(temperature)` given.
+    #[inline]
+    pub fn flow_stress_with_thermal(
+        &self,
+        plastic_strain: f64,
+        plastic_strain_rate: f64,
+        temperature: f64,
+        theta: f64,
+    ) -> FlowStress {
         let (h, dh) = self.hardening.evaluate(plastic_strain);
         let (r, dr) = self.rate.evaluate(plastic_strain_rate, temperature);
-        let theta = self.thermal.evaluate(temperature);
         FlowStress {
             value: h * r * theta,
             d_plastic_strain: dh * r * theta,

@@ -63,13 +63,23 @@ impl Strength {
         plastic_strain_rate: f64,
         temperature: f64,
     ) -> FlowStress {
-        match self {
-            Strength::Composed(model) => {
-                model.flow_stress(plastic_strain, plastic_strain_rate, temperature)
-            }
-            Strength::ZerilliArmstrong(model) => {
-                model.flow_stress(plastic_strain, plastic_strain_rate, temperature)
-            }
+        self.at_temperature(temperature)
+            .flow_stress(plastic_strain, plastic_strain_rate)
+    }
+
+    /// The model at a fixed temperature, with its temperature-only factors (the thermal term
+    /// `theta(T)` of a composed model) evaluated once: the return mapping holds `T_n` fixed
+    /// while it iterates on the plastic multiplier.
+    #[inline]
+    pub fn at_temperature(&self, temperature: f64) -> FlowAtTemperature<'_> {
+        let thermal = match self {
+            Strength::Composed(model) => model.thermal.evaluate(temperature),
+            Strength::ZerilliArmstrong(_) => 1.0,
+        };
+        FlowAtTemperature {
+            strength: self,
+            temperature,
+            thermal,
         }
     }
 
@@ -78,6 +88,36 @@ impl Strength {
         match self {
             Strength::Composed(model) => model.validate(),
             Strength::ZerilliArmstrong(model) => model.validate(),
+        }
+    }
+}
+
+/// A [`Strength`] at a fixed temperature (see [`Strength::at_temperature`]). Bit-identical to
+/// [`Strength::flow_stress`] at that temperature.
+#[derive(Clone, Copy, Debug)]
+pub struct FlowAtTemperature<'a> {
+    strength: &'a Strength,
+    temperature: f64,
+    /// `theta(T)` of a composed model (1 for Zerilli-Armstrong, whose temperature dependence
+    /// is coupled with the rate).
+    thermal: f64,
+}
+
+impl FlowAtTemperature<'_> {
+    /// Flow stress and its derivatives at plastic strain `plastic_strain` and plastic strain
+    /// rate `plastic_strain_rate` (1/s).
+    #[inline]
+    pub fn flow_stress(&self, plastic_strain: f64, plastic_strain_rate: f64) -> FlowStress {
+        match self.strength {
+            Strength::Composed(model) => model.flow_stress_with_thermal(
+                plastic_strain,
+                plastic_strain_rate,
+                self.temperature,
+                self.thermal,
+            ),
+            Strength::ZerilliArmstrong(model) => {
+                model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
+            }
         }
     }
 }
