@@ -32,6 +32,14 @@ pub const MAX_RETURN_ITERATIONS: u32 = 200;
 /// Relative residual `|g| / q_trial` at which the return mapping stops.
 pub const RETURN_TOLERANCE: f64 = 1e-14;
 
+/// Relative Newton step `|d(dl)| / dl` at which the return mapping stops without evaluating
+/// the flow stress again: Newton's residual after a step `s` is second order,
+/// `|g''| s^2 / 2`, so a relative step of 1e-7 leaves a relative residual of order
+/// `1e-14 (dl^2 |g''| / q_trial)` (for JC, `(n(1 - n)/2) B eps^n (dl/eps_p)^2` and
+/// `C sigma_y / 2`: both below [`RETURN_TOLERANCE`] in size). The flow stress at the accepted
+/// multiplier is the last evaluation's, corrected to first order along the step.
+pub const RETURN_STEP_TOLERANCE: f64 = 1e-7;
+
 /// What the host gives for one step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -228,6 +236,15 @@ fn implicit_return(
             && newton > lower
             && newton < upper
             && (newton - dl).abs() <= 0.5 * previous_step;
+        if newton_ok && (newton - dl).abs() <= RETURN_STEP_TOLERANCE * newton {
+            // d sigma_y / d dl = -dg - 3G along the step.
+            let step = newton - dl;
+            let flow = FlowStress {
+                value: flow.value + (-dg - three_g) * step,
+                ..flow
+            };
+            return Ok((newton, flow, iteration));
+        }
         let next = if newton_ok {
             newton
         } else if lower == 0.0 {
