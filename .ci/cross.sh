@@ -107,6 +107,9 @@ cargo test -p stoss --test golden --target "$aarch64"
 step "golden histories on $aarch64 under qemu (release)"
 cargo test -p stoss --test golden --target "$aarch64" --release
 
+step "the kernel's exp, ln and pow on $aarch64 under qemu (oracle bound, result hash)"
+cargo test -p stoss-kernel --test math --target "$aarch64" --release
+
 # --- No fused multiply-add in the stoss code of the aarch64 binary ------------------------
 objdump_tool=""
 for candidate in aarch64-linux-gnu-objdump llvm-objdump; do

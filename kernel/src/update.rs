@@ -98,8 +98,8 @@ struct Step {
     output: StepOutput,
     /// Bulk tangent `-dp / d tr(deps)`.
     bulk_tangent: f64,
-    /// Unit normal `s_trial / |s_trial|` (zero if elastic).
-    normal: Sym,
+    /// Trial deviator `s_trial` (its unit normal enters the tangent).
+    trial: Sym,
     /// `3G dl / q_trial`.
     return_fraction: f64,
     /// Hardening modulus seen by the return, `d sigma_y/d eps_p + d sigma_y/d rate / dt`.
@@ -133,13 +133,14 @@ impl Step {
             }
         }
         if self.plastic {
+            let trial_norm = sqrt(tensor::contract(&self.trial, &self.trial));
+            let normal = tensor::scale(&self.trial, 1.0 / trial_norm);
             let theta_bar =
                 1.0 / (1.0 + self.plastic_modulus / (3.0 * shear)) - self.return_fraction;
             for (i, row) in c.iter_mut().enumerate() {
                 for (j, entry) in row.iter_mut().enumerate() {
                     let shear_weight = if j < 3 { 1.0 } else { 2.0 };
-                    *entry -=
-                        2.0 * shear * theta_bar * self.normal[i] * self.normal[j] * shear_weight;
+                    *entry -= 2.0 * shear * theta_bar * normal[i] * normal[j] * shear_weight;
                 }
             }
         }
@@ -166,40 +167,74 @@ fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateErr
     Ok(())
 }
 
-/// Solve `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T) = 0` for `dl` (seed 001 eq. 3.8)
-/// with the flow stress `flow` at the step's temperature `T_n` and `yield_at_zero =
-/// sigma_y(eps_p, 0, T_n)` (the yield check's value, which is `g(0) = q_trial - yield_at_zero`).
-/// Requires `g(0) > 0`. Returns `(dl, flow stress at dl, iterations)`.
+/// The residual `g(dl) = q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n)`, its slope and
+/// the flow stress it used.
+#[derive(Clone, Copy)]
+struct Residual {
+    value: f64,
+    slope: f64,
+    flow: FlowStress,
+}
+
+/// [`Residual`] at `dl`.
+#[inline(always)]
+fn residual(
+    flow: &FlowAtTemperature<'_>,
+    three_g: f64,
+    trial_equivalent: f64,
+    plastic_strain: f64,
+    dl: f64,
+    dt: f64,
+) -> Residual {
+    let flow = flow.flow_stress(plastic_strain + dl, dl / dt);
+    Residual {
+        value: trial_equivalent - three_g * dl - flow.value,
+        slope: -three_g - flow.d_plastic_strain - flow.d_rate / dt,
+        flow,
+    }
+}
+
+/// Solve `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n) = 0` for `dl` (seed 001 eq. 3.8)
+/// with the flow stress `flow` at the step's temperature `T_n`. Requires `g(0) > 0`.
+///
+/// The first iterate is the previous step's multiplier `warm.0` when it is below the
+/// perfectly plastic estimate `g(0)/3G` (exact in steady flow), whose residual `warm.1` the
+/// caller has evaluated; otherwise `g(0)/3G`, from `yield_at_zero = sigma_y(eps_p, 0, T_n)`
+/// (the yield check's value, `g(0) = q_trial - yield_at_zero`), which the caller gives
+/// whenever `warm` is absent or `g(warm) <= 0`. Returns `(dl, flow stress at dl, iterations)`.
 fn implicit_return(
     flow: &FlowAtTemperature<'_>,
     shear_modulus: f64,
     trial_equivalent: f64,
     plastic_strain: f64,
-    yield_at_zero: f64,
-    previous_rate: f64,
+    warm: Option<(f64, Residual)>,
+    yield_at_zero: Option<f64>,
     dt: f64,
 ) -> Result<(f64, FlowStress, u32), UpdateError> {
     let three_g = 3.0 * shear_modulus;
-    let residual = |dl: f64| -> (f64, f64, FlowStress) {
-        let flow = flow.flow_stress(plastic_strain + dl, dl / dt);
-        let g = trial_equivalent - three_g * dl - flow.value;
-        let dg = -three_g - flow.d_plastic_strain - flow.d_rate / dt;
-        (g, dg, flow)
-    };
+    let residual = |dl: f64| residual(flow, three_g, trial_equivalent, plastic_strain, dl, dt);
     let tolerance = RETURN_TOLERANCE * trial_equivalent;
     let mut lower = 0.0_f64;
     let mut upper = trial_equivalent / three_g;
-    // Start from the previous step's plastic rate (exact in steady flow); at the onset of
-    // flow, from the perfectly plastic estimate, an upper bound of the root for
+    // Start from the previous step's plastic multiplier (exact in steady flow); at the onset
+    // of flow, from the perfectly plastic estimate, an upper bound of the root for
     // non-softening models.
-    let g0 = trial_equivalent - yield_at_zero;
-    let mut dl = g0 / three_g;
-    let previous = previous_rate * dt;
-    if previous > 0.0 && previous < dl {
-        dl = previous;
-    }
+    let (mut dl, mut pending) = match (warm, yield_at_zero) {
+        (Some((warm_dl, warm_residual)), None) => (warm_dl, Some(warm_residual)),
+        (warm, Some(yield_at_zero)) => {
+            let estimate = (trial_equivalent - yield_at_zero) / three_g;
+            match warm {
+                Some((warm_dl, warm_residual)) if warm_dl < estimate => {
+                    (warm_dl, Some(warm_residual))
+                }
+                _ => (estimate, None),
+            }
+        }
+        (None, None) => return Err(UpdateError::ReturnMappingDiverged),
+    };
     if dl > upper {
         dl = upper;
+        pending = None;
     }
     // Safeguarded Newton (rtsafe): a Newton step is taken only if it stays inside the bracket
     // and at least halves the previous step; otherwise the bracket is bisected, geometrically
@@ -208,7 +243,14 @@ fn implicit_return(
     let mut upper_flow: Option<FlowStress> = None;
     let mut previous_step = upper;
     for iteration in 1..=MAX_RETURN_ITERATIONS {
-        let (g, dg, flow) = residual(dl);
+        let Residual {
+            value: g,
+            slope: dg,
+            flow,
+        } = match pending.take() {
+            Some(evaluated) => evaluated,
+            None => residual(dl),
+        };
         if !g.is_finite() {
             return Err(UpdateError::NonFiniteResult);
         }
@@ -226,7 +268,7 @@ fn implicit_return(
             // g <= 0: the stress is on (to round-off) or inside the yield surface.
             let flow = match upper_flow {
                 Some(flow) => flow,
-                None => residual(upper).2,
+                None => residual(upper).flow,
             };
             return Ok((upper, flow, iteration));
         }
@@ -292,7 +334,6 @@ fn compute(
     let mut iterations = 0;
     let mut plastic_modulus = 0.0;
     let mut return_fraction = 0.0;
-    let mut normal = tensor::ZERO;
     let mut plastic = false;
     let yield_stress;
     let new_deviator;
@@ -301,45 +342,75 @@ fn compute(
         yield_stress = 0.0;
         new_deviator = tensor::ZERO;
     } else {
-        let check_rate = match material.rate_treatment {
-            RateTreatment::Implicit => 0.0,
-            RateTreatment::Lagged => state.plastic_strain_rate,
-        };
         // The temperature is T_n throughout the check and the return.
         let at_temperature = material.strength.at_temperature(state.temperature);
-        let flow_now = at_temperature.flow_stress(state.plastic_strain, check_rate);
-        if trial_equivalent > flow_now.value {
-            plastic = true;
-            let flow = match material.rate_treatment {
-                RateTreatment::Implicit => {
-                    let (dl, flow, count) = implicit_return(
+        let three_g = 3.0 * shear;
+        let flow = match material.rate_treatment {
+            RateTreatment::Implicit => {
+                // Every strength model's sigma_y is non-decreasing in eps_p and in the rate
+                // (their validation rules), so g(dl) is strictly decreasing: g(warm) > 0 at
+                // the previous step's multiplier proves g(0) > 0, and that evaluation is the
+                // return's first iterate. Only otherwise is the yield check evaluated.
+                let warm_dl = state.plastic_strain_rate * dt;
+                let warm = if warm_dl > 0.0 && warm_dl < trial_equivalent / three_g {
+                    let evaluated = residual(
                         &at_temperature,
-                        shear,
+                        three_g,
                         trial_equivalent,
                         state.plastic_strain,
-                        flow_now.value,
-                        state.plastic_strain_rate,
+                        warm_dl,
                         dt,
-                    )?;
-                    plastic_increment = dl;
-                    iterations = count;
-                    plastic_modulus = flow.d_plastic_strain + flow.d_rate / dt;
-                    flow
+                    );
+                    Some((warm_dl, evaluated))
+                } else {
+                    None
+                };
+                let yield_at_zero = match warm {
+                    Some((_, evaluated)) if evaluated.value > 0.0 => None,
+                    _ => Some(at_temperature.flow_stress(state.plastic_strain, 0.0).value),
+                };
+                match yield_at_zero {
+                    Some(check) if trial_equivalent <= check => Err(check),
+                    _ => {
+                        let (dl, flow, count) = implicit_return(
+                            &at_temperature,
+                            shear,
+                            trial_equivalent,
+                            state.plastic_strain,
+                            warm,
+                            yield_at_zero,
+                            dt,
+                        )?;
+                        plastic_increment = dl;
+                        iterations = count;
+                        plastic_modulus = flow.d_plastic_strain + flow.d_rate / dt;
+                        Ok(flow)
+                    }
                 }
-                RateTreatment::Lagged => {
-                    plastic_increment = (trial_equivalent - flow_now.value) / (3.0 * shear);
-                    flow_now
+            }
+            RateTreatment::Lagged => {
+                let flow_now =
+                    at_temperature.flow_stress(state.plastic_strain, state.plastic_strain_rate);
+                if trial_equivalent > flow_now.value {
+                    plastic_increment = (trial_equivalent - flow_now.value) / three_g;
+                    Ok(flow_now)
+                } else {
+                    Err(flow_now.value)
                 }
-            };
-            yield_stress = flow.value;
-            return_fraction = 3.0 * shear * plastic_increment / trial_equivalent;
-            let trial_norm = sqrt(tensor::contract(&trial, &trial));
-            normal = tensor::scale(&trial, 1.0 / trial_norm);
-            new_deviator = tensor::scale(&trial, 1.0 - return_fraction);
-            next.flags.insert(StateFlags::PLASTIC);
-        } else {
-            yield_stress = flow_now.value;
-            new_deviator = trial;
+            }
+        };
+        match flow {
+            Err(check) => {
+                yield_stress = check;
+                new_deviator = trial;
+            }
+            Ok(flow) => {
+                plastic = true;
+                yield_stress = flow.value;
+                return_fraction = three_g * plastic_increment / trial_equivalent;
+                new_deviator = tensor::scale(&trial, 1.0 - return_fraction);
+                next.flags.insert(StateFlags::PLASTIC);
+            }
         }
     }
     let plastic_strain_rate = plastic_increment / dt;
@@ -444,7 +515,7 @@ fn compute(
             iterations,
         },
         bulk_tangent,
-        normal,
+        trial,
         return_fraction,
         plastic_modulus,
         plastic: plastic && !failed,
