@@ -301,9 +301,36 @@ mod elastic {
         });
     }
 
+    /// Elastic updates from developed, heated plastic flow (a small unloading increment each
+    /// step): the yield check evaluates the hardening and thermal terms at `eps_p > 0`,
+    /// `T > Tr` (two `pow` for JC), unlike the virgin state where both are 1 without a call.
+    fn bench_elastic_after_flow(bencher: Bencher, material: Material) {
+        material.validate().expect("invalid benchmark material");
+        let start = preloaded(&material);
+        assert!(start.plastic_strain > 0.0 && start.temperature > ROOM_TEMPERATURE);
+        let end = run_block(&material, start, ELASTIC_AXIAL, ELASTIC_DT);
+        assert_eq!(
+            end.plastic_strain, start.plastic_strain,
+            "unloading block yielded"
+        );
+        bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
+            run_block(
+                black_box(&material),
+                black_box(start),
+                ELASTIC_AXIAL,
+                ELASTIC_DT,
+            )
+        });
+    }
+
     #[divan::bench]
     fn jc_4340(bencher: Bencher) {
         bench_elastic(bencher, jc());
+    }
+
+    #[divan::bench]
+    fn jc_4340_after_flow(bencher: Bencher) {
+        bench_elastic_after_flow(bencher, jc());
     }
 
     #[divan::bench]
@@ -615,6 +642,62 @@ mod rht {
                 }
                 state
             });
+    }
+}
+
+/// The kernel's own `exp`, `ln` and `pow` against the `libm` crate's: [`BLOCK`] independent
+/// calls per iteration (throughput) over arguments of the kernel's ranges (plastic strains to
+/// hardening exponents, rate ratios, Voce decays).
+mod math {
+    use super::*;
+
+    fn arguments() -> Vec<f64> {
+        (0..BLOCK).map(|i| 1e-4 + f64::from(i) * 1.3e-3).collect()
+    }
+
+    #[divan::bench(args = ["stoss", "libm"])]
+    fn pow(bencher: Bencher, which: &str) {
+        let xs = arguments();
+        bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
+            let mut sum = 0.0;
+            for &x in black_box(&xs) {
+                sum += match which {
+                    "stoss" => stoss_kernel::math::pow(x, 0.26),
+                    _ => libm::pow(x, 0.26),
+                };
+            }
+            sum
+        });
+    }
+
+    #[divan::bench(args = ["stoss", "libm"])]
+    fn ln(bencher: Bencher, which: &str) {
+        let xs: Vec<f64> = arguments().iter().map(|x| 1.0 + 1e5 * x).collect();
+        bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
+            let mut sum = 0.0;
+            for &x in black_box(&xs) {
+                sum += match which {
+                    "stoss" => stoss_kernel::math::ln(x),
+                    _ => libm::log(x),
+                };
+            }
+            sum
+        });
+    }
+
+    #[divan::bench(args = ["stoss", "libm"])]
+    fn exp(bencher: Bencher, which: &str) {
+        let xs: Vec<f64> = arguments().iter().map(|x| -20.0 * x).collect();
+        bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
+            let mut sum = 0.0;
+            for &x in black_box(&xs) {
+                sum += match which {
+                    "stoss" => stoss_kernel::math::exp(x),
+                    _ => libm::exp(x),
+                };
+            }
+            sum
+        });
     }
 }
 
