@@ -301,12 +301,17 @@ mod elastic {
         });
     }
 
-    /// Elastic updates from developed, heated plastic flow (a small unloading increment each
-    /// step): the yield check evaluates the hardening and thermal terms at `eps_p > 0`,
-    /// `T > Tr` (two `pow` for JC), unlike the virgin state where both are 1 without a call.
+    /// Elastic updates from developed, heated plastic flow, unloaded by an axial strain of
+    /// 1e-3 (below the quasi-static surface: the state on the rate-enhanced surface would
+    /// relax plastically), then small unloading increments: the yield check evaluates the
+    /// hardening and thermal terms at `eps_p > 0`, `T > Tr` (two `pow` for JC), unlike the
+    /// virgin state where both are 1 without a call.
     fn bench_elastic_after_flow(bencher: Bencher, material: Material) {
         material.validate().expect("invalid benchmark material");
-        let start = preloaded(&material);
+        let mut start = preloaded(&material);
+        let unload = uniaxial_step(1.0e-3, ELASTIC_DT, start.relative_volume);
+        let output = update(&material, &mut start, &unload).expect("unloading failed");
+        assert_eq!(output.plastic_increment, 0.0, "unloading yielded");
         assert!(start.plastic_strain > 0.0 && start.temperature > ROOM_TEMPERATURE);
         let end = run_block(&material, start, ELASTIC_AXIAL, ELASTIC_DT);
         assert_eq!(
