@@ -361,3 +361,43 @@ pub(crate) fn check_positive(
         &format!("must be > 0 ({unit})"),
     )
 }
+
+/// Largest number of time steps a run may need (estimated at the undeformed stable step).
+pub(crate) const MAXIMUM_STEPS: f64 = 1.0e6;
+
+/// Largest estimated run (element-cycles): about 2 hours at 2.5 M element-cycles/s.
+pub(crate) const MAXIMUM_ELEMENT_CYCLES: f64 = 2.0e10;
+
+/// Fastest elastic wave a metal carries, for up-front step estimates (m/s).
+const FASTEST_METAL_WAVE: f64 = 6000.0;
+
+/// Stable step of an undeformed square element of side `size` at [`FASTEST_METAL_WAVE`], with
+/// the default safety factor (s): the characteristic length is the side over `sqrt 2` (area
+/// over the diagonal). Distortion makes the real step smaller, never larger.
+pub(crate) fn undeformed_time_step(size: f64) -> f64 {
+    crate::solver::SolverSettings::default().time_step_safety * size
+        / std::f64::consts::SQRT_2
+        / FASTEST_METAL_WAVE
+}
+
+/// Refuse a run whose `end_time` (field `end_time`) needs more than [`MAXIMUM_STEPS`] steps of
+/// `time_step` or more than [`MAXIMUM_ELEMENT_CYCLES`] with `elements` elements, before anything
+/// is built: an end time in the wrong unit is an error naming the field, not a runaway.
+pub(crate) fn check_run_budget(
+    check: &Check,
+    end_time: f64,
+    time_step: f64,
+    elements: f64,
+) -> Result<(), InputError> {
+    let steps = end_time / time_step;
+    check(
+        "end_time",
+        steps <= MAXIMUM_STEPS && steps * elements <= MAXIMUM_ELEMENT_CYCLES,
+        &format!(
+            "needs at least {steps:.0} steps of {elements:.0} elements ({:.1e} \
+             element-cycles; at most {MAXIMUM_STEPS:.0} steps and {MAXIMUM_ELEMENT_CYCLES:.0e} \
+             element-cycles, several hours on 2 cores): check the units (s)",
+            steps * elements
+        ),
+    )
+}

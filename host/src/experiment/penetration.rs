@@ -32,7 +32,10 @@
 //!   one at the rod's outer radius, at up to 24 depths each.
 
 use super::default_temperature;
-use super::{check_positive, Check, FieldOutput, Outcome, SimulationError};
+use super::{
+    check_positive, check_run_budget, undeformed_time_step, Check, FieldOutput, Outcome,
+    SimulationError,
+};
 use crate::analytic::penetration::{
     tate_history, tate_resistance_estimate, walker_anderson_history, PenetrationSample, RodTarget,
     STEEL_HUGONIOT, TUNGSTEN_ALLOY_HUGONIOT,
@@ -63,12 +66,6 @@ pub const SAMPLING: f64 = 0.25e-6;
 
 /// Largest mesh accepted (elements).
 const MAXIMUM_ELEMENTS: f64 = 2.0e6;
-
-/// Largest number of time steps accepted (estimated at the undeformed stable step).
-const MAXIMUM_STEPS: f64 = 1.0e6;
-
-/// Largest estimated run accepted (element-cycles): about 2 hours at 2.5 M element-cycles/s.
-const MAXIMUM_ELEMENT_CYCLES: f64 = 2.0e10;
 
 /// Tracked target elements per column, at most.
 const TRACKED_PER_COLUMN: usize = 24;
@@ -322,26 +319,14 @@ impl PenetrationSpec {
                  units (m)"
             ),
         )?;
-        let steps = self.end_time / self.undeformed_time_step();
-        check(
-            "end_time",
-            steps <= MAXIMUM_STEPS && steps * elements <= MAXIMUM_ELEMENT_CYCLES,
-            &format!(
-                "needs at least {steps:.0} steps of {elements:.0} elements ({:.1e} \
-                 element-cycles; at most {MAXIMUM_STEPS:.0} steps and {MAXIMUM_ELEMENT_CYCLES:.0e} \
-                 element-cycles, several hours on 2 cores): check the units (s)",
-                steps * elements
-            ),
-        )
+        check_run_budget(check, self.end_time, self.undeformed_time_step(), elements)
     }
 
-    /// The stable step of an undeformed square element at the fastest elastic wave a metal
-    /// rod or target carries (about 6000 m/s), with the default safety factor 0.67 (s).
+    /// The stable step of the smallest undeformed element (the target's, the rod's or the
+    /// nose tip's) (s).
     fn undeformed_time_step(&self) -> f64 {
         let tip = self.tip_radius() / (0.5 * self.rod_diameter / self.rod_element_size()).ceil();
-        0.67 * self.element_size.min(self.rod_element_size()).min(tip)
-            / std::f64::consts::SQRT_2
-            / 6000.0
+        undeformed_time_step(self.element_size.min(self.rod_element_size()).min(tip))
     }
 
     /// Rough element count of the mesh (for the size guard).
