@@ -23,15 +23,30 @@ pub fn line_of(text: &str, offset: usize) -> usize {
     text[..offset.min(text.len())].matches('\n').count() + 1
 }
 
-/// 1-based line where `key = ...` is written (first match), if any.
+/// 1-based line where `key = ...` is written (first match), if any. A dotted key
+/// `table.leaf` not written as such is looked up as `leaf = ...` inside a `[table]` or
+/// `[....table]` section.
 pub fn line_of_key(text: &str, key: &str) -> Option<usize> {
-    text.lines()
-        .position(|line| {
-            let line = line.trim_start();
-            line.strip_prefix(key)
-                .is_some_and(|rest| rest.trim_start().starts_with('='))
-        })
-        .map(|index| index + 1)
+    let assigns = |line: &str, key: &str| {
+        line.trim_start()
+            .strip_prefix(key)
+            .is_some_and(|rest| rest.trim_start().starts_with('='))
+    };
+    if let Some(index) = text.lines().position(|line| assigns(line, key)) {
+        return Some(index + 1);
+    }
+    let (table, leaf) = key.rsplit_once('.')?;
+    let mut inside = false;
+    for (index, line) in text.lines().enumerate() {
+        let trimmed = line.trim();
+        if let Some(header) = trimmed.strip_prefix('[') {
+            let name = header.trim_end_matches(']').trim();
+            inside = name == table || name.ends_with(&format!(".{table}"));
+        } else if inside && assigns(line, leaf) {
+            return Some(index + 1);
+        }
+    }
+    None
 }
 
 /// Parse TOML into `T`, turning serde/toml errors into [`InputError::Field`] with the line.
