@@ -647,3 +647,60 @@ mod coupling {
         let _ = std::fs::remove_dir_all(&folder);
     }
 }
+
+/// GOAL: a blast-plate experiment whose sizes would run away (a plate end time, an Euler end
+/// time or a record interval in the wrong unit) is refused before anything runs, with an
+/// error naming the file, the line and the field.
+/// SETUP: variants of fixtures/experiments/blast-hha-37g-13mm.toml in a scratch folder, each
+/// loaded (validated) only.
+/// REFERENCE: `experiment.toml:<line>: field `<field>`` in the message (the line of a
+/// `[setup.euler]` key found inside its section).
+#[test]
+fn runaway_blast_plate_sizes_name_the_file_line_and_field() {
+    let fixtures = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+    let original =
+        std::fs::read_to_string(fixtures.join("experiments/blast-hha-37g-13mm.toml")).unwrap();
+    let scratch = std::env::temp_dir().join(format!("stoss-blast-sizes-{}", std::process::id()));
+    let cases = [
+        // 3 s of plate response (3 ms meant): 5e7 steps.
+        ("layers = 8", "layers = 8\nend_time = 3.0", "end_time"),
+        // 0.15 s of Euler flow (1.5e-4 s meant).
+        ("end_time = 1.5e-4", "end_time = 0.15", "euler.end_time"),
+        // A record every 2.5e-13 s: 6e8 records.
+        (
+            "output_interval = 2.5e-7",
+            "output_interval = 2.5e-13",
+            "euler.output_interval",
+        ),
+    ];
+    for (k, (from, to, field)) in cases.iter().enumerate() {
+        let folder = scratch.join(format!("case-{k}"));
+        std::fs::create_dir_all(&folder).unwrap();
+        assert!(original.contains(from), "{from}");
+        let text = original.replace(from, to).replace(
+            "../materials",
+            &fixtures.join("materials").display().to_string(),
+        );
+        std::fs::copy(
+            fixtures.join("experiments/blast-hha-37g-13mm.csv"),
+            folder.join("blast-hha-37g-13mm.csv"),
+        )
+        .unwrap();
+        let path = folder.join("experiment.toml");
+        std::fs::write(&path, text).unwrap();
+        let error = stoss::experiment::Experiment::load(&path)
+            .unwrap_err()
+            .to_string();
+        // `experiment.toml:<line>: field `<field>``.
+        let line = error
+            .split("experiment.toml:")
+            .nth(1)
+            .and_then(|rest| rest.split(':').next())
+            .and_then(|number| number.parse::<usize>().ok());
+        assert!(
+            line.is_some() && error.contains(&format!("`{field}`")),
+            "{to}: {error}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+}

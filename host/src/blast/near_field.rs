@@ -185,6 +185,19 @@ impl Default for EulerSettings {
 /// Cells across the charge's smallest dimension below which the grid is refused.
 pub const MINIMUM_CELLS_ACROSS_CHARGE: f64 = 10.0;
 
+/// Largest grid accepted (cells).
+const MAXIMUM_CELLS: f64 = 2.0e7;
+
+/// Largest number of Euler steps accepted (estimated at the detonation front's speed).
+const MAXIMUM_STEPS: f64 = 1.0e6;
+
+/// Largest estimated Euler run (cell-steps): about 45 minutes at the 7.5 M cell-steps/s
+/// measured on 2 cores.
+const MAXIMUM_CELL_STEPS: f64 = 2.0e10;
+
+/// Largest recorded wall history (records times radial cells): 160 MB of pressures.
+const MAXIMUM_RECORD_VALUES: f64 = 2.0e7;
+
 /// A near-field blast: charge, air and grid.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -344,12 +357,38 @@ impl NearFieldBlast {
                 format!("{grid_radius} m does not contain the charge (radius {radius} m)"),
             ));
         }
-        let cells =
-            (grid_radius / e.cell_size) * ((c.standoff + height + e.headroom) / e.cell_size);
-        if cells > 2.0e7 {
+        let radial_cells = grid_radius / e.cell_size;
+        let cells = radial_cells * ((c.standoff + height + e.headroom) / e.cell_size);
+        if cells > MAXIMUM_CELLS {
             return Err(invalid(
                 "euler.cell_size",
                 format!("the grid would have {cells:.3e} cells (limit 2e7)"),
+            ));
+        }
+        // The step is at most courant dx / (2 (|u| + c)); behind the detonation front
+        // |u| + c is the detonation speed D, and the gas never outruns it much.
+        let speed = c.explosive.jwl().chapman_jouguet().detonation_velocity;
+        let steps = e.end_time / (e.courant * e.cell_size / (2.0 * speed));
+        if steps > MAXIMUM_STEPS || steps * cells > MAXIMUM_CELL_STEPS {
+            return Err(invalid(
+                "euler.end_time",
+                format!(
+                    "needs at least {steps:.0} steps of {cells:.0} cells ({:.1e} cell-steps; at \
+                     most {MAXIMUM_STEPS:.0} steps and {MAXIMUM_CELL_STEPS:.0e} cell-steps, \
+                     about 45 minutes on 2 cores): check the units (s)",
+                    steps * cells
+                ),
+            ));
+        }
+        let record_values = (e.end_time / e.output_interval) * radial_cells;
+        if record_values > MAXIMUM_RECORD_VALUES {
+            return Err(invalid(
+                "euler.output_interval",
+                format!(
+                    "gives {:.0} records of {radial_cells:.0} wall pressures ({record_values:.1e} \
+                     values, limit {MAXIMUM_RECORD_VALUES:.0e}): check the units (s)",
+                    e.end_time / e.output_interval
+                ),
             ));
         }
         Ok(())

@@ -22,7 +22,7 @@ use std::ops::ControlFlow;
 use std::path::PathBuf;
 
 use super::{check_positive, default_temperature, Chart, ExperimentReport};
-use super::{Check, FieldOutput, Outcome, SimulationError};
+use super::{check_run_budget, undeformed_time_step, Check, FieldOutput, Outcome, SimulationError};
 use crate::blast::cache;
 use crate::blast::near_field::{Air, Charge, EulerSettings, NearFieldBlast};
 use crate::input::recording::RecordedPoint;
@@ -336,6 +336,12 @@ impl BlastPlateSpec {
             "must exceed damping_start (s)",
         )?;
         check_positive(check, "steady_tolerance", self.steady_tolerance, "m")?;
+        check_run_budget(
+            check,
+            self.end_time,
+            undeformed_time_step(self.thickness / self.layers as f64),
+            elements,
+        )?;
         let blast = self.blast();
         if let Err(error) = blast.validate(self.load_radius()) {
             let (field, message) = match &error {
