@@ -83,3 +83,21 @@ fn flow_recordings_are_the_published_numbers() {
     }
     assert_eq!(checked, 10);
 }
+
+#[test]
+fn every_bundled_experiment_passes_its_input_checks() {
+    // GOAL: the up-front size and unit checks refuse no bundled experiment.
+    // SETUP: every fixtures/experiments/*.toml, loaded (parsed, validated, recording read).
+    // REFERENCE: Experiment::load succeeds for each.
+    let mut count = 0;
+    for entry in std::fs::read_dir(fixtures().join("experiments")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) == Some("toml") {
+            if let Err(error) = stoss::experiment::Experiment::load(&path) {
+                panic!("{}: {error}", path.display());
+            }
+            count += 1;
+        }
+    }
+    assert!(count >= 20, "{count} experiments");
+}
