@@ -197,18 +197,15 @@ fn residual(
 /// Solve `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n) = 0` for `dl` (seed 001 eq. 3.8)
 /// with the flow stress `flow` at the step's temperature `T_n`. Requires `g(0) > 0`.
 ///
-/// The first iterate is the previous step's multiplier `warm.0` when it is below the
-/// perfectly plastic estimate `g(0)/3G` (exact in steady flow), whose residual `warm.1` the
-/// caller has evaluated; otherwise `g(0)/3G`, from `yield_at_zero = sigma_y(eps_p, 0, T_n)`
-/// (the yield check's value, `g(0) = q_trial - yield_at_zero`), which the caller gives
-/// whenever `warm` is absent or `g(warm) <= 0`. Returns `(dl, flow stress at dl, iterations)`.
+/// `start` is the first iterate and, if the caller has evaluated it, its residual (see
+/// `compute`: the previous step's multiplier, or the perfectly plastic estimate `g(0)/3G`).
+/// Returns `(dl, flow stress at dl, iterations)`.
 fn implicit_return(
     flow: &FlowAtTemperature<'_>,
     shear_modulus: f64,
     trial_equivalent: f64,
     plastic_strain: f64,
-    warm: Option<(f64, Residual)>,
-    yield_at_zero: Option<f64>,
+    start: (f64, Option<Residual>),
     dt: f64,
 ) -> Result<(f64, FlowStress, u32), UpdateError> {
     let three_g = 3.0 * shear_modulus;
@@ -216,22 +213,7 @@ fn implicit_return(
     let tolerance = RETURN_TOLERANCE * trial_equivalent;
     let mut lower = 0.0_f64;
     let mut upper = trial_equivalent / three_g;
-    // Start from the previous step's plastic multiplier (exact in steady flow); at the onset
-    // of flow, from the perfectly plastic estimate, an upper bound of the root for
-    // non-softening models.
-    let (mut dl, mut pending) = match (warm, yield_at_zero) {
-        (Some((warm_dl, warm_residual)), None) => (warm_dl, Some(warm_residual)),
-        (warm, Some(yield_at_zero)) => {
-            let estimate = (trial_equivalent - yield_at_zero) / three_g;
-            match warm {
-                Some((warm_dl, warm_residual)) if warm_dl < estimate => {
-                    (warm_dl, Some(warm_residual))
-                }
-                _ => (estimate, None),
-            }
-        }
-        (None, None) => return Err(UpdateError::ReturnMappingDiverged),
-    };
+    let (mut dl, mut pending) = start;
     if dl > upper {
         dl = upper;
         pending = None;
@@ -365,11 +347,28 @@ fn compute(
                 } else {
                     None
                 };
-                let yield_at_zero = match warm {
-                    Some((_, evaluated)) if evaluated.value > 0.0 => None,
-                    _ => Some(at_temperature.flow_stress(state.plastic_strain, 0.0).value),
+                // The first iterate: the previous step's multiplier (exact in steady flow)
+                // if g(warm) > 0 or if it is below the perfectly plastic estimate g(0)/3G;
+                // otherwise that estimate, an upper bound of the root for non-softening
+                // models. g(0) needs the yield check, evaluated only when g(warm) > 0 does
+                // not already prove the step plastic.
+                let (check, start) = match warm {
+                    Some((warm_dl, evaluated)) if evaluated.value > 0.0 => {
+                        (None, (warm_dl, Some(evaluated)))
+                    }
+                    _ => {
+                        let check = at_temperature.flow_stress(state.plastic_strain, 0.0).value;
+                        let estimate = (trial_equivalent - check) / three_g;
+                        let start = match warm {
+                            Some((warm_dl, evaluated)) if warm_dl < estimate => {
+                                (warm_dl, Some(evaluated))
+                            }
+                            _ => (estimate, None),
+                        };
+                        (Some(check), start)
+                    }
                 };
-                match yield_at_zero {
+                match check {
                     Some(check) if trial_equivalent <= check => Err(check),
                     _ => {
                         let (dl, flow, count) = implicit_return(
@@ -377,8 +376,7 @@ fn compute(
                             shear,
                             trial_equivalent,
                             state.plastic_strain,
-                            warm,
-                            yield_at_zero,
+                            start,
                             dt,
                         )?;
                         plastic_increment = dl;
