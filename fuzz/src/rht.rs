@@ -115,6 +115,7 @@ fn material(src: &mut Source) -> RhtMaterial {
         parameters,
         eos,
         erosion_plastic_strain,
+        erosion_geometric_strain: None,
     }
 }
 

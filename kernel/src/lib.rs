@@ -32,13 +32,16 @@ pub mod eos;
 pub mod error;
 pub mod material;
 pub mod math;
+pub mod part_material;
 pub mod rht;
 pub mod state;
 pub mod strength;
 pub mod tensor;
 pub mod update;
 
+pub use drivers::PointModel;
 pub use error::{ParameterError, UpdateError};
 pub use material::{Heating, Material, RateTreatment};
+pub use part_material::PartMaterial;
 pub use state::{MaterialState, StateFlags};
 pub use update::{update, update_with_tangent, StepInput, StepOutput};

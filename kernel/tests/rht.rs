@@ -120,11 +120,12 @@ fn uniaxial_compressive_strength(params: &RhtParameters, rate_factor: f64) -> f6
 
 #[test]
 fn table_4_4_fixture_matches_the_constant() {
-    // GOAL: the shipped fixture fixtures/rht/hpc_92mpa_table_4_4.toml and the kernel constant
+    // GOAL: the shipped material file fixtures/materials/hpc-92-rht.toml and the kernel constant
     //   RhtParameters::HPC_92MPA hold the same numbers (seed 001 table 4.4, SI).
-    // SETUP: parse the fixture's `key = value` lines (comments stripped).
+    // SETUP: parse the `key = value` lines of the material file's [parameters] table
+    //   (comments stripped).
     // REFERENCE: the constant; tolerance: exact (same decimal literals).
-    let text = include_str!("../../fixtures/rht/hpc_92mpa_table_4_4.toml");
+    let text = include_str!("../../fixtures/materials/hpc-92-rht.toml");
     assert!(text.contains("FOI-R--0281--SE (2001)") && text.contains("table 4.4"));
     let p = RhtParameters::HPC_92MPA;
     let numbers: [(&str, f64); 22] = [
@@ -155,8 +156,16 @@ fn table_4_4_fixture_matches_the_constant() {
         ("shear_modulus", p.shear_modulus),
     ];
     let mut fields = std::collections::BTreeMap::new();
+    let mut section = "";
     for line in text.lines() {
         let line = line.split('#').next().unwrap().trim();
+        if line.starts_with('[') {
+            section = line;
+            continue;
+        }
+        if section != "[parameters]" {
+            continue;
+        }
         if let Some((key, value)) = line.split_once('=') {
             fields.insert(key.trim().to_string(), value.trim().to_string());
         }

@@ -19,17 +19,23 @@
 //! kind = "linear"             # mie-gruneisen | polynomial | jwl | tabulated-compaction | p-alpha
 //! bulk_modulus = 159e9
 //! ```
+//!
+//! A concrete part's file says `model = "rht"` at the top and carries the RHT constants
+//! (the kernel's [`RhtParameters`] fields) in `[parameters]`, its EoS (normally P-alpha) in
+//! `[eos]`, and optional erosion strains ([`RhtMaterialFile`]); [`load_part`] reads either
+//! family.
 
 use super::{parse_toml, read_text, InputError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stoss_kernel::damage::Failure;
 use stoss_kernel::eos::Eos;
+use stoss_kernel::rht::{RhtMaterial, RhtParameters};
 use stoss_kernel::strength::{
     ComposedStrength, JohnsonCook, ModifiedJohnsonCook, Strength, TwoRateJohnsonCook,
     ZerilliArmstrong,
 };
-use stoss_kernel::{Heating, Material, ParameterError, RateTreatment};
+use stoss_kernel::{Heating, Material, ParameterError, PartMaterial, RateTreatment};
 
 /// The strength model of a material file, by family.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -159,6 +165,103 @@ pub fn load(path: &Path) -> Result<(MaterialFile, Material), InputError> {
     parse(path, &read_text(path)?)
 }
 
+/// The model family of an RHT concrete file (`model = "rht"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ConcreteModel {
+    /// Riedel-Hiermaier-Thoma concrete ([`stoss_kernel::rht`]).
+    Rht,
+}
+
+/// An RHT concrete material file.
+///
+/// ```toml
+/// name = "HPC 92 MPa"
+/// model = "rht"
+/// density = 2420.0                  # kg/m^3
+/// erosion_geometric_strain = 1.5    # Autodyn's instantaneous geometric strain (optional)
+/// [parameters]                      # stoss_kernel::rht::RhtParameters, SI
+/// shear_modulus = 18.0e9
+/// ...
+/// [eos]
+/// kind = "p-alpha"
+/// ...
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RhtMaterialFile {
+    /// Display name.
+    pub name: String,
+    /// Where the constants come from.
+    #[serde(default)]
+    pub source: String,
+    /// The model family: `"rht"`.
+    pub model: ConcreteModel,
+    /// Reference (porous) density (kg/m^3).
+    pub density: f64,
+    /// Strength, damage and rate constants.
+    pub parameters: RhtParameters,
+    /// Equation of state.
+    pub eos: Eos,
+    /// Equivalent plastic strain at which the element erodes.
+    #[serde(default)]
+    pub erosion_plastic_strain: Option<f64>,
+    /// Geometric strain at which the element erodes (seed 001: 1.5).
+    #[serde(default)]
+    pub erosion_geometric_strain: Option<f64>,
+}
+
+impl RhtMaterialFile {
+    /// The kernel material, validated.
+    pub fn material(&self) -> Result<RhtMaterial, ParameterError> {
+        let material = RhtMaterial {
+            density: self.density,
+            parameters: self.parameters,
+            eos: self.eos,
+            erosion_plastic_strain: self.erosion_plastic_strain,
+            erosion_geometric_strain: self.erosion_geometric_strain,
+        };
+        material.validate()?;
+        Ok(material)
+    }
+}
+
+/// Parse a material file of either family: an RHT concrete file when its top level says
+/// `model = "rht"`, a J2 metal file otherwise. Returns the display name and the material;
+/// errors name `path`, the line and the field.
+pub fn parse_part(path: &Path, text: &str) -> Result<(String, PartMaterial), InputError> {
+    let table: toml::Table = parse_toml(path, text)?;
+    match table.get("model") {
+        None => {
+            let (file, material) = parse(path, text)?;
+            Ok((file.name, material.into()))
+        }
+        Some(toml::Value::String(model)) if model == "rht" => {
+            let file: RhtMaterialFile = parse_toml(path, text)?;
+            let material = file.material().map_err(|error| {
+                let field = parameter_field(&error);
+                InputError::field(path, text, field, error.to_string())
+            })?;
+            Ok((file.name, material.into()))
+        }
+        Some(other) => Err(InputError::field(
+            path,
+            text,
+            "model",
+            format!(
+                "the top-level `model` names a concrete model family and must be \"rht\", not \
+                 {other}; a J2 metal file has no top-level `model` (its flow-stress model is \
+                 `model` in [strength])"
+            ),
+        )),
+    }
+}
+
+/// Load a material file of either family ([`parse_part`]).
+pub fn load_part(path: &Path) -> Result<(String, PartMaterial), InputError> {
+    parse_part(path, &read_text(path)?)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,6 +287,32 @@ melting_temperature = 1793.0
 kind = "linear"
 bulk_modulus = 159e9
 "#;
+
+    #[test]
+    fn the_bundled_rht_file_gives_the_kernel_constant_with_its_erosion() {
+        // GOAL: an RHT material file maps onto the kernel's RhtMaterial, and `load_part`
+        //       tells the families apart.
+        // SETUP: fixtures/materials/hpc-92-rht.toml (table 4.4 and the illustrative P-alpha);
+        //        the 4340 J2 file; a top-level `model = "k-and-c"`.
+        // REFERENCE: RhtMaterial::HPC_92MPA with erosion at 150 % geometric strain (seed 001
+        //   table 4.5), exactly; Material::STEEL_4340; an error naming `model` and its line.
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/materials/hpc-92-rht.toml");
+        let (name, part) = load_part(&path).unwrap();
+        assert!(name.contains("table 4.4"));
+        let expected = RhtMaterial {
+            erosion_geometric_strain: Some(1.5),
+            ..RhtMaterial::HPC_92MPA
+        };
+        assert_eq!(part, PartMaterial::Rht(expected));
+        let (_, metal) = parse_part(Path::new("m.toml"), JC_4340).unwrap();
+        assert_eq!(metal, PartMaterial::J2(Material::STEEL_4340));
+        let text = format!("model = \"k-and-c\"\n{JC_4340}");
+        let error = parse_part(Path::new("m.toml"), &text)
+            .unwrap_err()
+            .to_string();
+        assert!(error.starts_with("m.toml:1: field `model`"), "{error}");
+    }
 
     #[test]
     fn the_4340_file_gives_the_kernel_constant() {

@@ -15,7 +15,7 @@ use super::explicit::{Discretisation, ElementStep, ExplicitModel, ExplicitRun, V
 use super::{SolverError, SolverSettings};
 use crate::mesh::QuadMesh;
 use std::f64::consts::PI;
-use stoss_kernel::{update, Material, MaterialState, StepInput};
+use stoss_kernel::{MaterialState, PointModel, StepInput};
 
 /// An axisymmetric model.
 pub type AxisymmetricModel = ExplicitModel<QuadMesh>;
@@ -152,14 +152,14 @@ impl Discretisation for QuadMesh {
         length / wave_speed
     }
 
-    fn element_step(
+    fn element_step<P: PointModel>(
         &self,
         e: usize,
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
-        material: &Material,
+        material: &P,
         reference_volume: f64,
         dt: f64,
         settings: &SolverSettings,
@@ -209,13 +209,15 @@ impl Discretisation for QuadMesh {
             dt,
             relative_volume: new.area * new.mean_radius / reference_volume,
         };
-        let output = update(material, &mut next, &input).map_err(|error| SolverError::Update {
-            element: e,
-            time,
-            error,
-        })?;
+        let output = material
+            .update(&mut next, &input)
+            .map_err(|error| SolverError::Update {
+                element: e,
+                time,
+                error,
+            })?;
         // Bulk viscosity (compression only), as a pressure added to the forces.
-        let density = material.density / input.relative_volume;
+        let density = material.density() / input.relative_volume;
         let viscous_pressure =
             settings.bulk_viscosity(density, new.area.sqrt(), volumetric_rate, output.wave_speed);
         let mid_volume = 0.5 * (state.relative_volume + input.relative_volume) * reference_volume;

@@ -16,7 +16,7 @@ use super::{SolverError, SolverSettings};
 use crate::measure::{StateHistory, StateSample};
 use rayon::prelude::*;
 use std::ops::ControlFlow;
-use stoss_kernel::{update, Material, MaterialState, StateFlags, StepInput};
+use stoss_kernel::{Material, MaterialState, PointModel, StateFlags, StepInput};
 
 /// Nodal vectors are stored with three components; 2D formulations use the first two.
 pub type Vector = [f64; 3];
@@ -80,16 +80,17 @@ pub trait Discretisation: Sync {
     /// Stable time step of element `e` at positions `x` for a wave speed, at rest.
     fn element_time_step(&self, e: usize, x: &[Vector], wave_speed: f64) -> f64;
     /// Kinematics, the kernel update, bulk viscosity, internal and hourglass forces of element
-    /// `e` over a step from `x` to `x_new` with velocities `v`.
+    /// `e` over a step from `x` to `x_new` with velocities `v`, with the element's own point
+    /// model.
     #[allow(clippy::too_many_arguments)]
-    fn element_step(
+    fn element_step<P: PointModel>(
         &self,
         e: usize,
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
-        material: &Material,
+        material: &P,
         reference_volume: f64,
         dt: f64,
         settings: &SolverSettings,
@@ -97,13 +98,17 @@ pub trait Discretisation: Sync {
     ) -> Result<ElementStep, SolverError>;
 }
 
-/// A complete explicit model over a discretisation `M`.
+/// A complete explicit model over a discretisation `M`, its parts' materials being kernel point
+/// models `P`: [`Material`] (J2 metals, the default) for metal-only models, or
+/// [`stoss_kernel::PartMaterial`] when the parts use different model families (a steel
+/// projectile against RHT concrete). The element loop is compiled for `P`, so a metal-only
+/// model calls the J2 update directly.
 #[derive(Clone, Debug)]
-pub struct ExplicitModel<M> {
+pub struct ExplicitModel<M, P = Material> {
     /// The mesh (with its element formulation).
     pub mesh: M,
     /// Materials, indexed by the parts' material index.
-    pub materials: Vec<Material>,
+    pub materials: Vec<P>,
     /// Initial temperature (K).
     pub initial_temperature: f64,
     /// Initial nodal velocities (empty: at rest).
@@ -186,7 +191,7 @@ pub struct Snapshot<'a> {
     pub energy: &'a EnergyBalance,
 }
 
-impl<M: Discretisation> ExplicitModel<M> {
+impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
     /// Run to `settings.end_time`; `progress(time, energy)` at every output interval.
     pub fn run(
         &self,
@@ -264,7 +269,7 @@ impl<M: Discretisation> ExplicitModel<M> {
             }
             let nodes = mesh.element_nodes(e);
             for &n in nodes {
-                mass[n] += material.density * volume / nodes.len() as f64;
+                mass[n] += material.density() * volume / nodes.len() as f64;
             }
             material_of.push(index);
             reference_volume.push(volume);
@@ -281,11 +286,7 @@ impl<M: Discretisation> ExplicitModel<M> {
         };
         let mut states: Vec<MaterialState> = material_of
             .iter()
-            .map(|&m| {
-                let mut state = MaterialState::initial(self.initial_temperature);
-                state.eos_history = self.materials[m].eos.initial_history();
-                state
-            })
+            .map(|&m| self.materials[m].initial_state(self.initial_temperature))
             .collect();
         let mut eroded = vec![false; element_count];
         let mut force = vec![[0.0; 3]; node_count];
@@ -294,20 +295,20 @@ impl<M: Discretisation> ExplicitModel<M> {
         let mut dt = f64::INFINITY;
         for e in 0..element_count {
             let mut probe = states[e];
-            let output = update(
-                &self.materials[material_of[e]],
-                &mut probe,
-                &StepInput {
-                    strain_increment: [0.0; 6],
-                    dt: 1.0,
-                    relative_volume: 1.0,
-                },
-            )
-            .map_err(|error| SolverError::Update {
-                element: e,
-                time: 0.0,
-                error,
-            })?;
+            let output = self.materials[material_of[e]]
+                .update(
+                    &mut probe,
+                    &StepInput {
+                        strain_increment: [0.0; 6],
+                        dt: 1.0,
+                        relative_volume: 1.0,
+                    },
+                )
+                .map_err(|error| SolverError::Update {
+                    element: e,
+                    time: 0.0,
+                    error,
+                })?;
             dt = dt.min(mesh.element_time_step(e, &x, output.wave_speed));
         }
         dt *= settings.time_step_safety;
@@ -325,10 +326,7 @@ impl<M: Discretisation> ExplicitModel<M> {
             )?),
             None => None,
         };
-        let kinematic_criteria = self
-            .materials
-            .iter()
-            .any(|m| m.failure.has_kinematic_criteria());
+        let kinematic_criteria = self.materials.iter().any(|m| m.has_kinematic_criteria());
         let reference = x.clone();
         if kinematic_criteria
             && (element_count > 0 && mesh.element_principal_strains(0, &x, &x).is_none())
@@ -563,13 +561,11 @@ impl<M: Discretisation> ExplicitModel<M> {
                         time,
                     )
                     .map(|mut step| {
-                        if material.failure.has_kinematic_criteria() {
+                        if material.has_kinematic_criteria() {
                             if let Some(strains) =
                                 mesh.element_principal_strains(e, &reference, &x_new)
                             {
-                                step.state
-                                    .flags
-                                    .insert(material.failure.kinematic_flags(strains).0);
+                                step.state.flags.insert(material.kinematic_flags(strains).0);
                             }
                         }
                         Some(step)

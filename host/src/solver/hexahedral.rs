@@ -15,7 +15,7 @@
 use super::explicit::{Discretisation, ElementStep, ExplicitModel, ExplicitRun, Vector, MAX_NODES};
 use super::{SolverError, SolverSettings};
 use crate::mesh::HexMesh;
-use stoss_kernel::{update, Material, MaterialState, StepInput};
+use stoss_kernel::{MaterialState, PointModel, StepInput};
 
 /// A 3D model.
 pub type HexModel = ExplicitModel<HexMesh>;
@@ -167,14 +167,14 @@ impl Discretisation for HexMesh {
         geometry(&corners).volume / largest_face_area(&corners) / wave_speed
     }
 
-    fn element_step(
+    fn element_step<P: PointModel>(
         &self,
         e: usize,
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
-        material: &Material,
+        material: &P,
         reference_volume: f64,
         dt: f64,
         settings: &SolverSettings,
@@ -238,12 +238,14 @@ impl Discretisation for HexMesh {
             dt,
             relative_volume: new.volume / reference_volume,
         };
-        let output = update(material, &mut next, &input).map_err(|error| SolverError::Update {
-            element: e,
-            time,
-            error,
-        })?;
-        let density = material.density / input.relative_volume;
+        let output = material
+            .update(&mut next, &input)
+            .map_err(|error| SolverError::Update {
+                element: e,
+                time,
+                error,
+            })?;
+        let density = material.density() / input.relative_volume;
         let viscous_pressure = settings.bulk_viscosity(
             density,
             new.volume.cbrt(),

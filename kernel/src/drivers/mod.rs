@@ -25,18 +25,35 @@ pub use uniaxial_stress::{uniaxial_stress, UniaxialStressLoading, LATERAL_TOLERA
 use crate::error::{ParameterError, UpdateError};
 use crate::material::Material;
 use crate::math::exp;
-use crate::state::MaterialState;
+use crate::state::{MaterialState, StateFlags};
 use crate::tensor::{self, Matrix6, Sym};
 use crate::update::{update, update_with_tangent, StepInput, StepOutput};
 
-/// A material model the drivers can drive: one integration point, one step at a time.
-/// Implemented by [`Material`] (the J2 metal update, [`crate::update()`]) and by
-/// [`crate::rht::RhtMaterial`] (the RHT concrete update).
+/// A material model at one integration point, one step at a time: what the drivers and a
+/// host FE code (stoss's own explicit solver among them) need of it. Implemented by
+/// [`Material`] (the J2 metal update, [`crate::update()`]), by
+/// [`crate::rht::RhtMaterial`] (the RHT concrete update) and by [`crate::PartMaterial`]
+/// (either, chosen per part).
 pub trait PointModel {
     /// Reject invalid constants (called once per driver run).
     fn validate(&self) -> Result<(), ParameterError>;
     /// Elastic shear modulus (Pa), the stress scale of the uniaxial-stress iteration.
     fn shear_modulus(&self) -> f64;
+    /// Reference density `rho0` (kg/m^3), for the host's lumped mass.
+    fn density(&self) -> f64;
+    /// A fresh, stress-free state at `temperature` (K), with the EoS history seeded (P-alpha
+    /// starts at its initial distension).
+    fn initial_state(&self, temperature: f64) -> MaterialState;
+    /// Whether a criterion needs the element's total strain, which only the host knows
+    /// (Autodyn's geometric erosion strain, a principal-strain failure).
+    fn has_kinematic_criteria(&self) -> bool {
+        false
+    }
+    /// The flags those criteria set for an element with principal logarithmic strains
+    /// `principal_strains` (see [`crate::damage::Failure::kinematic_flags`]).
+    fn kinematic_flags(&self, _principal_strains: [f64; 3]) -> StateFlags {
+        StateFlags(0)
+    }
     /// Update `state` over one step; on error `state` is unchanged.
     fn update(
         &self,
@@ -59,6 +76,24 @@ impl PointModel for Material {
 
     fn shear_modulus(&self) -> f64 {
         self.shear_modulus
+    }
+
+    fn density(&self) -> f64 {
+        self.density
+    }
+
+    fn initial_state(&self, temperature: f64) -> MaterialState {
+        let mut state = MaterialState::initial(temperature);
+        state.eos_history = self.eos.initial_history();
+        state
+    }
+
+    fn has_kinematic_criteria(&self) -> bool {
+        self.failure.has_kinematic_criteria()
+    }
+
+    fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {
+        self.failure.kinematic_flags(principal_strains)
     }
 
     fn update(
@@ -86,6 +121,22 @@ impl<T: PointModel + ?Sized> PointModel for &T {
 
     fn shear_modulus(&self) -> f64 {
         (**self).shear_modulus()
+    }
+
+    fn density(&self) -> f64 {
+        (**self).density()
+    }
+
+    fn initial_state(&self, temperature: f64) -> MaterialState {
+        (**self).initial_state(temperature)
+    }
+
+    fn has_kinematic_criteria(&self) -> bool {
+        (**self).has_kinematic_criteria()
+    }
+
+    fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {
+        (**self).kinematic_flags(principal_strains)
     }
 
     fn update(

@@ -90,7 +90,9 @@
 //! # Flags
 //! [`crate::StateFlags::FAILED`] is set when `D` reaches 1: for RHT that means *residual
 //! strength only* (strength `min(Y_resid, Y_fail)`, no tension), not deletion.
-//! [`crate::StateFlags::ERODE`] is set only by [`RhtMaterial::erosion_plastic_strain`].
+//! [`crate::StateFlags::ERODE`] is set by [`RhtMaterial::erosion_plastic_strain`] in the
+//! update, and by the host from [`RhtMaterial::erosion_geometric_strain`] (Autodyn's
+//! instantaneous geometric strain, which needs the element's deformation).
 //! [`crate::StateFlags::PRESSURE_CUTOFF`] marks a step whose pressure was held at the
 //! hydro tensile limit (or at 0 after failure).
 
@@ -102,10 +104,11 @@ pub use parameters::{FailureMeridian, RateScaling, RhtParameters, TensileFailure
 pub use surfaces::{lode_factor_from_cos, Lode, Surfaces, COS_SHEAR_MERIDIAN};
 pub use update::{strain_rate, update, update_with_tangent, TANGENT_PERTURBATION};
 
+use crate::damage::Failure;
 use crate::drivers::PointModel;
 use crate::eos::{Eos, PAlpha, Polynomial};
 use crate::error::{check, ParameterError, UpdateError};
-use crate::state::MaterialState;
+use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;
 use crate::update::{StepInput, StepOutput};
 
@@ -125,6 +128,12 @@ pub struct RhtMaterial {
     /// Equivalent plastic strain at which the host should erode the element (seed 001 table
     /// 4.5 uses 1.5 for its Lagrange targets). `None`: never.
     pub erosion_plastic_strain: Option<f64>,
+    /// Autodyn-style *instantaneous geometric strain* at which the host erodes the element
+    /// (seed 001 table 4.5: 1.5 for the concrete targets), evaluated by the host FE code from
+    /// the element's deformation, as for the metals ([`crate::damage::Failure::geometric_strain`]).
+    /// `None`: never.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub erosion_geometric_strain: Option<f64>,
 }
 
 impl RhtMaterial {
@@ -157,6 +166,7 @@ impl RhtMaterial {
             exponent: 3.0,
         }),
         erosion_plastic_strain: None,
+        erosion_geometric_strain: None,
     };
 
     /// Pore-crush pressure closing the elastic cap, when the cap is on and the EoS has one.
@@ -201,6 +211,9 @@ impl RhtMaterial {
         if let Some(strain) = self.erosion_plastic_strain {
             check::positive("erosion_plastic_strain", strain)?;
         }
+        if let Some(strain) = self.erosion_geometric_strain {
+            check::positive("erosion_geometric_strain", strain)?;
+        }
         Ok(())
     }
 }
@@ -212,6 +225,28 @@ impl PointModel for RhtMaterial {
 
     fn shear_modulus(&self) -> f64 {
         self.parameters.shear_modulus
+    }
+
+    fn density(&self) -> f64 {
+        self.density
+    }
+
+    fn initial_state(&self, temperature: f64) -> MaterialState {
+        RhtMaterial::initial_state(self, temperature)
+    }
+
+    fn has_kinematic_criteria(&self) -> bool {
+        self.erosion_geometric_strain.is_some()
+    }
+
+    fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {
+        let mut flags = StateFlags(0);
+        if let Some(limit) = self.erosion_geometric_strain {
+            if Failure::geometric_strain(principal_strains) >= limit {
+                flags.insert(StateFlags::ERODE);
+            }
+        }
+        flags
     }
 
     fn update(
