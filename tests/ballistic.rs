@@ -9,7 +9,7 @@ use stoss::experiment::ballistic::ShotOutcome;
 use stoss::experiment::{BallisticLimitSpec, Experiment, Setup};
 use stoss::input::material;
 use stoss::solver::SolverSettings;
-use stoss_kernel::Material;
+use stoss_kernel::PartMaterial;
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -18,9 +18,9 @@ fn fixture(name: &str) -> PathBuf {
 }
 
 /// The seed 001 fixture on a coarse mesh (plate 0.4 mm, core 0.5 mm), and the HNS plate.
-fn coarse_experiment() -> (BallisticLimitSpec, Material) {
+fn coarse_experiment() -> (BallisticLimitSpec, PartMaterial) {
     let experiment = Experiment::load(&fixture("experiments/ballistic-hns-wc.toml")).unwrap();
-    let (_, plate) = material::load(&experiment.default_material_path().unwrap()).unwrap();
+    let (_, plate) = material::load_part(&experiment.default_material_path().unwrap()).unwrap();
     let Setup::BallisticLimit(spec) = &experiment.file.setup else {
         panic!("not a ballistic-limit experiment");
     };
@@ -217,7 +217,7 @@ fn residual_velocities_at_fixed_impact_velocities_are_simulated_for_calibration(
     let experiment = Experiment::load(&path).unwrap();
     let (_, plate) = material::load(&experiment.default_material_path().unwrap()).unwrap();
     let outcome = experiment
-        .simulate(&plate, &SolverSettings::default())
+        .simulate(&plate.into(), &SolverSettings::default())
         .unwrap();
     let [fast, mass, slow] = outcome.predicted[..] else {
         panic!("three predictions");

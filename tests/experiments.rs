@@ -15,7 +15,7 @@ fn run(name: &str) -> (Experiment, stoss::experiment::Outcome) {
     let experiment = Experiment::load(&fixture(&format!("experiments/{name}.toml"))).unwrap();
     let (_, material) = material::load(&experiment.default_material_path().unwrap()).unwrap();
     let outcome = experiment
-        .simulate(&material, &SolverSettings::default())
+        .simulate(&material.into(), &SolverSettings::default())
         .unwrap();
     (experiment, outcome)
 }

@@ -7,7 +7,7 @@ use stoss::analytic::penetration::walker_anderson_quasi_steady_penetration_veloc
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
 use stoss::input::material;
 use stoss::solver::{SolverError, SolverSettings};
-use stoss_kernel::Material;
+use stoss_kernel::{Material, PartMaterial};
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -68,7 +68,7 @@ fn penetration_is_thread_independent_balances_energy_and_keeps_surfaces_apart() 
     spec.end_time = 15.0e-6;
     let run = |threads: usize| {
         spec.run(
-            &target,
+            &PartMaterial::from(target),
             &SolverSettings {
                 threads: Some(threads),
                 ..SolverSettings::default()
@@ -120,11 +120,13 @@ fn quasi_steady_penetration_rate_agrees_with_walker_anderson() {
     //   0.83 mm/us against u_WA 0.78 (+6 %). (At 1250 m/s the same comparison gives +29 %:
     //   see docs/solver.md, "Penetration".)
     let (_, mut spec, _) = seed_experiment();
-    spec.rod = Some(Box::new(perfectly_plastic("wha-jc.toml", 1.5e9)));
+    spec.rod = Some(Box::new(perfectly_plastic("wha-jc.toml", 1.5e9).into()));
     spec.target_thickness = 80.0e-3;
     spec.end_time = 48.0e-6;
     let target = perfectly_plastic("hzb-w-jc.toml", 1.45e9);
-    let (result, run, _) = spec.run(&target, &SolverSettings::default()).unwrap();
+    let (result, run, _) = spec
+        .run(&PartMaterial::from(target), &SolverSettings::default())
+        .unwrap();
     assert!(run.energy().error_percent().abs() <= 1.0);
     let crossing = |fraction: f64| {
         let length = fraction * spec.rod_length;
@@ -153,12 +155,12 @@ fn an_element_inverting_before_it_erodes_is_a_typed_error() {
     // SETUP: the 1700 m/s shot with erosion switched off in both materials.
     // REFERENCE: SolverError::InvertedElement (or a kernel update error) within 20 us.
     let (_, mut spec, mut target) = seed_experiment();
-    let mut rod = spec.rod.unwrap();
+    let mut rod = *spec.rod.unwrap().j2().unwrap();
     rod.failure.erosion_geometric_strain = None;
     target.failure.erosion_geometric_strain = None;
-    spec.rod = Some(rod);
+    spec.rod = Some(Box::new(rod.into()));
     spec.end_time = 20.0e-6;
-    match spec.run(&target, &SolverSettings::default()) {
+    match spec.run(&PartMaterial::from(target), &SolverSettings::default()) {
         Err(SolverError::InvertedElement { part, time, .. }) => {
             assert!(part == "target" || part == "rod");
             assert!(time > 0.0 && time < 21.0e-6);

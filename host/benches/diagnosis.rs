@@ -60,7 +60,10 @@ fn truth(case_dir: &Path, campaign: &Campaign) -> Vec<Vec<f64>> {
                 e.clone()
             };
             experiment
-                .simulate(&truth, &SolverSettings::default())
+                .simulate(
+                    &stoss_kernel::PartMaterial::from(truth),
+                    &SolverSettings::default(),
+                )
                 .expect("truth simulation")
                 .predicted
         })

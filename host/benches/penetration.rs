@@ -46,7 +46,7 @@ fn main() {
             ..SolverSettings::default()
         };
         let started = Instant::now();
-        let (result, run, built) = match spec.run(&target, &settings) {
+        let (result, run, built) = match spec.run(&target.into(), &settings) {
             Ok(done) => done,
             Err(error) => {
                 println!(

@@ -10,7 +10,7 @@ use super::campaign::{Campaign, Constraints, ModelSpace};
 use crate::input::recording::RecordedPoint;
 use crate::solver::SolverSettings;
 use serde::{Deserialize, Serialize};
-use stoss_kernel::Material;
+use stoss_kernel::{Material, PartMaterial};
 
 /// The scores of one experiment.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -172,7 +172,7 @@ pub fn evaluate(
     }
     for &index in experiments {
         let experiment = &campaign.experiments[index];
-        match experiment.simulate(&material, settings) {
+        match experiment.simulate(&PartMaterial::from(material), settings) {
             Ok(outcome) => match score(&experiment.recording, &outcome.predicted) {
                 Some(s) => scores[index] = Some(s),
                 None => {

@@ -132,7 +132,12 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
             )
             .to_string()
         })?;
-    let (material_file, material) = material::load(&material_path).map_err(|e| e.to_string())?;
+    let material_text = crate::input::read_text(&material_path).map_err(|e| e.to_string())?;
+    let (material_name, material) =
+        material::parse_part(&material_path, &material_text).map_err(|e| e.to_string())?;
+    experiment.file.setup.accepts(&material).map_err(|error| {
+        InputError::field(&material_path, &material_text, "model", error.to_string()).to_string()
+    })?;
     println!(
         "experiment: {} ({})",
         experiment.file.name,
@@ -140,7 +145,7 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     );
     println!(
         "material:   {} ({})",
-        material_file.name,
+        material_name,
         material_path.display()
     );
     let settings = SolverSettings {
@@ -175,8 +180,8 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
             100.0 * (predicted - point.value) / point.value.abs().max(1e-300)
         );
     }
-    if let Setup::Penetration(spec) = &experiment.file.setup {
-        print_cross_check(spec, &material, &experiment, &outcome);
+    if let (Setup::Penetration(spec), Some(metal)) = (&experiment.file.setup, material.j2()) {
+        print_cross_check(spec, metal, &experiment, &outcome);
     }
     if let Some(report) = &outcome.report {
         print!("{}", report.text);

@@ -12,6 +12,7 @@ use clap::Args;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use stoss_kernel::PartMaterial;
 
 /// Arguments of `stoss synthesize`.
 #[derive(Debug, Args)]
@@ -50,7 +51,7 @@ fn synthesize(args: &SynthesizeArgs) -> Result<(), String> {
     let experiment = Experiment::load(&args.experiment).map_err(|e| e.to_string())?;
     let (truth_file, truth) = material::load(&args.material).map_err(|e| e.to_string())?;
     let outcome = experiment
-        .simulate(&truth, &SolverSettings::default())
+        .simulate(&PartMaterial::from(truth), &SolverSettings::default())
         .map_err(|e| e.to_string())?;
     let mut rng = SplitMix64::new(args.seed);
     let header = |kind: &str| {

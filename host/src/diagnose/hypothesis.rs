@@ -18,7 +18,7 @@ use crate::input::material::{MaterialFile, StrengthSpec};
 use crate::solver::SolverSettings;
 use serde::{Deserialize, Serialize};
 use stoss_kernel::damage::Failure;
-use stoss_kernel::{Material, RateTreatment};
+use stoss_kernel::{Material, PartMaterial, RateTreatment};
 
 /// Name of the anvil-friction constant.
 pub const ANVIL_FRICTION: &str = "setup.anvil_friction";
@@ -243,7 +243,7 @@ impl Realisation {
     ) -> Result<Vec<f64>, String> {
         let run = |material: &Material| -> Result<Vec<f64>, String> {
             let outcome = adjusted(experiment, self.anvil_friction)
-                .simulate(material, settings)
+                .simulate(&PartMaterial::from(*material), settings)
                 .map_err(|e| format!("{}: {e}", experiment.file.name))?;
             if outcome.predicted.iter().all(|p| p.is_finite()) {
                 Ok(outcome.predicted)
@@ -273,7 +273,7 @@ impl Realisation {
         settings: &SolverSettings,
     ) -> Result<crate::experiment::Outcome, String> {
         adjusted(experiment, self.anvil_friction)
-            .simulate(&self.material, settings)
+            .simulate(&PartMaterial::from(self.material), settings)
             .map_err(|e| format!("{}: {e}", experiment.file.name))
     }
 }

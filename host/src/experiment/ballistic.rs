@@ -49,7 +49,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
-use stoss_kernel::Material;
+use stoss_kernel::PartMaterial;
 
 /// Quantities a ballistic-limit experiment records.
 pub const QUANTITIES: &[&str] = &["residual_velocity", "residual_mass", "ballistic_limit"];
@@ -147,7 +147,7 @@ pub struct BallisticLimitSpec {
     pub temperature: f64,
     /// The projectile's material, loaded from `projectile_material` with the experiment.
     #[serde(skip)]
-    pub projectile: Option<Box<Material>>,
+    pub projectile: Option<Box<PartMaterial>>,
 }
 
 /// How a shot ended.
@@ -292,7 +292,7 @@ impl BallisticLimitSpec {
     /// Fire one shot at `velocity` into a plate of `plate`.
     pub fn fire(
         &self,
-        plate: &Material,
+        plate: &PartMaterial,
         velocity: f64,
         settings: &SolverSettings,
     ) -> Result<ShotResult, SolverError> {
@@ -379,7 +379,7 @@ impl BallisticLimitSpec {
     /// `settings.threads` workers; each shot's result does not depend on the pool).
     pub fn fire_all(
         &self,
-        plate: &Material,
+        plate: &PartMaterial,
         velocities: &[f64],
         settings: &SolverSettings,
     ) -> Result<Vec<ShotResult>, SolverError> {
@@ -416,7 +416,7 @@ impl BallisticLimitSpec {
     /// Recht–Ipson fits.
     pub fn search(
         &self,
-        plate: &Material,
+        plate: &PartMaterial,
         settings: &SolverSettings,
     ) -> Result<BallisticSearch, SolverError> {
         let mut shots = self.fire_all(plate, &self.impact_velocities, settings)?;
@@ -472,7 +472,7 @@ impl BallisticLimitSpec {
 
     pub(super) fn simulate(
         &self,
-        material: &Material,
+        material: &PartMaterial,
         settings: &SolverSettings,
         recording: &[RecordedPoint],
     ) -> Result<Outcome, SimulationError> {

@@ -33,7 +33,7 @@ use crate::mesh::QuadMesh;
 use crate::solver::{EnergyBalance, SolverError, SolverSettings};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use stoss_kernel::{Material, MaterialState};
+use stoss_kernel::{Material, MaterialState, PartMaterial};
 
 pub use ballistic::BallisticLimitSpec;
 pub use blast_plate::BlastPlateSpec;
@@ -75,6 +75,27 @@ impl Setup {
             Setup::Penetration(_) => penetration::QUANTITIES,
             Setup::BallisticLimit(_) => ballistic::QUANTITIES,
             Setup::BlastPlate(_) => blast_plate::QUANTITIES,
+        }
+    }
+}
+
+impl Setup {
+    /// Whether this kind can use `material` as its calibrated part: the penetration and
+    /// ballistic kinds take either model family for their target, every other kind only a
+    /// J2 metal.
+    pub fn accepts(&self, material: &PartMaterial) -> Result<(), SimulationError> {
+        let ok = match self {
+            Setup::Penetration(_) | Setup::BallisticLimit(_) => true,
+            _ => material.j2().is_some(),
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err(SimulationError::Family {
+                kind: kind_name(self),
+                needs: "J2 metal",
+                given: material.family(),
+            })
         }
     }
 }
@@ -172,6 +193,15 @@ pub enum SimulationError {
     Solver(SolverError),
     /// The kernel driver failed.
     Driver(stoss_kernel::drivers::DriverError),
+    /// The material's model family is not one this experiment kind can use.
+    Family {
+        /// The experiment kind.
+        kind: &'static str,
+        /// The family it needs.
+        needs: &'static str,
+        /// The family it was given.
+        given: &'static str,
+    },
 }
 
 impl std::fmt::Display for SimulationError {
@@ -179,6 +209,10 @@ impl std::fmt::Display for SimulationError {
         match self {
             SimulationError::Solver(error) => write!(f, "{error}"),
             SimulationError::Driver(error) => write!(f, "{error}"),
+            SimulationError::Family { kind, needs, given } => write!(
+                f,
+                "a {kind} experiment needs a {needs} material, not {given}"
+            ),
         }
     }
 }
@@ -223,7 +257,7 @@ impl Experiment {
                 .parent()
                 .unwrap_or(Path::new("."))
                 .join(&spec.rod_material);
-            let (_, rod) = input::material::load(&rod_path)?;
+            let (_, rod) = input::material::load_part(&rod_path)?;
             spec.rod = Some(Box::new(rod));
         }
         if let Setup::BallisticLimit(spec) = &mut file.setup {
@@ -231,7 +265,7 @@ impl Experiment {
                 .parent()
                 .unwrap_or(Path::new("."))
                 .join(&spec.projectile_material);
-            let (_, projectile) = input::material::load(&projectile_path)?;
+            let (_, projectile) = input::material::load_part(&projectile_path)?;
             spec.projectile = Some(Box::new(projectile));
         }
         let recording_path = path
@@ -309,20 +343,31 @@ impl Experiment {
             .map(|m| self.path.parent().unwrap_or(Path::new(".")).join(m))
     }
 
-    /// Simulate with `material`.
+    /// Simulate with `material`, the experiment's calibrated part (the target of the
+    /// penetration kinds, the specimen otherwise). Kinds that only know J2 metals refuse
+    /// another family with [`SimulationError::Family`].
     pub fn simulate(
         &self,
-        material: &Material,
+        material: &PartMaterial,
         settings: &SolverSettings,
     ) -> Result<Outcome, SimulationError> {
-        match &self.file.setup {
-            Setup::Uniaxial(spec) => spec.simulate(material, &self.recording),
-            Setup::Tension(spec) => spec.simulate(material, settings, &self.recording),
-            Setup::Taylor(spec) => spec.simulate(material, settings, &self.recording),
-            Setup::Shpb(spec) => spec.simulate(material, settings, &self.recording),
+        let setup = &self.file.setup;
+        setup.accepts(material)?;
+        let j2 = || -> Result<&Material, SimulationError> {
+            material.j2().ok_or(SimulationError::Family {
+                kind: kind_name(setup),
+                needs: "J2 metal",
+                given: material.family(),
+            })
+        };
+        match setup {
+            Setup::Uniaxial(spec) => spec.simulate(j2()?, &self.recording),
+            Setup::Tension(spec) => spec.simulate(j2()?, settings, &self.recording),
+            Setup::Taylor(spec) => spec.simulate(j2()?, settings, &self.recording),
+            Setup::Shpb(spec) => spec.simulate(j2()?, settings, &self.recording),
             Setup::Penetration(spec) => spec.simulate(material, settings, &self.recording),
             Setup::BallisticLimit(spec) => spec.simulate(material, settings, &self.recording),
-            Setup::BlastPlate(spec) => spec.simulate(material, settings, &self.recording),
+            Setup::BlastPlate(spec) => spec.simulate(j2()?, settings, &self.recording),
         }
     }
 }

@@ -45,13 +45,13 @@ use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory};
 use crate::mesh::QuadMesh;
 use crate::solver::{
-    Amplitude, AxisymmetricModel, ErodingContact, ExplicitRun, Snapshot, SolverError,
-    SolverSettings, VelocityConstraint,
+    Amplitude, ErodingContact, ExplicitModel, ExplicitRun, Snapshot, SolverError, SolverSettings,
+    VelocityConstraint,
 };
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
-use stoss_kernel::Material;
+use stoss_kernel::{Material, PartMaterial, PointModel};
 
 /// Quantities a penetration experiment records.
 pub const QUANTITIES: &[&str] = &[
@@ -186,9 +186,10 @@ pub struct PenetrationSpec {
     /// Initial temperature (K).
     #[serde(default = "default_temperature")]
     pub temperature: f64,
-    /// The rod's material, loaded from `rod_material` with the experiment.
+    /// The rod's material (either model family), loaded from `rod_material` with the
+    /// experiment.
     #[serde(skip)]
-    pub rod: Option<Box<Material>>,
+    pub rod: Option<Box<PartMaterial>>,
 }
 
 /// Measured histories of a penetration run.
@@ -209,8 +210,9 @@ pub struct PenetrationResult {
 /// The meshed model and the element and node sets the measurements use.
 #[derive(Clone, Debug)]
 pub struct PenetrationModel {
-    /// The explicit model.
-    pub model: AxisymmetricModel,
+    /// The explicit model; each part has its own model family (a J2 rod against a J2 plate,
+    /// or an elastic steel projectile against RHT concrete).
+    pub model: ExplicitModel<QuadMesh, PartMaterial>,
     /// The rod's elements.
     pub rod_elements: Vec<usize>,
     /// Time of impact in the run (s).
@@ -404,8 +406,8 @@ impl PenetrationSpec {
     /// The finite-element model with `target` the calibrated material and `rod` the rod's.
     pub fn model(
         &self,
-        target: &Material,
-        rod: &Material,
+        target: &PartMaterial,
+        rod: &PartMaterial,
         settings: &SolverSettings,
     ) -> PenetrationModel {
         let h = self.element_size;
@@ -475,7 +477,7 @@ impl PenetrationSpec {
         }
         let impact_time = gap / self.velocity;
         let end_time = impact_time + self.end_time;
-        let model = AxisymmetricModel {
+        let model = ExplicitModel {
             mesh,
             materials: vec![*target, *rod],
             initial_temperature: self.temperature,
@@ -508,7 +510,7 @@ impl PenetrationSpec {
     /// Run the model to `end_time` and measure the rod's histories.
     pub fn run(
         &self,
-        target: &Material,
+        target: &PartMaterial,
         settings: &SolverSettings,
     ) -> Result<(PenetrationResult, ExplicitRun, PenetrationModel), SolverError> {
         self.run_until(target, settings, &mut |_, _, _| ControlFlow::Continue(()))
@@ -518,7 +520,7 @@ impl PenetrationSpec {
     /// each output snapshot and the histories so far) or `end_time`.
     pub fn run_until(
         &self,
-        target: &Material,
+        target: &PartMaterial,
         settings: &SolverSettings,
         decided: &mut (dyn FnMut(&QuadMesh, &Snapshot, &PenetrationResult) -> ControlFlow<()>
                   + Send),
@@ -531,7 +533,7 @@ impl PenetrationSpec {
         })?;
         let built = self.model(target, &rod, settings);
         let mesh = &built.model.mesh;
-        let rod_density = rod.density;
+        let rod_density = rod.density();
         let reference_mass: Vec<f64> = built
             .rod_elements
             .iter()
@@ -594,7 +596,7 @@ impl PenetrationSpec {
 
     pub(super) fn simulate(
         &self,
-        material: &Material,
+        material: &PartMaterial,
         settings: &SolverSettings,
         recording: &[RecordedPoint],
     ) -> Result<Outcome, SimulationError> {
@@ -777,6 +779,14 @@ impl PenetrationSpec {
             self.rod.as_deref().copied().ok_or_else(|| {
                 format!("the rod material `{}` was not loaded", self.rod_material)
             })?;
+        let rod = *rod.j2().ok_or_else(|| {
+            format!(
+                "the rod material `{}` is {}; the Tate and Walker-Anderson estimates need a \
+                 J2 metal's flow stress",
+                self.rod_material,
+                rod.family()
+            )
+        })?;
         let strength = |m: &Material| m.strength.flow_stress(0.0, 0.0, self.temperature).value;
         let (rod_bulk, rod_shear) = moduli(&rod, self.temperature)?;
         let (target_bulk, target_shear) = moduli(target, self.temperature)?;
@@ -857,7 +867,7 @@ mod tests {
             temperature: 298.0,
             rod: None,
         };
-        let material = stoss_kernel::Material::STEEL_4340;
+        let material = PartMaterial::from(stoss_kernel::Material::STEEL_4340);
         let built = spec.model(&material, &material, &SolverSettings::default());
         let mesh = &built.model.mesh;
         let mut volume = 0.0;

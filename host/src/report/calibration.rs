@@ -18,7 +18,7 @@ use crate::solver::SolverSettings;
 use std::fmt::Write as _;
 use std::path::Path;
 use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
-use stoss_kernel::{Heating, Material, MaterialState};
+use stoss_kernel::{Heating, Material, MaterialState, PartMaterial};
 
 /// Reads one quantity of a state sample.
 type StateReader = fn(&StateSample) -> f64;
@@ -427,7 +427,10 @@ pub fn selected_outcomes(
             campaign
                 .experiments
                 .iter()
-                .map(|e| e.simulate(&material, &SolverSettings::default()).ok())
+                .map(|e| {
+                    e.simulate(&PartMaterial::from(material), &SolverSettings::default())
+                        .ok()
+                })
                 .collect()
         })
         .collect()
