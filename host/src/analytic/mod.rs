@@ -1,5 +1,6 @@
 //! Closed-form and ODE models that cross-check the FE experiments.
 
 pub mod ballistic;
+pub mod concrete;
 pub mod penetration;
 pub mod riemann;
