@@ -769,6 +769,35 @@ fn hydrostatic_tension_fails_at_the_hydro_limit_or_at_ft() {
 }
 
 #[test]
+fn the_pressure_cutoff_holds_hydrostatic_tension_at_the_limit_without_failing() {
+    // GOAL: the LS-DYNA *MAT_RHT tensile option: the pressure is held at the hydrostatic
+    //   tensile limit p*_spall fc (1 - D) and the point does not fail; under equal triaxial
+    //   extension there is no deviatoric stress, hence no plastic strain and no damage.
+    // SETUP: HPC_92MPA with tensile_failure = PressureCutoff, the extension of the test above
+    //   (5e-4 per axis, 5000 steps over 1e4 s, F = 1).
+    // REFERENCE: once below the limit, every step's pressure equals it exactly (-2.22 MPa)
+    //   with the PRESSURE_CUTOFF flag; D stays 0, nothing fails or erodes; the pressure rises
+    //   past the limit only through it (no step below).
+    let mut material = RhtMaterial::HPC_92MPA;
+    material.parameters.tensile_failure = TensileFailure::PressureCutoff;
+    let limit = material.parameters.spall_pressure_ratio() * FC;
+    let records = triaxial_tension(&material, 5e-4, 5000);
+    let held = records
+        .iter()
+        .position(|r| r.flags & StateFlags::PRESSURE_CUTOFF != 0)
+        .expect("never held");
+    assert!(held > 10 && held < records.len() - 10);
+    for r in &records {
+        assert!(r.pressure >= limit, "{} below {limit}", r.pressure);
+        assert_eq!(r.damage, 0.0);
+        assert_eq!(r.flags & (StateFlags::FAILED | StateFlags::ERODE), 0);
+    }
+    for r in &records[held..] {
+        assert_eq!(r.pressure, limit);
+    }
+}
+
+#[test]
 fn bad_parameters_give_typed_errors() {
     // GOAL: validate() names the offending field with a typed error, through RhtMaterial
     //   and through the drivers; an update with bad input leaves the state unchanged.

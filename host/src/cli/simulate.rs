@@ -1,8 +1,9 @@
 //! `stoss simulate <experiment.toml> [--material m.toml]`: run one experiment with given
 //! constants; print the energy balance and the comparison with the recording; write
 //! `measurements.csv`, `summary.json`, `energy.csv`, `states.csv` and `final.vtu` into the
-//! output folder (all written to a temporary folder first and moved into place, so a failed
-//! run leaves no partial output).
+//! output folder, with an experiment report's text and charts (each chart as `.svg` and
+//! `.csv`); all written to a temporary folder first and moved into place, so a failed run
+//! leaves no partial output.
 
 use crate::analytic::penetration::depth_at;
 use crate::experiment::{Experiment, Outcome, PenetrationSpec, Setup};
@@ -101,6 +102,14 @@ fn write_outputs(
                 &chart.series,
             )
             .map_err(std::io::Error::other)?;
+            // The chart's numbers beside it: `series,x,y` under the axis labels.
+            let mut numbers = format!("# x: {}; y: {}\nseries,x,y\n", chart.x_label, chart.y_label);
+            for series in &chart.series {
+                for (x, y) in &series.points {
+                    let _ = writeln!(numbers, "{},{x:e},{y:e}", series.label.replace(',', ";"));
+                }
+            }
+            std::fs::write(directory.join(&chart.file).with_extension("csv"), numbers)?;
         }
     }
     Ok(())

@@ -133,7 +133,9 @@ pub struct BallisticLimitSpec {
     /// Coulomb friction between projectile and plate.
     #[serde(default)]
     pub friction: f64,
-    /// Impact velocities of the sweep (m/s, increasing).
+    /// Impact velocities of the sweep (m/s, increasing); needed only when the recording asks
+    /// for the `ballistic_limit` (shots recorded at fixed velocities are fired at those).
+    #[serde(default)]
     pub impact_velocities: Vec<f64>,
     /// Half-width to which the bisection narrows the bracket (m/s).
     #[serde(default = "default_tolerance")]
@@ -177,6 +179,9 @@ pub struct ShotResult {
     pub late_velocity_change: f64,
     /// Remaining projectile mass (kg).
     pub residual_mass: f64,
+    /// The projectile's mass-averaged axial velocity along the flight against the time after
+    /// impact `(s, m/s)` (what a Doppler radar records).
+    pub velocity_history: Vec<(f64, f64)>,
     /// Perforated or stopped.
     pub outcome: ShotOutcome,
     /// Energy balance of the run.
@@ -219,11 +224,6 @@ impl BallisticLimitSpec {
         let positive =
             |field: &str, value: f64, unit: &str| check_positive(check, field, value, unit);
         positive("bisection_tolerance", self.bisection_tolerance, "m/s")?;
-        check(
-            "impact_velocities",
-            !self.impact_velocities.is_empty(),
-            "needs at least one impact velocity (m/s)",
-        )?;
         check(
             "impact_velocities",
             self.impact_velocities
@@ -363,6 +363,7 @@ impl BallisticLimitSpec {
             final_velocity,
             late_velocity_change: final_velocity - late,
             residual_mass: result.residual_mass,
+            velocity_history: result.rod_velocity,
             outcome,
             energy: run.energy(),
             element_cycles: run.element_cycles,
@@ -375,22 +376,24 @@ impl BallisticLimitSpec {
         })
     }
 
-    /// Fire the shots at `velocities` in parallel (one solver thread each, on a pool of
-    /// `settings.threads` workers; each shot's result does not depend on the pool).
+    /// Fire the shots at `velocities` in parallel on a pool of `settings.threads` workers,
+    /// each shot with an equal share of them (at least one: fewer shots than workers run
+    /// each on several). A shot's result does not depend on its thread count.
     pub fn fire_all(
         &self,
         plate: &PartMaterial,
         velocities: &[f64],
         settings: &SolverSettings,
     ) -> Result<Vec<ShotResult>, SolverError> {
-        let single = SolverSettings {
-            threads: Some(1),
-            ..settings.clone()
-        };
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(settings.threads.unwrap_or(0))
             .build()
             .map_err(|e| SolverError::Model(format!("thread pool: {e}")))?;
+        let share = (pool.current_num_threads() / velocities.len().max(1)).max(1);
+        let single = SolverSettings {
+            threads: Some(share),
+            ..settings.clone()
+        };
         // A shot still in the plate at `end_time` is fired once more for three times as
         // long (slow shots near the limit take longer to clear the plate).
         let longer = Self {
@@ -661,15 +664,38 @@ impl BallisticLimitSpec {
                 }
             }
         }
+        let histories = shots
+            .iter()
+            .enumerate()
+            .map(|(k, s)| Series {
+                label: format!("Vi {:.1} m/s", s.impact_velocity),
+                points: s
+                    .velocity_history
+                    .iter()
+                    .map(|&(t, v)| (t * 1e3, v))
+                    .collect(),
+                style: Style::Line,
+                colour: k,
+            })
+            .collect();
         ExperimentReport {
             text,
-            charts: vec![super::Chart {
-                file: "residual-velocity.svg".into(),
-                title: "Residual against impact velocity".into(),
-                x_label: "impact velocity (m/s)".into(),
-                y_label: "residual velocity (m/s)".into(),
-                series,
-            }],
+            charts: vec![
+                super::Chart {
+                    file: "residual-velocity.svg".into(),
+                    title: "Residual against impact velocity".into(),
+                    x_label: "impact velocity (m/s)".into(),
+                    y_label: "residual velocity (m/s)".into(),
+                    series,
+                },
+                super::Chart {
+                    file: "projectile-velocity.svg".into(),
+                    title: "Projectile velocity against time".into(),
+                    x_label: "time after impact (ms)".into(),
+                    y_label: "mass-averaged velocity (m/s)".into(),
+                    series: histories,
+                },
+            ],
         }
     }
 }

@@ -9,7 +9,7 @@
 //! material = "../materials/4340-jc.toml"   # default material; `--material` overrides
 //!
 //! [setup]
-//! kind = "taylor"                          # uniaxial | tension | taylor | shpb | penetration | ballistic-limit | blast-plate
+//! kind = "taylor"                          # uniaxial | tension | taylor | shpb | penetration | ballistic-limit | perforation | blast-plate
 //! length = 25.4e-3
 //! ...
 //! ```
@@ -21,6 +21,7 @@
 pub mod ballistic;
 pub mod blast_plate;
 pub mod penetration;
+pub mod perforation;
 pub mod shpb;
 pub mod taylor;
 pub mod tension;
@@ -60,6 +61,9 @@ pub enum Setup {
     Penetration(PenetrationSpec),
     /// Ballistic limit: residual against impact velocity of a core through a plate.
     BallisticLimit(BallisticLimitSpec),
+    /// Perforation of a concrete slab (RHT): exit against impact velocity, with the concrete
+    /// penetration cross-checks ([`perforation`]).
+    Perforation(BallisticLimitSpec),
     /// Near-field blast-bulged plate: the permanent deflection profile.
     BlastPlate(BlastPlateSpec),
 }
@@ -74,6 +78,7 @@ impl Setup {
             Setup::Shpb(_) => shpb::QUANTITIES,
             Setup::Penetration(_) => penetration::QUANTITIES,
             Setup::BallisticLimit(_) => ballistic::QUANTITIES,
+            Setup::Perforation(_) => perforation::QUANTITIES,
             Setup::BlastPlate(_) => blast_plate::QUANTITIES,
         }
     }
@@ -81,19 +86,20 @@ impl Setup {
 
 impl Setup {
     /// Whether this kind can use `material` as its calibrated part: the penetration and
-    /// ballistic kinds take either model family for their target, every other kind only a
-    /// J2 metal.
+    /// ballistic kinds take either model family for their target, the perforation kind RHT
+    /// concrete, every other kind only a J2 metal.
     pub fn accepts(&self, material: &PartMaterial) -> Result<(), SimulationError> {
-        let ok = match self {
-            Setup::Penetration(_) | Setup::BallisticLimit(_) => true,
-            _ => material.j2().is_some(),
+        let (ok, needs) = match self {
+            Setup::Penetration(_) | Setup::BallisticLimit(_) => (true, ""),
+            Setup::Perforation(_) => (material.rht().is_some(), "RHT concrete"),
+            _ => (material.j2().is_some(), "J2 metal"),
         };
         if ok {
             Ok(())
         } else {
             Err(SimulationError::Family {
                 kind: kind_name(self),
-                needs: "J2 metal",
+                needs,
                 given: material.family(),
             })
         }
@@ -243,7 +249,7 @@ impl Experiment {
             Setup::Taylor(spec) => spec.validate(&check)?,
             Setup::Shpb(spec) => spec.validate(&check)?,
             Setup::Penetration(spec) => spec.validate(&check)?,
-            Setup::BallisticLimit(spec) => spec.validate(&check)?,
+            Setup::BallisticLimit(spec) | Setup::Perforation(spec) => spec.validate(&check)?,
             Setup::BlastPlate(spec) => spec.validate(&check)?,
         }
         if let Setup::BlastPlate(spec) = &mut file.setup {
@@ -260,7 +266,7 @@ impl Experiment {
             let (_, rod) = input::material::load_part(&rod_path)?;
             spec.rod = Some(Box::new(rod));
         }
-        if let Setup::BallisticLimit(spec) = &mut file.setup {
+        if let Setup::BallisticLimit(spec) | Setup::Perforation(spec) = &mut file.setup {
             let projectile_path = path
                 .parent()
                 .unwrap_or(Path::new("."))
@@ -309,7 +315,14 @@ impl Experiment {
                 }
             }
         }
-        if let Setup::BallisticLimit(_) = &file.setup {
+        if let Setup::BallisticLimit(spec) | Setup::Perforation(spec) = &file.setup {
+            let wants_limit = recording.iter().any(|p| p.quantity == "ballistic_limit");
+            check(
+                "impact_velocities",
+                !wants_limit || !spec.impact_velocities.is_empty(),
+                "the recording asks for the ballistic_limit: give the impact velocities of the \
+                 sweep that brackets it (m/s)",
+            )?;
             for (index, point) in recording.iter().enumerate() {
                 let per_shot = point.quantity != "ballistic_limit";
                 if per_shot && !(point.position > 0.0 && point.position.is_finite()) {
@@ -367,6 +380,9 @@ impl Experiment {
             Setup::Shpb(spec) => spec.simulate(j2()?, settings, &self.recording),
             Setup::Penetration(spec) => spec.simulate(material, settings, &self.recording),
             Setup::BallisticLimit(spec) => spec.simulate(material, settings, &self.recording),
+            Setup::Perforation(spec) => {
+                perforation::simulate(spec, material, settings, &self.recording)
+            }
             Setup::BlastPlate(spec) => spec.simulate(j2()?, settings, &self.recording),
         }
     }
@@ -381,6 +397,7 @@ pub fn kind_name(setup: &Setup) -> &'static str {
         Setup::Shpb(_) => "shpb",
         Setup::Penetration(_) => "penetration",
         Setup::BallisticLimit(_) => "ballistic-limit",
+        Setup::Perforation(_) => "perforation",
         Setup::BlastPlate(_) => "blast-plate",
     }
 }

@@ -95,6 +95,15 @@
 //! instantaneous geometric strain, which needs the element's deformation).
 //! [`crate::StateFlags::PRESSURE_CUTOFF`] marks a step whose pressure was held at the
 //! hydro tensile limit (or at 0 after failure).
+//!
+//! # Tension: three options
+//! [`TensileFailure::HydroTensileLimit`] (Autodyn's, the seed's table 4.4) fails the point
+//! outright when its pressure would fall below `p_min`; [`TensileFailure::PrincipalStress`]
+//! when the largest principal stress reaches `ft`; [`TensileFailure::PressureCutoff`]
+//! (LS-DYNA `*MAT_RHT`, Borrvall & Riedel 2011) only holds the pressure at `p_min`, and
+//! tensile damage then grows from plastic strain like any other. In a structure the first
+//! two fail concrete wherever a diverging stress wave leaves a few MPa of mean tension behind
+//! it (far from the loaded zone); the third confines damage to where the material flows.
 
 mod parameters;
 mod surfaces;

@@ -51,6 +51,13 @@ pub enum TensileFailure {
     /// point whose pressure would fall below it fails (`D = 1`, residual strength only,
     /// no tension afterwards).
     HydroTensileLimit,
+    /// LS-DYNA `*MAT_RHT` (Borrvall & Riedel 2011): the pressure is **held** at the
+    /// hydrostatic tensile limit `p_min = F_rate p*_spall fc (1 - D)` (a cut-off, flag
+    /// [`crate::StateFlags::PRESSURE_CUTOFF`]) without failing the point; tensile damage then
+    /// grows only from plastic strain beyond the failure surface (with `eps_f = EFMIN` on the
+    /// tensile side), as every other damage. A point under pure hydrostatic tension does not
+    /// fail.
+    PressureCutoff,
     /// Autodyn "Principal stress": the point fails (`D = 1`) when the largest principal
     /// stress reaches the (rate-enhanced) tensile strength `F_t ft`. Crack softening is not
     /// modelled (the failure is instantaneous).

@@ -7,7 +7,9 @@
 //!    pressure predictor is the pressure at which the deviatoric return is made;
 //! 2. strain rate [`strain_rate`] (largest absolute principal strain rate) and the
 //!    rate factor at the predictor pressure; hydro tensile limit check: below
-//!    `p_min(D_n)` the point fails; a failed point carries no tension (pressure floor 0);
+//!    `p_min(D_n)` the point fails ([`super::TensileFailure::HydroTensileLimit`]) or the
+//!    pressure is held at it ([`super::TensileFailure::PressureCutoff`]); a failed point
+//!    carries no tension (pressure floor 0);
 //! 3. deviatoric elastic predictor with the damaged shear modulus `G(D_n)`, Lode angle of the
 //!    trial deviator;
 //! 4. **radial return in the deviatoric plane at fixed pressure** (the usual Autodyn
@@ -232,6 +234,12 @@ fn compute(
     }
     if failed && pressure < 0.0 {
         pressure = 0.0;
+    }
+    if params.tensile_failure == TensileFailure::PressureCutoff && !failed {
+        let limit = params.hydro_tensile_limit(rate_factor, damage_before);
+        if pressure < limit {
+            pressure = limit;
+        }
     }
 
     // 3. Elastic predictor with the damaged shear modulus.

@@ -1,0 +1,172 @@
+//! Concrete perforation (seed 001 sec. 4; the October 1999 DERA/FOA/FFI/TNO benchmark): a
+//! 152 mm ogive-nosed steel projectile perforates a plain high-strength concrete slab; the
+//! exit velocity is recorded.
+//!
+//! The kind shares the ballistic kind's set-up and protocol ([`BallisticLimitSpec`]: the
+//! projectile and slab of [`super::PenetrationSpec`], eroding contact with the eroded mass
+//! kept, a shot decided once the projectile's shoulder has cleared the slab's main body), and
+//! its quantities (`residual_velocity` and `residual_mass` at an impact velocity,
+//! `ballistic_limit`). What differs:
+//! - the slab is the calibrated part and must be **RHT concrete** ([`stoss_kernel::rht`]);
+//! - beside the FE exit velocities `stoss simulate` prints the concrete cross-checks of
+//!   [`crate::analytic::concrete`] for each recorded shot: Forrestal's semi-infinite depth and
+//!   the modified NDRC perforation thickness, ballistic limit and Recht–Ipson exit velocity;
+//! - the projectile velocity histories (the radar record) are charted and written.
+//!
+//! The projectile is whatever its material file says; the bundled one is elastic steel
+//! (seed 001 reports no projectile deformation): a J2 material whose yield stress is far
+//! above any stress of the shot, not a rigid body.
+
+use super::ballistic::BallisticLimitSpec;
+use super::{Outcome, SimulationError};
+use crate::analytic::concrete::{forrestal, modified_ndrc, ndrc_ogive_nose_factor, ConcreteShot};
+use crate::input::recording::RecordedPoint;
+use crate::solver::SolverSettings;
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use stoss_kernel::{PartMaterial, PointModel};
+
+/// Quantities a perforation experiment records (those of the ballistic kind).
+pub const QUANTITIES: &[&str] = super::ballistic::QUANTITIES;
+
+/// The projectile's mass (kg) from its mesh (the blunted profile as meshed) and density.
+pub fn projectile_mass(spec: &BallisticLimitSpec, projectile: &PartMaterial) -> f64 {
+    let shot = spec.shot(1.0);
+    let built = shot.model(projectile, projectile, &SolverSettings::default());
+    let mesh = &built.model.mesh;
+    built
+        .rod_elements
+        .iter()
+        .map(|&e| {
+            let mean_radius = 0.25
+                * mesh.elements[e]
+                    .iter()
+                    .map(|&n| mesh.nodes[n][0])
+                    .sum::<f64>();
+            2.0 * PI * mean_radius * mesh.area(e) * projectile.density()
+        })
+        .sum()
+}
+
+/// The analytic shot of `spec` at `velocity` against `target`, or why there is none (the
+/// cross-checks need a tangent-ogive nose and RHT concrete).
+pub fn concrete_shot(
+    spec: &BallisticLimitSpec,
+    target: &PartMaterial,
+    velocity: f64,
+) -> Result<ConcreteShot, String> {
+    let concrete = target
+        .rht()
+        .ok_or_else(|| format!("the target is {}, not RHT concrete", target.family()))?;
+    let projectile = spec.projectile.as_deref().ok_or_else(|| {
+        format!(
+            "the projectile `{}` was not loaded",
+            spec.projectile_material
+        )
+    })?;
+    let shot = spec.shot(velocity);
+    let radius = 0.5 * spec.projectile_diameter;
+    let nose = shot.nose_length();
+    if spec.nose != super::penetration::Nose::Ogive {
+        return Err("the cross-checks are for a tangent-ogive nose".into());
+    }
+    let ogive_radius = (nose * nose + radius * radius) / (2.0 * radius);
+    Ok(ConcreteShot {
+        mass: projectile_mass(spec, projectile),
+        diameter: spec.projectile_diameter,
+        caliber_radius_head: ogive_radius / spec.projectile_diameter,
+        velocity,
+        compressive_strength: concrete.parameters.compressive_strength,
+        density: concrete.density,
+    })
+}
+
+/// Run the recorded shots ([`BallisticLimitSpec`]'s protocol) into RHT concrete and add the
+/// concrete cross-checks to the report and the summary.
+pub(super) fn simulate(
+    spec: &BallisticLimitSpec,
+    material: &PartMaterial,
+    settings: &SolverSettings,
+    recording: &[RecordedPoint],
+) -> Result<Outcome, SimulationError> {
+    let mut outcome = spec.simulate(material, settings, recording)?;
+    let mut velocities: Vec<f64> = recording
+        .iter()
+        .filter(|p| p.quantity == "residual_velocity")
+        .map(|p| p.position)
+        .collect();
+    velocities.sort_by(f64::total_cmp);
+    velocities.dedup();
+    let mut text = String::from(
+        "\nanalytic cross-checks (rigid projectile; Forrestal: semi-infinite target; modified \
+         NDRC with Recht-Ipson a = 1, p = 2)\n",
+    );
+    let _ = writeln!(
+        text,
+        "{:>10} {:>10} {:>14} {:>13} {:>13} {:>12} {:>12}",
+        "Vi (m/s)", "FE Vr", "Forrestal P", "NDRC x", "NDRC e", "NDRC V_bl", "NDRC Vr"
+    );
+    for &velocity in &velocities {
+        let fe = recording
+            .iter()
+            .zip(&outcome.predicted)
+            .find(|(p, _)| p.quantity == "residual_velocity" && p.position == velocity)
+            .map_or(f64::NAN, |(_, &v)| v);
+        let shot = match concrete_shot(spec, material, velocity) {
+            Ok(shot) => shot,
+            Err(reason) => {
+                let _ = writeln!(text, "{velocity:>10.1} not available: {reason}");
+                continue;
+            }
+        };
+        let depth = forrestal(&shot).map_or(f64::NAN, |f| f.depth);
+        let nose = ndrc_ogive_nose_factor(shot.caliber_radius_head);
+        match modified_ndrc(&shot, spec.plate_thickness, nose) {
+            Ok(ndrc) => {
+                let _ = writeln!(
+                    text,
+                    "{:>10.1} {:>10.1} {:>12.3} m {:>11.3} m {:>11.3} m {:>8.1} m/s {:>8.1} m/s",
+                    velocity,
+                    fe,
+                    depth,
+                    ndrc.depth,
+                    ndrc.perforation_thickness,
+                    ndrc.ballistic_limit,
+                    ndrc.residual_velocity
+                );
+                outcome.summary.extend([
+                    (format!("forrestal_depth_{velocity}"), depth),
+                    (
+                        format!("ndrc_perforation_thickness_{velocity}"),
+                        ndrc.perforation_thickness,
+                    ),
+                    (
+                        format!("ndrc_ballistic_limit_{velocity}"),
+                        ndrc.ballistic_limit,
+                    ),
+                    (
+                        format!("ndrc_residual_velocity_{velocity}"),
+                        ndrc.residual_velocity,
+                    ),
+                ]);
+            }
+            Err(reason) => {
+                let _ = writeln!(text, "{velocity:>10.1} NDRC not available: {reason}");
+            }
+        }
+    }
+    if let Some(projectile) = spec.projectile.as_deref() {
+        let mass = projectile_mass(spec, projectile);
+        let _ = writeln!(
+            text,
+            "slab {:.3} m; projectile {:.2} kg as meshed, CRH {:.2}",
+            spec.plate_thickness,
+            mass,
+            concrete_shot(spec, material, 1.0).map_or(f64::NAN, |s| s.caliber_radius_head)
+        );
+        outcome.summary.push(("projectile_mass".into(), mass));
+    }
+    let report = outcome.report.get_or_insert_with(Default::default);
+    report.text.push_str(&text);
+    Ok(outcome)
+}
