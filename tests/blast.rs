@@ -316,6 +316,7 @@ mod plate {
             walls: Vec::new(),
             contacts: Vec::new(),
             eroding_contact: None,
+            rigid_parts: Vec::new(),
             pressure_loads: vec![PressureLoad {
                 segments,
                 history: shared(history),

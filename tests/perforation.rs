@@ -127,6 +127,7 @@ fn rht_through_the_solver_is_the_kernel_update_bit_for_bit() {
         walls: Vec::new(),
         contacts: Vec::new(),
         eroding_contact: None,
+        rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
         settings: SolverSettings {
             end_time,

@@ -301,6 +301,7 @@ fn bar_on_bar(speed: f64, friction: f64, threads: Option<usize>) -> (Axisymmetri
         walls: Vec::new(),
         contacts: vec![ContactPair::new(slave, master).with_friction(friction)],
         eroding_contact: None,
+        rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
         settings: SolverSettings {
             end_time: 30.0e-6,

@@ -133,6 +133,10 @@ pub struct BallisticLimitSpec {
     /// Coulomb friction between projectile and plate.
     #[serde(default)]
     pub friction: f64,
+    /// Move the projectile as a rigid body (LS-DYNA `*MAT_RIGID`; its material file then
+    /// gives only its density).
+    #[serde(default)]
+    pub projectile_rigid: bool,
     /// Impact velocities of the sweep (m/s, increasing); needed only when the recording asks
     /// for the `ballistic_limit` (shots recorded at fixed velocities are fired at those).
     #[serde(default)]
@@ -283,6 +287,7 @@ impl BallisticLimitSpec {
             gap: Some(self.gap),
             friction: self.friction,
             keep_eroded_mass: true,
+            rigid_rod: self.projectile_rigid,
             end_time: self.end_time,
             temperature: self.temperature,
             rod: self.projectile.clone(),

@@ -440,6 +440,7 @@ impl BlastPlateSpec {
             walls: Vec::new(),
             contacts: Vec::new(),
             eroding_contact: None,
+            rigid_parts: Vec::new(),
             pressure_loads: vec![PressureLoad {
                 segments,
                 history: wall,

@@ -181,6 +181,10 @@ pub struct PenetrationSpec {
     /// Keep the mass of eroded elements as free contact nodes (LS-DYNA ENMASS).
     #[serde(default = "default_keep_eroded_mass")]
     pub keep_eroded_mass: bool,
+    /// Move the rod as a rigid body (LS-DYNA `*MAT_RIGID`): its material gives only its
+    /// density; it neither deforms nor erodes, and its elements set no time step.
+    #[serde(default)]
+    pub rigid_rod: bool,
     /// End of the simulated time after impact (s).
     pub end_time: f64,
     /// Initial temperature (K).
@@ -327,6 +331,9 @@ impl PenetrationSpec {
     /// The stable step of the smallest undeformed element (the target's, the rod's or the
     /// nose tip's) (s).
     fn undeformed_time_step(&self) -> f64 {
+        if self.rigid_rod {
+            return undeformed_time_step(self.element_size);
+        }
         let tip = self.tip_radius() / (0.5 * self.rod_diameter / self.rod_element_size()).ceil();
         undeformed_time_step(self.element_size.min(self.rod_element_size()).min(tip))
     }
@@ -489,6 +496,7 @@ impl PenetrationSpec {
                 keep_eroded_mass: self.keep_eroded_mass,
                 ..ErodingContact::new(vec![0, 1], self.friction)
             }),
+            rigid_parts: if self.rigid_rod { vec![1] } else { Vec::new() },
             pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,
@@ -863,6 +871,7 @@ mod tests {
             gap: None,
             friction: 0.0,
             keep_eroded_mass: true,
+            rigid_rod: false,
             end_time: 1.0e-6,
             temperature: 298.0,
             rod: None,

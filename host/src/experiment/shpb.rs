@@ -614,6 +614,7 @@ impl ShpbSpec {
             walls: Vec::new(),
             contacts,
             eroding_contact: None,
+            rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,

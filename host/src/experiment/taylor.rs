@@ -137,6 +137,7 @@ impl TaylorSpec {
             }],
             contacts: Vec::new(),
             eroding_contact: None,
+            rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,
@@ -186,6 +187,7 @@ impl TaylorSpec {
             }],
             contacts: Vec::new(),
             eroding_contact: None,
+            rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,

@@ -213,6 +213,7 @@ impl TensionSpec {
             walls: Vec::new(),
             contacts: Vec::new(),
             eroding_contact: None,
+            rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time: self.duration(),

@@ -121,6 +121,13 @@ pub struct ExplicitModel<M, P = Material> {
     pub contacts: Vec<ContactPair>,
     /// Contact between parts that follows erosion (2D models only).
     pub eroding_contact: Option<ErodingContact>,
+    /// Parts moved as rigid bodies (LS-DYNA `*MAT_RIGID`), by part index: their elements
+    /// carry mass (from their material's density) but no stress and set no time step; their
+    /// nodes share one velocity, the part's momentum over its mass after each step's forces.
+    /// Translation only: along the axis in an axisymmetric model (no radial motion), in all
+    /// three directions in 3D (no rotation: a body struck off its centre line would need
+    /// it).
+    pub rigid_parts: Vec<usize>,
     /// Pressures on boundary segments (2D models only).
     pub pressure_loads: Vec<PressureLoad>,
     /// Numerical settings.
@@ -275,6 +282,25 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             reference_volume.push(volume);
         }
 
+        // Rigid bodies: their nodes, and which elements belong to one.
+        let mut rigid_element = vec![false; element_count];
+        let mut rigid_bodies: Vec<Vec<usize>> = Vec::with_capacity(self.rigid_parts.len());
+        for &part in &self.rigid_parts {
+            if part >= mesh.part_count() {
+                return Err(SolverError::Model(format!(
+                    "rigid part {part} does not exist (the mesh has {} parts)",
+                    mesh.part_count()
+                )));
+            }
+            let mut nodes = Vec::new();
+            for e in (0..element_count).filter(|&e| mesh.element_part(e) == part) {
+                rigid_element[e] = true;
+                nodes.extend_from_slice(mesh.element_nodes(e));
+            }
+            nodes.sort_unstable();
+            nodes.dedup();
+            rigid_bodies.push(nodes);
+        }
         let mut v = if self.initial_velocity.is_empty() {
             vec![[0.0; 3]; node_count]
         } else if self.initial_velocity.len() == node_count {
@@ -291,9 +317,10 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
         let mut eroded = vec![false; element_count];
         let mut force = vec![[0.0; 3]; node_count];
 
+        move_rigidly(&rigid_bodies, &mass, &mut v, dimension, measure);
         // First time step from the elastic wave speeds (a zero-strain kernel update).
         let mut dt = f64::INFINITY;
-        for e in 0..element_count {
+        for e in (0..element_count).filter(|&e| !rigid_element[e]) {
             let mut probe = states[e];
             let output = self.materials[material_of[e]]
                 .update(
@@ -469,6 +496,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 dv_wall[n] = [0.0; 3];
                 dv_damping[n] = [0.0; 3];
             }
+            move_rigidly(&rigid_bodies, &mass, &mut v, dimension, measure);
             let half_time = time + 0.5 * dt;
             // Kinematic modifications of v_{n+1/2}; each records its velocity change so that its
             // work is the central-difference-consistent `m dv . (v_old + v_new)/2`.
@@ -544,7 +572,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
 
             // Elements in parallel; results kept in element order.
             results.par_iter_mut().enumerate().for_each(|(e, slot)| {
-                *slot = if eroded[e] {
+                *slot = if eroded[e] || rigid_element[e] {
                     Ok(None)
                 } else {
                     let material = &self.materials[material_of[e]];
@@ -687,6 +715,39 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 .map(ErodingSurfaces::statistics)
                 .unwrap_or_default(),
         })
+    }
+}
+
+/// Give the nodes of each rigid body the body's velocity: its momentum over its mass
+/// (`V = sum m v / sum m` over the nodes, after the step's forces), so the body moves as a
+/// whole under the resultant force and the constraint forces between its nodes do no work.
+/// Axisymmetric models (`measure != 1`) keep no radial velocity: an axisymmetric body can
+/// only translate along the axis.
+fn move_rigidly(
+    bodies: &[Vec<usize>],
+    mass: &[f64],
+    v: &mut [Vector],
+    dimension: usize,
+    measure: f64,
+) {
+    for nodes in bodies {
+        let total: f64 = nodes.iter().map(|&n| mass[n]).sum();
+        if total <= 0.0 {
+            continue;
+        }
+        let mut velocity: Vector = core::array::from_fn(|d| {
+            if d < dimension {
+                nodes.iter().map(|&n| mass[n] * v[n][d]).sum::<f64>() / total
+            } else {
+                0.0
+            }
+        });
+        if measure != 1.0 {
+            velocity[0] = 0.0;
+        }
+        for &n in nodes {
+            v[n] = velocity;
+        }
     }
 }
 
