@@ -242,3 +242,77 @@ fn campaign_errors_name_the_file_line_and_field() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn an_rht_campaign_fits_concrete_constants_by_their_dotted_paths() {
+    // GOAL: `stoss calibrate` takes RHT concrete constants as fitted parameters: the campaign
+    //       loads an RHT base material, maps each candidate onto the material file's dotted
+    //       paths, and scores the concrete experiments with it; a path that is not in the
+    //       file is refused at load with file, line and field.
+    // SETUP: fixtures/campaigns/perforation-hpc-92.toml (D1, EFMIN, alpha fitted); the three
+    //        single-element DIF experiments only (the perforation shots are the validation
+    //        run's, see docs/solver.md); alpha at 0.01 (table 4.4) and at 0.002.
+    // REFERENCE: the quasi-static point (30e-6 /s, F = 1) scores the same for both alphas
+    //   and matches fc = 92 MPa within 0.1 %; the 1 /s strength falls with alpha (seed eq.
+    //   4.4: F = (rate / 30e-6)^alpha), so its error against CEB's 103.9 MPa shrinks; a
+    //   misspelt path is an error naming `parameters`.
+    let campaign = Campaign::load(&fixtures().join("campaigns/perforation-hpc-92.toml")).unwrap();
+    let space = campaign.space(&campaign.file.models[0]);
+    assert_eq!(
+        space.names,
+        [
+            "parameters.compressive_rate_exponent",
+            "parameters.damage_d1",
+            "parameters.minimum_failure_strain"
+        ]
+    );
+    let dif: Vec<usize> = (0..campaign.experiments.len())
+        .filter(|&i| {
+            campaign.experiments[i]
+                .file
+                .name
+                .contains("compressive strength")
+        })
+        .collect();
+    assert_eq!(dif.len(), 3);
+    let settings = SolverSettings::default();
+    let at = |alpha: f64| {
+        stoss::calibrate::evaluate(&campaign, &space, &[alpha, 0.04, 0.01], &dif, &settings)
+    };
+    let table = at(0.01);
+    let low = at(0.002);
+    assert!(
+        matches!(table.status, stoss::calibrate::Status::Ok),
+        "{:?}",
+        table.status
+    );
+    let error = |e: &stoss::calibrate::Evaluation, name: &str| {
+        let i = (0..campaign.experiments.len())
+            .find(|&i| {
+                campaign.experiments[i]
+                    .path
+                    .to_string_lossy()
+                    .contains(name)
+            })
+            .unwrap();
+        e.scores[i].unwrap().error
+    };
+    assert_eq!(error(&table, "qs"), error(&low, "qs"));
+    assert!(error(&table, "qs") < 1e-3, "{}", error(&table, "qs"));
+    assert!(error(&low, "-1s") < error(&table, "-1s"));
+    // A dotted path that is not in the RHT file.
+    let dir = temporary("rht-campaign");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/perforation-hpc-92.toml"))
+        .unwrap()
+        .replace("parameters.damage_d1", "parameters.damage_dd1")
+        .replace("\"../", &format!("\"{}/", fixtures().display()));
+    let path = dir.join("campaign.toml");
+    std::fs::write(&path, text).unwrap();
+    let error = Campaign::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains("campaign.toml:")
+            && error.contains("parameters")
+            && error.contains("damage_dd1"),
+        "{error}"
+    );
+}

@@ -27,14 +27,19 @@
 //! parallel = 2                             # simulations run at once (one batch)
 //! polish = 20                              # Nelder-Mead from each instance's best (default budget/2)
 //! ```
+//!
+//! **RHT concrete.** When the campaign's `material` is an RHT file (`model = "rht"`), a model
+//! has no `strength`, and its parameter names are dotted paths into that file
+//! (`parameters.residual_b`, `parameters.damage_d1`, `eos.crush_pressure`, ...). The flow-stress
+//! constraints, flow-curve figures, cards and the diagnosis are for J2 metals and are skipped.
 
 use crate::experiment::Experiment;
-use crate::input::material::{self, MaterialFile, StrengthSpec};
+use crate::input::material::{self, AnyMaterialFile, RhtMaterialFile, StrengthSpec};
 use crate::input::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use stoss_kernel::Material;
+use stoss_kernel::PartMaterial;
 
 fn one() -> f64 {
     1.0
@@ -60,11 +65,13 @@ pub struct ExperimentEntry {
 pub struct ModelEntry {
     /// Short name (report labels).
     pub name: String,
-    /// Starting and fixed constants; default: the base material's strength.
+    /// Starting and fixed constants; default: the base material's strength (J2 metals only).
     #[serde(default)]
     pub strength: Option<StrengthSpec>,
-    /// Constants to fit with `[lower, upper]` bounds (SI). Names are the strength's field
-    /// names; nested fields of a composed strength are dotted (`hardening.yield_stress`).
+    /// Constants to fit with `[lower, upper]` bounds (SI). For a J2 metal the names are the
+    /// strength's field names; nested fields of a composed strength are dotted
+    /// (`hardening.yield_stress`). For RHT concrete they are dotted paths into the material
+    /// file (`parameters.residual_b`).
     pub parameters: BTreeMap<String, [f64; 2]>,
 }
 
@@ -186,8 +193,8 @@ pub struct Campaign {
     pub path: PathBuf,
     /// Its contents.
     pub file: CampaignFile,
-    /// The base material file.
-    pub base: MaterialFile,
+    /// The base material file (either family).
+    pub base: AnyMaterialFile,
     /// The experiments, in the file's order.
     pub experiments: Vec<Experiment>,
 }
@@ -198,8 +205,9 @@ pub struct Campaign {
 pub struct ModelSpace {
     /// Model name.
     pub name: String,
-    /// Starting strength (fitted constants are overwritten).
-    pub strength: StrengthSpec,
+    /// Starting strength (fitted constants are overwritten); `None` for RHT concrete, whose
+    /// constants are edited in the base file itself.
+    pub strength: Option<StrengthSpec>,
     /// Fitted constant names.
     pub names: Vec<String>,
     /// Lower bounds.
@@ -209,9 +217,15 @@ pub struct ModelSpace {
 }
 
 impl ModelSpace {
-    /// The strength with `values` for the fitted constants.
+    /// The strength with `values` for the fitted constants (J2 metals).
     pub fn strength_with(&self, values: &[f64]) -> Result<StrengthSpec, String> {
-        let mut tree = toml::Value::try_from(self.strength).map_err(|e| e.to_string())?;
+        let strength = self.strength.ok_or_else(|| {
+            format!(
+                "model {} has no flow-stress model (RHT concrete)",
+                self.name
+            )
+        })?;
+        let mut tree = toml::Value::try_from(strength).map_err(|e| e.to_string())?;
         for (name, value) in self.names.iter().zip(values) {
             set_dotted(&mut tree, name, *value)
                 .ok_or_else(|| format!("`{name}` is not a constant of this model"))?;
@@ -219,14 +233,35 @@ impl ModelSpace {
         tree.try_into().map_err(|e: toml::de::Error| e.to_string())
     }
 
-    /// The kernel material: the campaign's base material with this model's strength.
+    /// The RHT file `base` with `values` at the fitted constants' dotted paths.
+    fn rht_with(&self, base: &RhtMaterialFile, values: &[f64]) -> Result<RhtMaterialFile, String> {
+        let mut tree = toml::Value::try_from(base).map_err(|e| e.to_string())?;
+        for (name, value) in self.names.iter().zip(values) {
+            set_dotted(&mut tree, name, *value).ok_or_else(|| {
+                format!(
+                    "`{name}` is not a constant of the RHT file (dotted paths such as \
+                     `parameters.residual_b`)"
+                )
+            })?;
+        }
+        tree.try_into().map_err(|e: toml::de::Error| e.to_string())
+    }
+
+    /// The kernel material: the campaign's base material with this model's constants, and
+    /// the material file that says so.
     pub fn material(
         &self,
-        base: &MaterialFile,
+        base: &AnyMaterialFile,
         values: &[f64],
-    ) -> Result<(MaterialFile, Material), String> {
-        let mut file = base.clone();
-        file.strength = self.strength_with(values)?;
+    ) -> Result<(AnyMaterialFile, PartMaterial), String> {
+        let file = match base {
+            AnyMaterialFile::J2(base) => {
+                let mut file = base.clone();
+                file.strength = self.strength_with(values)?;
+                AnyMaterialFile::J2(file)
+            }
+            AnyMaterialFile::Rht(base) => AnyMaterialFile::Rht(self.rht_with(base, values)?),
+        };
         let material = file.material().map_err(|e| e.to_string())?;
         Ok((file, material))
     }
@@ -255,7 +290,7 @@ impl Campaign {
         let text = input::read_text(path)?;
         let file: CampaignFile = input::parse_toml(path, &text)?;
         let folder = path.parent().unwrap_or(Path::new("."));
-        let (base, _) = material::load(&folder.join(&file.material))?;
+        let (base, _) = material::load_part(&folder.join(&file.material))?;
         if file.models.is_empty() {
             return Err(InputError::field(
                 path,
@@ -320,7 +355,19 @@ impl Campaign {
                 .zip(&space.upper)
                 .map(|(l, u)| 0.5 * (l + u))
                 .collect();
-            if let Err(message) = space.strength_with(&middle) {
+            if matches!(campaign.base, AnyMaterialFile::Rht(_)) && model.strength.is_some() {
+                return Err(InputError::field(
+                    path,
+                    &text,
+                    "strength",
+                    format!(
+                        "model {}: an RHT concrete campaign has no flow-stress model; fit its \
+                         constants by their dotted paths in [models.parameters]",
+                        model.name
+                    ),
+                ));
+            }
+            if let Err(message) = space.material(&campaign.base, &middle) {
                 return Err(InputError::field(
                     path,
                     &text,
@@ -341,7 +388,10 @@ impl Campaign {
             .unzip();
         ModelSpace {
             name: model.name.clone(),
-            strength: model.strength.unwrap_or(self.base.strength),
+            strength: match &self.base {
+                AnyMaterialFile::J2(base) => Some(model.strength.unwrap_or(base.strength)),
+                AnyMaterialFile::Rht(_) => None,
+            },
             names,
             lower: bounds.iter().map(|b| b[0]).collect(),
             upper: bounds.iter().map(|b| b[1]).collect(),

@@ -10,7 +10,7 @@ use super::campaign::{Campaign, Constraints, ModelSpace};
 use crate::input::recording::RecordedPoint;
 use crate::solver::SolverSettings;
 use serde::{Deserialize, Serialize};
-use stoss_kernel::{Material, PartMaterial};
+use stoss_kernel::Material;
 
 /// The scores of one experiment.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -165,14 +165,17 @@ pub fn evaluate(
         Err(message) => return finish(scores, Status::Infeasible(message)),
     };
     let reference_temperature = 298.0;
-    if let Err(message) =
-        check_constraints(&material, &campaign.file.constraints, reference_temperature)
-    {
-        return finish(scores, Status::Infeasible(message));
+    // The flow-stress realism constraints are for J2 metals.
+    if let Some(metal) = material.j2() {
+        if let Err(message) =
+            check_constraints(metal, &campaign.file.constraints, reference_temperature)
+        {
+            return finish(scores, Status::Infeasible(message));
+        }
     }
     for &index in experiments {
         let experiment = &campaign.experiments[index];
-        match experiment.simulate(&PartMaterial::from(material), settings) {
+        match experiment.simulate(&material, settings) {
             Ok(outcome) => match score(&experiment.recording, &outcome.predicted) {
                 Some(s) => scores[index] = Some(s),
                 None => {

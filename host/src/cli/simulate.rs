@@ -142,7 +142,7 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
             .to_string()
         })?;
     let material_text = crate::input::read_text(&material_path).map_err(|e| e.to_string())?;
-    let (material_name, material) =
+    let (material_file, material) =
         material::parse_part(&material_path, &material_text).map_err(|e| e.to_string())?;
     experiment.file.setup.accepts(&material).map_err(|error| {
         InputError::field(&material_path, &material_text, "model", error.to_string()).to_string()
@@ -154,7 +154,7 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     );
     println!(
         "material:   {} ({})",
-        material_name,
+        material_file.name(),
         material_path.display()
     );
     let settings = SolverSettings {

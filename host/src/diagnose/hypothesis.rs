@@ -103,7 +103,14 @@ impl Hypothesis {
     /// strength is rewritten as its composed terms (the same kernel model, bit for bit) so
     /// that the library can add a term; other families keep their form.
     pub fn base(campaign: &Campaign, space: &ModelSpace, values: &[f64]) -> Result<Self, String> {
-        let mut material = campaign.base.clone();
+        let crate::input::material::AnyMaterialFile::J2(base) = &campaign.base else {
+            return Err(format!(
+                "the diagnosis is for J2 metals; {} is {}",
+                campaign.base.name(),
+                "RHT concrete"
+            ));
+        };
+        let mut material = base.clone();
         material.strength = space.strength_with(values)?;
         let mut parameters = Vec::new();
         if let StrengthSpec::JohnsonCook(jc) = material.strength {

@@ -85,12 +85,12 @@ impl Setup {
 }
 
 impl Setup {
-    /// Whether this kind can use `material` as its calibrated part: the penetration and
-    /// ballistic kinds take either model family for their target, the perforation kind RHT
+    /// Whether this kind can use `material` as its calibrated part: the uniaxial driver and
+    /// the penetration and ballistic kinds take either model family, the perforation kind RHT
     /// concrete, every other kind only a J2 metal.
     pub fn accepts(&self, material: &PartMaterial) -> Result<(), SimulationError> {
         let (ok, needs) = match self {
-            Setup::Penetration(_) | Setup::BallisticLimit(_) => (true, ""),
+            Setup::Uniaxial(_) | Setup::Penetration(_) | Setup::BallisticLimit(_) => (true, ""),
             Setup::Perforation(_) => (material.rht().is_some(), "RHT concrete"),
             _ => (material.j2().is_some(), "J2 metal"),
         };
@@ -374,7 +374,7 @@ impl Experiment {
             })
         };
         match setup {
-            Setup::Uniaxial(spec) => spec.simulate(j2()?, &self.recording),
+            Setup::Uniaxial(spec) => spec.simulate(material, &self.recording),
             Setup::Tension(spec) => spec.simulate(j2()?, settings, &self.recording),
             Setup::Taylor(spec) => spec.simulate(j2()?, settings, &self.recording),
             Setup::Shpb(spec) => spec.simulate(j2()?, settings, &self.recording),

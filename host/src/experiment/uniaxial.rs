@@ -1,7 +1,10 @@
 //! Homogeneous uniaxial stress at constant true strain rate and initial temperature: the
-//! characterisation curves (e.g. `shared/data/real/4340-flow`). Runs the kernel's
-//! uniaxial-stress driver; quantity `true_stress` (Pa, magnitude) at `position` = true plastic
-//! strain.
+//! characterisation curves (e.g. `shared/data/real/4340-flow`) and, for concrete, the
+//! strength against strain rate (dynamic increase factors). Runs the kernel's uniaxial-stress
+//! driver with either model family. Quantities:
+//! - `true_stress` (Pa, magnitude) at `position` = true plastic strain;
+//! - `peak_stress` (Pa, magnitude; `position` unused, 0): the largest axial stress of the
+//!   path, the uniaxial strength of a softening material such as RHT concrete.
 
 use super::{Check, Outcome, SimulationError};
 use crate::input::recording::RecordedPoint;
@@ -10,10 +13,10 @@ use crate::measure::{interpolate, StateHistory, StateSample};
 use crate::verify::History;
 use serde::{Deserialize, Serialize};
 use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
-use stoss_kernel::{Heating, Material, MaterialState};
+use stoss_kernel::{Heating, PartMaterial, PointModel};
 
 /// Quantities a uniaxial test records.
-pub const QUANTITIES: &[&str] = &["true_stress"];
+pub const QUANTITIES: &[&str] = &["true_stress", "peak_stress"];
 
 /// Plastic-strain step of the driver.
 const STRAIN_STEP: f64 = 2.0e-4;
@@ -29,7 +32,8 @@ pub struct UniaxialSpec {
     /// Compression (`true`) or tension.
     #[serde(default)]
     pub compression: bool,
-    /// Force isothermal conditions (quasi-static tests), whatever the material's heating.
+    /// Force isothermal conditions (quasi-static tests), whatever the material's heating (J2
+    /// metals; RHT concrete has no heating).
     #[serde(default)]
     pub isothermal: bool,
 }
@@ -51,18 +55,18 @@ impl UniaxialSpec {
     /// Run the driver up to `max_plastic_strain` and return the state history.
     pub fn history(
         &self,
-        material: &Material,
+        material: &PartMaterial,
         max_plastic_strain: f64,
     ) -> Result<StateHistory, SimulationError> {
         let mut material = *material;
-        if self.isothermal {
-            material.heating = Heating::Isothermal;
+        if let (true, PartMaterial::J2(metal)) = (self.isothermal, &mut material) {
+            metal.heating = Heating::Isothermal;
         }
         // Total strain: plastic target plus a generous elastic allowance.
         let total = max_plastic_strain.max(0.02) + 0.03;
         let steps = ((total / STRAIN_STEP).ceil() as u32).max(200);
         let sign = if self.compression { -1.0 } else { 1.0 };
-        let mut state = MaterialState::initial(self.temperature);
+        let mut state = material.initial_state(self.temperature);
         let mut history = History::default();
         uniaxial_stress(
             &material,
@@ -101,10 +105,14 @@ impl UniaxialSpec {
 
     pub(super) fn simulate(
         &self,
-        material: &Material,
+        material: &PartMaterial,
         recording: &[RecordedPoint],
     ) -> Result<Outcome, SimulationError> {
-        let max_strain = recording.iter().map(|p| p.position).fold(0.0, f64::max);
+        let max_strain = recording
+            .iter()
+            .filter(|p| p.quantity == "true_stress")
+            .map(|p| p.position)
+            .fold(0.0, f64::max);
         let history = self.history(material, max_strain)?;
         let curve: Vec<(f64, f64)> = history
             .samples
@@ -112,14 +120,23 @@ impl UniaxialSpec {
             .filter(|s| s.plastic_strain > 0.0)
             .map(|s| (s.plastic_strain, s.axial_stress.abs()))
             .collect();
+        let peak = history
+            .samples
+            .iter()
+            .map(|s| s.axial_stress.abs())
+            .fold(0.0, f64::max);
         let predicted = recording
             .iter()
-            .map(|p| interpolate(&curve, p.position))
+            .map(|p| match p.quantity.as_str() {
+                "peak_stress" => peak,
+                _ => interpolate(&curve, p.position),
+            })
             .collect();
         let last = history.samples.last().copied().unwrap_or_default();
         Ok(Outcome {
             predicted,
             summary: vec![
+                ("peak_stress".into(), peak),
                 ("final_true_stress".into(), last.axial_stress.abs()),
                 ("final_plastic_strain".into(), last.plastic_strain),
                 ("final_temperature".into(), last.temperature),

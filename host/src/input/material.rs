@@ -226,15 +226,49 @@ impl RhtMaterialFile {
     }
 }
 
+/// A material file of either family, as read.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AnyMaterialFile {
+    /// A J2 metal file.
+    J2(MaterialFile),
+    /// An RHT concrete file.
+    Rht(RhtMaterialFile),
+}
+
+impl AnyMaterialFile {
+    /// Display name.
+    pub fn name(&self) -> &str {
+        match self {
+            AnyMaterialFile::J2(file) => &file.name,
+            AnyMaterialFile::Rht(file) => &file.name,
+        }
+    }
+
+    /// The kernel material, validated.
+    pub fn material(&self) -> Result<PartMaterial, ParameterError> {
+        Ok(match self {
+            AnyMaterialFile::J2(file) => file.material()?.into(),
+            AnyMaterialFile::Rht(file) => file.material()?.into(),
+        })
+    }
+
+    /// Render as TOML (the format [`load_part`] reads).
+    pub fn to_toml(&self) -> String {
+        match self {
+            AnyMaterialFile::J2(file) => file.to_toml(),
+            AnyMaterialFile::Rht(file) => toml::to_string(file).unwrap_or_default(),
+        }
+    }
+}
+
 /// Parse a material file of either family: an RHT concrete file when its top level says
-/// `model = "rht"`, a J2 metal file otherwise. Returns the display name and the material;
-/// errors name `path`, the line and the field.
-pub fn parse_part(path: &Path, text: &str) -> Result<(String, PartMaterial), InputError> {
+/// `model = "rht"`, a J2 metal file otherwise. Errors name `path`, the line and the field.
+pub fn parse_part(path: &Path, text: &str) -> Result<(AnyMaterialFile, PartMaterial), InputError> {
     let table: toml::Table = parse_toml(path, text)?;
     match table.get("model") {
         None => {
             let (file, material) = parse(path, text)?;
-            Ok((file.name, material.into()))
+            Ok((AnyMaterialFile::J2(file), material.into()))
         }
         Some(toml::Value::String(model)) if model == "rht" => {
             let file: RhtMaterialFile = parse_toml(path, text)?;
@@ -242,7 +276,7 @@ pub fn parse_part(path: &Path, text: &str) -> Result<(String, PartMaterial), Inp
                 let field = parameter_field(&error);
                 InputError::field(path, text, field, error.to_string())
             })?;
-            Ok((file.name, material.into()))
+            Ok((AnyMaterialFile::Rht(file), material.into()))
         }
         Some(other) => Err(InputError::field(
             path,
@@ -258,7 +292,7 @@ pub fn parse_part(path: &Path, text: &str) -> Result<(String, PartMaterial), Inp
 }
 
 /// Load a material file of either family ([`parse_part`]).
-pub fn load_part(path: &Path) -> Result<(String, PartMaterial), InputError> {
+pub fn load_part(path: &Path) -> Result<(AnyMaterialFile, PartMaterial), InputError> {
     parse_part(path, &read_text(path)?)
 }
 
@@ -298,8 +332,8 @@ bulk_modulus = 159e9
         //   table 4.5), exactly; Material::STEEL_4340; an error naming `model` and its line.
         let path =
             Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/materials/hpc-92-rht.toml");
-        let (name, part) = load_part(&path).unwrap();
-        assert!(name.contains("table 4.4"));
+        let (file, part) = load_part(&path).unwrap();
+        assert!(file.name().contains("table 4.4"));
         let expected = RhtMaterial {
             erosion_geometric_strain: Some(1.5),
             ..RhtMaterial::HPC_92MPA

@@ -13,12 +13,13 @@ use super::plots::{self, Series, Style};
 use crate::calibrate::run::ModelResult;
 use crate::calibrate::{Campaign, Evaluation};
 use crate::experiment::Outcome;
+use crate::input::material::AnyMaterialFile;
 use crate::measure::StateSample;
 use crate::solver::SolverSettings;
 use std::fmt::Write as _;
 use std::path::Path;
 use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
-use stoss_kernel::{Heating, Material, MaterialState, PartMaterial};
+use stoss_kernel::{Heating, Material, MaterialState};
 
 /// Reads one quantity of a state sample.
 type StateReader = fn(&StateSample) -> f64;
@@ -100,7 +101,7 @@ pub fn write(
     }
     let o = &campaign.file.optimiser;
     let _ = writeln!(md, "Campaign `{}`; base material `{}`. Optimiser: Latin hypercube start then GP expected improvement, budget {} simulations per instance, {} instance(s), seed {} (instance k uses seed + k), {} parallel simulations{}.\n",
-        campaign.path.display(), campaign.base.name, o.budget, o.instances, o.seed, o.parallel, if o.leave_one_out { ", leave-one-out over the fitted experiments" } else { "" });
+        campaign.path.display(), campaign.base.name(), o.budget, o.instances, o.seed, o.parallel, if o.leave_one_out { ", leave-one-out over the fitted experiments" } else { "" });
     let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n");
 
     // Model selection table.
@@ -235,37 +236,37 @@ pub fn write(
             &lines,
         )?;
         let _ = writeln!(md, "![parallel coordinates](figures/{file})\n");
-        // Stress-strain curves at 1e-4 and 2000 /s.
+        // Stress-strain curves at 1e-4 and 2000 /s (J2 metals).
         let (material_file, material) = space.material(&campaign.base, &result.selected.values)?;
-        let mut series = Vec::new();
-        for (k, rate) in [1e-4, 2000.0].into_iter().enumerate() {
-            series.push(Series {
-                label: format!("selected, {rate} /s"),
-                points: flow_curve(&material, rate),
-                style: Style::Line,
-                colour: k,
-            });
-            if let Ok(base) = campaign.base.material() {
+        if let Some(metal) = material.j2() {
+            let mut series = Vec::new();
+            for (k, rate) in [1e-4, 2000.0].into_iter().enumerate() {
                 series.push(Series {
-                    label: format!("base material, {rate} /s"),
-                    points: flow_curve(&base, rate),
-                    style: Style::Markers,
-                    colour: k + 2,
+                    label: format!("selected, {rate} /s"),
+                    points: flow_curve(metal, rate),
+                    style: Style::Line,
+                    colour: k,
                 });
+                if let Some(base) = campaign.base.material().ok().as_ref().and_then(|b| b.j2()) {
+                    series.push(Series {
+                        label: format!("base material, {rate} /s"),
+                        points: flow_curve(base, rate),
+                        style: Style::Markers,
+                        colour: k + 2,
+                    });
+                }
             }
+            let file = format!("{}-flow-curves.svg", slug(&result.model));
+            plots::line_chart(
+                &figures.join(&file),
+                "isothermal flow curves at 298 K",
+                "true strain",
+                "true stress (MPa)",
+                &series,
+            )?;
+            let _ = writeln!(md, "![flow curves](figures/{file})\n");
         }
-        let file = format!("{}-flow-curves.svg", slug(&result.model));
-        plots::line_chart(
-            &figures.join(&file),
-            "isothermal flow curves at 298 K",
-            "true strain",
-            "true stress (MPa)",
-            &series,
-        )?;
-        let _ = writeln!(
-            md,
-            "![flow curves](figures/{file})\n\n### Experiments: recording vs selected simulation\n"
-        );
+        let _ = writeln!(md, "### Experiments: recording vs selected simulation\n");
         // Overlays.
         for (i, experiment) in campaign.experiments.iter().enumerate() {
             let Some(Some(outcome)) = outcomes.get(m).map(|o| o.get(i).cloned().flatten()) else {
@@ -390,10 +391,14 @@ pub fn write(
             material_file.to_toml(),
         )
         .map_err(|e| e.to_string())?;
+        let metal_file = match &material_file {
+            AnyMaterialFile::J2(file) => Some(file),
+            AnyMaterialFile::Rht(_) => None,
+        };
         for (ext, card) in [
-            ("k", cards::ls_dyna(&material_file)),
-            ("inp", cards::abaqus(&material_file)),
-            ("rad", cards::open_radioss(&material_file)),
+            ("k", metal_file.and_then(cards::ls_dyna)),
+            ("inp", metal_file.and_then(cards::abaqus)),
+            ("rad", metal_file.and_then(cards::open_radioss)),
         ] {
             if let Some(card) = card {
                 std::fs::write(card_dir.join(format!("{stem}.{ext}")), card)
@@ -427,10 +432,7 @@ pub fn selected_outcomes(
             campaign
                 .experiments
                 .iter()
-                .map(|e| {
-                    e.simulate(&PartMaterial::from(material), &SolverSettings::default())
-                        .ok()
-                })
+                .map(|e| e.simulate(&material, &SolverSettings::default()).ok())
                 .collect()
         })
         .collect()
