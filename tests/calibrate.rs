@@ -61,10 +61,7 @@ fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
         material::load(&fixtures().join("materials/synthetic-hha-truth.toml")).unwrap();
     for experiment in &campaign.experiments {
         let settings = SolverSettings::default();
-        let a = experiment
-            .simulate(&fitted.into(), &settings)
-            .unwrap()
-            .predicted;
+        let a = experiment.simulate(&fitted, &settings).unwrap().predicted;
         let b = experiment
             .simulate(&truth.into(), &settings)
             .unwrap()
