@@ -168,7 +168,15 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
         .simulate(&material, &settings)
         .map_err(|e| format!("{}: {e}", args.experiment.display()))?;
     bar.finish_and_clear();
-    println!("wall time:  {:.2} s", started.elapsed().as_secs_f64());
+    let wall = started.elapsed().as_secs_f64();
+    println!("wall time:  {wall:.2} s");
+    if outcome.element_cycles > 0 {
+        println!(
+            "element-cycles: {} ({:.2} M per wall-clock second)",
+            outcome.element_cycles,
+            outcome.element_cycles as f64 / wall * 1e-6
+        );
+    }
     if let Some(energy) = &outcome.energy {
         println!("{}", energy.report());
     }
