@@ -252,7 +252,8 @@ fn an_rht_campaign_fits_concrete_constants_by_their_dotted_paths() {
     // REFERENCE: the quasi-static point (30e-6 /s, F = 1) scores the same for both alphas
     //   and matches fc = 92 MPa within 0.1 %; the 1 /s strength falls with alpha (seed eq.
     //   4.4: F = (rate / 30e-6)^alpha), so its error against CEB's 103.9 MPa shrinks; a
-    //   misspelt path is an error naming `parameters`.
+    //   misspelt path is an error naming `parameters`; a Taylor test (J2 only) in the
+    //   concrete campaign is an error naming the experiment.
     let campaign = Campaign::load(&fixtures().join("campaigns/perforation-hpc-92.toml")).unwrap();
     let space = campaign.space(&campaign.file.models[0]);
     assert_eq!(
@@ -310,6 +311,22 @@ fn an_rht_campaign_fits_concrete_constants_by_their_dotted_paths() {
         error.contains("campaign.toml:")
             && error.contains("parameters")
             && error.contains("damage_dd1"),
+        "{error}"
+    );
+    // A J2-only experiment in a concrete campaign.
+    let text = std::fs::read_to_string(fixtures().join("campaigns/perforation-hpc-92.toml"))
+        .unwrap()
+        .replace(
+            "experiments/dif-hpc-92-qs.toml",
+            "experiments/taylor-4340-208.toml",
+        )
+        .replace("\"../", &format!("\"{}/", fixtures().display()));
+    std::fs::write(&path, text).unwrap();
+    let error = Campaign::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains("campaign.toml:")
+            && error.contains("taylor-4340-208.toml")
+            && error.contains("needs a J2 metal material, not RHT concrete"),
         "{error}"
     );
 }

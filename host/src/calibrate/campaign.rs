@@ -331,6 +331,18 @@ impl Campaign {
             .iter()
             .map(|entry| Experiment::load(&folder.join(&entry.file)))
             .collect::<Result<Vec<_>, _>>()?;
+        if let Ok(family) = base.material() {
+            for (entry, experiment) in file.experiments.iter().zip(&experiments) {
+                if let Err(error) = experiment.file.setup.accepts(&family) {
+                    return Err(InputError::field(
+                        path,
+                        &text,
+                        "experiments",
+                        format!("{}: {error} (the campaign's material)", entry.file),
+                    ));
+                }
+            }
+        }
         let campaign = Self {
             path: path.into(),
             file,
