@@ -390,13 +390,22 @@ impl BallisticLimitSpec {
         velocities: &[f64],
         settings: &SolverSettings,
     ) -> Result<Vec<ShotResult>, SolverError> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(settings.threads.unwrap_or(0))
-            .build()
-            .map_err(|e| SolverError::Model(format!("thread pool: {e}")))?;
-        let share = (pool.current_num_threads() / velocities.len().max(1)).max(1);
+        // On one thread the shots run one after the other on the calling thread, without a
+        // pool (see `ExplicitModel::run_observed`).
+        let pool = match settings.threads {
+            Some(1) => None,
+            threads => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads.unwrap_or(0))
+                    .build()
+                    .map_err(|e| SolverError::Model(format!("thread pool: {e}")))?,
+            ),
+        };
+        let workers = pool
+            .as_ref()
+            .map_or(1, rayon::ThreadPool::current_num_threads);
         let single = SolverSettings {
-            threads: Some(share),
+            threads: Some((workers / velocities.len().max(1)).max(1)),
             ..settings.clone()
         };
         // A shot still in the plate at `end_time` is fired once more for three times as
@@ -405,19 +414,18 @@ impl BallisticLimitSpec {
             end_time: RETRY_FACTOR * self.end_time,
             ..self.clone()
         };
-        pool.install(|| {
-            velocities
-                .par_iter()
-                .map(|&v| {
-                    let shot = self.fire(plate, v, &single)?;
-                    if shot.outcome == ShotOutcome::Undetermined {
-                        longer.fire(plate, v, &single)
-                    } else {
-                        Ok(shot)
-                    }
-                })
-                .collect()
-        })
+        let fire = |&v: &f64| {
+            let shot = self.fire(plate, v, &single)?;
+            if shot.outcome == ShotOutcome::Undetermined {
+                longer.fire(plate, v, &single)
+            } else {
+                Ok(shot)
+            }
+        };
+        match pool {
+            None => velocities.iter().map(fire).collect(),
+            Some(pool) => pool.install(|| velocities.par_iter().map(fire).collect()),
+        }
     }
 
     /// The whole protocol: sweep, bracket, bisection by thirds, Lambert–Jonas and

@@ -224,19 +224,25 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 )));
             }
         }
+        // One thread runs the element loop on the calling thread, without a pool: a pool's
+        // `install` from another pool's worker would let that worker take more of its own
+        // pool's jobs while it waits (a calibration's parallel simulations would then all run
+        // at once, oversubscribing the cores).
         match self.settings.threads {
+            Some(1) => self.run_in_pool(observer, true),
             Some(threads) => rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .map_err(|e| SolverError::Model(format!("thread pool: {e}")))?
-                .install(|| self.run_in_pool(observer)),
-            None => self.run_in_pool(observer),
+                .install(|| self.run_in_pool(observer, false)),
+            None => self.run_in_pool(observer, false),
         }
     }
 
     fn run_in_pool(
         &self,
         observer: &mut (dyn FnMut(&Snapshot) -> ControlFlow<()> + Send),
+        serial: bool,
     ) -> Result<ExplicitRun, SolverError> {
         let dimension = M::DIMENSION;
         let measure = M::MEASURE;
@@ -570,8 +576,8 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 energy.contact += measure * surfaces.absorbed(&v_old, &v, dt_average);
             }
 
-            // Elements in parallel; results kept in element order.
-            results.par_iter_mut().enumerate().for_each(|(e, slot)| {
+            // Elements in parallel (or serially on one thread); results kept in element order.
+            let step = |(e, slot): (usize, &mut Result<Option<ElementStep>, SolverError>)| {
                 *slot = if eroded[e] || rigid_element[e] {
                     Ok(None)
                 } else {
@@ -599,7 +605,12 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         Some(step)
                     })
                 };
-            });
+            };
+            if serial {
+                results.iter_mut().enumerate().for_each(step);
+            } else {
+                results.par_iter_mut().enumerate().for_each(step);
+            }
 
             // Serial assembly in element order: bit-identical for any thread count.
             for f in force.iter_mut() {
