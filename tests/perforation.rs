@@ -258,6 +258,13 @@ fn a_coarse_perforation_perforates_with_a_closed_energy_balance_and_thread_indep
         .unwrap()
         .1;
     assert!((mass / 46.2 - 1.0).abs() < 0.005, "{mass} kg");
+    let diameter = one
+        .summary
+        .iter()
+        .find(|(name, _)| name == "rear_damage_diameter")
+        .unwrap()
+        .1;
+    assert!(diameter > 0.0 && diameter <= 2.4, "{diameter} m");
     let report = one.report.unwrap().text;
     assert!(
         report.contains("NDRC") && report.contains("Forrestal"),

@@ -10,7 +10,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 use stoss::analytic::concrete::{modified_ndrc, ndrc_ogive_nose_factor};
-use stoss::experiment::perforation::concrete_shot;
+use stoss::experiment::perforation::{concrete_shot, rear_damage_diameter};
 use stoss::experiment::{Experiment, Setup};
 use stoss::input::material;
 use stoss::solver::SolverSettings;
@@ -70,28 +70,8 @@ fn main() {
                 .ok()
             })
             .map_or(f64::NAN, |n| n.residual_velocity);
-        // Rear-face damage zone: the widest intact (not eroded) slab element with D = 1 in the
-        // bottom row, by its reference centroid.
-        let field = &shot.field;
-        let mesh = &field.mesh;
-        let diameter = (0..mesh.elements.len())
-            .filter(|&e| mesh.element_part[e] == 0 && !field.eroded[e])
-            .filter(|&e| field.states[e].damage >= 1.0)
-            .filter(|&e| {
-                let z = 0.25
-                    * mesh.elements[e]
-                        .iter()
-                        .map(|&n| mesh.nodes[n][1])
-                        .sum::<f64>();
-                z < -spec.plate_thickness + size
-            })
-            .map(|e| {
-                0.5 * mesh.elements[e]
-                    .iter()
-                    .map(|&n| mesh.nodes[n][0])
-                    .sum::<f64>()
-            })
-            .fold(0.0, f64::max);
+        let diameter = rear_damage_diameter(&spec, &shot.field);
+        let elements = shot.field.mesh.elements.len();
         println!(
             "| {:.0} mm | {tension:?} | {threads} | {:.1} | 190 +/- 14 | {:.1} | {:+.3} % | {:.2} | {} | {:.3e} | {:.1} |",
             size * 1e3,
@@ -99,7 +79,7 @@ fn main() {
             ndrc,
             shot.energy.error_percent(),
             diameter,
-            mesh.elements.len(),
+            elements,
             shot.element_cycles as f64 / wall,
             wall,
         );

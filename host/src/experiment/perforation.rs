@@ -18,7 +18,7 @@
 //! above any stress of the shot, not a rigid body.
 
 use super::ballistic::BallisticLimitSpec;
-use super::{Outcome, SimulationError};
+use super::{FieldOutput, Outcome, SimulationError};
 use crate::analytic::concrete::{forrestal, modified_ndrc, ndrc_ogive_nose_factor, ConcreteShot};
 use crate::input::recording::RecordedPoint;
 use crate::solver::SolverSettings;
@@ -46,6 +46,26 @@ pub fn projectile_mass(spec: &BallisticLimitSpec, projectile: &PartMaterial) -> 
             2.0 * PI * mean_radius * mesh.area(e) * projectile.density()
         })
         .sum()
+}
+
+/// Diameter of the rear-face damage zone (m): twice the largest reference radius of a live
+/// slab element (part 0) with damage 1 in the slab's rear row of elements (its reference
+/// centroid within one `element_size` of the rear face). FOI reports about 0.8 m for its
+/// Autodyn runs with table 4.4's damage constants (seed 001 sec. 4.3).
+pub fn rear_damage_diameter(spec: &BallisticLimitSpec, field: &FieldOutput) -> f64 {
+    let mesh = &field.mesh;
+    let centroid = |e: usize, d: usize| {
+        0.25 * mesh.elements[e]
+            .iter()
+            .map(|&n| mesh.nodes[n][d])
+            .sum::<f64>()
+    };
+    (0..mesh.elements.len())
+        .filter(|&e| mesh.element_part[e] == 0 && !field.eroded[e])
+        .filter(|&e| field.states[e].damage >= 1.0)
+        .filter(|&e| centroid(e, 1) < -spec.plate_thickness + spec.element_size)
+        .map(|e| 2.0 * centroid(e, 0))
+        .fold(0.0, f64::max)
 }
 
 /// The analytic shot of `spec` at `velocity` against `target`, or why there is none (the
@@ -165,6 +185,16 @@ pub(super) fn simulate(
             concrete_shot(spec, material, 1.0).map_or(f64::NAN, |s| s.caliber_radius_head)
         );
         outcome.summary.push(("projectile_mass".into(), mass));
+    }
+    if let Some(field) = &outcome.field {
+        let diameter = rear_damage_diameter(spec, field);
+        let _ = writeln!(
+            text,
+            "rear-face damage zone (D = 1) of the shot in final.vtu: {diameter:.2} m in diameter"
+        );
+        outcome
+            .summary
+            .push(("rear_damage_diameter".into(), diameter));
     }
     let report = outcome.report.get_or_insert_with(Default::default);
     report.text.push_str(&text);
