@@ -346,7 +346,7 @@ fn bad_perforation_input_names_the_file_line_and_field() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success());
     assert!(
-        stderr.contains("4340-jc.toml") && stderr.contains("needs a RHT concrete material"),
+        stderr.contains("4340-jc.toml") && stderr.contains("needs an RHT concrete material"),
         "{stderr}"
     );
 

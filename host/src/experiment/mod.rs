@@ -91,8 +91,8 @@ impl Setup {
     pub fn accepts(&self, material: &PartMaterial) -> Result<(), SimulationError> {
         let (ok, needs) = match self {
             Setup::Uniaxial(_) | Setup::Penetration(_) | Setup::BallisticLimit(_) => (true, ""),
-            Setup::Perforation(_) => (material.rht().is_some(), "RHT concrete"),
-            _ => (material.j2().is_some(), "J2 metal"),
+            Setup::Perforation(_) => (material.rht().is_some(), "an RHT concrete"),
+            _ => (material.j2().is_some(), "a J2 metal"),
         };
         if ok {
             Ok(())
@@ -203,7 +203,7 @@ pub enum SimulationError {
     Family {
         /// The experiment kind.
         kind: &'static str,
-        /// The family it needs.
+        /// The family it needs, with its article ("a J2 metal").
         needs: &'static str,
         /// The family it was given.
         given: &'static str,
@@ -217,7 +217,7 @@ impl std::fmt::Display for SimulationError {
             SimulationError::Driver(error) => write!(f, "{error}"),
             SimulationError::Family { kind, needs, given } => write!(
                 f,
-                "a {kind} experiment needs a {needs} material, not {given}"
+                "a {kind} experiment needs {needs} material, not {given}"
             ),
         }
     }
@@ -369,7 +369,7 @@ impl Experiment {
         let j2 = || -> Result<&Material, SimulationError> {
             material.j2().ok_or(SimulationError::Family {
                 kind: kind_name(setup),
-                needs: "J2 metal",
+                needs: "a J2 metal",
                 given: material.family(),
             })
         };
