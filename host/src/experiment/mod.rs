@@ -215,10 +215,9 @@ impl std::fmt::Display for SimulationError {
         match self {
             SimulationError::Solver(error) => write!(f, "{error}"),
             SimulationError::Driver(error) => write!(f, "{error}"),
-            SimulationError::Family { kind, needs, given } => write!(
-                f,
-                "a {kind} experiment needs {needs} material, not {given}"
-            ),
+            SimulationError::Family { kind, needs, given } => {
+                write!(f, "a {kind} experiment needs {needs} material, not {given}")
+            }
         }
     }
 }
