@@ -11,11 +11,14 @@
 //! - beside the FE exit velocities `stoss simulate` prints the concrete cross-checks of
 //!   [`crate::analytic::concrete`] for each recorded shot: Forrestal's semi-infinite depth and
 //!   the modified NDRC perforation thickness, ballistic limit and Recht–Ipson exit velocity;
-//! - the projectile velocity histories (the radar record) are charted and written.
+//! - the projectile velocity histories (the radar record) are charted and written, and the
+//!   rear-face damage-zone diameter is reported.
 //!
-//! The projectile is whatever its material file says; the bundled one is elastic steel
-//! (seed 001 reports no projectile deformation): a J2 material whose yield stress is far
-//! above any stress of the shot, not a rigid body.
+//! The bundled projectile is rigid (`projectile_rigid = true`, LS-DYNA `*MAT_RIGID`: seed 001
+//! reports no projectile deformation, and Forrestal's and the NDRC models assume a rigid
+//! one); its material file gives its density. Without the flag it is the file's material
+//! (there, elastic steel: a J2 material whose yield stress lies far above any stress of the
+//! shot).
 
 use super::ballistic::BallisticLimitSpec;
 use super::{FieldOutput, Outcome, SimulationError};
