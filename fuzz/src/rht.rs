@@ -62,10 +62,12 @@ fn parameters(src: &mut Source) -> RhtParameters {
         damage_d2: src.linear(0.5, 2.0),
         minimum_failure_strain: src.linear(0.001, 0.1),
         residual_shear_modulus_ratio: src.linear(0.05, 1.0),
-        tensile_failure: if src.flag() {
-            TensileFailure::PrincipalStress
-        } else {
-            TensileFailure::HydroTensileLimit
+        // One byte, as `flag()` took before the third option: odd bytes keep the principal
+        // stress, even ones split between the hydro limit and the pressure cut-off.
+        tensile_failure: match src.byte() & 3 {
+            1 | 3 => TensileFailure::PrincipalStress,
+            0 => TensileFailure::HydroTensileLimit,
+            _ => TensileFailure::PressureCutoff,
         },
         meridian: if src.flag() {
             FailureMeridian::PowerLaw
