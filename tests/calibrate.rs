@@ -202,7 +202,7 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
 #[test]
 fn campaign_errors_name_the_file_line_and_field() {
     // GOAL: bad campaigns are rejected with file, line and field.
-    // SETUP: inverted bounds; an unknown constant; an unknown key.
+    // SETUP: inverted bounds; an unknown constant; an unknown key; two models of one name.
     // REFERENCE: the error text.
     let dir = temporary("badcampaign");
     let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml"))
@@ -226,6 +226,14 @@ fn campaign_errors_name_the_file_line_and_field() {
         (
             text.replace("budget = 40", "budget = 40\nbudgett = 3"),
             "budgett",
+        ),
+        (
+            text.replacen(
+                "[[experiments]]",
+                "[[models]]\nname = \"jc\"\n[models.parameters]\nyield_stress = [0.5e9, 2.0e9]\n\n[[experiments]]",
+                1,
+            ),
+            "c.toml:17: field `name`: model name `jc` is used twice",
         ),
     ];
     for (content, expected) in cases {

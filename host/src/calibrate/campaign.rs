@@ -299,6 +299,28 @@ impl Campaign {
                 "at least one [[models]] entry is needed",
             ));
         }
+        for (k, model) in file.models.iter().enumerate() {
+            if file.models[..k].iter().any(|m| m.name == model.name) {
+                return Err(InputError::Field {
+                    path: path.into(),
+                    line: text
+                        .lines()
+                        .enumerate()
+                        .filter(|(_, l)| {
+                            let l = l.trim_start();
+                            l.starts_with("name") && l.contains(&format!("\"{}\"", model.name))
+                        })
+                        .nth(1)
+                        .map(|(i, _)| i + 1),
+                    field: "name".into(),
+                    message: format!(
+                        "model name `{}` is used twice: each [[models]] entry needs its own name \
+                         (the run log and the report are keyed by it)",
+                        model.name
+                    ),
+                });
+            }
+        }
         if file.experiments.iter().all(|e| e.holdout) {
             return Err(InputError::field(
                 path,
