@@ -12,10 +12,25 @@ use std::path::Path;
 
 /// Read a file to a string, naming it in the error.
 pub fn read_text(path: &Path) -> Result<String, InputError> {
-    std::fs::read_to_string(path).map_err(|error| InputError::Io {
+    let text = std::fs::read_to_string(path).map_err(|error| InputError::Io {
         path: path.into(),
         message: error.to_string(),
+    })?;
+    // A UTF-8 byte-order mark (spreadsheet exports write one) is not part of the text.
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => text,
     })
+}
+
+/// `text` as it is quoted in an error message: at most 40 characters, the rest elided (a
+/// malformed cell may be a whole file's worth).
+pub fn quoted(text: &str) -> String {
+    const LONGEST: usize = 40;
+    match text.char_indices().nth(LONGEST) {
+        Some((cut, _)) => format!("{:?}... ({} bytes)", &text[..cut], text.len()),
+        None => format!("{text:?}"),
+    }
 }
 
 /// 1-based line of byte offset `offset` in `text`.

@@ -67,7 +67,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Vec<RecordedPoint>, InputError> 
             let value: f64 = cells[column].parse().map_err(|_| {
                 error(
                     HEADER[column],
-                    format!("{:?} is not a number", cells[column]),
+                    format!("{} is not a number", super::quoted(cells[column])),
                 )
             })?;
             if value.is_finite() {
@@ -123,5 +123,32 @@ mod tests {
         let text = "quantity,position,value,uncertainty\nfinal_length,0,1e-3,0\n";
         let error = parse(Path::new("r.csv"), text).unwrap_err().to_string();
         assert!(error.starts_with("r.csv:2: field `uncertainty`"), "{error}");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_dropped_and_a_huge_cell_is_not_echoed() {
+        // GOAL: a spreadsheet's UTF-8 byte-order mark does not hide the header; a malformed
+        //       cell of a megabyte is quoted by its first 40 characters and its size.
+        // SETUP: a recording written with a BOM; a recording whose value cell is 1 MB of `x`.
+        // REFERENCE: the points load; the message is shorter than 200 characters and names
+        //   the line, the column and the size.
+        let folder = std::env::temp_dir().join(format!("stoss-bom-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).unwrap();
+        let path = folder.join("r.csv");
+        std::fs::write(
+            &path,
+            "\u{feff}quantity,position,value,uncertainty\nfinal_length,0,1e-3,1e-5\n",
+        )
+        .unwrap();
+        assert_eq!(load(&path).unwrap().len(), 1);
+        let huge = "x".repeat(1 << 20);
+        let text = format!("quantity,position,value,uncertainty\nq,0,{huge},1\n");
+        let error = parse(Path::new("r.csv"), &text).unwrap_err().to_string();
+        assert!(error.len() < 200, "{} characters", error.len());
+        assert!(
+            error.starts_with("r.csv:2: field `value`") && error.contains("1048576 bytes"),
+            "{error}"
+        );
+        let _ = std::fs::remove_dir_all(&folder);
     }
 }
