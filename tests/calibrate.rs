@@ -202,7 +202,8 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
 #[test]
 fn campaign_errors_name_the_file_line_and_field() {
     // GOAL: bad campaigns are rejected with file, line and field.
-    // SETUP: inverted bounds; an unknown constant; an unknown key; two models of one name.
+    // SETUP: inverted bounds; an unknown constant; an unknown key; two models of one name;
+    //        parallel = 100000 (it once spawned 1533 threads).
     // REFERENCE: the error text.
     let dir = temporary("badcampaign");
     let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml"))
@@ -234,6 +235,10 @@ fn campaign_errors_name_the_file_line_and_field() {
                 1,
             ),
             "c.toml:17: field `name`: model name `jc` is used twice",
+        ),
+        (
+            text.replace("parallel = 2", "parallel = 100000"),
+            "field `parallel`: 100000 simulations at once is more than the 256",
         ),
     ];
     for (content, expected) in cases {

@@ -118,3 +118,21 @@ fn simulate_rejects_a_bad_experiment_without_writing_anything() {
     assert!(!output.exists());
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+#[test]
+fn diagnose_refuses_a_runaway_parallel_before_reading_anything() {
+    // GOAL: `stoss diagnose --parallel 100000` is refused at once (issue 17: a runaway
+    //       `parallel` spawned 1533 threads), before the calibration folder is read.
+    // SETUP: a calibration folder that does not exist.
+    // REFERENCE: non-zero exit; the message names `--parallel` and its range.
+    let output = stoss()
+        .args(["diagnose", "no-such-calibration", "--parallel", "100000"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        stderr.contains("--parallel must be in 1..=256") && stderr.contains("100000"),
+        "{stderr}"
+    );
+}

@@ -348,6 +348,22 @@ impl Campaign {
                 "budget >= 4, instances >= 1, parallel >= 1",
             ));
         }
+        // A fixed bound, not one from this machine's cores: `parallel` sets the optimiser's
+        // batch, so the same campaign must mean the same run everywhere.
+        if o.parallel > crate::solver::explicit::MAXIMUM_THREADS {
+            return Err(InputError::field(
+                path,
+                &text,
+                "parallel",
+                format!(
+                    "{} simulations at once is more than the {} stoss runs at most (each is a \
+                     thread; this machine has {} cores)",
+                    o.parallel,
+                    crate::solver::explicit::MAXIMUM_THREADS,
+                    std::thread::available_parallelism().map_or(1, usize::from)
+                ),
+            ));
+        }
         let experiments = file
             .experiments
             .iter()

@@ -77,6 +77,15 @@ fn read_results(folder: &Path) -> Result<Vec<ModelResult>, String> {
 }
 
 fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
+    let most = crate::solver::explicit::MAXIMUM_THREADS;
+    if let Some(parallel) = args.parallel {
+        if !(1..=most).contains(&parallel) {
+            return Err(format!(
+                "--parallel must be in 1..={most} (simulations at once, one thread each), got \
+                 {parallel}"
+            ));
+        }
+    }
     if !(args.alpha > 0.0 && args.alpha < 1.0) {
         return Err(format!("--alpha must be in (0, 1), got {}", args.alpha));
     }
