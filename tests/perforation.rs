@@ -389,3 +389,84 @@ fn bad_perforation_input_names_the_file_line_and_field() {
     );
     let _ = std::fs::remove_dir_all(&scratch);
 }
+
+#[test]
+fn runaway_sizes_are_refused_before_anything_runs() {
+    // GOAL: the sizes a perforation or flow-curve run takes from its input are bounded up
+    //       front: the thread count (checked before any pool is built), the number of shots
+    //       a recording asks for, and the plastic strain a flow curve is driven to.
+    // SETUP: `stoss simulate` of the perforation fixture with --threads 100000; the fixture
+    //        with a recording of 65 impact velocities; a 4340 flow curve whose positions are
+    //        in percent (19 instead of 0.19).
+    // REFERENCE: each a non-zero exit or a load error naming the field, no output folder.
+    let scratch = std::env::temp_dir().join(format!("stoss-runaway-{}", std::process::id()));
+    let perforation = fixture("experiments/perforation-concrete-152mm.toml");
+    let output = stoss()
+        .args([
+            "simulate",
+            perforation.to_str().unwrap(),
+            "--threads",
+            "100000",
+        ])
+        .arg("--output")
+        .arg(scratch.join("out"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        stderr.contains("threads must be in 1..=256, got 100000"),
+        "{stderr}"
+    );
+    assert!(!scratch.join("out").exists());
+
+    let many = write_variant(
+        &scratch.join("many"),
+        "experiments/perforation-concrete-152mm.toml",
+        "\"perforation-concrete-152mm.csv\"",
+        "\"many.csv\"",
+    );
+    let mut csv = String::from("quantity,position,value,uncertainty\n");
+    for k in 0..65 {
+        csv.push_str(&format!("residual_velocity,{},190,14\n", 400 + k));
+    }
+    std::fs::write(many.with_file_name("many.csv"), csv).unwrap();
+    let error = Experiment::load(&many).unwrap_err().to_string();
+    assert!(
+        error.contains("many.csv") && error.contains("65 distinct impact velocities"),
+        "{error}"
+    );
+
+    let folder = scratch.join("percent");
+    std::fs::create_dir_all(&folder).unwrap();
+    let flow = fixture("experiments/flow-4340-ly-compression-500s-298K.toml");
+    let text = std::fs::read_to_string(&flow).unwrap().replace(
+        "\"../materials/",
+        &format!("\"{}/", fixture("materials").display()),
+    );
+    std::fs::write(folder.join("flow.toml"), text).unwrap();
+    let recording = std::fs::read_to_string(flow.with_extension("csv")).unwrap();
+    let percent: String = recording
+        .lines()
+        .map(|line| match line.split(',').collect::<Vec<_>>()[..] {
+            ["true_stress", position, value, sigma] => {
+                let position: f64 = position.parse().unwrap();
+                format!("true_stress,{},{value},{sigma}\n", 100.0 * position)
+            }
+            _ => format!("{line}\n"),
+        })
+        .collect();
+    std::fs::write(
+        folder.join("flow-4340-ly-compression-500s-298K.csv"),
+        percent,
+    )
+    .unwrap();
+    let error = Experiment::load(&folder.join("flow.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("field `position`") && error.contains("not percent"),
+        "{error}"
+    );
+    let _ = std::fs::remove_dir_all(&scratch);
+}

@@ -68,6 +68,9 @@ const RETRY_FACTOR: f64 = 3.0;
 /// Largest number of bisection rounds (each halves the bracket at least).
 const MAXIMUM_ROUNDS: usize = 24;
 
+/// Most shots a sweep or a recording may ask for (each is a whole penetration run).
+pub(super) const MAXIMUM_SHOTS: usize = 64;
+
 fn default_nose() -> Nose {
     Nose::Ogive
 }
@@ -240,6 +243,11 @@ impl BallisticLimitSpec {
             self.impact_velocities.windows(2).all(|w| w[1] > w[0]),
             "must be strictly increasing (m/s)",
         )?;
+        check(
+            "impact_velocities",
+            self.impact_velocities.len() <= MAXIMUM_SHOTS,
+            &format!("at most {MAXIMUM_SHOTS} shots in the sweep (each is a whole run)"),
+        )?;
         // The geometry, mesh and run-size checks of one shot, at the fastest velocity, with
         // this kind's field names.
         let rename = |field: &str| -> &'static str {
@@ -264,7 +272,10 @@ impl BallisticLimitSpec {
         };
         let renamed = |field: &str, ok: bool, message: &str| check(rename(field), ok, message);
         let fastest = self.impact_velocities.last().copied().unwrap_or(1.0);
-        self.shot(fastest).validate(&renamed)
+        // Sized for the longest run a shot may take: the retry of an undetermined one.
+        let mut longest = self.shot(fastest);
+        longest.end_time *= RETRY_FACTOR;
+        longest.validate(&renamed)
     }
 
     /// The penetration model of one shot at `velocity`.
@@ -390,6 +401,7 @@ impl BallisticLimitSpec {
         velocities: &[f64],
         settings: &SolverSettings,
     ) -> Result<Vec<ShotResult>, SolverError> {
+        settings.check_threads()?;
         // On one thread the shots run one after the other on the calling thread, without a
         // pool (see `ExplicitModel::run_observed`).
         let pool = match settings.threads {

@@ -314,6 +314,25 @@ impl Experiment {
                 }
             }
         }
+        if let Setup::Uniaxial(_) = &file.setup {
+            for (index, point) in recording.iter().enumerate() {
+                let curve = point.quantity == "true_stress";
+                if curve && !(0.0..=uniaxial::MAXIMUM_PLASTIC_STRAIN).contains(&point.position) {
+                    return Err(InputError::Field {
+                        path: recording_path.clone(),
+                        line: None,
+                        field: "position".into(),
+                        message: format!(
+                            "point {}: `true_stress` is recorded at a true plastic strain in \
+                             0..={} (not percent), not {}",
+                            index + 1,
+                            uniaxial::MAXIMUM_PLASTIC_STRAIN,
+                            point.position
+                        ),
+                    });
+                }
+            }
+        }
         if let Setup::BallisticLimit(spec) | Setup::Perforation(spec) = &file.setup {
             let wants_limit = recording.iter().any(|p| p.quantity == "ballistic_limit");
             check(
@@ -322,6 +341,25 @@ impl Experiment {
                 "the recording asks for the ballistic_limit: give the impact velocities of the \
                  sweep that brackets it (m/s)",
             )?;
+            let mut velocities: Vec<f64> = recording
+                .iter()
+                .filter(|p| p.quantity != "ballistic_limit")
+                .map(|p| p.position)
+                .collect();
+            velocities.sort_by(f64::total_cmp);
+            velocities.dedup();
+            if velocities.len() > ballistic::MAXIMUM_SHOTS {
+                return Err(InputError::Field {
+                    path: recording_path.clone(),
+                    line: None,
+                    field: "position".into(),
+                    message: format!(
+                        "{} distinct impact velocities: each is a whole run; at most {}",
+                        velocities.len(),
+                        ballistic::MAXIMUM_SHOTS
+                    ),
+                });
+            }
             for (index, point) in recording.iter().enumerate() {
                 let per_shot = point.quantity != "ballistic_limit";
                 if per_shot && !(point.position > 0.0 && point.position.is_finite()) {

@@ -21,6 +21,10 @@ pub const QUANTITIES: &[&str] = &["true_stress", "peak_stress"];
 /// Plastic-strain step of the driver.
 const STRAIN_STEP: f64 = 2.0e-4;
 
+/// Largest true plastic strain a recorded flow curve may reach: it bounds the driver's steps
+/// (25 000 at this strain), and a larger one is a curve in percent.
+pub(super) const MAXIMUM_PLASTIC_STRAIN: f64 = 5.0;
+
 /// A homogeneous uniaxial-stress test.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -217,13 +217,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
         &self,
         observer: &mut (dyn FnMut(&Snapshot) -> ControlFlow<()> + Send),
     ) -> Result<ExplicitRun, SolverError> {
-        if let Some(threads) = self.settings.threads {
-            if !(1..=MAXIMUM_THREADS).contains(&threads) {
-                return Err(SolverError::Model(format!(
-                    "threads must be in 1..={MAXIMUM_THREADS}, got {threads}"
-                )));
-            }
-        }
+        self.settings.check_threads()?;
         // One thread runs the element loop on the calling thread, without a pool: a pool's
         // `install` from another pool's worker would let that worker take more of its own
         // pool's jobs while it waits (a calibration's parallel simulations would then all run

@@ -73,6 +73,20 @@ impl SolverSettings {
         }
     }
 
+    /// Reject a thread count outside `1..=`[`explicit::MAXIMUM_THREADS`] before any pool is
+    /// built (a guard against a runaway thread pool).
+    pub fn check_threads(&self) -> Result<(), SolverError> {
+        match self.threads {
+            Some(threads) if !(1..=explicit::MAXIMUM_THREADS).contains(&threads) => {
+                Err(SolverError::Model(format!(
+                    "threads must be in 1..={}, got {threads}",
+                    explicit::MAXIMUM_THREADS
+                )))
+            }
+            _ => Ok(()),
+        }
+    }
+
     /// Stable time step of an element of characteristic length `length`:
     /// `L / (Q + sqrt(Q^2 + c^2))`, `Q = C1 c + C0 L |d_v|` while compressing (LS-DYNA's form
     /// with bulk viscosity).
