@@ -9,7 +9,7 @@
 
 use std::path::PathBuf;
 use std::time::Instant;
-use stoss::analytic::concrete::{modified_ndrc, ndrc_ogive_nose_factor};
+use stoss::analytic::concrete::{modified_ndrc, ndrc_ogive_nose_factor, ConcreteShot};
 use stoss::experiment::perforation::{concrete_shot, rear_damage_diameter};
 use stoss::experiment::{Experiment, Setup};
 use stoss::input::material;
@@ -59,8 +59,9 @@ fn main() {
             }
         };
         let wall = started.elapsed().as_secs_f64();
-        let ndrc = concrete_shot(&spec, &target, velocity)
+        let ndrc = concrete_shot(&spec, &target)
             .ok()
+            .map(|s| ConcreteShot { velocity, ..s })
             .and_then(|s| {
                 modified_ndrc(
                     &s,

@@ -291,9 +291,14 @@ mod elastic {
         let start = MaterialState::initial(ROOM_TEMPERATURE);
         let end = run_block(&material, start, ELASTIC_AXIAL, ELASTIC_DT);
         assert_eq!(end.plastic_strain, 0.0, "elastic block yielded");
+        bench_elastic_block(bencher, &material, start);
+    }
+
+    /// Time a block of elastic increments from `start`.
+    fn bench_elastic_block(bencher: Bencher, material: &Material, start: MaterialState) {
         bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
             run_block(
-                black_box(&material),
+                black_box(material),
                 black_box(start),
                 ELASTIC_AXIAL,
                 ELASTIC_DT,
@@ -318,14 +323,7 @@ mod elastic {
             end.plastic_strain, start.plastic_strain,
             "unloading block yielded"
         );
-        bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
-            run_block(
-                black_box(&material),
-                black_box(start),
-                ELASTIC_AXIAL,
-                ELASTIC_DT,
-            )
-        });
+        bench_elastic_block(bencher, &material, start);
     }
 
     #[divan::bench]

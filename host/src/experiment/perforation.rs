@@ -71,12 +71,12 @@ pub fn rear_damage_diameter(spec: &BallisticLimitSpec, field: &FieldOutput) -> f
         .fold(0.0, f64::max)
 }
 
-/// The analytic shot of `spec` at `velocity` against `target`, or why there is none (the
-/// cross-checks need a tangent-ogive nose and RHT concrete).
+/// The analytic shot of `spec` against `target`, at `velocity` 0 (set it per shot), or why
+/// there is none (the cross-checks need a tangent-ogive nose and RHT concrete). The mass is
+/// the meshed projectile's ([`projectile_mass`]), computed once here.
 pub fn concrete_shot(
     spec: &BallisticLimitSpec,
     target: &PartMaterial,
-    velocity: f64,
 ) -> Result<ConcreteShot, String> {
     let concrete = target
         .rht()
@@ -87,18 +87,17 @@ pub fn concrete_shot(
             spec.projectile_material
         )
     })?;
-    let shot = spec.shot(velocity);
-    let radius = 0.5 * spec.projectile_diameter;
-    let nose = shot.nose_length();
     if spec.nose != super::penetration::Nose::Ogive {
         return Err("the cross-checks are for a tangent-ogive nose".into());
     }
+    let radius = 0.5 * spec.projectile_diameter;
+    let nose = spec.shot(1.0).nose_length();
     let ogive_radius = (nose * nose + radius * radius) / (2.0 * radius);
     Ok(ConcreteShot {
         mass: projectile_mass(spec, projectile),
         diameter: spec.projectile_diameter,
         caliber_radius_head: ogive_radius / spec.projectile_diameter,
-        velocity,
+        velocity: 0.0,
         compressive_strength: concrete.parameters.compressive_strength,
         density: concrete.density,
     })
@@ -129,14 +128,15 @@ pub(super) fn simulate(
         "{:>10} {:>10} {:>14} {:>13} {:>13} {:>12} {:>12}",
         "Vi (m/s)", "FE Vr", "Forrestal P", "NDRC x", "NDRC e", "NDRC V_bl", "NDRC Vr"
     );
+    let base = concrete_shot(spec, material);
     for &velocity in &velocities {
         let fe = recording
             .iter()
             .zip(&outcome.predicted)
             .find(|(p, _)| p.quantity == "residual_velocity" && p.position == velocity)
             .map_or(f64::NAN, |(_, &v)| v);
-        let shot = match concrete_shot(spec, material, velocity) {
-            Ok(shot) => shot,
+        let shot = match &base {
+            Ok(base) => ConcreteShot { velocity, ..*base },
             Err(reason) => {
                 let _ = writeln!(text, "{velocity:>10.1} not available: {reason}");
                 continue;
@@ -178,14 +178,16 @@ pub(super) fn simulate(
             }
         }
     }
-    if let Some(projectile) = spec.projectile.as_deref() {
-        let mass = projectile_mass(spec, projectile);
+    let meshed = match (&base, spec.projectile.as_deref()) {
+        (Ok(base), _) => Some((base.mass, base.caliber_radius_head)),
+        (Err(_), Some(projectile)) => Some((projectile_mass(spec, projectile), f64::NAN)),
+        (Err(_), None) => None,
+    };
+    if let Some((mass, caliber_radius_head)) = meshed {
         let _ = writeln!(
             text,
-            "slab {:.3} m; projectile {:.2} kg as meshed, CRH {:.2}",
-            spec.plate_thickness,
-            mass,
-            concrete_shot(spec, material, 1.0).map_or(f64::NAN, |s| s.caliber_radius_head)
+            "slab {:.3} m; projectile {mass:.2} kg as meshed, CRH {caliber_radius_head:.2}",
+            spec.plate_thickness
         );
         outcome.summary.push(("projectile_mass".into(), mass));
     }

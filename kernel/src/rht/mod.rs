@@ -249,13 +249,12 @@ impl PointModel for RhtMaterial {
     }
 
     fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {
-        let mut flags = StateFlags(0);
-        if let Some(limit) = self.erosion_geometric_strain {
-            if Failure::geometric_strain(principal_strains) >= limit {
-                flags.insert(StateFlags::ERODE);
-            }
+        // The metals' criterion, with RHT's only kinematic one.
+        Failure {
+            erosion_geometric_strain: self.erosion_geometric_strain,
+            ..Failure::NONE
         }
-        flags
+        .kinematic_flags(principal_strains)
     }
 
     fn update(
