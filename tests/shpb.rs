@@ -39,9 +39,9 @@ fn an_impedance_matched_elastic_specimen_transmits_the_incident_pulse() {
     //        (pulse 80 us, 5 us rise).
     // REFERENCE: 1D elastic waves: eps_T = eps_I = V / (2 c0) = 1.7e-3, eps_R = 0.
     //   Measured: incident plateau (arrival + 15 us .. + 75 us) 0.01 % from theory, the
-    //   transmitted one 0.09 % below it, the impulses (integrals of the pulses) 0.5 % apart,
-    //   the reflected plateau 0.06 % of the incident; tolerances 2 %, 2 %, 3 % and 3 %
-    //   (Pochhammer-Chree ringing is not corrected). Energy error <= 1 % (measured 0.034 %).
+    //   transmitted one 0.06 % below it, the impulses (integrals of the pulses) 0.5 % apart,
+    //   the reflected plateau 0.04 % of the incident; tolerances 2 %, 2 %, 3 % and 3 %
+    //   (Pochhammer-Chree ringing is not corrected). Energy error <= 1 % (measured 0.044 %).
     let mut spec = ShpbSpec::new(17.0);
     spec.specimen_diameter = spec.bar_diameter;
     let bar = spec.bar_material();
@@ -158,11 +158,11 @@ fn the_4340_bar_at_1000_per_s_is_in_equilibrium_and_its_analyses_agree() {
     // SETUP: fixtures/experiments/shpb-4340-1000.toml (published JC 4340, striker 16.5 m/s x
     //        200 mm, specimen 6 x 4 mm, friction 0.05); window arrival + 25 us .. + 75 us.
     // REFERENCE: the force through the specimen's mid-plane element row over its initial area
-    //   (ShpbResult::specimen_stress). Measured: 3-wave within 1.56 % (max) and 0.48 % (mean);
-    //   |1-wave - 2-wave| <= 3.19 % (max), 0.88 % (mean), both relative to the 3-wave stress
-    //   (the bars' Pochhammer-Chree ringing is not corrected); mean rate 986 /s. Tolerances:
+    //   (ShpbResult::specimen_stress). Measured: 3-wave within 1.70 % (max) and 0.49 % (mean);
+    //   |1-wave - 2-wave| <= 3.37 % (max), 0.90 % (mean), both relative to the 3-wave stress
+    //   (the bars' Pochhammer-Chree ringing is not corrected); mean rate 981 /s. Tolerances:
     //   3 % / 1 %, 5 % / 2 %, rate within 20 % of 1000 /s; energy error <= 1 % (measured
-    //   0.014 %); truth CSV within 0.1 %.
+    //   0.018 %); truth CSV within 0.1 %.
     let name = "shpb-4340-1000";
     let (experiment, spec, result, run) = run_fixture(name);
     let specimen = specimen_engineering_stress(&result);
@@ -197,9 +197,9 @@ fn the_4340_bar_at_2500_per_s_runs_at_its_nominal_rate() {
     //       its synthetic recording.
     // SETUP: fixtures/experiments/shpb-4340-2500.toml (striker 25 m/s, 3-wave analysis).
     // REFERENCE: nominal 2500 /s and the specimen's mid-plane force as above. Measured: mean
-    //   rate 2563 /s; 3-wave vs specimen 3.52 % (max, the early ringing) and 0.72 % (mean);
-    //   1- vs 2-wave 3.93 % / 1.07 %. Tolerances: rate within 20 %, 5 % / 1.5 %, 6 % / 2 %,
-    //   energy error <= 1 % (measured 0.008 %), truth CSV within 0.1 %.
+    //   rate 2555 /s; 3-wave vs specimen 3.44 % (max, the early ringing) and 0.70 % (mean);
+    //   1- vs 2-wave 3.98 % / 1.05 %. Tolerances: rate within 20 %, 5 % / 1.5 %, 6 % / 2 %,
+    //   energy error <= 1 % (measured 0.011 %), truth CSV within 0.1 %.
     let name = "shpb-4340-2500";
     let (experiment, spec, result, run) = run_fixture(name);
     assert_eq!(spec.analysis, Analysis::ThreeWave);

@@ -339,7 +339,7 @@ impl BlastPlateSpec {
         check_run_budget(
             check,
             self.end_time,
-            undeformed_time_step(self.thickness / self.layers as f64),
+            undeformed_time_step(self.thickness / self.layers as f64, false),
             elements,
         )?;
         let blast = self.blast();

@@ -471,10 +471,11 @@ pub(crate) const MAXIMUM_ELEMENT_CYCLES: f64 = 2.0e10;
 const FASTEST_METAL_WAVE: f64 = 6000.0;
 
 /// Stable step of an undeformed square element of side `size` at [`FASTEST_METAL_WAVE`], with
-/// the default safety factor (s): the characteristic length is the side over `sqrt 2` (area
-/// over the diagonal). Distortion makes the real step smaller, never larger.
-pub(crate) fn undeformed_time_step(size: f64) -> f64 {
-    crate::solver::SolverSettings::default().time_step_safety * size
+/// the default safety factor, or the eroding contact's if `eroding_contact` (s): the
+/// characteristic length is the side over `sqrt 2` (area over the diagonal). Distortion makes
+/// the real step smaller, never larger.
+pub(crate) fn undeformed_time_step(size: f64, eroding_contact: bool) -> f64 {
+    crate::solver::SolverSettings::default().effective_time_step_safety(eroding_contact) * size
         / std::f64::consts::SQRT_2
         / FASTEST_METAL_WAVE
 }

@@ -332,10 +332,13 @@ impl PenetrationSpec {
     /// nose tip's) (s).
     fn undeformed_time_step(&self) -> f64 {
         if self.rigid_rod {
-            return undeformed_time_step(self.element_size);
+            return undeformed_time_step(self.element_size, true);
         }
         let tip = self.tip_radius() / (0.5 * self.rod_diameter / self.rod_element_size()).ceil();
-        undeformed_time_step(self.element_size.min(self.rod_element_size()).min(tip))
+        undeformed_time_step(
+            self.element_size.min(self.rod_element_size()).min(tip),
+            true,
+        )
     }
 
     /// Rough element count of the mesh (for the size guard).

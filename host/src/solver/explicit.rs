@@ -338,7 +338,8 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 })?;
             dt = dt.min(mesh.element_time_step(e, &x, output.wave_speed));
         }
-        dt *= settings.time_step_safety;
+        let safety = settings.effective_time_step_safety(self.eroding_contact.is_some());
+        dt *= safety;
         let minimum_dt = dt * 1e-4;
         let mut contact = PenaltyContact::new(&self.contacts, &mass, dt, dimension)?;
         let mut eroding = match &self.eroding_contact {
@@ -662,7 +663,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     .sum::<f64>();
             dt_previous = dt;
             if dt_next.is_finite() {
-                dt = settings.time_step_safety * dt_next;
+                dt = safety * dt_next;
             }
             if dt < minimum_dt {
                 return Err(SolverError::TimeStepCollapse {

@@ -29,12 +29,22 @@ pub use loads::{
     VelocityConstraint,
 };
 
+/// Default time-step safety factor: LS-DYNA's TSSFAC and OpenRadioss' /DT default, 0.9.
+pub const DEFAULT_TIME_STEP_SAFETY: f64 = 0.9;
+
+/// Largest time-step safety factor of a model with an eroding contact, 0.67 (the value the
+/// LS-DYNA manual recommends for high-velocity and explosive problems). The eroding contact's
+/// penalty bound counts on it: see [`contact::DEFAULT_ERODING_PENALTY_SCALE`].
+pub const ERODING_CONTACT_TIME_STEP_SAFETY: f64 = 0.67;
+
 /// Numerical settings of a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverSettings {
     /// End time (s).
     pub end_time: f64,
-    /// Time-step safety factor on the CFL limit.
+    /// Time-step safety factor on the CFL limit (LS-DYNA's TSSFAC, OpenRadioss' /DT scale;
+    /// default [`DEFAULT_TIME_STEP_SAFETY`]). A model with an eroding contact runs at most at
+    /// [`ERODING_CONTACT_TIME_STEP_SAFETY`].
     pub time_step_safety: f64,
     /// Linear bulk-viscosity coefficient (LS-DYNA Q2, default 0.06).
     pub linear_viscosity: f64,
@@ -73,6 +83,16 @@ impl SolverSettings {
         }
     }
 
+    /// The safety factor a model runs at: [`Self::time_step_safety`], at most
+    /// [`ERODING_CONTACT_TIME_STEP_SAFETY`] with an eroding contact.
+    pub fn effective_time_step_safety(&self, eroding_contact: bool) -> f64 {
+        if eroding_contact {
+            self.time_step_safety.min(ERODING_CONTACT_TIME_STEP_SAFETY)
+        } else {
+            self.time_step_safety
+        }
+    }
+
     /// Reject a thread count outside `1..=`[`explicit::MAXIMUM_THREADS`] before any pool is
     /// built (a guard against a runaway thread pool).
     pub fn check_threads(&self) -> Result<(), SolverError> {
@@ -105,7 +125,7 @@ impl Default for SolverSettings {
     fn default() -> Self {
         Self {
             end_time: 1e-4,
-            time_step_safety: 0.67,
+            time_step_safety: DEFAULT_TIME_STEP_SAFETY,
             linear_viscosity: 0.06,
             quadratic_viscosity: 1.5,
             hourglass_coefficient: 0.1,

@@ -44,8 +44,8 @@
 mod eroding;
 
 pub use eroding::ContactStatistics;
-pub use eroding::ErodingContact;
 pub(crate) use eroding::ErodingSurfaces;
+pub use eroding::{ErodingContact, DEFAULT_ERODING_PENALTY_SCALE};
 
 use super::explicit::Vector;
 use super::SolverError;
@@ -85,6 +85,12 @@ impl ContactPair {
     /// The same pair with Coulomb friction `mu`.
     pub fn with_friction(mut self, mu: f64) -> Self {
         self.friction = mu;
+        self
+    }
+
+    /// The same pair with penalty scale `s` (`0 < s <= 1`).
+    pub fn with_penalty_scale(mut self, s: f64) -> Self {
+        self.penalty_scale = s;
         self
     }
 }
