@@ -42,6 +42,66 @@ pub struct ElementStep {
     pub stable_dt: f64,
 }
 
+/// Elements per task of the element loop, and nodes per task of the force gather: fixed sizes,
+/// so that the tasks' partial results combine the same way for any thread count.
+const ELEMENT_CHUNK: usize = 256;
+const NODE_CHUNK: usize = 512;
+
+/// What an element keeps between the element loop and the force gather.
+#[derive(Clone, Copy, Debug, Default)]
+struct ElementSlot {
+    /// Nodal forces of the last step.
+    forces: [Vector; MAX_NODES],
+    /// The forces enter the assembly (stepped, not rigid, not eroded).
+    assembles: bool,
+    /// Hourglass energy dissipated so far, in the integration measure.
+    hourglass_energy: f64,
+    /// Bulk-viscosity work so far, in the integration measure.
+    viscous_energy: f64,
+}
+
+/// A task of the element loop: the chunk's index, its states and slots, and its summary.
+type ElementTask<'a> = (
+    (usize, (&'a mut [MaterialState], &'a mut [ElementSlot])),
+    &'a mut ChunkSummary,
+);
+
+/// A task of the nodal update: the chunk's index, its velocities and new positions, and its
+/// work sums.
+type NodeTask<'a> = (
+    (usize, (&'a mut [Vector], &'a mut [Vector])),
+    &'a mut NodeWork,
+);
+
+/// One node chunk's work of the kinematic velocity changes in a step (per unit measure).
+#[derive(Clone, Copy, Debug, Default)]
+struct NodeWork {
+    external: f64,
+    wall: f64,
+    damping: f64,
+}
+
+/// One chunk's contribution to the step: its smallest stable step, its element-cycles,
+/// whether an element in it eroded, and the first error in element order.
+#[derive(Debug)]
+struct ChunkSummary {
+    stable_dt: f64,
+    cycles: u64,
+    eroding: bool,
+    error: Option<SolverError>,
+}
+
+impl Default for ChunkSummary {
+    fn default() -> Self {
+        Self {
+            stable_dt: f64::INFINITY,
+            cycles: 0,
+            eroding: false,
+            error: None,
+        }
+    }
+}
+
 /// An element formulation over a mesh: what the time loop needs to know about geometry,
 /// kinematics and internal forces.
 pub trait Discretisation: Sync {
@@ -452,9 +512,38 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
         let mut v_old = v.clone();
         let mut dv_constraint = vec![[0.0; 3]; node_count];
         let mut dv_wall = vec![[0.0; 3]; node_count];
-        let mut dv_damping = vec![[0.0; 3]; node_count];
-        let mut results: Vec<Result<Option<ElementStep>, SolverError>> =
-            (0..element_count).map(|_| Ok(None)).collect();
+        let mut node_work = vec![NodeWork::default(); node_count.div_ceil(NODE_CHUNK)];
+        // Nodes whose velocity a constraint or a wall may change.
+        let mut kinematic_nodes: Vec<usize> = self
+            .constraints
+            .iter()
+            .flat_map(|c| c.nodes.iter().copied())
+            .chain(wall_slaves.iter().flatten().copied())
+            .collect();
+        kinematic_nodes.sort_unstable();
+        kinematic_nodes.dedup();
+        let mut slots = vec![ElementSlot::default(); element_count];
+        let mut summaries: Vec<ChunkSummary> = (0..element_count.div_ceil(ELEMENT_CHUNK))
+            .map(|_| ChunkSummary::default())
+            .collect();
+        // Each node's (element, corner) pairs in ascending element order.
+        let mut node_element_start = vec![0usize; node_count + 1];
+        for e in 0..element_count {
+            for &n in mesh.element_nodes(e) {
+                node_element_start[n + 1] += 1;
+            }
+        }
+        for n in 0..node_count {
+            node_element_start[n + 1] += node_element_start[n];
+        }
+        let mut node_elements = vec![(0usize, 0usize); node_element_start[node_count]];
+        let mut filled = node_element_start.clone();
+        for e in 0..element_count {
+            for (k, &n) in mesh.element_nodes(e).iter().enumerate() {
+                node_elements[filled[n]] = (e, k);
+                filled[n] += 1;
+            }
+        }
 
         let mut time = 0.0;
         let mut dt_previous = 0.0;
@@ -486,16 +575,33 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     }
                 }
             }
-            v_old.copy_from_slice(&v);
-            for n in 0..node_count {
-                if mass[n] > 0.0 {
-                    for d in 0..dimension {
-                        v[n][d] += force[n][d] / mass[n] * dt_average;
+            // Velocity update, in parallel over fixed node chunks (each node on its own).
+            let accelerate =
+                |(c, (chunk_v, chunk_old)): (usize, (&mut [Vector], &mut [Vector]))| {
+                    for (i, (vel, old)) in chunk_v.iter_mut().zip(chunk_old).enumerate() {
+                        let n = c * NODE_CHUNK + i;
+                        *old = *vel;
+                        if mass[n] > 0.0 {
+                            for d in 0..dimension {
+                                vel[d] += force[n][d] / mass[n] * dt_average;
+                            }
+                        }
                     }
-                }
+                };
+            if serial {
+                v.chunks_mut(NODE_CHUNK)
+                    .zip(v_old.chunks_mut(NODE_CHUNK))
+                    .enumerate()
+                    .for_each(accelerate);
+            } else {
+                v.par_chunks_mut(NODE_CHUNK)
+                    .zip(v_old.par_chunks_mut(NODE_CHUNK))
+                    .enumerate()
+                    .for_each(accelerate);
+            }
+            for &n in &kinematic_nodes {
                 dv_constraint[n] = [0.0; 3];
                 dv_wall[n] = [0.0; 3];
-                dv_damping[n] = [0.0; 3];
             }
             move_rigidly(&rigid_bodies, &mass, &mut v, dimension, measure);
             let half_time = time + 0.5 * dt;
@@ -539,26 +645,50 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     }
                 }
             }
-            if let Some(damping) = settings.damping {
-                if time >= damping.start_time {
-                    let factor = 1.0 - damping.coefficient * dt;
-                    for (vel, change) in v.iter_mut().zip(dv_damping.iter_mut()) {
+            // Damping, the work of the kinematic changes and the position update, in parallel
+            // over fixed node chunks; each chunk's work sums are added in chunk order.
+            let damping_factor = match settings.damping {
+                Some(damping) if time >= damping.start_time => Some(1.0 - damping.coefficient * dt),
+                _ => None,
+            };
+            let finish = |((c, (chunk_v, chunk_x)), sums): NodeTask<'_>| {
+                *sums = NodeWork::default();
+                for (i, (vel, position)) in chunk_v.iter_mut().zip(chunk_x).enumerate() {
+                    let n = c * NODE_CHUNK + i;
+                    let mut damping_change = [0.0; 3];
+                    if let Some(factor) = damping_factor {
                         for d in 0..dimension {
-                            change[d] = vel[d] * (factor - 1.0);
+                            damping_change[d] = vel[d] * (factor - 1.0);
                             vel[d] *= factor;
                         }
                     }
+                    let mean: Vector = core::array::from_fn(|d| 0.5 * (v_old[n][d] + vel[d]));
+                    let work = |dv: &Vector| mass[n] * dot(dv, &mean, dimension);
+                    sums.external += work(&dv_constraint[n]);
+                    sums.wall -= work(&dv_wall[n]);
+                    sums.damping -= work(&damping_change);
+                    for d in 0..dimension {
+                        position[d] = x[n][d] + vel[d] * dt;
+                    }
                 }
+            };
+            if serial {
+                v.chunks_mut(NODE_CHUNK)
+                    .zip(x_new.chunks_mut(NODE_CHUNK))
+                    .enumerate()
+                    .zip(node_work.iter_mut())
+                    .for_each(finish);
+            } else {
+                v.par_chunks_mut(NODE_CHUNK)
+                    .zip(x_new.par_chunks_mut(NODE_CHUNK))
+                    .enumerate()
+                    .zip(node_work.par_iter_mut())
+                    .for_each(finish);
             }
-            for n in 0..node_count {
-                let mean: Vector = core::array::from_fn(|d| 0.5 * (v_old[n][d] + v[n][d]));
-                let work = |dv: &Vector| measure * mass[n] * dot(dv, &mean, dimension);
-                energy.external_work += work(&dv_constraint[n]);
-                energy.contact -= work(&dv_wall[n]);
-                energy.damping -= work(&dv_damping[n]);
-                for d in 0..dimension {
-                    x_new[n][d] = x[n][d] + v[n][d] * dt;
-                }
+            for sums in &node_work {
+                energy.external_work += measure * sums.external;
+                energy.contact += measure * sums.wall;
+                energy.damping += measure * sums.damping;
             }
             if contact.is_active() {
                 energy.contact += measure * contact.absorbed(&v_old, &v, dt_average);
@@ -571,69 +701,118 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 energy.contact += measure * surfaces.absorbed(&v_old, &v, dt_average);
             }
 
-            // Elements in parallel (or serially on one thread); results kept in element order.
-            let step = |(e, slot): (usize, &mut Result<Option<ElementStep>, SolverError>)| {
-                *slot = if eroded[e] || rigid_element[e] {
-                    Ok(None)
-                } else {
+            // Elements in parallel (or serially on one thread), in chunks of a fixed size: each
+            // element writes its own state and slot; the chunks' summaries are combined in
+            // element order, so nothing depends on the thread count.
+            let step_chunk = |((c, (chunk_states, chunk_slots)), summary): ElementTask<'_>| {
+                *summary = ChunkSummary::default();
+                for (i, (state, slot)) in chunk_states.iter_mut().zip(chunk_slots).enumerate() {
+                    let e = c * ELEMENT_CHUNK + i;
+                    slot.assembles = false;
+                    if eroded[e] || rigid_element[e] {
+                        continue;
+                    }
                     let material = &self.materials[material_of[e]];
-                    mesh.element_step(
+                    let mut step = match mesh.element_step(
                         e,
                         &x,
                         &x_new,
                         &v,
-                        &states[e],
+                        state,
                         material,
                         reference_volume[e],
                         dt,
                         settings,
                         time,
-                    )
-                    .map(|mut step| {
-                        if material.has_kinematic_criteria() {
-                            if let Some(strains) =
-                                mesh.element_principal_strains(e, &reference, &x_new)
-                            {
-                                step.state.flags.insert(material.kinematic_flags(strains).0);
-                            }
+                    ) {
+                        Ok(step) => step,
+                        Err(error) => {
+                            summary.error = Some(error);
+                            return;
                         }
-                        Some(step)
-                    })
-                };
+                    };
+                    if material.has_kinematic_criteria() {
+                        if let Some(strains) = mesh.element_principal_strains(e, &reference, &x_new)
+                        {
+                            step.state.flags.insert(material.kinematic_flags(strains).0);
+                        }
+                    }
+                    summary.cycles += 1;
+                    slot.hourglass_energy += step.hourglass_power * dt;
+                    slot.viscous_energy += step.viscous_work;
+                    *state = step.state;
+                    if step.state.flags.contains(StateFlags::ERODE) {
+                        summary.eroding = true;
+                        continue;
+                    }
+                    slot.forces = step.forces;
+                    slot.assembles = true;
+                    summary.stable_dt = summary.stable_dt.min(step.stable_dt);
+                }
             };
             if serial {
-                results.iter_mut().enumerate().for_each(step);
+                states
+                    .chunks_mut(ELEMENT_CHUNK)
+                    .zip(slots.chunks_mut(ELEMENT_CHUNK))
+                    .enumerate()
+                    .zip(summaries.iter_mut())
+                    .for_each(step_chunk);
             } else {
-                results.par_iter_mut().enumerate().for_each(step);
-            }
-
-            // Serial assembly in element order: bit-identical for any thread count.
-            for f in force.iter_mut() {
-                *f = [0.0; 3];
+                states
+                    .par_chunks_mut(ELEMENT_CHUNK)
+                    .zip(slots.par_chunks_mut(ELEMENT_CHUNK))
+                    .enumerate()
+                    .zip(summaries.par_iter_mut())
+                    .for_each(step_chunk);
             }
             let mut dt_next = f64::INFINITY;
-            for (e, result) in results.iter().enumerate() {
-                let step = match result {
-                    Ok(Some(step)) => step,
-                    Ok(None) => continue,
-                    Err(error) => return Err(error.clone()),
-                };
-                element_cycles += 1;
-                energy.hourglass += measure * step.hourglass_power * dt;
-                energy.viscous += measure * step.viscous_work;
-                states[e] = step.state;
-                if step.state.flags.contains(StateFlags::ERODE) {
-                    eroded[e] = true;
-                    newly_eroded.push(e);
-                    energy.eroded += measure * step.state.internal_energy * reference_volume[e];
-                    continue;
+            for (c, summary) in summaries.iter_mut().enumerate() {
+                if let Some(error) = summary.error.take() {
+                    return Err(error);
                 }
-                for (k, &n) in mesh.element_nodes(e).iter().enumerate() {
-                    for (total, part) in force[n].iter_mut().zip(&step.forces[k]).take(dimension) {
-                        *total += part;
+                element_cycles += summary.cycles;
+                dt_next = dt_next.min(summary.stable_dt);
+                if summary.eroding {
+                    let first = c * ELEMENT_CHUNK;
+                    for e in first..(first + ELEMENT_CHUNK).min(element_count) {
+                        if !eroded[e]
+                            && !rigid_element[e]
+                            && states[e].flags.contains(StateFlags::ERODE)
+                        {
+                            eroded[e] = true;
+                            newly_eroded.push(e);
+                            energy.eroded +=
+                                measure * states[e].internal_energy * reference_volume[e];
+                        }
                     }
                 }
-                dt_next = dt_next.min(step.stable_dt);
+            }
+
+            // Nodal forces gathered from the elements around each node in element order:
+            // the same sums, in the same order, as a serial assembly.
+            let gather = |(c, chunk): (usize, &mut [Vector])| {
+                for (i, total) in chunk.iter_mut().enumerate() {
+                    let n = c * NODE_CHUNK + i;
+                    *total = [0.0; 3];
+                    for &(e, k) in &node_elements[node_element_start[n]..node_element_start[n + 1]]
+                    {
+                        let slot = &slots[e];
+                        if slot.assembles {
+                            for (sum, part) in total.iter_mut().zip(&slot.forces[k]).take(dimension)
+                            {
+                                *sum += part;
+                            }
+                        }
+                    }
+                }
+            };
+            if serial {
+                force.chunks_mut(NODE_CHUNK).enumerate().for_each(gather);
+            } else {
+                force
+                    .par_chunks_mut(NODE_CHUNK)
+                    .enumerate()
+                    .for_each(gather);
             }
             if !newly_eroded.is_empty() {
                 if let Some(surfaces) = eroding.as_mut() {
@@ -652,15 +831,6 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             time += dt;
             steps += 1;
             energy.time = time;
-            energy.kinetic = kinetic(&v, &mass, measure, dimension);
-            energy.internal = measure
-                * states
-                    .iter()
-                    .zip(&reference_volume)
-                    .zip(&eroded)
-                    .filter(|(_, gone)| !**gone)
-                    .map(|((s, v0), _)| s.internal_energy * v0)
-                    .sum::<f64>();
             dt_previous = dt;
             if dt_next.is_finite() {
                 dt = safety * dt_next;
@@ -672,6 +842,17 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 });
             }
             if time >= next_output || time >= settings.end_time {
+                energy.kinetic = kinetic(&v, &mass, measure, dimension);
+                energy.internal = measure
+                    * states
+                        .iter()
+                        .zip(&reference_volume)
+                        .zip(&eroded)
+                        .filter(|(_, gone)| !**gone)
+                        .map(|((s, v0), _)| s.internal_energy * v0)
+                        .sum::<f64>();
+                energy.hourglass = measure * slots.iter().map(|s| s.hourglass_energy).sum::<f64>();
+                energy.viscous = measure * slots.iter().map(|s| s.viscous_energy).sum::<f64>();
                 next_output += settings.output_interval;
                 energy_history.push(energy);
                 for (slot, &e) in self.tracked_elements.iter().enumerate() {
