@@ -69,6 +69,7 @@ fn rotate_jaumann(stress: &mut [f64; 6], spin: f64, dt: f64) {
 }
 
 impl QuadMesh {
+    #[inline]
     fn corners(&self, e: usize, x: &[Vector]) -> [Vector; 4] {
         self.elements[e].map(|n| x[n])
     }

@@ -44,7 +44,7 @@ pub struct ElementStep {
 
 /// Elements per task of the element loop, and nodes per task of the force gather: fixed sizes,
 /// so that the tasks' partial results combine the same way for any thread count.
-const ELEMENT_CHUNK: usize = 256;
+const ELEMENT_CHUNK: usize = 64;
 const NODE_CHUNK: usize = 512;
 
 /// What an element keeps between the element loop and the force gather.
@@ -66,12 +66,78 @@ type ElementTask<'a> = (
     &'a mut ChunkSummary,
 );
 
-/// A task of the nodal update: the chunk's index, its velocities and new positions, and its
-/// work sums.
+/// A task of the nodal update: the chunk's index, its forces, velocities, previous velocities
+/// and new positions, and its work sums.
 type NodeTask<'a> = (
-    (usize, (&'a mut [Vector], &'a mut [Vector])),
+    (
+        usize,
+        (
+            ((&'a mut [Vector], &'a mut [Vector]), &'a mut [Vector]),
+            &'a mut [Vector],
+        ),
+    ),
     &'a mut NodeWork,
 );
+
+/// The internal force on node `n`: the forces of the elements around it (those that assemble
+/// this step), summed in ascending element order, as a serial assembly in element order sums
+/// them.
+fn gathered_force(
+    n: usize,
+    slots: &[ElementSlot],
+    node_elements: &[(usize, usize)],
+    node_element_start: &[usize],
+    dimension: usize,
+) -> Vector {
+    let mut total = [0.0; 3];
+    for &(e, k) in &node_elements[node_element_start[n]..node_element_start[n + 1]] {
+        let slot = &slots[e];
+        if slot.assembles {
+            for (sum, part) in total.iter_mut().zip(&slot.forces[k]).take(dimension) {
+                *sum += part;
+            }
+        }
+    }
+    total
+}
+
+/// What the end of a node's step needs besides its velocities and new position.
+struct NodeStep<'a> {
+    mass: f64,
+    /// `x_n`.
+    position: &'a Vector,
+    /// Velocity change by prescribed velocities this step.
+    constraint_change: &'a Vector,
+    /// Velocity change by rigid walls this step.
+    wall_change: &'a Vector,
+    /// Nodal damping's `1 - c dt`, if damping is on.
+    damping_factor: Option<f64>,
+    dt: f64,
+    dimension: usize,
+}
+
+impl NodeStep<'_> {
+    /// Damp `velocity` (`v_{n+1/2}`), book the work of the kinematic changes and of the damping
+    /// as `m dv . (v_{n-1/2} + v_{n+1/2}) / 2`, and set `x_{n+1} = x_n + v_{n+1/2} dt`.
+    fn finish(&self, velocity: &mut Vector, old: &Vector, next: &mut Vector, sums: &mut NodeWork) {
+        let dimension = self.dimension;
+        let mut damping_change = [0.0; 3];
+        if let Some(factor) = self.damping_factor {
+            for d in 0..dimension {
+                damping_change[d] = velocity[d] * (factor - 1.0);
+                velocity[d] *= factor;
+            }
+        }
+        let mean: Vector = core::array::from_fn(|d| 0.5 * (old[d] + velocity[d]));
+        let work = |dv: &Vector| self.mass * dot(dv, &mean, dimension);
+        sums.external += work(self.constraint_change);
+        sums.wall -= work(self.wall_change);
+        sums.damping -= work(&damping_change);
+        for d in 0..dimension {
+            next[d] = self.position[d] + velocity[d] * self.dt;
+        }
+    }
+}
 
 /// One node chunk's work of the kinematic velocity changes in a step (per unit measure).
 #[derive(Clone, Copy, Debug, Default)]
@@ -522,6 +588,22 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             .collect();
         kinematic_nodes.sort_unstable();
         kinematic_nodes.dedup();
+        // Nodes finished after the kinematic changes: those, and the rigid bodies' nodes.
+        let mut deferred_nodes: Vec<usize> = kinematic_nodes
+            .iter()
+            .chain(rigid_bodies.iter().flatten())
+            .copied()
+            .collect();
+        deferred_nodes.sort_unstable();
+        deferred_nodes.dedup();
+        let mut deferred = vec![false; node_count];
+        for &n in &deferred_nodes {
+            deferred[n] = true;
+        }
+        // Without contact or loads, the force gather joins the nodal update.
+        let gather_with_nodes = self.contacts.is_empty()
+            && self.eroding_contact.is_none()
+            && self.pressure_loads.is_empty();
         let mut slots = vec![ElementSlot::default(); element_count];
         let mut summaries: Vec<ChunkSummary> = (0..element_count.div_ceil(ELEMENT_CHUNK))
             .map(|_| ChunkSummary::default())
@@ -575,29 +657,74 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     }
                 }
             }
-            // Velocity update, in parallel over fixed node chunks (each node on its own).
-            let accelerate =
-                |(c, (chunk_v, chunk_old)): (usize, (&mut [Vector], &mut [Vector]))| {
-                    for (i, (vel, old)) in chunk_v.iter_mut().zip(chunk_old).enumerate() {
+            // The nodal update, in parallel over fixed node chunks: the force gathered from the
+            // elements (here when no contact or load adds to it first, else after the element
+            // loop), the velocity update and, for every node no constraint, wall or rigid body
+            // may change, damping, the work sums and the new position. Each chunk's work sums
+            // are added in chunk order.
+            let damping_factor = match settings.damping {
+                Some(damping) if time >= damping.start_time => Some(1.0 - damping.coefficient * dt),
+                _ => None,
+            };
+            let update_nodes =
+                |((c, (((chunk_f, chunk_v), chunk_old), chunk_x)), sums): NodeTask<'_>| {
+                    *sums = NodeWork::default();
+                    for (i, (((total, vel), old), position)) in chunk_f
+                        .iter_mut()
+                        .zip(chunk_v)
+                        .zip(chunk_old)
+                        .zip(chunk_x)
+                        .enumerate()
+                    {
                         let n = c * NODE_CHUNK + i;
+                        if gather_with_nodes {
+                            *total = gathered_force(
+                                n,
+                                &slots,
+                                &node_elements,
+                                &node_element_start,
+                                dimension,
+                            );
+                        }
                         *old = *vel;
                         if mass[n] > 0.0 {
                             for d in 0..dimension {
-                                vel[d] += force[n][d] / mass[n] * dt_average;
+                                vel[d] += total[d] / mass[n] * dt_average;
                             }
                         }
+                        if deferred[n] {
+                            continue;
+                        }
+                        let step = NodeStep {
+                            mass: mass[n],
+                            position: &x[n],
+                            constraint_change: &dv_constraint[n],
+                            wall_change: &dv_wall[n],
+                            damping_factor,
+                            dt,
+                            dimension,
+                        };
+                        step.finish(vel, old, position, sums);
                     }
                 };
             if serial {
-                v.chunks_mut(NODE_CHUNK)
+                force
+                    .chunks_mut(NODE_CHUNK)
+                    .zip(v.chunks_mut(NODE_CHUNK))
                     .zip(v_old.chunks_mut(NODE_CHUNK))
+                    .zip(x_new.chunks_mut(NODE_CHUNK))
                     .enumerate()
-                    .for_each(accelerate);
+                    .zip(node_work.iter_mut())
+                    .for_each(update_nodes);
             } else {
-                v.par_chunks_mut(NODE_CHUNK)
+                force
+                    .par_chunks_mut(NODE_CHUNK)
+                    .zip(v.par_chunks_mut(NODE_CHUNK))
                     .zip(v_old.par_chunks_mut(NODE_CHUNK))
+                    .zip(x_new.par_chunks_mut(NODE_CHUNK))
                     .enumerate()
-                    .for_each(accelerate);
+                    .zip(node_work.par_iter_mut())
+                    .for_each(update_nodes);
             }
             for &n in &kinematic_nodes {
                 dv_constraint[n] = [0.0; 3];
@@ -645,47 +772,21 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     }
                 }
             }
-            // Damping, the work of the kinematic changes and the position update, in parallel
-            // over fixed node chunks; each chunk's work sums are added in chunk order.
-            let damping_factor = match settings.damping {
-                Some(damping) if time >= damping.start_time => Some(1.0 - damping.coefficient * dt),
-                _ => None,
-            };
-            let finish = |((c, (chunk_v, chunk_x)), sums): NodeTask<'_>| {
-                *sums = NodeWork::default();
-                for (i, (vel, position)) in chunk_v.iter_mut().zip(chunk_x).enumerate() {
-                    let n = c * NODE_CHUNK + i;
-                    let mut damping_change = [0.0; 3];
-                    if let Some(factor) = damping_factor {
-                        for d in 0..dimension {
-                            damping_change[d] = vel[d] * (factor - 1.0);
-                            vel[d] *= factor;
-                        }
-                    }
-                    let mean: Vector = core::array::from_fn(|d| 0.5 * (v_old[n][d] + vel[d]));
-                    let work = |dv: &Vector| mass[n] * dot(dv, &mean, dimension);
-                    sums.external += work(&dv_constraint[n]);
-                    sums.wall -= work(&dv_wall[n]);
-                    sums.damping -= work(&damping_change);
-                    for d in 0..dimension {
-                        position[d] = x[n][d] + vel[d] * dt;
-                    }
-                }
-            };
-            if serial {
-                v.chunks_mut(NODE_CHUNK)
-                    .zip(x_new.chunks_mut(NODE_CHUNK))
-                    .enumerate()
-                    .zip(node_work.iter_mut())
-                    .for_each(finish);
-            } else {
-                v.par_chunks_mut(NODE_CHUNK)
-                    .zip(x_new.par_chunks_mut(NODE_CHUNK))
-                    .enumerate()
-                    .zip(node_work.par_iter_mut())
-                    .for_each(finish);
+            // The deferred nodes, in ascending order, after the kinematic changes.
+            let mut deferred_work = NodeWork::default();
+            for &n in &deferred_nodes {
+                let step = NodeStep {
+                    mass: mass[n],
+                    position: &x[n],
+                    constraint_change: &dv_constraint[n],
+                    wall_change: &dv_wall[n],
+                    damping_factor,
+                    dt,
+                    dimension,
+                };
+                step.finish(&mut v[n], &v_old[n], &mut x_new[n], &mut deferred_work);
             }
-            for sums in &node_work {
+            for sums in node_work.iter().chain([&deferred_work]) {
                 energy.external_work += measure * sums.external;
                 energy.contact += measure * sums.wall;
                 energy.damping += measure * sums.damping;
@@ -763,6 +864,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     .zip(slots.par_chunks_mut(ELEMENT_CHUNK))
                     .enumerate()
                     .zip(summaries.par_iter_mut())
+                    .with_max_len(1)
                     .for_each(step_chunk);
             }
             let mut dt_next = f64::INFINITY;
@@ -788,31 +890,27 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 }
             }
 
-            // Nodal forces gathered from the elements around each node in element order:
-            // the same sums, in the same order, as a serial assembly.
-            let gather = |(c, chunk): (usize, &mut [Vector])| {
-                for (i, total) in chunk.iter_mut().enumerate() {
-                    let n = c * NODE_CHUNK + i;
-                    *total = [0.0; 3];
-                    for &(e, k) in &node_elements[node_element_start[n]..node_element_start[n + 1]]
-                    {
-                        let slot = &slots[e];
-                        if slot.assembles {
-                            for (sum, part) in total.iter_mut().zip(&slot.forces[k]).take(dimension)
-                            {
-                                *sum += part;
-                            }
-                        }
+            // With contact or loads, the nodal forces are gathered here, before those add theirs.
+            if !gather_with_nodes {
+                let gather = |(c, chunk): (usize, &mut [Vector])| {
+                    for (i, total) in chunk.iter_mut().enumerate() {
+                        *total = gathered_force(
+                            c * NODE_CHUNK + i,
+                            &slots,
+                            &node_elements,
+                            &node_element_start,
+                            dimension,
+                        );
                     }
+                };
+                if serial {
+                    force.chunks_mut(NODE_CHUNK).enumerate().for_each(gather);
+                } else {
+                    force
+                        .par_chunks_mut(NODE_CHUNK)
+                        .enumerate()
+                        .for_each(gather);
                 }
-            };
-            if serial {
-                force.chunks_mut(NODE_CHUNK).enumerate().for_each(gather);
-            } else {
-                force
-                    .par_chunks_mut(NODE_CHUNK)
-                    .enumerate()
-                    .for_each(gather);
             }
             if !newly_eroded.is_empty() {
                 if let Some(surfaces) = eroding.as_mut() {
