@@ -196,16 +196,46 @@ fn taylor_final_length_converges_under_mesh_and_time_step_refinement() {
 }
 
 #[test]
-fn results_are_bit_identical_for_one_and_two_threads() {
+fn results_are_bit_identical_for_one_two_and_three_threads() {
     // GOAL: host results do not depend on the thread count.
-    // SETUP: the 343 m/s Taylor rod, 5 elements across, 1 and 2 worker threads.
-    // REFERENCE: every final nodal coordinate bit-identical.
-    let (_, _, one) = taylor_final_length(5, 0.9, Some(1));
-    let (_, _, two) = taylor_final_length(5, 0.9, Some(2));
-    assert_eq!(one.len(), two.len());
-    for (a, b) in one.iter().zip(&two) {
-        assert_eq!(a[0].to_bits(), b[0].to_bits());
-        assert_eq!(a[1].to_bits(), b[1].to_bits());
+    // SETUP: the 343 m/s Taylor rod, 24 elements across (1224 elements, 1300 nodes: 20 element
+    //        chunks and 3 node chunks of the parallel loops), 1, 2 and 3 worker threads.
+    // REFERENCE: every final nodal coordinate and velocity, every element state and every
+    //        energy record bit-identical.
+    let spec = TaylorSpec::new(8.1e-3, 7.62e-3, 343.0, 24);
+    let run = |threads: usize| {
+        let settings = SolverSettings {
+            threads: Some(threads),
+            ..SolverSettings::default()
+        };
+        spec.run(&Material::STEEL_4340, &settings).unwrap().1
+    };
+    let one = run(1);
+    assert!(one.states.len() >= 1200 && one.positions.len() >= 1025);
+    let bits = |v: &[[f64; 3]]| -> Vec<u64> { v.iter().flatten().map(|c| c.to_bits()).collect() };
+    for threads in [2, 3] {
+        let other = run(threads);
+        assert_eq!(
+            bits(&one.positions),
+            bits(&other.positions),
+            "{threads} threads"
+        );
+        assert_eq!(
+            bits(&one.velocities),
+            bits(&other.velocities),
+            "{threads} threads"
+        );
+        assert_eq!(one.states, other.states, "{threads} threads");
+        assert_eq!(one.energy_history.len(), other.energy_history.len());
+        for (a, b) in one.energy_history.iter().zip(&other.energy_history) {
+            assert_eq!(
+                a.total().to_bits(),
+                b.total().to_bits(),
+                "{threads} threads"
+            );
+            assert_eq!(a.hourglass.to_bits(), b.hourglass.to_bits());
+            assert_eq!(a.contact.to_bits(), b.contact.to_bits());
+        }
     }
 }
 
