@@ -290,6 +290,7 @@ fn implicit_return(
     Err(UpdateError::ReturnMappingDiverged)
 }
 
+#[inline(always)]
 fn compute(
     material: &Material,
     state: &MaterialState,

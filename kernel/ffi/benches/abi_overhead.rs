@@ -64,6 +64,9 @@ struct Soa {
     flags: Vec<u32>,
     wave_speed: Vec<f64>,
     status: Vec<i32>,
+    /// End-of-step relative volumes, if the host gives them (else the batch integrates
+    /// `V0 exp(tr deps)` itself).
+    given_volume: Vec<f64>,
 }
 
 impl Soa {
@@ -85,13 +88,25 @@ impl Soa {
             flags: vec![state.flags.0; n],
             wave_speed: vec![0.0; n],
             status: vec![0; n],
+            given_volume: Vec::new(),
         }
+    }
+
+    /// The same batch with the end-of-step relative volumes given, as the direct call is.
+    fn with_given_volume(mut self, state: &MaterialState) -> Self {
+        self.given_volume =
+            vec![state.relative_volume * stoss_kernel::math::exp(INCREMENT); self.n];
+        self
     }
 
     fn run(&mut self, block: &StossMaterialBlock) -> StossStatus {
         let input = StossBatchInput {
             strain_increment: std::array::from_fn(|k| self.strain[k].as_ptr()),
-            relative_volume: null(),
+            relative_volume: if self.given_volume.is_empty() {
+                null()
+            } else {
+                self.given_volume.as_ptr()
+            },
         };
         let [eps, rate, t, d, v, e, h] = &mut self.scalars;
         let mut stress = [null_mut(); 6];
@@ -218,6 +233,20 @@ fn batch(bencher: Bencher, n: usize) {
     let block = StossMaterialBlock::steel_4340();
     let base = plastic_state(&block.to_material().unwrap());
     let soa = Soa::new(&base, n);
+    bencher
+        .counter(ItemsCount::new(n))
+        .with_inputs(|| soa.clone())
+        .bench_local_refs(|soa| {
+            let status = soa.run(black_box(&block));
+            assert_eq!(status, StossStatus::Ok);
+        });
+}
+
+#[divan::bench(args = POINTS)]
+fn batch_given_volume(bencher: Bencher, n: usize) {
+    let block = StossMaterialBlock::steel_4340();
+    let base = plastic_state(&block.to_material().unwrap());
+    let soa = Soa::new(&base, n).with_given_volume(&base);
     bencher
         .counter(ItemsCount::new(n))
         .with_inputs(|| soa.clone())

@@ -103,6 +103,7 @@ pub fn failure_code(state: &MaterialState) -> i32 {
 
 /// One point, one step: the kernel update with the relative volume either given or
 /// integrated as `V1 = V0 exp(tr deps)` (bit-identical to the kernel's drivers).
+#[inline]
 pub fn step_point(
     material: &Material,
     state: &mut MaterialState,
@@ -296,14 +297,15 @@ pub(crate) fn run_batch(
         let increment: Sym = core::array::from_fn(|k| input.strain_increment[k].get(i));
         let volume = input.relative_volume.as_ref().map(|v| v.get(i));
         let mut point = state.read(i);
-        let mut matrix: Matrix6 = [[0.0; 6]; 6];
+        // The tangent is formed (and its 36 entries zeroed) only when the host asks for it.
+        let mut matrix: Option<Matrix6> = want_tangent.then_some([[0.0; 6]; 6]);
         let result = step_point(
             material,
             &mut point,
             &increment,
             dt,
             volume,
-            want_tangent.then_some(&mut matrix),
+            matrix.as_mut(),
         );
         match result {
             Ok(step) => {
@@ -311,7 +313,7 @@ pub(crate) fn run_batch(
                 set_optional(&mut output.wave_speed, i, step.wave_speed);
                 set_optional(&mut output.failed, i, failure_code(&point));
                 set_optional(&mut output.status, i, StossStatus::Ok as i32);
-                if let Some(tangent) = &mut output.tangent {
+                if let (Some(tangent), Some(matrix)) = (&mut output.tangent, &matrix) {
                     for (r, row) in matrix.iter().enumerate() {
                         for (c, value) in row.iter().enumerate() {
                             tangent.set(36 * i + 6 * r + c, *value);
