@@ -50,6 +50,55 @@ fn verify_fails_with_a_clear_error_on_a_missing_golden_directory() {
 }
 
 #[test]
+fn simulate_refuses_a_result_without_finite_predictions() {
+    // GOAL: a simulation whose predictions are not numbers is an error, not a result.
+    // SETUP: the 570 /s 4340 tension flow curve with yield_stress = 1e20 (a unit slip: the
+    //        curve never yields, so no recorded plastic strain is reached).
+    // REFERENCE: non-zero exit; stderr names the experiment file and the first missing point;
+    //        no output folder.
+    let directory = std::env::temp_dir().join(format!("stoss-nan-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let text = std::fs::read_to_string(format!("{root}/fixtures/materials/4340-jc.toml")).unwrap();
+    let bad: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("yield_stress") {
+                "yield_stress = 1e20".to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert_ne!(bad, text);
+    let material = directory.join("unit-slip.toml");
+    std::fs::write(&material, bad).unwrap();
+    let output = directory.join("out");
+    let result = stoss()
+        .args([
+            "simulate",
+            "fixtures/experiments/flow-4340-jc-tension-570s-298K.toml",
+        ])
+        .arg("--material")
+        .arg(&material)
+        .arg("--output")
+        .arg(&output)
+        .output()
+        .unwrap();
+    let errors = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success(), "{errors}");
+    assert!(
+        errors.contains("flow-4340-jc-tension-570s-298K.toml")
+            && errors.contains("no finite prediction")
+            && errors.contains("true_stress at position"),
+        "{errors}"
+    );
+    assert!(!output.exists());
+    std::fs::remove_dir_all(&directory).unwrap();
+}
+
+#[test]
 fn simulate_writes_outputs_and_reports_energy() {
     // GOAL: `stoss simulate` runs an experiment from a fresh clone and writes its outputs.
     // SETUP: the seed 001 tension cylinder at 1000 /s, output into a temporary folder.

@@ -203,6 +203,24 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     if let Some(report) = &outcome.report {
         print!("{}", report.text);
     }
+    let missing: Vec<_> = experiment
+        .recording
+        .iter()
+        .zip(&outcome.predicted)
+        .filter(|(_, predicted)| !predicted.is_finite())
+        .collect();
+    if let Some((first, _)) = missing.first() {
+        return Err(format!(
+            "{}: the simulation gave no finite prediction at {} of {} recorded points (first: \
+             {} at position {:e}); a yield stress in the wrong unit or a flow curve that never \
+             reaches the recorded strains gives this; nothing written",
+            args.experiment.display(),
+            missing.len(),
+            experiment.recording.len(),
+            first.quantity,
+            first.position
+        ));
+    }
     let output = args.output.clone().unwrap_or_else(|| {
         PathBuf::from("out").join(
             args.experiment
