@@ -41,8 +41,11 @@ impl Journal {
 
     /// Append `entry` as one line and sync it to disk.
     pub fn append<T: Serialize>(&mut self, entry: &T) -> std::io::Result<()> {
-        let line = serde_json::to_string(entry).map_err(std::io::Error::other)?;
-        writeln!(self.file, "{line}")?;
+        let mut line = serde_json::to_string(entry).map_err(std::io::Error::other)?;
+        line.push('\n');
+        // One write of the whole line (the file is opened for appending), so lines of two
+        // writers cannot interleave.
+        self.file.write_all(line.as_bytes())?;
         self.file.sync_data()
     }
 

@@ -162,7 +162,7 @@ struct Runner<'a> {
 }
 
 impl Runner<'_> {
-    /// Evaluate a batch in parallel, reusing logged results; log new ones in batch order.
+    /// Evaluate a batch in parallel, reusing logged results; log each new one as it finishes.
     fn evaluate_batch(
         &mut self,
         keys: &[Key],
@@ -177,28 +177,36 @@ impl Runner<'_> {
         }
         let campaign = self.campaign;
         let settings = &self.settings;
-        let fresh: Vec<Option<Evaluation>> = self.pool.install(|| {
+        // Each new evaluation is appended to the log as soon as it finishes (a run killed in
+        // the middle of a batch loses only the simulations still running); the log is keyed,
+        // so the order of its lines does not matter.
+        let log = std::sync::Mutex::new(&mut self.log);
+        let fresh: Vec<Result<Option<Evaluation>, CalibrateError>> = self.pool.install(|| {
             points
                 .par_iter()
+                .zip(keys)
                 .zip(&known)
-                .map(|(point, logged)| match logged {
-                    Some(_) => None,
-                    None => Some(evaluate(campaign, space, point, experiments, settings)),
+                .map(|((point, key), logged)| match logged {
+                    Some(_) => Ok(None),
+                    None => {
+                        let evaluation = evaluate(campaign, space, point, experiments, settings);
+                        log.lock()
+                            .unwrap_or_else(std::sync::PoisonError::into_inner)
+                            .append(Entry {
+                                key: key.clone(),
+                                seed,
+                                evaluation: evaluation.clone(),
+                            })?;
+                        Ok(Some(evaluation))
+                    }
                 })
                 .collect()
         });
         let mut results = Vec::with_capacity(points.len());
-        for ((key, logged), new) in keys.iter().zip(known).zip(fresh) {
-            let evaluation = match (logged, new) {
+        for (logged, new) in known.into_iter().zip(fresh) {
+            let evaluation = match (logged, new?) {
                 (Some(evaluation), _) => evaluation,
-                (None, Some(evaluation)) => {
-                    self.log.append(Entry {
-                        key: key.clone(),
-                        seed,
-                        evaluation: evaluation.clone(),
-                    })?;
-                    evaluation
-                }
+                (None, Some(evaluation)) => evaluation,
                 (None, None) => unreachable!("every candidate is either logged or evaluated"),
             };
             results.push(evaluation);
