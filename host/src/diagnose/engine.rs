@@ -149,18 +149,22 @@ impl<'a> Engine<'a> {
         let campaign = self.campaign;
         let settings = &self.settings;
         let known = &self.known;
-        let fresh: Vec<Option<Result<Vec<f64>, String>>> = self.pool.install(|| {
+        // Each new simulation is appended to the journal as soon as it finishes.
+        let journal = std::sync::Mutex::new(&mut self.log);
+        let fresh: Vec<Option<Result<Prediction, DiagnoseError>>> = self.pool.install(|| {
             jobs.par_iter()
                 .zip(&keys)
                 .map(|((values, e), key)| {
                     if known.contains_key(key) {
                         return None;
                     }
-                    Some(
-                        hypothesis
-                            .realise(values)
-                            .and_then(|r| r.predict(&campaign.experiments[*e], settings)),
-                    )
+                    let result = hypothesis
+                        .realise(values)
+                        .and_then(|r| r.predict(&campaign.experiments[*e], settings));
+                    let mut journal = journal
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner);
+                    Some(append(journal.as_mut(), key, &result).map(|()| result))
                 })
                 .collect()
         });
@@ -168,8 +172,8 @@ impl<'a> Engine<'a> {
         for (key, new) in keys.iter().zip(fresh) {
             let result = match new {
                 Some(result) => {
+                    let result = result?;
                     self.simulated += 1;
-                    self.append(key, &result)?;
                     self.known.insert(key.clone(), result.clone());
                     result
                 }
@@ -181,24 +185,6 @@ impl<'a> Engine<'a> {
             results.push(result);
         }
         Ok(results)
-    }
-
-    fn append(
-        &mut self,
-        key: &str,
-        result: &Result<Vec<f64>, String>,
-    ) -> Result<(), DiagnoseError> {
-        let Some(journal) = &mut self.log else {
-            return Ok(());
-        };
-        let entry = LogEntry {
-            key: key.into(),
-            predicted: result.as_ref().ok().cloned(),
-            error: result.as_ref().err().cloned(),
-        };
-        journal
-            .append(&entry)
-            .map_err(|e| DiagnoseError::Io(format!("{}: {e}", journal.path().display())))
     }
 
     /// Whitened residuals `(predicted - recorded) / uncertainty` of `experiments`,
@@ -221,4 +207,26 @@ impl<'a> Engine<'a> {
     pub fn settings(&self) -> &SolverSettings {
         &self.settings
     }
+}
+
+/// A simulation's predictions, or why it failed.
+type Prediction = Result<Vec<f64>, String>;
+
+/// Append one simulation's result to the journal, if there is one.
+fn append(
+    journal: Option<&mut Journal>,
+    key: &str,
+    result: &Prediction,
+) -> Result<(), DiagnoseError> {
+    let Some(journal) = journal else {
+        return Ok(());
+    };
+    let entry = LogEntry {
+        key: key.into(),
+        predicted: result.as_ref().ok().cloned(),
+        error: result.as_ref().err().cloned(),
+    };
+    journal
+        .append(&entry)
+        .map_err(|e| DiagnoseError::Io(format!("{}: {e}", journal.path().display())))
 }
