@@ -116,6 +116,47 @@ fn log_lines(dir: &Path) -> Vec<String> {
 }
 
 #[test]
+fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
+    // GOAL: a calibration piped to a log reports its progress; --quiet silences it.
+    // SETUP: synthetic-flow campaign, 8 simulations and 2 polish steps, one instance, stdout
+    //        and stderr captured (not a terminal); the same with --quiet.
+    // REFERENCE: progress lines name the instance, done/total and the best error; none with
+    //        --quiet; the result table in both.
+    for quiet in [false, true] {
+        let out = temporary(if quiet { "quiet" } else { "progress" });
+        let mut command = stoss();
+        command.args(["calibrate", "fixtures/campaigns/synthetic-flow.toml"]);
+        command.args([
+            "--budget",
+            "8",
+            "--polish",
+            "2",
+            "--instances",
+            "1",
+            "--output",
+        ]);
+        command.arg(&out);
+        if quiet {
+            command.arg("--quiet");
+        }
+        let output = command.output().unwrap();
+        let text = String::from_utf8_lossy(&output.stdout);
+        assert!(output.status.success(), "{text}");
+        assert!(text.contains("fit error"), "{text}");
+        let progress = text.lines().filter(|l| l.starts_with("jc #0: ")).count();
+        if quiet {
+            assert_eq!(progress, 0, "{text}");
+        } else {
+            assert!(
+                progress >= 1 && text.contains("8/8 simulations, best error"),
+                "{text}"
+            );
+        }
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+}
+
+#[test]
 fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
     // GOAL: `--resume` continues a killed run; no logged simulation is run again and the
     //       result equals an uninterrupted run's.

@@ -10,6 +10,9 @@ use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Least time between two progress lines when stderr is not a terminal.
+const PROGRESS_INTERVAL: std::time::Duration = std::time::Duration::from_secs(10);
+
 /// Arguments of `stoss calibrate`.
 #[derive(Debug, Args)]
 pub struct CalibrateArgs {
@@ -33,6 +36,9 @@ pub struct CalibrateArgs {
     /// Override the campaign's Nelder-Mead polish budget.
     #[arg(long)]
     pub polish: Option<usize>,
+    /// No progress output (the bar on a terminal, the progress lines otherwise).
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Run `stoss calibrate`.
@@ -91,6 +97,12 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         campaign.file.models.len()
     );
     println!("output:   {}", output.display());
+    // On a terminal, a bar per optimiser instance; otherwise (a log file, a batch job) a plain
+    // line when an instance starts or ends and at most every PROGRESS_INTERVAL in between.
+    let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let started = std::time::Instant::now();
+    let mut stage_start = started;
+    let mut last_line: Option<std::time::Instant> = None;
     let bars = indicatif::MultiProgress::new();
     let style =
         indicatif::ProgressStyle::with_template("{prefix:>24} [{bar:30}] {pos}/{len} {msg}")
@@ -106,6 +118,39 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             "{model}{} #{instance}",
             fold.map(|f| format!(" w/o {f}")).unwrap_or_default()
         );
+        if args.quiet {
+            return;
+        }
+        if !terminal {
+            let new_stage = current.as_ref().is_none_or(|(l, _)| *l != label);
+            if new_stage {
+                stage_start = std::time::Instant::now();
+                current = Some((label.clone(), indicatif::ProgressBar::hidden()));
+            }
+            let now = std::time::Instant::now();
+            let due = last_line.is_none_or(|t| now.duration_since(t) >= PROGRESS_INTERVAL);
+            if new_stage || done >= budget || due {
+                last_line = Some(now);
+                let stage = now.duration_since(stage_start).as_secs_f64();
+                let left = if done > 0 && done < budget {
+                    format!(
+                        ", about {:.0} s left in this instance",
+                        stage / done as f64 * (budget.saturating_sub(done)) as f64
+                    )
+                } else {
+                    String::new()
+                };
+                println!(
+                    "{label}: {done}/{budget} simulations, {}, {:.0} s elapsed{left}",
+                    best.map_or_else(
+                        || "no feasible candidate yet".into(),
+                        |b| format!("best error {b:.4}")
+                    ),
+                    now.duration_since(started).as_secs_f64()
+                );
+            }
+            return;
+        }
         if current.as_ref().is_none_or(|(l, _)| *l != label) {
             if let Some((_, bar)) = current.take() {
                 bar.finish();
