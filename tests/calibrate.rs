@@ -160,10 +160,12 @@ fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
 fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
     // GOAL: `--resume` continues a killed run; no logged simulation is run again and the
     //       result equals an uninterrupted run's.
-    // SETUP: synthetic-flow campaign, 30 + 6 simulations, one process killed once at least 8
-    //        candidates are logged, then resumed; a second, uninterrupted run for reference.
-    // REFERENCE: the resumed log has every key once and the same lines as the reference log
-    //        (wall times aside); the selected constants are bit-identical.
+    // SETUP: synthetic-flow campaign, 30 + 6 simulations, one process stopped (SIGSTOP) once at
+    //        least 8 candidates are logged, a second run on its folder tried, the first killed
+    //        with SIGKILL, then resumed; a second, uninterrupted run for reference.
+    // REFERENCE: the concurrent run is refused (the folder is locked); the resume takes the dead
+    //        run's lock over; the resumed log has every key once and the same lines as the
+    //        reference log (wall times aside); the selected constants are bit-identical.
     let killed = temporary("killed");
     let reference = temporary("reference");
     let args = |out: &Path| {
@@ -190,6 +192,21 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
     while log_lines(&killed).len() < 8 && started.elapsed().as_secs() < 120 {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
+    // Freeze the run (it keeps its lock): a second run on its folder is refused.
+    let frozen = Command::new("kill")
+        .args(["-STOP", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(frozen.success());
+    let mut concurrent = args(&killed);
+    concurrent.push("--resume".into());
+    let second = stoss().args(&concurrent).output().unwrap();
+    let message = String::from_utf8_lossy(&second.stderr);
+    assert!(
+        !second.status.success() && message.contains("another stoss run is using this folder"),
+        "{message}"
+    );
+    // kill -9: the lock dies with the process and the resume below takes it over.
     child.kill().unwrap();
     child.wait().unwrap();
     let before = log_lines(&killed).len();

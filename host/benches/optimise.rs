@@ -61,7 +61,7 @@ fn quantile(sorted: &[Option<usize>], q: f64) -> Option<f64> {
     if n == 0 {
         return None;
     }
-    if (q - 0.5).abs() < 1e-12 && n % 2 == 0 {
+    if (q - 0.5).abs() < 1e-12 && n.is_multiple_of(2) {
         let a = sorted[n / 2 - 1]?;
         let b = sorted[n / 2]?;
         return Some((a + b) as f64 / 2.0);

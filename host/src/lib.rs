@@ -16,5 +16,6 @@ pub mod mesh;
 pub mod optimise;
 pub mod random;
 pub mod report;
+pub mod run_lock;
 pub mod solver;
 pub mod verify;

@@ -70,6 +70,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         ));
     }
     std::fs::create_dir_all(&output).map_err(|e| format!("{}: {e}", output.display()))?;
+    let _lock = crate::run_lock::RunLock::acquire(&output)?;
     std::fs::copy(&args.campaign, output.join("campaign.toml"))
         .map_err(|e| format!("{}: {e}", output.display()))?;
     // Where the campaign lives (its experiment paths are relative to it): `stoss diagnose`

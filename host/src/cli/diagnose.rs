@@ -126,6 +126,7 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         iterations: args.iterations,
         max_refits: args.max_refits,
     };
+    let _lock = crate::run_lock::RunLock::acquire(&args.calibration)?;
     println!("campaign: {} (model {})", campaign.file.name, model.model);
     let log = args.calibration.join("diagnosis.jsonl");
     let mut progress = |stage: &str| println!("  {stage}");

@@ -489,7 +489,7 @@ impl ShpbSpec {
         let nr_specimen = self.specimen_radial_elements;
         let specimen_size = specimen_radius / nr_specimen as f64;
         let mut nz_specimen = ((self.specimen_length / specimen_size).round() as usize).max(3);
-        if nz_specimen % 2 == 0 {
+        if nz_specimen.is_multiple_of(2) {
             nz_specimen += 1;
         }
         let block = |name: &str, material: usize, r: f64, z: (f64, f64), nr: usize, nz: usize| {
