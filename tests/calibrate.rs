@@ -116,6 +116,51 @@ fn log_lines(dir: &Path) -> Vec<String> {
 }
 
 #[test]
+fn a_model_with_no_feasible_candidate_says_why_the_first_failed() {
+    // GOAL: when no candidate can be simulated, the error gives the reason, not only the
+    //       model (it used to be inside simulations.jsonl only).
+    // SETUP: the synthetic-flow campaign with yield_stress bounds [1e19, 2e19] Pa (a unit
+    //        slip), 4 simulations, one instance.
+    // REFERENCE: non-zero exit; stderr names the model, says no candidate could be simulated
+    //        and quotes the first rejection (the flow-stress realism range).
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
+    let bad = text
+        .replace(
+            "yield_stress = [0.5e9, 2.0e9]",
+            "yield_stress = [1.0e19, 2.0e19]",
+        )
+        .replace("\"../", &format!("\"{root}/fixtures/"));
+    assert_ne!(bad, text);
+    let out = temporary("infeasible");
+    std::fs::create_dir_all(&out).unwrap();
+    let campaign = out.join("campaign-input.toml");
+    std::fs::write(&campaign, bad).unwrap();
+    let output = stoss()
+        .arg("calibrate")
+        .arg(&campaign)
+        .args([
+            "--budget",
+            "4",
+            "--polish",
+            "0",
+            "--instances",
+            "1",
+            "--output",
+        ])
+        .arg(out.join("run"))
+        .output()
+        .unwrap();
+    let errors = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{errors}");
+    assert!(
+        errors.contains("model jc: no candidate could be simulated; the first failed: flow stress"),
+        "{errors}"
+    );
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
 fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
     // GOAL: a calibration piped to a log reports its progress; --quiet silences it.
     // SETUP: synthetic-flow campaign, 8 simulations and 2 polish steps, one instance, stdout

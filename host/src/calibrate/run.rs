@@ -70,8 +70,9 @@ pub struct ModelResult {
 pub enum CalibrateError {
     /// The simulation log failed.
     Log(LogError),
-    /// No candidate of a model could be simulated.
-    NoFeasibleCandidate(String),
+    /// No candidate of a model could be simulated: the model, and why the first candidate
+    /// failed (if one was tried).
+    NoFeasibleCandidate(String, Option<String>),
     /// The thread pool could not be built.
     Threads(String),
     /// The optimiser rejected its input.
@@ -82,8 +83,12 @@ impl std::fmt::Display for CalibrateError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             CalibrateError::Log(error) => write!(f, "{error}"),
-            CalibrateError::NoFeasibleCandidate(model) => {
-                write!(f, "model {model}: no candidate could be simulated")
+            CalibrateError::NoFeasibleCandidate(model, reason) => {
+                write!(f, "model {model}: no candidate could be simulated")?;
+                match reason {
+                    Some(reason) => write!(f, "; the first failed: {reason}"),
+                    None => Ok(()),
+                }
             }
             CalibrateError::Threads(message) => write!(f, "thread pool: {message}"),
             CalibrateError::Optimiser(message) => write!(f, "optimiser: {message}"),
@@ -123,18 +128,23 @@ struct Tally {
     history: Vec<f64>,
     simulated: usize,
     failed: usize,
+    /// Why the first failed or infeasible candidate was rejected.
+    first_failure: Option<String>,
 }
 
 impl Tally {
     /// Record one evaluated candidate and its objective value (`None`: failed or infeasible).
     fn record(&mut self, evaluation: Evaluation, value: Option<f64>) {
-        match evaluation.status {
+        match &evaluation.status {
             Status::Ok => self.simulated += 1,
-            Status::Failed(_) => {
+            Status::Failed(reason) => {
                 self.simulated += 1;
                 self.failed += 1;
+                self.first_failure.get_or_insert_with(|| reason.clone());
             }
-            Status::Infeasible(_) => {}
+            Status::Infeasible(reason) => {
+                self.first_failure.get_or_insert_with(|| reason.clone());
+            }
         }
         if let Some(value) = value {
             if self.best.as_ref().is_none_or(|(_, b)| value < *b) {
@@ -342,9 +352,11 @@ impl Runner<'_> {
             history,
             simulated,
             failed,
+            first_failure,
         } = tally;
-        let (best, fit_error) =
-            best.ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone()))?;
+        let (best, fit_error) = best.ok_or_else(|| {
+            CalibrateError::NoFeasibleCandidate(space.name.clone(), first_failure)
+        })?;
         Ok(InstanceResult {
             model: space.name.clone(),
             fold: fold.map(str::to_string),
@@ -452,7 +464,7 @@ pub fn calibrate<'a>(
             .iter()
             .filter_map(|(_, e)| e.total(campaign, &fitted).map(|t| (e.clone(), t)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
-            .ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone()))?;
+            .ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone(), None))?;
         let holdout_error = if holdouts.is_empty() {
             None
         } else {
