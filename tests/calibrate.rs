@@ -161,6 +161,70 @@ fn a_model_with_no_feasible_candidate_says_why_the_first_failed() {
 }
 
 #[test]
+fn a_failed_resume_leaves_the_logged_runs_inputs_as_they_were() {
+    // GOAL: a resume that fails does not overwrite the inputs of the run it tried to continue.
+    // SETUP: synthetic-flow campaign, 6 simulations, one instance; then --resume on the same
+    //        folder with a copy of the campaign whose yield_stress bounds differ.
+    // REFERENCE: the resume fails (the log's candidates no longer match); campaign.toml and
+    //        campaign.path are byte-identical to those of the logged run.
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let out = temporary("failed-resume");
+    let run = out.join("run");
+    let first = stoss()
+        .args(["calibrate", "fixtures/campaigns/synthetic-flow.toml"])
+        .args([
+            "--budget",
+            "6",
+            "--polish",
+            "0",
+            "--instances",
+            "1",
+            "--quiet",
+            "--output",
+        ])
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(first.status.success());
+    let saved = |name: &str| std::fs::read(run.join(name)).unwrap();
+    let (campaign_before, path_before) = (saved("campaign.toml"), saved("campaign.path"));
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
+    let changed = text
+        .replace(
+            "yield_stress = [0.5e9, 2.0e9]",
+            "yield_stress = [0.6e9, 2.0e9]",
+        )
+        .replace("\"../", &format!("\"{root}/fixtures/"));
+    assert_ne!(changed, text);
+    let changed_path = out.join("changed.toml");
+    std::fs::write(&changed_path, changed).unwrap();
+    let resumed = stoss()
+        .arg("calibrate")
+        .arg(&changed_path)
+        .args([
+            "--budget",
+            "6",
+            "--polish",
+            "0",
+            "--instances",
+            "1",
+            "--resume",
+            "--output",
+        ])
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(
+        !resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stdout)
+    );
+    assert_eq!(saved("campaign.toml"), campaign_before);
+    assert_eq!(saved("campaign.path"), path_before);
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
 fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
     // GOAL: a calibration piped to a log reports its progress; --quiet silences it.
     // SETUP: synthetic-flow campaign, 8 simulations and 2 polish steps, one instance, stdout

@@ -71,19 +71,27 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     }
     std::fs::create_dir_all(&output).map_err(|e| format!("{}: {e}", output.display()))?;
     let _lock = crate::run_lock::RunLock::acquire(&output)?;
-    std::fs::copy(&args.campaign, output.join("campaign.toml"))
-        .map_err(|e| format!("{}: {e}", output.display()))?;
-    // Where the campaign lives (its experiment paths are relative to it): `stoss diagnose`
-    // reads this.
-    let source = args
-        .campaign
-        .canonicalize()
-        .map_err(|e| format!("{}: {e}", args.campaign.display()))?;
-    std::fs::write(
-        output.join(crate::cli::diagnose::CAMPAIGN_PATH_FILE),
-        source.to_string_lossy().as_bytes(),
-    )
-    .map_err(|e| format!("{}: {e}", output.display()))?;
+    // The run's inputs: a copy of the campaign and where it lives (its experiment paths are
+    // relative to it; `stoss diagnose` reads this). A resumed run replaces a logged run's
+    // copies only once it has succeeded, so a resume that fails (say, on a changed campaign)
+    // leaves them as they were.
+    let record_inputs = || -> Result<(), String> {
+        std::fs::copy(&args.campaign, output.join("campaign.toml"))
+            .map_err(|e| format!("{}: {e}", output.display()))?;
+        let source = args
+            .campaign
+            .canonicalize()
+            .map_err(|e| format!("{}: {e}", args.campaign.display()))?;
+        std::fs::write(
+            output.join(crate::cli::diagnose::CAMPAIGN_PATH_FILE),
+            source.to_string_lossy().as_bytes(),
+        )
+        .map_err(|e| format!("{}: {e}", output.display()))
+    };
+    let resuming_a_logged_run = args.resume && output.join("campaign.toml").exists();
+    if !resuming_a_logged_run {
+        record_inputs()?;
+    }
     let options = RunOptions {
         budget: args.budget,
         instances: args.instances,
@@ -174,6 +182,9 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     let factory = crate::calibrate::proposer::bayesian_factory();
     let results = calibrate(&campaign, &output, &options, &factory, &mut progress)
         .map_err(|e| e.to_string())?;
+    if resuming_a_logged_run {
+        record_inputs()?;
+    }
     println!(
         "\n{:<10} {:>12} {:>14}",
         "model", "fit error", "held-out error"
