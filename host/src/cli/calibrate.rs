@@ -3,6 +3,7 @@
 //! the end `report/` (report.md, figures, cards, result.json). `--resume` continues a killed
 //! run without re-running any logged simulation.
 
+use super::output_folder::{write_folder, Leftovers};
 use crate::calibrate::run::{calibrate, RunOptions};
 use crate::calibrate::Campaign;
 use crate::report::calibration;
@@ -199,11 +200,9 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     }
     let outcomes = calibration::selected_outcomes(&campaign, &results);
     let report = output.join("report");
-    let temporary = output.join(format!("report.tmp-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&temporary);
-    calibration::write(&temporary, &campaign, &results, &outcomes)?;
-    let _ = std::fs::remove_dir_all(&report);
-    std::fs::rename(&temporary, &report).map_err(|e| format!("{}: {e}", report.display()))?;
+    write_folder(&report, Leftovers::Clean, |folder| {
+        calibration::write(folder, &campaign, &results, &outcomes)
+    })?;
     println!("\nreport: {}", report.join("report.md").display());
     Ok(())
 }

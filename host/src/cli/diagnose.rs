@@ -4,6 +4,7 @@
 //! material) into the calibration folder; every simulation is logged in `diagnosis.jsonl`, so
 //! a killed diagnosis rerun replays instead of simulating again.
 
+use super::output_folder::{write_folder, Leftovers};
 use crate::calibrate::run::ModelResult;
 use crate::calibrate::Campaign;
 use crate::diagnose::{self, Options};
@@ -177,13 +178,9 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         diagnosis.accepted.as_deref().unwrap_or("none")
     );
     let report = args.calibration.join("diagnosis");
-    let temporary = args
-        .calibration
-        .join(format!("diagnosis.tmp-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&temporary);
-    diagnose::report::write(&temporary, &campaign, &diagnosis, &before, after.as_deref())?;
-    let _ = std::fs::remove_dir_all(&report);
-    std::fs::rename(&temporary, &report).map_err(|e| format!("{}: {e}", report.display()))?;
+    write_folder(&report, Leftovers::Clean, |folder| {
+        diagnose::report::write(folder, &campaign, &diagnosis, &before, after.as_deref())
+    })?;
     println!("report: {}", report.join("report.md").display());
     Ok(())
 }

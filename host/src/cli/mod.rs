@@ -2,6 +2,7 @@
 
 mod calibrate;
 pub(crate) mod diagnose;
+mod output_folder;
 mod simulate;
 mod synthesize;
 mod verify;

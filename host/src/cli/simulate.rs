@@ -5,6 +5,7 @@
 //! `.csv`); all written to a temporary folder first and moved into place, so a failed run
 //! leaves no partial output.
 
+use super::output_folder::{write_folder, Leftovers};
 use crate::analytic::penetration::depth_at;
 use crate::experiment::{Experiment, Outcome, PenetrationSpec, Setup};
 use crate::input::{material, InputError};
@@ -228,12 +229,11 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
                 .map_or_else(|| "run".into(), |s| s.to_string_lossy().into_owned()),
         )
     });
-    let temporary = output.with_extension(format!("tmp-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&temporary);
-    write_outputs(&temporary, &experiment, &outcome)
-        .map_err(|e| format!("{}: {e}", temporary.display()))?;
-    let _ = std::fs::remove_dir_all(&output);
-    std::fs::rename(&temporary, &output).map_err(|e| format!("{}: {e}", output.display()))?;
+    // No run lock here (the folder itself is replaced): leftovers of other processes stay.
+    write_folder(&output, Leftovers::Keep, |folder| {
+        write_outputs(folder, &experiment, &outcome)
+            .map_err(|e| format!("{}: {e}", folder.display()))
+    })?;
     println!("\nwrote {}", output.display());
     Ok(())
 }
