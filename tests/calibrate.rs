@@ -389,7 +389,10 @@ fn campaign_errors_name_the_file_line_and_field() {
                 "yield_stress = [0.5e9, 2.0e9]",
                 "yeld_stress = [0.5e9, 2.0e9]",
             ),
-            "not a constant of this model",
+            "c.toml:10: field `yeld_stress`: model jc: `yeld_stress` is not a constant of this \
+             model; its constants are hardening_exponent, hardening_modulus, melting_temperature, \
+             rate_sensitivity, reference_rate, reference_temperature, thermal_exponent, \
+             yield_stress",
         ),
         (
             text.replace("budget = 40", "budget = 40\nbudgett = 3"),

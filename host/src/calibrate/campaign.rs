@@ -284,6 +284,30 @@ pub(crate) fn set_dotted(tree: &mut toml::Value, name: &str, value: f64) -> Opti
     }
 }
 
+/// The dotted paths of every number in `tree` (the constants [`set_dotted`] can set), in the
+/// tree's order.
+fn numeric_paths(tree: &toml::Value) -> Vec<String> {
+    fn walk(value: &toml::Value, prefix: &str, paths: &mut Vec<String>) {
+        match value {
+            toml::Value::Table(table) => {
+                for (key, child) in table {
+                    let path = if prefix.is_empty() {
+                        key.clone()
+                    } else {
+                        format!("{prefix}.{key}")
+                    };
+                    walk(child, &path, paths);
+                }
+            }
+            toml::Value::Float(_) | toml::Value::Integer(_) => paths.push(prefix.to_string()),
+            _ => {}
+        }
+    }
+    let mut paths = Vec::new();
+    walk(tree, "", &mut paths);
+    paths
+}
+
 impl Campaign {
     /// Load a campaign, its base material and every experiment. Errors name file, line, field.
     pub fn load(path: &Path) -> Result<Self, InputError> {
@@ -416,6 +440,24 @@ impl Campaign {
                         model.name
                     ),
                 ));
+            }
+            if let Some(strength) = &space.strength {
+                let constants = toml::Value::try_from(strength)
+                    .map(|tree| numeric_paths(&tree))
+                    .unwrap_or_default();
+                if let Some(name) = space.names.iter().find(|n| !constants.contains(n)) {
+                    return Err(InputError::field(
+                        path,
+                        &text,
+                        name,
+                        format!(
+                            "model {}: `{name}` is not a constant of this model; its constants \
+                             are {}",
+                            model.name,
+                            constants.join(", ")
+                        ),
+                    ));
+                }
             }
             if let Err(message) = space.material(&campaign.base, &middle) {
                 return Err(InputError::field(
