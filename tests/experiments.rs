@@ -127,3 +127,40 @@ fn the_published_constants_fit_the_johnson_cook_dynamic_tension_curves() {
         }
     }
 }
+
+#[test]
+fn a_value_with_a_unit_in_an_experiment_names_its_field_and_line() {
+    // GOAL: a number given as text with a unit (not yet read as a quantity) is an error that
+    //       names the field and its line, not only the [setup] table.
+    // SETUP: the 343 m/s Taylor fixture with `velocity = "130 m/s"`.
+    // REFERENCE: the error names the file, the line of `velocity` and the field.
+    let text = std::fs::read_to_string(fixture("experiments/taylor-4340-343.toml")).unwrap();
+    let line_of_velocity = text
+        .lines()
+        .position(|l| l.starts_with("velocity"))
+        .unwrap()
+        + 1;
+    let bad: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("velocity") {
+                "velocity = \"130 m/s\"".to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let directory = std::env::temp_dir().join(format!("stoss-unit-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let path = directory.join("taylor.toml");
+    std::fs::write(&path, bad).unwrap();
+    let error = Experiment::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains(&format!(
+            "taylor.toml:{line_of_velocity}: field `velocity`: invalid type: string \"130 m/s\""
+        )),
+        "{error}"
+    );
+    std::fs::remove_dir_all(&directory).unwrap();
+}

@@ -64,20 +64,39 @@ pub fn line_of_key(text: &str, key: &str) -> Option<usize> {
     None
 }
 
+/// For a message `invalid type: string "<value>", ...`: the key (and its 1-based line) of
+/// the first `key = "<value>"` in `text`, if exactly that value appears.
+fn key_of_quoted_value(text: &str, message: &str) -> Option<(String, usize)> {
+    let value = message.strip_prefix("invalid type: string \"")?;
+    let value = &value[..value.find('"')?];
+    text.lines().enumerate().find_map(|(index, line)| {
+        let (key, rest) = line.split_once('=')?;
+        let rest = rest.trim();
+        let quoted = rest.strip_prefix('"')?.split('"').next()?;
+        (quoted == value).then(|| (key.trim().to_string(), index + 1))
+    })
+}
+
 /// Parse TOML into `T`, turning serde/toml errors into [`InputError::Field`] with the line.
 pub fn parse_toml<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, InputError> {
     toml::from_str(text).map_err(|error| {
         let message = error.message().to_string();
-        // Name the field: toml reports unknown/missing fields in backticks.
-        let field = message
+        // Name the field: toml reports unknown/missing fields in backticks. A wrong value type
+        // inside a tagged table (an experiment's [setup]) is reported at the table, without the
+        // key: find the key whose value is the quoted one (`invalid type: string "130 m/s"`).
+        let mut field = message
             .split('`')
             .nth(1)
             .map(str::to_string)
             .unwrap_or_default();
-        let line = error
-            .span()
-            .map(|span| line_of(text, span.start))
-            .or_else(|| line_of_key(text, &field));
+        let mut line = error.span().map(|span| line_of(text, span.start));
+        if field.is_empty() {
+            if let Some((key, key_line)) = key_of_quoted_value(text, &message) {
+                field = key;
+                line = Some(key_line);
+            }
+        }
+        let line = line.or_else(|| line_of_key(text, &field));
         InputError::Field {
             path: path.into(),
             line,
