@@ -4,7 +4,8 @@
 //! ```toml
 //! name = "4340 steel (Johnson & Cook 1985)"
 //! density = 7830.0            # kg/m^3
-//! shear_modulus = 81.8e9      # Pa
+//! shear_modulus = 81.8e9      # Pa (or any two of youngs_modulus, poissons_ratio,
+//!                             # shear_modulus, bulk_modulus; see [`parse`])
 //! specific_heat = 477.0       # J/kg/K
 //! rate_treatment = "implicit" # or "lagged" (seed 001 eq. 3.7)
 //!
@@ -150,9 +151,131 @@ pub fn parameter_field(error: &ParameterError) -> &'static str {
     }
 }
 
-/// Parse a material from TOML text; errors name `path`, the line and the field.
+/// The top-level keys of the elastic constants a metal file may give, any two of them
+/// (`shear_modulus` alone with an `[eos]` is the canonical form).
+const ELASTIC_KEYS: [&str; 4] = [
+    "youngs_modulus",
+    "poissons_ratio",
+    "shear_modulus",
+    "bulk_modulus",
+];
+
+/// Shear and bulk modulus `(G, K)` from a pair of the isotropic elastic constants, given as
+/// `(key, value)` in [`ELASTIC_KEYS`] order; an error says which combination is not
+/// physical (`E > 0`, `G > 0`, `K > 0`, `-1 < nu < 1/2`).
+fn shear_and_bulk(first: (&str, f64), second: (&str, f64)) -> Result<(f64, f64), String> {
+    let (g, k) = match (first, second) {
+        (("youngs_modulus", e), ("poissons_ratio", nu)) => {
+            (e / (2.0 * (1.0 + nu)), e / (3.0 * (1.0 - 2.0 * nu)))
+        }
+        (("youngs_modulus", e), ("shear_modulus", g)) => (g, e * g / (3.0 * (3.0 * g - e))),
+        (("youngs_modulus", e), ("bulk_modulus", k)) => (3.0 * k * e / (9.0 * k - e), k),
+        (("poissons_ratio", nu), ("shear_modulus", g)) => {
+            (g, 2.0 * g * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu)))
+        }
+        (("poissons_ratio", nu), ("bulk_modulus", k)) => {
+            (3.0 * k * (1.0 - 2.0 * nu) / (2.0 * (1.0 + nu)), k)
+        }
+        (("shear_modulus", g), ("bulk_modulus", k)) => (g, k),
+        _ => return Err("not a pair of elastic constants".into()),
+    };
+    // Poisson's ratio of the pair: nu = (3K - 2G) / (2 (3K + G)).
+    let nu = (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g));
+    if !(g.is_finite() && k.is_finite() && g > 0.0 && k > 0.0 && nu > -1.0 && nu < 0.5) {
+        return Err(format!(
+            "{} = {:e} and {} = {:e} are not an isotropic elastic solid (they give G = {g:e} Pa, \
+             K = {k:e} Pa, nu = {nu}; needed: G > 0, K > 0, -1 < nu < 0.5)",
+            first.0, first.1, second.0, second.1
+        ));
+    }
+    Ok((g, k))
+}
+
+/// Rewrite a metal file's elastic pair (any two of [`ELASTIC_KEYS`]) into the canonical
+/// `shear_modulus` and a linear `[eos]` bulk modulus. `Ok(None)`: the file gives
+/// `shear_modulus` alone, already canonical.
+fn canonical_elastic(path: &Path, text: &str) -> Result<Option<toml::Table>, InputError> {
+    let mut table: toml::Table = parse_toml(path, text)?;
+    let given: Vec<(&str, f64)> = ELASTIC_KEYS
+        .iter()
+        .filter_map(|&key| {
+            table.get(key).map(|value| {
+                let number = value
+                    .as_float()
+                    .or_else(|| value.as_integer().map(|i| i as f64));
+                (key, number.unwrap_or(f64::NAN))
+            })
+        })
+        .collect();
+    if given.len() <= 1 && given.iter().all(|(key, _)| *key == "shear_modulus") {
+        return Ok(None);
+    }
+    let field = |key: &str, message: String| InputError::field(path, text, key, message);
+    if let Some((key, _)) = given.iter().find(|(_, value)| !value.is_finite()) {
+        return Err(field(key, "must be a finite number (SI units)".into()));
+    }
+    let [first, second] = given[..] else {
+        let names: Vec<&str> = given.iter().map(|(key, _)| *key).collect();
+        let key = names.last().copied().unwrap_or("shear_modulus");
+        return Err(field(
+            key,
+            format!(
+                "give exactly two of youngs_modulus, poissons_ratio, shear_modulus and \
+                 bulk_modulus (or shear_modulus alone with an [eos]); this file gives {}",
+                names.join(", ")
+            ),
+        ));
+    };
+    let (g, k) = shear_and_bulk(first, second).map_err(|message| field(second.0, message))?;
+    for (key, _) in &given {
+        table.remove(*key);
+    }
+    table.insert("shear_modulus".into(), toml::Value::Float(g));
+    match table.get_mut("eos").and_then(toml::Value::as_table_mut) {
+        None => {
+            let mut eos = toml::Table::new();
+            eos.insert("kind".into(), toml::Value::String("linear".into()));
+            eos.insert("bulk_modulus".into(), toml::Value::Float(k));
+            table.insert("eos".into(), toml::Value::Table(eos));
+        }
+        Some(eos) => {
+            let linear = eos.get("kind").and_then(toml::Value::as_str) == Some("linear");
+            if !linear || eos.contains_key("bulk_modulus") {
+                return Err(field(
+                    second.0,
+                    format!(
+                        "{} and {} give the bulk modulus, and so does the [eos]: give the \
+                         bulk response once (drop [eos] for a linear one from this pair, or \
+                         give shear_modulus alone with the [eos])",
+                        first.0, second.0
+                    ),
+                ));
+            }
+            eos.insert("bulk_modulus".into(), toml::Value::Float(k));
+        }
+    }
+    Ok(Some(table))
+}
+
+/// Parse a material from TOML text; errors name `path`, the line and the field. The elastic
+/// constants may be any two of E, nu, G and K (`youngs_modulus`, `poissons_ratio`,
+/// `shear_modulus`, `bulk_modulus` at the top level); the bulk modulus then defines a linear
+/// EoS (an `[eos]` may be omitted, or be `kind = "linear"` without its own bulk modulus).
 pub fn parse(path: &Path, text: &str) -> Result<(MaterialFile, Material), InputError> {
-    let file: MaterialFile = parse_toml(path, text)?;
+    let file: MaterialFile = match canonical_elastic(path, text)? {
+        None => parse_toml(path, text)?,
+        Some(table) => {
+            let canonical = toml::to_string(&table)
+                .map_err(|e| InputError::field(path, text, "shear_modulus", e.to_string()))?;
+            // Line numbers of the canonical text do not match the file: name fields only.
+            parse_toml::<MaterialFile>(path, &canonical).map_err(|error| match error {
+                InputError::Field { field, message, .. } => {
+                    InputError::field(path, text, &field, message)
+                }
+                other => other,
+            })?
+        }
+    };
     let material = file.material().map_err(|error| {
         let field = parameter_field(&error);
         InputError::field(path, text, field, error.to_string())
@@ -346,6 +469,89 @@ bulk_modulus = 159e9
             .unwrap_err()
             .to_string();
         assert!(error.starts_with("m.toml:1: field `model`"), "{error}");
+    }
+
+    /// The 4340 file with its elastic lines replaced by `elastic` and its [eos] by `eos`.
+    fn with_elastic(elastic: &str, eos: &str) -> String {
+        JC_4340
+            .replace("shear_modulus = 81.8e9\n", &format!("{elastic}\n"))
+            .replace("[eos]\nkind = \"linear\"\nbulk_modulus = 159e9\n", eos)
+    }
+
+    #[test]
+    fn any_two_elastic_constants_give_the_same_shear_and_bulk_moduli() {
+        // GOAL: users give E and nu (or any two of E, nu, G, K); stoss derives G and K.
+        // SETUP: E = 200 GPa, nu = 0.3 (G = E/2.6, K = E/1.2) given as each of the six pairs,
+        //        without an [eos] and with `kind = "linear"` but no bulk modulus.
+        // REFERENCE: the closed forms G = E / (2 (1 + nu)), K = E / (3 (1 - 2 nu)): shear
+        //        modulus and linear-EoS bulk modulus within 1e-12 relative in every case.
+        let (e, nu) = (200.0e9, 0.3);
+        let (g, k) = (e / 2.6, e / 1.2);
+        let pairs = [
+            format!("youngs_modulus = {e:e}\npoissons_ratio = {nu}"),
+            format!("youngs_modulus = {e:e}\nshear_modulus = {g:e}"),
+            format!("youngs_modulus = {e:e}\nbulk_modulus = {k:e}"),
+            format!("poissons_ratio = {nu}\nshear_modulus = {g:e}"),
+            format!("poissons_ratio = {nu}\nbulk_modulus = {k:e}"),
+            format!("shear_modulus = {g:e}\nbulk_modulus = {k:e}"),
+        ];
+        for pair in &pairs {
+            for eos in ["", "[eos]\nkind = \"linear\"\n"] {
+                let text = with_elastic(pair, eos);
+                let (_, material) = parse(Path::new("m.toml"), &text)
+                    .unwrap_or_else(|error| panic!("{pair} / {eos}: {error}"));
+                assert!((material.shear_modulus / g - 1.0).abs() < 1e-12, "{pair}");
+                let Eos::Linear(linear) = material.eos else {
+                    panic!("{pair}: not a linear EoS");
+                };
+                assert!((linear.bulk_modulus / k - 1.0).abs() < 1e-12, "{pair}");
+            }
+        }
+    }
+
+    #[test]
+    fn elastic_constants_that_are_not_a_solid_or_given_twice_are_errors() {
+        // GOAL: inconsistent or out-of-range elastic input is an error naming file, line, field.
+        // SETUP: nu = 0.5; E = 200 GPa with G = 40 GPa (nu = 1.5); three constants; E and nu
+        //        beside a Mie-Gruneisen [eos]; E and nu beside a linear [eos] with its own bulk
+        //        modulus; and, valid, E = 200 GPa with G = 120 GPa (nu = -1/6).
+        // REFERENCE: each error names the line of the field it quotes; the valid pair parses.
+        let mie_gruneisen = "[eos]\nkind = \"mie-gruneisen\"\n";
+        let linear = "[eos]\nkind = \"linear\"\nbulk_modulus = 159e9\n";
+        let cases = [
+            (
+                with_elastic("youngs_modulus = 200e9\npoissons_ratio = 0.5", ""),
+                "m.toml:5: field `poissons_ratio`: youngs_modulus = 2e11 and poissons_ratio = 5e-1 are not an isotropic elastic solid",
+            ),
+            (
+                with_elastic("youngs_modulus = 200e9\nshear_modulus = 40e9", ""),
+                "field `shear_modulus`: youngs_modulus = 2e11 and shear_modulus = 4e10 are not",
+            ),
+            (
+                with_elastic(
+                    "youngs_modulus = 200e9\npoissons_ratio = 0.3\nshear_modulus = 80e9",
+                    "",
+                ),
+                "field `shear_modulus`: give exactly two of",
+            ),
+            (
+                with_elastic("youngs_modulus = 200e9\npoissons_ratio = 0.3", mie_gruneisen),
+                "m.toml:5: field `poissons_ratio`: youngs_modulus and poissons_ratio give the bulk modulus, and so does the [eos]",
+            ),
+            (
+                with_elastic("youngs_modulus = 200e9\npoissons_ratio = 0.3", linear),
+                "and so does the [eos]",
+            ),
+        ];
+        for (text, expected) in cases {
+            let error = parse(Path::new("m.toml"), &text).unwrap_err().to_string();
+            assert!(error.contains(expected), "{error}\nexpected: {expected}");
+        }
+        let valid = with_elastic("youngs_modulus = 200e9\nshear_modulus = 120e9", "");
+        assert!(
+            parse(Path::new("m.toml"), &valid).is_ok(),
+            "nu = -1/6 is a solid"
+        );
     }
 
     #[test]
