@@ -113,14 +113,39 @@ struct NodeStep<'a> {
     /// Nodal damping's `1 - c dt`, if damping is on.
     damping_factor: Option<f64>,
     dt: f64,
-    dimension: usize,
 }
 
-impl NodeStep<'_> {
+impl<'a> NodeStep<'a> {
+    /// Node `n`'s entries of the nodal arrays.
+    fn at(
+        n: usize,
+        mass: &[f64],
+        x: &'a [Vector],
+        constraint_change: &'a [Vector],
+        wall_change: &'a [Vector],
+        damping_factor: Option<f64>,
+        dt: f64,
+    ) -> Self {
+        Self {
+            mass: mass[n],
+            position: &x[n],
+            constraint_change: &constraint_change[n],
+            wall_change: &wall_change[n],
+            damping_factor,
+            dt,
+        }
+    }
+
     /// Damp `velocity` (`v_{n+1/2}`), book the work of the kinematic changes and of the damping
     /// as `m dv . (v_{n-1/2} + v_{n+1/2}) / 2`, and set `x_{n+1} = x_n + v_{n+1/2} dt`.
-    fn finish(&self, velocity: &mut Vector, old: &Vector, next: &mut Vector, sums: &mut NodeWork) {
-        let dimension = self.dimension;
+    fn finish(
+        &self,
+        velocity: &mut Vector,
+        old: &Vector,
+        next: &mut Vector,
+        dimension: usize,
+        sums: &mut NodeWork,
+    ) {
         let mut damping_change = [0.0; 3];
         if let Some(factor) = self.damping_factor {
             for d in 0..dimension {
@@ -695,16 +720,8 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         if deferred[n] {
                             continue;
                         }
-                        let step = NodeStep {
-                            mass: mass[n],
-                            position: &x[n],
-                            constraint_change: &dv_constraint[n],
-                            wall_change: &dv_wall[n],
-                            damping_factor,
-                            dt,
-                            dimension,
-                        };
-                        step.finish(vel, old, position, sums);
+                        NodeStep::at(n, &mass, &x, &dv_constraint, &dv_wall, damping_factor, dt)
+                            .finish(vel, old, position, dimension, sums);
                     }
                 };
             if serial {
@@ -775,16 +792,13 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             // The deferred nodes, in ascending order, after the kinematic changes.
             let mut deferred_work = NodeWork::default();
             for &n in &deferred_nodes {
-                let step = NodeStep {
-                    mass: mass[n],
-                    position: &x[n],
-                    constraint_change: &dv_constraint[n],
-                    wall_change: &dv_wall[n],
-                    damping_factor,
-                    dt,
+                NodeStep::at(n, &mass, &x, &dv_constraint, &dv_wall, damping_factor, dt).finish(
+                    &mut v[n],
+                    &v_old[n],
+                    &mut x_new[n],
                     dimension,
-                };
-                step.finish(&mut v[n], &v_old[n], &mut x_new[n], &mut deferred_work);
+                    &mut deferred_work,
+                );
             }
             for sums in node_work.iter().chain([&deferred_work]) {
                 energy.external_work += measure * sums.external;

@@ -228,11 +228,16 @@ fn direct(bencher: Bencher, n: usize) {
         });
 }
 
-#[divan::bench(args = POINTS)]
-fn batch(bencher: Bencher, n: usize) {
+/// `stoss_update_batch` over `n` points from the plastic state, the relative volumes given
+/// or integrated by the batch.
+fn bench_batch(bencher: Bencher, n: usize, given_volume: bool) {
     let block = StossMaterialBlock::steel_4340();
     let base = plastic_state(&block.to_material().unwrap());
-    let soa = Soa::new(&base, n);
+    let soa = if given_volume {
+        Soa::new(&base, n).with_given_volume(&base)
+    } else {
+        Soa::new(&base, n)
+    };
     bencher
         .counter(ItemsCount::new(n))
         .with_inputs(|| soa.clone())
@@ -243,17 +248,13 @@ fn batch(bencher: Bencher, n: usize) {
 }
 
 #[divan::bench(args = POINTS)]
+fn batch(bencher: Bencher, n: usize) {
+    bench_batch(bencher, n, false);
+}
+
+#[divan::bench(args = POINTS)]
 fn batch_given_volume(bencher: Bencher, n: usize) {
-    let block = StossMaterialBlock::steel_4340();
-    let base = plastic_state(&block.to_material().unwrap());
-    let soa = Soa::new(&base, n).with_given_volume(&base);
-    bencher
-        .counter(ItemsCount::new(n))
-        .with_inputs(|| soa.clone())
-        .bench_local_refs(|soa| {
-            let status = soa.run(black_box(&block));
-            assert_eq!(status, StossStatus::Ok);
-        });
+    bench_batch(bencher, n, true);
 }
 
 #[divan::bench(args = POINTS)]
