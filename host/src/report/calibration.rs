@@ -10,6 +10,7 @@
 
 use super::cards;
 use super::plots::{self, Series, Style};
+use super::units::display_units;
 use crate::calibrate::run::ModelResult;
 use crate::calibrate::{Campaign, Evaluation};
 use crate::experiment::Outcome;
@@ -279,20 +280,30 @@ pub fn write(
                 .collect();
             groups.dedup();
             let mut series = Vec::new();
+            // Stresses in MPa, lengths in mm, times in us; the axes name the first
+            // quantity's units, the legend every other's.
+            let axes = display_units(groups.first().map_or("", String::as_str));
             for (g, quantity) in groups.iter().enumerate() {
+                let units = display_units(quantity);
+                let (x_scale, y_scale) = (units.position.1, units.value.1);
                 let recorded: Vec<(f64, f64)> = experiment
                     .recording
                     .iter()
                     .filter(|p| &p.quantity == quantity)
-                    .map(|p| (p.position, p.value))
+                    .map(|p| (p.position * x_scale, p.value * y_scale))
                     .collect();
                 let mut predicted: Vec<(f64, f64)> = experiment
                     .recording
                     .iter()
                     .zip(&outcome.predicted)
                     .filter(|(p, _)| &p.quantity == quantity)
-                    .map(|(p, v)| (p.position, *v))
+                    .map(|(p, v)| (p.position * x_scale, *v * y_scale))
                     .collect();
+                let quantity = if units == axes {
+                    quantity.clone()
+                } else {
+                    format!("{quantity} [{}; {}]", units.value.0, units.position.0)
+                };
                 predicted.sort_by(|a, b| a.0.total_cmp(&b.0));
                 series.push(Series {
                     label: format!("{quantity} recorded"),
@@ -315,8 +326,8 @@ pub fn write(
             plots::line_chart(
                 &figures.join(&file),
                 &experiment.file.name,
-                "position (SI)",
-                "value (SI)",
+                axes.position.0,
+                axes.value.0,
                 &series,
             )?;
             let _ = writeln!(md, "![{}](figures/{file})", experiment.file.name);

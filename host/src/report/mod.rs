@@ -3,4 +3,5 @@
 pub mod calibration;
 pub mod cards;
 pub mod plots;
+pub mod units;
 pub mod vtk;

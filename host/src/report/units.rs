@@ -1,0 +1,64 @@
+//! The units a report shows each measured quantity in: stresses in MPa, lengths in mm, times
+//! in µs, velocities in m/s (recordings and predictions stay SI everywhere else).
+
+/// How one quantity's values and positions are shown: `(axis label, factor from SI)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DisplayUnits {
+    /// The value axis.
+    pub value: (&'static str, f64),
+    /// The position axis.
+    pub position: (&'static str, f64),
+}
+
+/// The display units of `quantity` (the experiment kinds' `QUANTITIES`); an unknown one stays
+/// SI.
+pub fn display_units(quantity: &str) -> DisplayUnits {
+    let units = |value, position| DisplayUnits { value, position };
+    const STRAIN: (&str, f64) = ("strain (-)", 1.0);
+    const MPA: (&str, f64) = ("stress (MPa)", 1e-6);
+    const MM: (&str, f64) = ("length (mm)", 1e3);
+    const US: (&str, f64) = ("time (us)", 1e6);
+    match quantity {
+        "true_stress" | "peak_stress" => units(MPA, ("plastic strain (-)", 1.0)),
+        "engineering_stress" => units(MPA, ("engineering strain (-)", 1.0)),
+        "axial_stress" => units(MPA, STRAIN),
+        "final_length" | "footprint_diameter" | "diameter" => {
+            units(MM, ("axial position (mm)", 1e3))
+        }
+        "nose_depth" | "rod_length" => units(MM, US),
+        "deflection" | "peak_deflection" => units(("deflection (mm)", 1e3), ("radius (mm)", 1e3)),
+        "residual_velocity" | "ballistic_limit" => {
+            units(("velocity (m/s)", 1.0), ("impact velocity (m/s)", 1.0))
+        }
+        "residual_mass" => units(("mass (g)", 1e3), ("impact velocity (m/s)", 1.0)),
+        _ => units(("value (SI)", 1.0), ("position (SI)", 1.0)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_experiment_quantity_has_display_units() {
+        // GOAL: no quantity of any experiment kind is shown in raw SI by accident.
+        // SETUP: every kind's QUANTITIES list.
+        // REFERENCE: each maps to a unit other than the SI fallback; stresses in MPa.
+        let kinds = [
+            crate::experiment::uniaxial::QUANTITIES,
+            crate::experiment::shpb::QUANTITIES,
+            crate::experiment::tension::QUANTITIES,
+            crate::experiment::taylor::QUANTITIES,
+            crate::experiment::penetration::QUANTITIES,
+            crate::experiment::ballistic::QUANTITIES,
+            crate::experiment::blast_plate::QUANTITIES,
+        ];
+        for quantity in kinds.iter().flat_map(|k| k.iter()) {
+            let units = display_units(quantity);
+            assert_ne!(units.value.0, "value (SI)", "{quantity}");
+            if quantity.ends_with("_stress") {
+                assert_eq!(units.value, ("stress (MPa)", 1e-6), "{quantity}");
+            }
+        }
+    }
+}
