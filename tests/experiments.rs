@@ -164,3 +164,39 @@ fn a_value_with_a_unit_in_an_experiment_names_its_field_and_line() {
     );
     std::fs::remove_dir_all(&directory).unwrap();
 }
+
+#[test]
+fn a_rod_or_bar_in_the_wrong_length_unit_is_refused_before_it_runs() {
+    // GOAL: a unit slip in a Taylor rod or Hopkinson bar is an error up front, not a runaway.
+    // SETUP: the 208 m/s Taylor fixture with `length = 25.4` (m for mm); the 1000 /s SHPB
+    //        fixture with `incident_length = 500.0` (mm for m).
+    // REFERENCE: Experiment::load fails, naming the field and the estimated run size.
+    let directory = std::env::temp_dir().join(format!("stoss-slip-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    for (name, key, value) in [
+        ("taylor-4340-208", "length", "25.4"),
+        ("shpb-4340-1000", "incident_length", "500.0"),
+    ] {
+        let text = std::fs::read_to_string(fixture(&format!("experiments/{name}.toml"))).unwrap();
+        let bad: String = text
+            .lines()
+            .map(|l| {
+                if l.split('=').next().map(str::trim) == Some(key) {
+                    format!("{key} = {value}")
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        assert_ne!(bad, text, "{name}");
+        let path = directory.join(format!("{name}.toml"));
+        std::fs::write(&path, bad).unwrap();
+        let error = Experiment::load(&path).unwrap_err().to_string();
+        assert!(
+            error.contains(&format!("field `{key}`: needs at least")),
+            "{name}: {error}"
+        );
+    }
+    std::fs::remove_dir_all(&directory).unwrap();
+}

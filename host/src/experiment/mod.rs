@@ -489,14 +489,26 @@ pub(crate) fn check_run_budget(
     time_step: f64,
     elements: f64,
 ) -> Result<(), InputError> {
+    check_run_budget_of(check, "end_time", end_time, time_step, elements)
+}
+
+/// [`check_run_budget`] for a run whose end time follows from other fields; the error names
+/// `field` (the one a unit slip would have made too large).
+pub(crate) fn check_run_budget_of(
+    check: &Check,
+    field: &str,
+    end_time: f64,
+    time_step: f64,
+    elements: f64,
+) -> Result<(), InputError> {
     let steps = end_time / time_step;
     check(
-        "end_time",
+        field,
         steps <= MAXIMUM_STEPS && steps * elements <= MAXIMUM_ELEMENT_CYCLES,
         &format!(
             "needs at least {steps:.0} steps of {elements:.0} elements ({:.1e} \
              element-cycles; at most {MAXIMUM_STEPS:.0} steps and {MAXIMUM_ELEMENT_CYCLES:.0e} \
-             element-cycles, several hours on 2 cores): check the units (s)",
+             element-cycles, several hours on 2 cores): check the units (SI: m, s)",
             steps * elements
         ),
     )

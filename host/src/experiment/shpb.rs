@@ -404,6 +404,17 @@ impl ShpbSpec {
             (2..=64).contains(&self.specimen_radial_elements),
             "must be in 2..=64",
         )?;
+        // Bars in mm entered as m are a runaway: refuse them up front (the end time is about
+        // two bar transits; square bar elements).
+        let size = 0.5 * self.bar_diameter / self.bar_radial_elements as f64;
+        let bars = self.incident_length + self.transmitter_length;
+        super::check_run_budget_of(
+            check,
+            "incident_length",
+            2.0 * bars / self.bar_wave_speed(),
+            super::undeformed_time_step(size, false),
+            self.bar_radial_elements as f64 * bars / size,
+        )?;
         let span = self.pulse_duration() + self.rise_time;
         let c0 = self.bar_wave_speed();
         check(

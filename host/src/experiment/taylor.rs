@@ -83,6 +83,15 @@ impl TaylorSpec {
             "radial_elements",
             (2..=200).contains(&self.radial_elements),
             "must be in 2..=200",
+        )?;
+        // A length in mm entered as m is a runaway, not a test: refuse it up front.
+        let size = 0.5 * self.diameter / self.radial_elements as f64;
+        super::check_run_budget_of(
+            check,
+            "length",
+            self.damping_start() + 40.0 * transit(self.length),
+            super::undeformed_time_step(size, false),
+            (self.radial_elements * self.axial_elements()) as f64,
         )
     }
 
