@@ -26,6 +26,10 @@
 //! seed = 1
 //! parallel = 2                             # simulations run at once (one batch)
 //! polish = 20                              # Nelder-Mead from each instance's best (default budget/2)
+//!
+//! [executor]                               # optional: run the simulations on a Slurm cluster
+//! kind = "slurm"                           # (executor/settings.rs lists every key)
+//! time_limit = "00:20:00"
 //! ```
 //!
 //! **RHT concrete.** When the campaign's `material` is an RHT file (`model = "rht"`), a model
@@ -184,6 +188,9 @@ pub struct CampaignFile {
     /// Optimiser settings.
     #[serde(default)]
     pub optimiser: OptimiserEntry,
+    /// Where the simulations run (default: this machine).
+    #[serde(default)]
+    pub executor: super::executor::ExecutorEntry,
 }
 
 /// A loaded campaign: file, base material and experiments.
@@ -387,6 +394,9 @@ impl Campaign {
                     std::thread::available_parallelism().map_or(1, usize::from)
                 ),
             ));
+        }
+        if let Err((field, message)) = file.executor.check() {
+            return Err(InputError::field(path, &text, &format!("executor.{field}"), message));
         }
         let experiments = file
             .experiments

@@ -3,6 +3,7 @@
 //! (deterministic, seeded) optimisation: every proposal found in the log under the same key
 //! and with bit-identical constants is taken from the log instead of being simulated again.
 
+use super::executor::Origin;
 use super::objective::Evaluation;
 use crate::journal::Journal;
 use serde::{Deserialize, Serialize};
@@ -32,6 +33,10 @@ pub struct Entry {
     pub seed: u64,
     /// The evaluation.
     pub evaluation: Evaluation,
+    /// Where and by which stoss binary it was computed (absent in logs written before
+    /// stoss recorded it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub origin: Option<Origin>,
 }
 
 /// Why the log could not be used.

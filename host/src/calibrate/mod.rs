@@ -4,6 +4,7 @@
 //! selection) and the report.
 
 pub mod campaign;
+pub mod executor;
 pub mod log;
 pub mod objective;
 pub mod polish;

@@ -5,11 +5,10 @@
 //! as it ends, and a resumed run replays the log instead of simulating again.
 
 use super::campaign::{Campaign, ModelSpace};
+use super::executor::{Batch, Candidate, Executor, Origin};
 use super::log::{Entry, Key, LogError, SimulationLog};
-use super::objective::{evaluate, Evaluation, Status};
+use super::objective::{Evaluation, Status};
 use super::polish::NelderMead;
-use crate::solver::SolverSettings;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -77,6 +76,8 @@ pub enum CalibrateError {
     Threads(String),
     /// The optimiser rejected its input.
     Optimiser(String),
+    /// The executor (Slurm) could not run the simulations.
+    Executor(String),
 }
 
 impl std::fmt::Display for CalibrateError {
@@ -92,6 +93,7 @@ impl std::fmt::Display for CalibrateError {
             }
             CalibrateError::Threads(message) => write!(f, "thread pool: {message}"),
             CalibrateError::Optimiser(message) => write!(f, "optimiser: {message}"),
+            CalibrateError::Executor(message) => write!(f, "executor: {message}"),
         }
     }
 }
@@ -162,8 +164,7 @@ impl Tally {
 struct Runner<'a> {
     campaign: &'a Campaign,
     log: SimulationLog,
-    pool: rayon::ThreadPool,
-    settings: SolverSettings,
+    executor: &'a mut dyn Executor,
     factory: &'a ProposerFactory<'a>,
     progress: &'a mut Progress<'a>,
     budget: usize,
@@ -172,7 +173,8 @@ struct Runner<'a> {
 }
 
 impl Runner<'_> {
-    /// Evaluate a batch in parallel, reusing logged results; log each new one as it finishes.
+    /// Evaluate a batch through the executor, reusing logged results; log each new one as it
+    /// finishes.
     fn evaluate_batch(
         &mut self,
         keys: &[Key],
@@ -181,47 +183,47 @@ impl Runner<'_> {
         experiments: &[usize],
         seed: u64,
     ) -> Result<Vec<Evaluation>, CalibrateError> {
-        let mut known = Vec::with_capacity(points.len());
+        let mut results = Vec::with_capacity(points.len());
         for (key, point) in keys.iter().zip(points) {
-            known.push(self.log.lookup(key, point)?);
+            results.push(self.log.lookup(key, point)?);
         }
-        let campaign = self.campaign;
-        let settings = &self.settings;
+        let fresh: Vec<usize> = (0..points.len()).filter(|&i| results[i].is_none()).collect();
+        if fresh.is_empty() {
+            return Ok(results.into_iter().flatten().collect());
+        }
+        let batch = Batch {
+            campaign: self.campaign,
+            space,
+            experiments,
+            seed,
+            candidates: fresh
+                .iter()
+                .map(|&i| Candidate {
+                    key: &keys[i],
+                    values: &points[i],
+                })
+                .collect(),
+        };
         // Each new evaluation is appended to the log as soon as it finishes (a run killed in
         // the middle of a batch loses only the simulations still running); the log is keyed,
         // so the order of its lines does not matter.
         let log = std::sync::Mutex::new(&mut self.log);
-        let fresh: Vec<Result<Option<Evaluation>, CalibrateError>> = self.pool.install(|| {
-            points
-                .par_iter()
-                .zip(keys)
-                .zip(&known)
-                .map(|((point, key), logged)| match logged {
-                    Some(_) => Ok(None),
-                    None => {
-                        let evaluation = evaluate(campaign, space, point, experiments, settings);
-                        log.lock()
-                            .unwrap_or_else(std::sync::PoisonError::into_inner)
-                            .append(Entry {
-                                key: key.clone(),
-                                seed,
-                                evaluation: evaluation.clone(),
-                            })?;
-                        Ok(Some(evaluation))
-                    }
+        let record = |index: usize, evaluation: &Evaluation, origin: &Origin| {
+            log.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .append(Entry {
+                    key: batch.candidates[index].key.clone(),
+                    seed,
+                    evaluation: evaluation.clone(),
+                    origin: Some(origin.clone()),
                 })
-                .collect()
-        });
-        let mut results = Vec::with_capacity(points.len());
-        for (logged, new) in known.into_iter().zip(fresh) {
-            let evaluation = match (logged, new?) {
-                (Some(evaluation), _) => evaluation,
-                (None, Some(evaluation)) => evaluation,
-                (None, None) => unreachable!("every candidate is either logged or evaluated"),
-            };
-            results.push(evaluation);
+                .map_err(CalibrateError::from)
+        };
+        let evaluations = self.executor.evaluate(&batch, &record)?;
+        for (&i, evaluation) in fresh.iter().zip(evaluations) {
+            results[i] = Some(evaluation);
         }
-        Ok(results)
+        Ok(results.into_iter().flatten().collect())
     }
 
     fn instance(
@@ -371,31 +373,22 @@ impl Runner<'_> {
     }
 }
 
-/// Run the campaign: every model, instance and (optionally) leave-one-out fold. Results go to
-/// `output/simulations.jsonl` as they arrive.
+/// Run the campaign: every model, instance and (optionally) leave-one-out fold, the
+/// simulations through `executor`. Results go to `output/simulations.jsonl` as they arrive.
 pub fn calibrate<'a>(
     campaign: &'a Campaign,
     output: &Path,
     options: &RunOptions,
+    executor: &'a mut dyn Executor,
     factory: &'a ProposerFactory<'a>,
     progress: &'a mut Progress<'a>,
 ) -> Result<Vec<ModelResult>, CalibrateError> {
     let optimiser = &campaign.file.optimiser;
     let log = SimulationLog::open(&output.join("simulations.jsonl"))?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(optimiser.parallel)
-        .build()
-        .map_err(|e| CalibrateError::Threads(e.to_string()))?;
-    // One thread per simulation: batches use every core; results do not depend on it.
-    let settings = SolverSettings {
-        threads: Some(1),
-        ..SolverSettings::default()
-    };
     let mut runner = Runner {
         campaign,
         log,
-        pool,
-        settings,
+        executor,
         factory,
         progress,
         budget: options.budget.unwrap_or(optimiser.budget),

@@ -2,6 +2,7 @@
 
 mod calibrate;
 pub(crate) mod diagnose;
+mod evaluate;
 mod output_folder;
 mod simulate;
 mod synthesize;
@@ -36,6 +37,9 @@ pub enum Command {
     Simulate(simulate::SimulateArgs),
     /// Generate a synthetic recording (and its noise-free truth) from a known material.
     Synthesize(synthesize::SynthesizeArgs),
+    /// Simulate one candidate of a distributed calibration from its task file (the worker
+    /// that `stoss calibrate --executor slurm` runs on the cluster's nodes).
+    Evaluate(evaluate::EvaluateArgs),
 }
 
 /// Run the parsed command line.
@@ -46,5 +50,6 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Diagnose(args) => diagnose::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Synthesize(args) => synthesize::run(&args),
+        Command::Evaluate(args) => evaluate::run(&args),
     }
 }

@@ -1,0 +1,117 @@
+//! Executors: where the candidates of an optimiser batch are simulated. `local` runs them on
+//! this machine's cores; `slurm` runs each as a task of a Slurm cluster (`slurm.rs`), a
+//! `stoss evaluate` process that reads a task file and writes a result file (`task.rs`).
+//!
+//! Every executor hands each evaluation to the coordinator as soon as it ends (the coordinator
+//! appends it to the simulation log, so `--resume` works the same for all) and returns the
+//! batch in the order it was asked. An evaluation depends only on the campaign and the
+//! candidate, never on where or in which order it ran, so every executor gives the same
+//! calibration.
+
+pub mod settings;
+pub mod slurm;
+pub mod task;
+
+pub use settings::{ExecutorEntry, ExecutorKind, SlurmMode};
+pub use task::Origin;
+
+use super::campaign::{Campaign, ModelSpace};
+use super::log::Key;
+use super::objective::{evaluate, Evaluation};
+use super::run::CalibrateError;
+use crate::solver::SolverSettings;
+use rayon::prelude::*;
+
+/// One candidate of a batch.
+#[derive(Clone, Copy, Debug)]
+pub struct Candidate<'a> {
+    /// Its place in the calibration.
+    pub key: &'a Key,
+    /// Its constants (SI, the model space's order).
+    pub values: &'a [f64],
+}
+
+/// Candidates of one model, fold and instance, to simulate on the same experiments.
+pub struct Batch<'a> {
+    /// The campaign.
+    pub campaign: &'a Campaign,
+    /// The model's space.
+    pub space: &'a ModelSpace,
+    /// Experiments to simulate (campaign indices).
+    pub experiments: &'a [usize],
+    /// The optimiser instance's seed.
+    pub seed: u64,
+    /// The candidates.
+    pub candidates: Vec<Candidate<'a>>,
+}
+
+/// Called once per candidate as its evaluation ends, in any order: `(index in the batch,
+/// evaluation, origin)`.
+pub type Record<'r> =
+    dyn Fn(usize, &Evaluation, &Origin) -> Result<(), CalibrateError> + Sync + 'r;
+
+/// Runs the simulations of batches.
+pub trait Executor {
+    /// Evaluate every candidate of `batch`, calling `record` as each ends; the evaluations in
+    /// the batch's order.
+    fn evaluate(
+        &mut self,
+        batch: &Batch<'_>,
+        record: &Record<'_>,
+    ) -> Result<Vec<Evaluation>, CalibrateError>;
+}
+
+/// This machine's cores: one candidate per thread of a pool, one solver thread each (a batch
+/// fills the cores; results do not depend on it).
+pub struct Local {
+    pool: rayon::ThreadPool,
+    settings: SolverSettings,
+    origin: Origin,
+}
+
+impl Local {
+    /// A pool of `parallel` threads.
+    pub fn new(parallel: usize) -> Result<Self, CalibrateError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(parallel)
+            .build()
+            .map_err(|e| CalibrateError::Threads(e.to_string()))?;
+        Ok(Self {
+            pool,
+            settings: SolverSettings {
+                threads: Some(1),
+                ..SolverSettings::default()
+            },
+            origin: Origin::this_process("local"),
+        })
+    }
+}
+
+impl Executor for Local {
+    fn evaluate(
+        &mut self,
+        batch: &Batch<'_>,
+        record: &Record<'_>,
+    ) -> Result<Vec<Evaluation>, CalibrateError> {
+        let settings = &self.settings;
+        let origin = &self.origin;
+        self.pool.install(|| {
+            batch
+                .candidates
+                .par_iter()
+                .enumerate()
+                .map(|(index, candidate)| {
+                    let evaluation = evaluate(
+                        batch.campaign,
+                        batch.space,
+                        candidate.values,
+                        batch.experiments,
+                        settings,
+                    );
+                    record(index, &evaluation, origin)?;
+                    Ok(evaluation)
+                })
+                .collect()
+        })
+    }
+}

@@ -1,0 +1,299 @@
+//! One candidate as a unit of work outside the coordinating process: the task file a
+//! coordinator writes, the result file a worker (`stoss evaluate`) writes back atomically
+//! (temporary file, then rename), and the origin every result records (stoss version, binary
+//! hash, host), so that results computed on other machines stay traceable.
+
+use super::super::campaign::Campaign;
+use super::super::log::Key;
+use super::super::objective::{evaluate, Evaluation};
+use crate::solver::SolverSettings;
+use serde::{Deserialize, Serialize};
+use sha2::Digest as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// Where and by what a result was computed.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Origin {
+    /// stoss version.
+    pub stoss_version: String,
+    /// SHA-256 of the stoss binary that simulated (hex).
+    pub binary_sha256: String,
+    /// Host name of the machine that simulated.
+    pub host: String,
+    /// Executor: `local`, `slurm-array`, `slurm-allocation` or `probe`.
+    pub executor: String,
+    /// Slurm job (`job_task` of an array, `job.step` of an allocation), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slurm_job: Option<String>,
+    /// Runs it took (1 = the first; more after failed, cancelled or lost tasks).
+    #[serde(default = "one")]
+    pub attempts: u32,
+}
+
+fn one() -> u32 {
+    1
+}
+
+/// SHA-256 (hex) of this process's binary, computed once.
+pub fn binary_sha256() -> &'static str {
+    static HASH: OnceLock<String> = OnceLock::new();
+    HASH.get_or_init(|| {
+        std::env::current_exe()
+            .and_then(std::fs::read)
+            .map(|bytes| sha256_hex(&bytes))
+            .unwrap_or_else(|_| "unknown".into())
+    })
+}
+
+/// SHA-256 of `bytes`, as 64 hex digits.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    sha2::Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// This machine's host name (`/proc/sys/kernel/hostname`, else `$HOSTNAME`, else `unknown`).
+pub fn host_name() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .ok()
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+impl Origin {
+    /// This process, as executor `executor`, first attempt.
+    pub fn this_process(executor: &str) -> Self {
+        Self {
+            stoss_version: env!("CARGO_PKG_VERSION").into(),
+            binary_sha256: binary_sha256().into(),
+            host: host_name(),
+            executor: executor.into(),
+            slurm_job: None,
+            attempts: 1,
+        }
+    }
+}
+
+/// One candidate to evaluate, as a coordinator writes it for a worker.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaskFile {
+    /// The campaign file (absolute path; its experiment and material paths are relative to it).
+    pub campaign: PathBuf,
+    /// SHA-256 of the campaign file's text when the calibration started.
+    pub campaign_sha256: String,
+    /// The model whose constants these are.
+    pub model: String,
+    /// The candidate's place in the calibration.
+    pub key: Key,
+    /// Its optimiser instance's seed.
+    pub seed: u64,
+    /// Campaign experiments to simulate (indices).
+    pub experiments: Vec<usize>,
+    /// The fitted constants (SI, the model space's order); JSON numbers round-trip exactly.
+    pub values: Vec<f64>,
+    /// Executor name recorded in the origin (`slurm-array`, `slurm-allocation`).
+    pub executor: String,
+}
+
+/// A worker's answer: the evaluation of one task and where it was computed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResultFile {
+    /// The task's key (checked against the task).
+    pub key: Key,
+    /// The evaluation (its `values` are the task's, bit for bit).
+    pub evaluation: Evaluation,
+    /// Where it ran.
+    pub origin: Origin,
+}
+
+/// The result file of a task file: `<name>.task.json` -> `<name>.result.json`.
+pub fn result_path(task: &Path) -> PathBuf {
+    let name = task.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let stem = name.strip_suffix(".task.json").unwrap_or(&name);
+    task.with_file_name(format!("{stem}.result.json"))
+}
+
+/// A file name for the task of `key`: the model and a 64-bit FNV-1a hash of the key, stable
+/// across runs (a resumed run finds the results of its tasks by it).
+pub fn task_name(key: &Key) -> String {
+    let text = serde_json::to_string(key).unwrap_or_default();
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    for byte in text.bytes() {
+        hash ^= u64::from(byte);
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    let model: String = key
+        .model
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .take(32)
+        .collect();
+    format!("{model}-{}-{hash:016x}", key.instance)
+}
+
+/// Write `bytes` to `path` atomically: a temporary file in the same folder (named by host and
+/// process, so that two workers never share one), synced, then renamed over `path`.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let temporary = path.with_file_name(format!(
+        ".{name}.{}.{}.tmp",
+        host_name(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let mut file = std::fs::File::create(&temporary)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        std::fs::rename(&temporary, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result
+}
+
+/// Run a task file (the worker side of `stoss evaluate`): check the campaign is the one the
+/// coordinator started from, simulate the candidate with `threads` solver threads, and write
+/// the result file atomically. A candidate whose simulations fail is a result (status
+/// `failed`), not an error; errors are a task that cannot be run at all.
+pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
+    let text =
+        std::fs::read_to_string(task_path).map_err(|e| format!("{}: {e}", task_path.display()))?;
+    let task: TaskFile =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", task_path.display()))?;
+    let campaign_text = std::fs::read(&task.campaign)
+        .map_err(|e| format!("{} (campaign of {}): {e}", task.campaign.display(), task_path.display()))?;
+    if sha256_hex(&campaign_text) != task.campaign_sha256 {
+        return Err(format!(
+            "{}: the campaign file changed since the calibration started (its SHA-256 differs \
+             from the task's); restart the calibration",
+            task.campaign.display()
+        ));
+    }
+    let campaign = Campaign::load(&task.campaign).map_err(|e| e.to_string())?;
+    let model = campaign
+        .file
+        .models
+        .iter()
+        .find(|m| m.name == task.model)
+        .ok_or_else(|| {
+            format!(
+                "{}: model {:?} is not in {}",
+                task_path.display(),
+                task.model,
+                task.campaign.display()
+            )
+        })?;
+    let space = campaign.space(model);
+    if task.values.len() != space.dimension()
+        || task
+            .experiments
+            .iter()
+            .any(|&i| i >= campaign.experiments.len())
+    {
+        return Err(format!(
+            "{}: {} constants and experiments {:?} do not fit model {:?} ({} constants, {} \
+             experiments)",
+            task_path.display(),
+            task.values.len(),
+            task.experiments,
+            task.model,
+            space.dimension(),
+            campaign.experiments.len()
+        ));
+    }
+    let settings = SolverSettings {
+        threads: Some(threads),
+        ..SolverSettings::default()
+    };
+    let evaluation = evaluate(&campaign, &space, &task.values, &task.experiments, &settings);
+    let mut origin = Origin::this_process(&task.executor);
+    origin.slurm_job = slurm_job_of_environment();
+    let result = ResultFile {
+        key: task.key,
+        evaluation,
+        origin,
+    };
+    let path = result_path(task_path);
+    let json = serde_json::to_vec(&result).map_err(|e| e.to_string())?;
+    write_atomically(&path, &json).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path)
+}
+
+/// The Slurm job of this process, from the environment Slurm sets: `job_task` in an array,
+/// `job.step` in a step, `job` otherwise.
+pub fn slurm_job_of_environment() -> Option<String> {
+    let var = |name: &str| std::env::var(name).ok().filter(|v| !v.is_empty());
+    if let (Some(array), Some(task)) = (var("SLURM_ARRAY_JOB_ID"), var("SLURM_ARRAY_TASK_ID")) {
+        return Some(format!("{array}_{task}"));
+    }
+    let job = var("SLURM_JOB_ID")?;
+    Some(match var("SLURM_STEP_ID") {
+        Some(step) => format!("{job}.{step}"),
+        None => job,
+    })
+}
+
+/// The probe (`stoss evaluate --probe FILE`): write this process's origin to `path`
+/// atomically, so the coordinator learns that workers run the same binary and see the run
+/// folder.
+pub fn write_probe(path: &Path) -> Result<(), String> {
+    let mut origin = Origin::this_process("probe");
+    origin.slurm_job = slurm_job_of_environment();
+    let json = serde_json::to_vec(&origin).map_err(|e| e.to_string())?;
+    write_atomically(path, &json).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn task_names_are_stable_and_distinct() {
+        // GOAL: a resumed run finds its tasks' results under the same names; distinct keys get
+        // distinct names. SETUP: keys differing in fold, instance and index.
+        // REFERENCE: FNV-1a of the key's JSON (fixed constants, so the names never change).
+        let key = |fold: Option<&str>, instance, index| Key {
+            model: "jc/2".into(),
+            fold: fold.map(str::to_string),
+            instance,
+            index,
+        };
+        let a = task_name(&key(None, 0, 3));
+        assert_eq!(a, task_name(&key(None, 0, 3)));
+        assert!(a.starts_with("jc_2-0-"), "{a}");
+        let names = [
+            a,
+            task_name(&key(Some("x.toml"), 0, 3)),
+            task_name(&key(None, 1, 3)),
+            task_name(&key(None, 0, 4)),
+        ];
+        for (i, n) in names.iter().enumerate() {
+            assert!(names[i + 1..].iter().all(|m| m != n));
+        }
+        assert_eq!(
+            result_path(Path::new("/r/t/jc-0-00ff.task.json")),
+            Path::new("/r/t/jc-0-00ff.result.json")
+        );
+    }
+
+    #[test]
+    fn sha256_matches_the_standard_vector() {
+        // GOAL: the binary and campaign hashes are standard SHA-256.
+        // SETUP: "abc". REFERENCE: FIPS 180-2 appendix B.1.
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+    }
+}
