@@ -37,6 +37,8 @@ slurm_cluster_start() {
     fi
     slurm_cluster_install
     mkdir -p "$slurm_cluster_dir"/{state,spool,log,munge}
+    # munged runs as the munge user: it must reach its folder.
+    chmod 755 "$slurm_cluster_dir" "$(dirname "$slurm_cluster_dir")"
     local node cpus memory
     node="$(hostname -s)"
     cpus="$(nproc)"

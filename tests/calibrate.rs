@@ -3,9 +3,10 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use stoss::calibrate::executor::{Batch, Executor, Local, Origin, Record};
 use stoss::calibrate::proposer::bayesian_factory;
-use stoss::calibrate::run::{calibrate, RunOptions};
-use stoss::calibrate::Campaign;
+use stoss::calibrate::run::{calibrate, CalibrateError, RunOptions};
+use stoss::calibrate::{evaluate, Campaign, Evaluation};
 use stoss::input::material;
 use stoss::solver::SolverSettings;
 
@@ -29,6 +30,10 @@ fn options(budget: usize, polish: usize, leave_one_out: bool) -> RunOptions {
     }
 }
 
+fn local(campaign: &Campaign) -> Local {
+    Local::new(campaign.file.optimiser.parallel).unwrap()
+}
+
 #[test]
 fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
     // GOAL: calibration recovers the truth's stress-strain response within the noise.
@@ -46,6 +51,7 @@ fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
         &campaign,
         &output,
         &options(60, 60, false),
+        &mut local(&campaign),
         &factory,
         &mut progress,
     )
@@ -91,6 +97,7 @@ fn leave_one_out_scores_every_fold_on_all_experiments() {
         &campaign,
         &output,
         &options(12, 0, true),
+        &mut local(&campaign),
         &factory,
         &mut progress,
     )
@@ -512,4 +519,262 @@ fn an_rht_campaign_fits_concrete_constants_by_their_dotted_paths() {
             && error.contains("needs a J2 metal material, not RHT concrete"),
         "{error}"
     );
+}
+
+/// An executor that simulates a batch's candidates one at a time, last first, and reports them
+/// in that order: a cluster whose tasks finish in reverse.
+struct LastFirst;
+
+impl Executor for LastFirst {
+    fn evaluate(
+        &mut self,
+        batch: &Batch<'_>,
+        record: &Record<'_>,
+    ) -> Result<Vec<Evaluation>, CalibrateError> {
+        let settings = SolverSettings {
+            threads: Some(2),
+            ..SolverSettings::default()
+        };
+        let mut results = vec![None; batch.candidates.len()];
+        for (index, candidate) in batch.candidates.iter().enumerate().rev() {
+            let evaluation = evaluate(
+                batch.campaign,
+                batch.space,
+                candidate.values,
+                batch.experiments,
+                &settings,
+            );
+            record(index, &evaluation, &Origin::this_process("last-first"))?;
+            results[index] = Some(evaluation);
+        }
+        Ok(results.into_iter().map(Option::unwrap).collect())
+    }
+}
+
+#[test]
+fn calibration_does_not_depend_on_the_order_tasks_finish_in() {
+    // GOAL: an executor whose tasks finish in another order (and run with other solver
+    //       threads) gives the calibration of the local pool, bit for bit (issue 18).
+    // SETUP: the synthetic-flow campaign with a Taylor test added (a solver run, not only the
+    //        point driver), 8 Bayesian + 4 polish simulations, one instance, batches of 2;
+    //        the local pool against `LastFirst`.
+    // REFERENCE: the local run: the same candidates with bit-identical constants and scores,
+    //        the same selected constants and errors.
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
+    let with_taylor = text.replace("\"../", &format!("\"{root}/fixtures/"))
+        + &format!(
+            "\n[[experiments]]\nfile = \"{root}/fixtures/experiments/synthetic-taylor-hha-184.toml\"\n"
+        );
+    let folder = temporary("order");
+    let path = folder.join("campaign.toml");
+    std::fs::write(&path, with_taylor).unwrap();
+    let campaign = Campaign::load(&path).unwrap();
+    let factory = bayesian_factory();
+    let run = |executor: &mut dyn Executor, name: &str| {
+        let output = folder.join(name);
+        std::fs::create_dir_all(&output).unwrap();
+        let mut progress =
+            |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
+        let results = calibrate(
+            &campaign,
+            &output,
+            &options(8, 4, false),
+            executor,
+            &factory,
+            &mut progress,
+        )
+        .unwrap();
+        let mut lines: Vec<serde_json::Value> = log_lines(&output)
+            .iter()
+            .map(|line| {
+                let mut entry: serde_json::Value = serde_json::from_str(line).unwrap();
+                entry.as_object_mut().unwrap().remove("origin");
+                entry["evaluation"]
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("wall_time");
+                entry
+            })
+            .collect();
+        lines.sort_by_key(|entry| entry["key"].to_string());
+        (results, lines)
+    };
+    let (local_results, local_log) = run(&mut local(&campaign), "local");
+    let (other_results, other_log) = run(&mut LastFirst, "last-first");
+    assert_eq!(local_log.len(), 13);
+    assert_eq!(local_log, other_log);
+    let selected = |r: &[stoss::calibrate::run::ModelResult]| {
+        (
+            r[0].selected
+                .values
+                .iter()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>(),
+            r[0].fit_error.to_bits(),
+            r[0].instances
+                .iter()
+                .flat_map(|i| i.history.iter().map(|h| h.to_bits()))
+                .collect::<Vec<_>>(),
+        )
+    };
+    assert_eq!(selected(&local_results), selected(&other_results));
+    std::fs::remove_dir_all(&folder).unwrap();
+}
+
+#[test]
+fn the_evaluate_worker_reproduces_the_in_process_evaluation() {
+    // GOAL: `stoss evaluate <task>` (the Slurm worker) writes the evaluation the coordinator
+    //       would have computed itself, bit for bit, with where it ran; a task whose campaign
+    //       changed since, an unreadable task and a bad thread count are refused.
+    // SETUP: a task for the synthetic-flow campaign's first model at the middle of its box,
+    //        experiments 0 and 1, run with 2 solver threads.
+    // REFERENCE: `evaluate` in this process; the result file's key, constants, scores and
+    //        status equal to it; its origin names this stoss version and the executor.
+    use stoss::calibrate::executor::task::{result_path, sha256_hex, ResultFile, TaskFile};
+    use stoss::calibrate::log::Key;
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let folder = temporary("worker");
+    let campaign_path = folder.join("campaign.toml");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml"))
+        .unwrap()
+        .replace("\"../", &format!("\"{root}/fixtures/"));
+    std::fs::write(&campaign_path, &text).unwrap();
+    let campaign = Campaign::load(&campaign_path).unwrap();
+    let space = campaign.space(&campaign.file.models[0]);
+    let values: Vec<f64> = space
+        .lower
+        .iter()
+        .zip(&space.upper)
+        .map(|(l, u)| l + 0.37 * (u - l))
+        .collect();
+    let key = Key {
+        model: space.name.clone(),
+        fold: None,
+        instance: 0,
+        index: 5,
+    };
+    let task = TaskFile {
+        campaign: campaign_path.clone(),
+        campaign_sha256: sha256_hex(text.as_bytes()),
+        model: space.name.clone(),
+        key: key.clone(),
+        seed: 3,
+        experiments: vec![0, 1],
+        values: values.clone(),
+        executor: "slurm-array".into(),
+    };
+    let task_path = folder.join("jc-0-test.task.json");
+    std::fs::write(&task_path, serde_json::to_vec(&task).unwrap()).unwrap();
+    let output = stoss()
+        .args(["evaluate", "--threads", "2"])
+        .arg(&task_path)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let result: ResultFile =
+        serde_json::from_str(&std::fs::read_to_string(result_path(&task_path)).unwrap()).unwrap();
+    let here = evaluate(
+        &campaign,
+        &space,
+        &values,
+        &[0, 1],
+        &SolverSettings::default(),
+    );
+    assert_eq!(result.key, key);
+    assert_eq!(
+        Evaluation {
+            wall_time: 0.0,
+            ..result.evaluation
+        },
+        Evaluation {
+            wall_time: 0.0,
+            ..here
+        }
+    );
+    assert_eq!(result.origin.executor, "slurm-array");
+    assert_eq!(result.origin.stoss_version, env!("CARGO_PKG_VERSION"));
+    assert_eq!(result.origin.binary_sha256.len(), 64);
+
+    // The campaign edited after the task was written.
+    std::fs::write(&campaign_path, text.replace("seed = 3", "seed = 4")).unwrap();
+    let output = stoss().arg("evaluate").arg(&task_path).output().unwrap();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("campaign file changed"));
+    // No such task; a bad thread count.
+    let output = stoss()
+        .args(["evaluate", "no-such.task.json"])
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("no-such.task.json"));
+    let output = stoss()
+        .args(["evaluate", "--threads", "0"])
+        .arg(&task_path)
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("--threads 0"));
+    std::fs::remove_dir_all(&folder).unwrap();
+}
+
+#[test]
+fn a_slurm_run_without_slurm_or_with_bad_settings_says_so() {
+    // GOAL: the Slurm executor's set-up errors are clear and immediate (the real-cluster
+    //       checks are in .ci/slurm.sh). SETUP: --executor slurm with PATH emptied; a bad
+    //       --time-limit; a bad [executor] key in a campaign.
+    // REFERENCE: non-zero exit, the message names the missing command, the flag, the line.
+    let campaign = fixtures().join("campaigns/synthetic-flow.toml");
+    let out = temporary("slurm-errors");
+    let output = stoss()
+        .arg("calibrate")
+        .arg(&campaign)
+        .arg("--output")
+        .arg(out.join("a"))
+        .args(["--executor", "slurm", "--quiet"])
+        .env("PATH", "/nonexistent")
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("sbatch is not on PATH"));
+    let output = stoss()
+        .arg("calibrate")
+        .arg(&campaign)
+        .arg("--output")
+        .arg(out.join("b"))
+        .args(["--executor", "slurm", "--time-limit", "ten minutes"])
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("--time-limit") && stderr.contains("Slurm time limit"),
+        "{stderr}"
+    );
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let bad = std::fs::read_to_string(&campaign)
+        .unwrap()
+        .replace("\"../", &format!("\"{root}/fixtures/"))
+        + "\n[executor]\nkind = \"slurm\"\ncpus_per_task = 0\n";
+    let path = out.join("campaign.toml");
+    let last_line = bad.lines().count();
+    std::fs::write(&path, bad).unwrap();
+    let output = stoss()
+        .arg("calibrate")
+        .arg(&path)
+        .arg("--output")
+        .arg(out.join("c"))
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("cpus_per_task") && stderr.contains(":3"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&out).unwrap();
 }

@@ -12,6 +12,7 @@
 //! (comma-separated, default all), `NOISE` (comma-separated, default 0.01,0.03,0.05)).
 
 use std::path::{Path, PathBuf};
+use stoss::calibrate::executor::Local;
 use stoss::calibrate::proposer::bayesian_factory;
 use stoss::calibrate::run::{calibrate, RunOptions};
 use stoss::calibrate::Campaign;
@@ -129,6 +130,7 @@ fn main() {
                         leave_one_out: Some(false),
                         polish: Some(polish),
                     },
+                    &mut Local::new(campaign.file.optimiser.parallel).expect("thread pool"),
                     &factory,
                     &mut progress,
                 )

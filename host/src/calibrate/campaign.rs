@@ -396,7 +396,12 @@ impl Campaign {
             ));
         }
         if let Err((field, message)) = file.executor.check() {
-            return Err(InputError::field(path, &text, &format!("executor.{field}"), message));
+            return Err(InputError::field(
+                path,
+                &text,
+                &format!("executor.{field}"),
+                message,
+            ));
         }
         let experiments = file
             .experiments

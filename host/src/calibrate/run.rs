@@ -187,7 +187,9 @@ impl Runner<'_> {
         for (key, point) in keys.iter().zip(points) {
             results.push(self.log.lookup(key, point)?);
         }
-        let fresh: Vec<usize> = (0..points.len()).filter(|&i| results[i].is_none()).collect();
+        let fresh: Vec<usize> = (0..points.len())
+            .filter(|&i| results[i].is_none())
+            .collect();
         if fresh.is_empty() {
             return Ok(results.into_iter().flatten().collect());
         }

@@ -69,7 +69,10 @@ pub struct CalibrateArgs {
 
 /// The campaign's `[executor]` table with the command line's overrides, checked; errors name
 /// the flag.
-fn executor_settings(args: &CalibrateArgs, campaign: &ExecutorEntry) -> Result<ExecutorEntry, String> {
+fn executor_settings(
+    args: &CalibrateArgs,
+    campaign: &ExecutorEntry,
+) -> Result<ExecutorEntry, String> {
     let mut entry = campaign.clone();
     if let Some(kind) = args.executor {
         entry.kind = kind;
@@ -91,7 +94,10 @@ fn executor_settings(args: &CalibrateArgs, campaign: &ExecutorEntry) -> Result<E
     }
     entry.sbatch_args.extend(args.sbatch_args.iter().cloned());
     entry.check().map_err(|(field, message)| {
-        format!("--{} (or [executor] {field}): {message}", field.replace('_', "-"))
+        format!(
+            "--{} (or [executor] {field}): {message}",
+            field.replace('_', "-")
+        )
     })?;
     Ok(entry)
 }

@@ -47,8 +47,7 @@ pub struct Batch<'a> {
 
 /// Called once per candidate as its evaluation ends, in any order: `(index in the batch,
 /// evaluation, origin)`.
-pub type Record<'r> =
-    dyn Fn(usize, &Evaluation, &Origin) -> Result<(), CalibrateError> + Sync + 'r;
+pub type Record<'r> = dyn Fn(usize, &Evaluation, &Origin) -> Result<(), CalibrateError> + Sync + 'r;
 
 /// Runs the simulations of batches.
 pub trait Executor {

@@ -138,7 +138,8 @@ impl ExecutorEntry {
                 slurm_time_seconds(limit).map_err(|message| (field, message))?;
             }
         }
-        if self.cpus_per_task == 0 || self.cpus_per_task > crate::solver::explicit::MAXIMUM_THREADS {
+        if self.cpus_per_task == 0 || self.cpus_per_task > crate::solver::explicit::MAXIMUM_THREADS
+        {
             return Err((
                 "cpus_per_task",
                 format!(
@@ -176,7 +177,10 @@ impl ExecutorEntry {
         }
         if let Some(partition) = &self.partition {
             if partition.is_empty() || partition.contains(char::is_whitespace) {
-                return Err(("partition", format!("{partition:?} is not a partition name")));
+                return Err((
+                    "partition",
+                    format!("{partition:?} is not a partition name"),
+                ));
             }
         }
         Ok(())
@@ -235,7 +239,18 @@ mod tests {
         assert_eq!(slurm_time_seconds("2-03"), Ok(2 * 86_400 + 3 * 3600));
         assert_eq!(slurm_time_seconds("1-00:10"), Ok(86_400 + 600));
         assert_eq!(slurm_time_seconds("1-00:00:30"), Ok(86_430));
-        for bad in ["", "ten", "1:2:3:4", "-5", "1-", "0", "0:30", "UNLIMITED", "1.5", "9999999"] {
+        for bad in [
+            "",
+            "ten",
+            "1:2:3:4",
+            "-5",
+            "1-",
+            "0",
+            "0:30",
+            "UNLIMITED",
+            "1.5",
+            "9999999",
+        ] {
             assert!(slurm_time_seconds(bad).is_err(), "{bad:?} accepted");
         }
     }

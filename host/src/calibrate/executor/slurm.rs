@@ -46,6 +46,9 @@ const ENDED_STATES: [&str; 10] = [
     "SPECIAL_EXIT",
 ];
 
+/// This run's tasks in the queue: `(job id, array index) -> (state, reason)`.
+type QueueStates = BTreeMap<(String, usize), (String, String)>;
+
 /// How long the queue may stay unreadable (squeue failing) before the calibration stops.
 const QUEUE_UNREADABLE_LIMIT: Duration = Duration::from_secs(300);
 
@@ -69,22 +72,22 @@ fn on_path(program: &str) -> Option<PathBuf> {
         .find(|candidate| candidate.is_file())
 }
 
-/// Run a Slurm client command; its stdout, or an error quoting its stderr.
-fn run_command(program: &str, args: &[String]) -> Result<String, CalibrateError> {
+/// Run a Slurm client command; its stdout, or a message quoting its stderr.
+fn run_command(program: &str, args: &[String]) -> Result<String, String> {
     let output = Command::new(program)
         .args(args)
         .stdin(Stdio::null())
         .output()
-        .map_err(|e| executor_error(format!("{program}: {e}")))?;
+        .map_err(|e| format!("{program}: {e}"))?;
     if output.status.success() {
         Ok(String::from_utf8_lossy(&output.stdout).into_owned())
     } else {
-        Err(executor_error(format!(
+        Err(format!(
             "`{program} {}` failed ({}): {}",
             args.join(" "),
             output.status,
             String::from_utf8_lossy(&output.stderr).trim()
-        )))
+        ))
     }
 }
 
@@ -243,7 +246,10 @@ impl SlurmExecutor {
             campaign: campaign_path,
             campaign_sha256: sha256_hex(&campaign_text),
             stoss,
-            job_name: format!("stoss-{}", &sha256_hex(output.to_string_lossy().as_bytes())[..8]),
+            job_name: format!(
+                "stoss-{}",
+                &sha256_hex(output.to_string_lossy().as_bytes())[..8]
+            ),
             submissions,
             active_jobs: BTreeSet::new(),
             allocation: None,
@@ -340,7 +346,10 @@ impl SlurmExecutor {
             args.push(format!("--time={limit}"));
         }
         args.extend(self.entry.sbatch_args.iter().cloned());
-        self.say(&format!("waiting for an allocation of {} tasks", self.max_concurrent));
+        self.say(&format!(
+            "waiting for an allocation of {} tasks",
+            self.max_concurrent
+        ));
         let output = Command::new("salloc")
             .args(&args)
             .stdin(Stdio::null())
@@ -412,9 +421,8 @@ impl SlurmExecutor {
                 args.extend(self.entry.sbatch_args.iter().cloned());
                 args.push(probe_script);
                 args.push(answer.to_string_lossy().into_owned());
-                let id = run_command("sbatch", &args).map_err(|e| {
-                    executor_error(format!("sbatch rejected the probe job: {e}"))
-                })?;
+                let id = run_command("sbatch", &args)
+                    .map_err(|e| executor_error(format!("sbatch rejected the probe job: {e}")))?;
                 let id = id.trim().split(';').next().unwrap_or_default().to_string();
                 self.say(&format!("probe job {id} submitted"));
                 job = Some(id);
@@ -436,11 +444,12 @@ impl SlurmExecutor {
             }
             let ended = match (&mut step, &job) {
                 (Some(child), _) => child.try_wait().ok().flatten().is_some(),
-                (None, Some(id)) => self
-                    .queue_states()
-                    .ok()
-                    .is_some_and(|states| !states.keys().any(|(j, _)| j == id)
-                        || states.iter().any(|((j, _), (s, _))| j == id && ENDED_STATES.contains(&s.as_str()))),
+                (None, Some(id)) => self.queue_states().ok().is_some_and(|states| {
+                    !states.keys().any(|(j, _)| j == id)
+                        || states
+                            .iter()
+                            .any(|((j, _), (s, _))| j == id && ENDED_STATES.contains(&s.as_str()))
+                }),
                 (None, None) => true,
             };
             if ended {
@@ -491,7 +500,7 @@ impl SlurmExecutor {
 
     /// States of this run's tasks in the queue: `(job id, array index) -> (state, reason)`;
     /// a job that is not an array has index 0.
-    fn queue_states(&self) -> Result<BTreeMap<(String, usize), (String, String)>, CalibrateError> {
+    fn queue_states(&self) -> Result<QueueStates, String> {
         let text = run_command(
             "squeue",
             &[
@@ -676,8 +685,8 @@ impl Executor for SlurmExecutor {
                     values: candidate.values.to_vec(),
                     executor: executor_name.into(),
                 };
-                let json = serde_json::to_vec_pretty(&file)
-                    .map_err(|e| executor_error(e.to_string()))?;
+                let json =
+                    serde_json::to_vec_pretty(&file).map_err(|e| executor_error(e.to_string()))?;
                 write_atomically(&task.path, &json)
                     .map_err(|e| executor_error(format!("{}: {e}", task.path.display())))?;
             }
@@ -723,7 +732,8 @@ impl Executor for SlurmExecutor {
                 // Results that have arrived.
                 for task in tasks.iter_mut().filter(|t| !t.done && t.job.is_some()) {
                     let candidate = batch.candidates[task.index];
-                    if let Some(mut result) = self.read_result(task, candidate.key, candidate.values)
+                    if let Some(mut result) =
+                        self.read_result(task, candidate.key, candidate.values)
                     {
                         result.origin.attempts = task.failures.len() as u32 + 1;
                         record(task.index, &result.evaluation, &result.origin)?;
@@ -806,9 +816,13 @@ impl Executor for SlurmExecutor {
                     task.job = None;
                     task.step = None;
                     task.ended_at = None;
-                    match after_failure(&task.failures, self.entry.retries, &self.time_limit_text()) {
+                    match after_failure(&task.failures, self.entry.retries, &self.time_limit_text())
+                    {
                         AfterFailure::Retry => {
-                            let last = task.failures.last().map_or(String::new(), |f| f.state.clone());
+                            let last = task
+                                .failures
+                                .last()
+                                .map_or(String::new(), |f| f.state.clone());
                             if !self.quiet {
                                 eprintln!(
                                     "slurm: task {} ended without a result ({last}); rerun {} of {}",
@@ -838,12 +852,16 @@ impl Executor for SlurmExecutor {
                         }
                     }
                 }
-                if !waiting.is_empty() && now.duration_since(last_waiting_report) >= WAITING_REPORT_INTERVAL
+                if !waiting.is_empty()
+                    && now.duration_since(last_waiting_report) >= WAITING_REPORT_INTERVAL
                 {
                     last_waiting_report = now;
                     let reasons: Vec<String> =
                         waiting.iter().map(|(r, n)| format!("{n} ({r})")).collect();
-                    self.say(&format!("tasks waiting in the queue: {}", reasons.join(", ")));
+                    self.say(&format!(
+                        "tasks waiting in the queue: {}",
+                        reasons.join(", ")
+                    ));
                 }
             }
         })();
@@ -883,7 +901,10 @@ mod tests {
         // stops the calibration with an error naming the limit (not a hang, not a silent
         // failure). SETUP: failure histories with 2 retries allowed.
         // REFERENCE: the executor's stated policy.
-        assert_eq!(after_failure(&[failure("CANCELLED", false)], 2, "1"), AfterFailure::Retry);
+        assert_eq!(
+            after_failure(&[failure("CANCELLED", false)], 2, "1"),
+            AfterFailure::Retry
+        );
         let mixed = [
             failure("CANCELLED", false),
             failure("NODE_FAIL", false),
@@ -891,7 +912,10 @@ mod tests {
         ];
         match after_failure(&mixed, 2, "00:10:00") {
             AfterFailure::RecordFailed(reason) => {
-                assert!(reason.contains("3 times") && reason.contains("NODE_FAIL"), "{reason}")
+                assert!(
+                    reason.contains("3 times") && reason.contains("NODE_FAIL"),
+                    "{reason}"
+                )
             }
             other => panic!("{other:?}"),
         }

@@ -116,7 +116,9 @@ pub struct ResultFile {
 
 /// The result file of a task file: `<name>.task.json` -> `<name>.result.json`.
 pub fn result_path(task: &Path) -> PathBuf {
-    let name = task.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let name = task
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
     let stem = name.strip_suffix(".task.json").unwrap_or(&name);
     task.with_file_name(format!("{stem}.result.json"))
 }
@@ -171,8 +173,13 @@ pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
         std::fs::read_to_string(task_path).map_err(|e| format!("{}: {e}", task_path.display()))?;
     let task: TaskFile =
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", task_path.display()))?;
-    let campaign_text = std::fs::read(&task.campaign)
-        .map_err(|e| format!("{} (campaign of {}): {e}", task.campaign.display(), task_path.display()))?;
+    let campaign_text = std::fs::read(&task.campaign).map_err(|e| {
+        format!(
+            "{} (campaign of {}): {e}",
+            task.campaign.display(),
+            task_path.display()
+        )
+    })?;
     if sha256_hex(&campaign_text) != task.campaign_sha256 {
         return Err(format!(
             "{}: the campaign file changed since the calibration started (its SHA-256 differs \
@@ -216,7 +223,13 @@ pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
         threads: Some(threads),
         ..SolverSettings::default()
     };
-    let evaluation = evaluate(&campaign, &space, &task.values, &task.experiments, &settings);
+    let evaluation = evaluate(
+        &campaign,
+        &space,
+        &task.values,
+        &task.experiments,
+        &settings,
+    );
     let mut origin = Origin::this_process(&task.executor);
     origin.slurm_job = slurm_job_of_environment();
     let result = ResultFile {
