@@ -10,7 +10,13 @@
 #   4. bad set-ups end with a clear error, not a hang: no sbatch on PATH, a partition that does
 #      not exist, a run folder the workers cannot see, a time limit shorter than a candidate.
 # Needs root. Every wait is bounded; the cluster is stopped and its files removed on exit.
+#
+# `bash .ci/slurm.sh --measure` instead measures the executor's overhead per candidate: the
+# synthetic flow-curve campaign (candidates of milliseconds) with 40 candidates per batch,
+# locally and through both Slurm modes, with the same result.
 set -euo pipefail
+measure=0
+[[ "${1:-}" == "--measure" ]] && measure=1
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -86,6 +92,27 @@ EOF
     done
 }
 write_campaign "$campaign"
+
+if [[ $measure -eq 1 ]]; then
+    flow="$work/flow.toml"
+    sed -e "s|\"\.\./|\"$root/fixtures/|" -e 's/^parallel = 2/parallel = 40/' \
+        "$root/fixtures/campaigns/synthetic-flow.toml" >"$flow"
+    printf '[executor]\npoll_interval = 0.2\nresult_wait = 3\n' >>"$flow"
+    flags=(--budget 80 --polish 0 --instances 1 --quiet)
+    for run in local array allocation; do
+        extra=()
+        [[ $run != local ]] && extra=(--executor slurm --slurm-mode "$run" --max-concurrent 2)
+        started=$(date +%s.%N)
+        timeout 1200 "$stoss" calibrate "$flow" --output "$work/m-$run" "${flags[@]}" "${extra[@]}" >/dev/null
+        ended=$(date +%s.%N)
+        candidates=$(wc -l <"$work/m-$run/simulations.jsonl")
+        awk -v r="$run" -v a="$started" -v b="$ended" -v n="$candidates" \
+            'BEGIN { printf "%-10s %3d candidates  %7.2f s  %6.3f s per candidate\n", r, n, b - a, (b - a) / n }'
+    done
+    python3 .ci/compare-calibrations.py "$work/m-local" "$work/m-array"
+    python3 .ci/compare-calibrations.py "$work/m-local" "$work/m-allocation"
+    exit 0
+fi
 
 run_calibration() { # run_calibration OUTPUT [flags...]: a bounded calibration
     local output="$1"
