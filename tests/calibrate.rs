@@ -773,7 +773,7 @@ fn a_slurm_run_without_slurm_or_with_bad_settings_says_so() {
     assert!(!output.status.success());
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
-        stderr.contains("cpus_per_task") && stderr.contains(":3"),
+        stderr.contains("executor.cpus_per_task") && stderr.contains(&format!(":{last_line}:")),
         "{stderr}"
     );
     std::fs::remove_dir_all(&out).unwrap();

@@ -52,6 +52,11 @@ type QueueStates = BTreeMap<(String, usize), (String, String)>;
 /// How long the queue may stay unreadable (squeue failing) before the calibration stops.
 const QUEUE_UNREADABLE_LIMIT: Duration = Duration::from_secs(300);
 
+/// Least time between two readings of the queue (squeue): results are found in the run folder
+/// at every poll; the queue only tells which tasks ended without one, and a scheduler should
+/// not be polled every second.
+const QUEUE_READ_INTERVAL: Duration = Duration::from_secs(10);
+
 /// Least time between two lines about tasks waiting in the queue.
 const WAITING_REPORT_INTERVAL: Duration = Duration::from_secs(60);
 
@@ -700,6 +705,7 @@ impl Executor for SlurmExecutor {
         }
         let mut to_start: Vec<usize> = (0..tasks.len()).filter(|&i| !tasks[i].done).collect();
         let mut queue_unreadable_since: Option<Instant> = None;
+        let mut last_queue_read: Option<Instant> = None;
         let mut last_waiting_report = Instant::now();
         let poll = Duration::from_secs_f64(self.entry.poll_interval);
         let outcome = (|| -> Result<(), CalibrateError> {
@@ -746,10 +752,15 @@ impl Executor for SlurmExecutor {
                 }
                 // Runs that ended without one.
                 let now = Instant::now();
+                let queue_due = last_queue_read.is_none_or(|t: Instant| {
+                    now.duration_since(t) >= QUEUE_READ_INTERVAL.max(poll)
+                });
                 let states = match self.entry.mode {
+                    SlurmMode::Array if !queue_due => None,
                     SlurmMode::Array => match self.queue_states() {
                         Ok(states) => {
                             queue_unreadable_since = None;
+                            last_queue_read = Some(now);
                             Some(states)
                         }
                         Err(error) => {
@@ -788,7 +799,8 @@ impl Executor for SlurmExecutor {
                                 }
                             }
                         }
-                        (None, None) => None,
+                        // The queue was not read this time: keep what is known.
+                        (None, None) => task.ended_state.clone(),
                     };
                     let Some(ended) = ended else {
                         task.ended_at = None;
