@@ -101,3 +101,111 @@ fn every_bundled_experiment_passes_its_input_checks() {
     }
     assert!(count >= 20, "{count} experiments");
 }
+
+/// A fixture's text with `from` replaced by `to` (each must occur).
+fn edited(text: &str, edits: &[(&str, &str)]) -> String {
+    let mut text = text.to_string();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from} not in the fixture");
+        text = text.replacen(from, to, 1);
+    }
+    text
+}
+
+#[test]
+fn quantities_with_units_load_as_the_same_si_numbers() {
+    // GOAL: a user's experiment, material and recording written with units (mm, m/s, MPa,
+    //       GPa, g/cc, a CSV header in mm) load bit for bit as the bundled SI files, and a
+    //       unit of the wrong dimension is an error naming file, line and field (issue 17).
+    // SETUP: the 4340 Taylor test at 208 m/s and the 4340 JC material, rewritten with units
+    //        in a temporary folder.
+    // REFERENCE: the bundled SI files: equal set-up, material and recorded points (so equal
+    //        simulations).
+    use stoss::experiment::Experiment;
+    use stoss::input::material;
+    let folder = std::env::temp_dir().join(format!("stoss-units-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&folder);
+    std::fs::create_dir_all(folder.join("experiments")).unwrap();
+    std::fs::create_dir_all(folder.join("materials")).unwrap();
+    let read = |name: &str| std::fs::read_to_string(fixtures().join(name)).unwrap();
+    let material_text = edited(
+        &read("materials/4340-jc.toml"),
+        &[
+            ("density = 7830.0", "density = \"7.83 g/cc\""),
+            ("shear_modulus = 81.8e9", "shear_modulus = \"81.8 GPa\""),
+            ("yield_stress = 792.0e6", "yield_stress = \"792.0 MPa\""),
+            (
+                "hardening_modulus = 510.0e6",
+                "hardening_modulus = '510 MPa'",
+            ),
+            (
+                "melting_temperature = 1793.0",
+                "melting_temperature = \"1793 K\"",
+            ),
+            ("bulk_modulus = 159.0e9", "bulk_modulus = \"159 GPa\""),
+        ],
+    );
+    std::fs::write(folder.join("materials/4340-jc.toml"), &material_text).unwrap();
+    let experiment_text = edited(
+        &read("experiments/taylor-4340-208.toml"),
+        &[
+            ("length = 2.540000e-02", "length = \"25.4 mm\""),
+            ("diameter = 7.620000e-03", "diameter = \"7.62 mm\""),
+            ("velocity = 208.0", "velocity = \"0.208 km/s\""),
+        ],
+    );
+    std::fs::write(
+        folder.join("experiments/taylor-4340-208.toml"),
+        &experiment_text,
+    )
+    .unwrap();
+    // The recording with its lengths in mm (the header carries the units).
+    let csv = read("experiments/taylor-4340-208.csv");
+    let mut in_mm = String::new();
+    for line in csv.lines() {
+        let cells: Vec<&str> = line.split(',').collect();
+        if line.starts_with('#') || cells.len() != 4 {
+            in_mm.push_str(line);
+        } else if cells[0] == "quantity" {
+            in_mm.push_str("quantity,position [mm],value [mm],uncertainty [mm]");
+        } else {
+            // Shift the decimal exponent by hand: 2.2479e-02 m -> 2.2479e1 mm.
+            let mm = |cell: &str| {
+                let (mantissa, exponent) = cell.split_once(['e', 'E']).unwrap_or((cell, "0"));
+                format!("{mantissa}e{}", exponent.parse::<i32>().unwrap() + 3)
+            };
+            in_mm.push_str(&format!(
+                "{},{},{},{}",
+                cells[0],
+                mm(cells[1]),
+                mm(cells[2]),
+                mm(cells[3])
+            ));
+        }
+        in_mm.push('\n');
+    }
+    std::fs::write(folder.join("experiments/taylor-4340-208.csv"), &in_mm).unwrap();
+
+    let si = Experiment::load(&fixtures().join("experiments/taylor-4340-208.toml")).unwrap();
+    let with_units = Experiment::load(&folder.join("experiments/taylor-4340-208.toml")).unwrap();
+    assert_eq!(
+        format!("{:?}", si.file.setup),
+        format!("{:?}", with_units.file.setup)
+    );
+    assert_eq!(si.recording, with_units.recording);
+    let (_, si_material) = material::load(&fixtures().join("materials/4340-jc.toml")).unwrap();
+    let (_, unit_material) = material::load(&folder.join("materials/4340-jc.toml")).unwrap();
+    assert_eq!(format!("{si_material:?}"), format!("{unit_material:?}"));
+
+    // A length given as a stress: file, line and field.
+    let bad = experiment_text.replace("\"25.4 mm\"", "\"25.4 MPa\"");
+    let line = bad.lines().position(|l| l.contains("25.4 MPa")).unwrap() + 1;
+    let path = folder.join("experiments/bad.toml");
+    std::fs::write(&path, bad).unwrap();
+    let error = Experiment::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains(&format!("bad.toml:{line}: field `length`")) && error.contains("a stress"),
+        "{error}"
+    );
+    let _ = std::fs::remove_dir_all(&folder);
+}

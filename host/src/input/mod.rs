@@ -4,6 +4,7 @@
 mod error;
 pub mod material;
 pub mod recording;
+pub mod units;
 
 pub use error::InputError;
 
@@ -77,8 +78,124 @@ fn key_of_quoted_value(text: &str, message: &str) -> Option<(String, usize)> {
     })
 }
 
+/// The quoted strings of one TOML line outside comments: `(byte range of the string with its
+/// quotes, content)`; basic strings (`"..."`, with `\"` escapes) and literal strings (`'...'`).
+fn quoted_strings(line: &str) -> Vec<(std::ops::Range<usize>, String)> {
+    let bytes = line.as_bytes();
+    let mut strings = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'#' => break,
+            quote @ (b'"' | b'\'') => {
+                let start = i;
+                let mut content = String::new();
+                i += 1;
+                while i < bytes.len() && bytes[i] != quote {
+                    if quote == b'"' && bytes[i] == b'\\' && i + 1 < bytes.len() {
+                        i += 1;
+                    }
+                    let c = line[i..].chars().next().unwrap_or(' ');
+                    content.push(c);
+                    i += c.len_utf8();
+                }
+                if i >= bytes.len() {
+                    break;
+                }
+                strings.push((start..i + 1, content));
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    strings
+}
+
+/// The key a value at byte `at` of `line` belongs to: the name before the last `=` before it
+/// (`key = "..."`, `{ a = 1, key = "..." }`, `key = ["...", "..."]`).
+fn key_before(line: &str, at: usize) -> Option<&str> {
+    let before = &line[..at];
+    let equals = before.rfind('=')?;
+    let key = before[..equals]
+        .rsplit(['{', ',', '['])
+        .next()?
+        .trim()
+        .trim_matches('"');
+    (!key.is_empty()).then_some(key)
+}
+
+/// `text` with every quoted quantity that carries a unit (`"25.4 mm"`, `["0.5 GPa", "2 GPa"]`)
+/// replaced by its SI number, where the field's name gives a dimension
+/// ([`units::field_dimension`]); every line stays where it was, so later errors keep their
+/// line numbers. A unit of the wrong dimension or an unknown one is an error naming the line
+/// and the field.
+fn quantities_in_si<'t>(
+    path: &Path,
+    text: &'t str,
+) -> Result<std::borrow::Cow<'t, str>, InputError> {
+    if !text.contains('"') && !text.contains('\'') {
+        return Ok(std::borrow::Cow::Borrowed(text));
+    }
+    let mut out = String::with_capacity(text.len());
+    let mut changed = false;
+    let mut in_multiline = false;
+    for (index, line) in text.split_inclusive('\n').enumerate() {
+        // Multi-line strings (`"""` or `'''`) are text, never quantities.
+        let delimiters = line.matches("\"\"\"").count() + line.matches("'''").count();
+        if in_multiline || delimiters > 0 {
+            if delimiters % 2 == 1 {
+                in_multiline = !in_multiline;
+            }
+            out.push_str(line);
+            continue;
+        }
+        let mut rewritten = String::new();
+        let mut last = 0;
+        for (range, content) in quoted_strings(line) {
+            let Some(key) = key_before(line, range.start) else {
+                continue;
+            };
+            let Some(dimension) = units::field_dimension(key) else {
+                continue;
+            };
+            match units::quantity_to_si(&content, dimension) {
+                Ok(Some(value)) => {
+                    rewritten.push_str(&line[last..range.start]);
+                    rewritten.push_str(&format!("{value:?}"));
+                    last = range.end;
+                }
+                Ok(None) => {}
+                Err(message) => {
+                    return Err(InputError::Field {
+                        path: path.into(),
+                        line: Some(index + 1),
+                        field: key.into(),
+                        message,
+                    })
+                }
+            }
+        }
+        if last > 0 {
+            changed = true;
+            rewritten.push_str(&line[last..]);
+            out.push_str(&rewritten);
+        } else {
+            out.push_str(line);
+        }
+    }
+    Ok(if changed {
+        std::borrow::Cow::Owned(out)
+    } else {
+        std::borrow::Cow::Borrowed(text)
+    })
+}
+
 /// Parse TOML into `T`, turning serde/toml errors into [`InputError::Field`] with the line.
+/// Quantities may be SI numbers or strings with a unit (`"25.4 mm"`, `"130 m/s"`, `"92 MPa"`),
+/// converted to SI first ([`units`]).
 pub fn parse_toml<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, InputError> {
+    let si = quantities_in_si(path, text)?;
+    let text: &str = &si;
     toml::from_str(text).map_err(|error| {
         let message = error.message().to_string();
         // Name the field: toml reports unknown/missing fields in backticks. A wrong value type

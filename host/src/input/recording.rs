@@ -10,7 +10,19 @@
 //! `quantity` names what was measured (its meaning is set by the experiment kind), `position`
 //! where or when (SI; 0 where it does not apply), `value` the measured value and
 //! `uncertainty` its one-sigma uncertainty (SI).
+//!
+//! A column header may carry a unit in brackets, and its column is then converted to SI on
+//! load; an `uncertainty` without one is in the unit of `value`:
+//!
+//! ```text
+//! quantity,position [%],value [MPa],uncertainty
+//! true_stress,0.5,812,16
+//! ```
+//!
+//! A unit of the wrong dimension for a row's quantity (a stress unit on a length, say) is an
+//! error naming the line and the column (docs/formats.md lists every quantity's units).
 
+use super::units::{self, Unit};
 use super::{read_text, InputError};
 use std::path::Path;
 
@@ -30,10 +42,31 @@ pub struct RecordedPoint {
 /// The column names, in order.
 pub const HEADER: [&str; 4] = ["quantity", "position", "value", "uncertainty"];
 
+/// A header cell: its column name and unit (`value [MPa]` -> `("value", Some(MPa))`).
+fn header_cell(cell: &str) -> Result<(&str, Option<Unit>), String> {
+    let Some((name, rest)) = cell.split_once('[') else {
+        return Ok((cell.trim(), None));
+    };
+    let symbol = rest
+        .strip_suffix(']')
+        .ok_or_else(|| format!("{} has no closing `]`", super::quoted(cell)))?
+        .trim();
+    let unit = units::unit(symbol).ok_or_else(|| {
+        format!(
+            "unknown unit {} in the header cell {}",
+            super::quoted(symbol),
+            super::quoted(cell)
+        )
+    })?;
+    Ok((name.trim(), Some(unit)))
+}
+
 /// Parse recording CSV text.
 pub fn parse(path: &Path, text: &str) -> Result<Vec<RecordedPoint>, InputError> {
     let mut points = Vec::new();
     let mut header_seen = false;
+    // Units of the position, value and uncertainty columns (None: SI).
+    let mut column_units: [Option<Unit>; 3] = [None; 3];
     for (index, raw) in text.lines().enumerate() {
         let line = raw.trim();
         let line_number = index + 1;
@@ -48,12 +81,28 @@ pub fn parse(path: &Path, text: &str) -> Result<Vec<RecordedPoint>, InputError> 
             message,
         };
         if !header_seen {
-            if cells != HEADER {
+            let parsed: Vec<(&str, Option<Unit>)> = cells
+                .iter()
+                .map(|cell| header_cell(cell))
+                .collect::<Result<_, _>>()
+                .map_err(|message| error("", message))?;
+            let names: Vec<&str> = parsed.iter().map(|(name, _)| *name).collect();
+            if names != HEADER {
                 return Err(error(
                     "",
-                    format!("expected the header `{}`", HEADER.join(",")),
+                    format!(
+                        "expected the header `{}` (a column may carry a unit: `value [MPa]`)",
+                        HEADER.join(",")
+                    ),
                 ));
             }
+            if parsed[0].1.is_some() {
+                return Err(error(
+                    "quantity",
+                    "the quantity column takes no unit".into(),
+                ));
+            }
+            column_units = [parsed[1].1, parsed[2].1, parsed[3].1.or(parsed[2].1)];
             header_seen = true;
             continue;
         }
@@ -86,10 +135,54 @@ pub fn parse(path: &Path, text: &str) -> Result<Vec<RecordedPoint>, InputError> 
                 format!("must be > 0, got {uncertainty}"),
             ));
         }
+        let (mut position, mut value, mut uncertainty) = (number(1)?, number(2)?, uncertainty);
+        let dimensions = units::recorded_dimensions(cells[0]);
+        for (column, unit) in column_units.iter().enumerate() {
+            let Some(unit) = unit else { continue };
+            if let Some((position_dimension, value_dimension)) = dimensions {
+                // A position of 0 means "does not apply", whatever its column's unit.
+                let expected = if column == 0 {
+                    (position != 0.0).then_some(position_dimension)
+                } else {
+                    Some(value_dimension)
+                };
+                if let Some(expected) = expected.filter(|e| *e != unit.dimension) {
+                    return Err(error(
+                        HEADER[column + 1],
+                        format!(
+                            "the column's unit is {}, but the {} of {} is {} ({})",
+                            unit.dimension.name(),
+                            if column == 0 { "position" } else { "value" },
+                            cells[0],
+                            expected.name(),
+                            units::symbols_of(expected).join(", ")
+                        ),
+                    ));
+                }
+            }
+            // The cell was checked to be a finite number above.
+            let cell = cells[column + 1];
+            let converted = if column == 2 {
+                unit.parse_difference_to_si(cell)
+            } else {
+                unit.parse_to_si(cell)
+            };
+            let converted = converted.filter(|v| v.is_finite()).ok_or_else(|| {
+                error(
+                    HEADER[column + 1],
+                    format!("{} is out of range in SI", super::quoted(cell)),
+                )
+            })?;
+            match column {
+                0 => position = converted,
+                1 => value = converted,
+                _ => uncertainty = converted,
+            }
+        }
         points.push(RecordedPoint {
             quantity: cells[0].into(),
-            position: number(1)?,
-            value: number(2)?,
+            position,
+            value,
             uncertainty,
         });
     }
@@ -112,6 +205,52 @@ pub fn load(path: &Path) -> Result<Vec<RecordedPoint>, InputError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn units_in_the_header_give_the_same_points_as_si() {
+        // GOAL: a recording in MPa and % gives the points of the same recording in Pa and
+        //   plain strain, bit for bit (issue 17). SETUP: two flow-curve points and a Taylor
+        //   length in mm, the uncertainty inheriting the value's unit.
+        // REFERENCE: the SI file.
+        let si = "quantity,position,value,uncertainty\ntrue_stress,0.005,812e6,16e6\n\
+                  true_stress,0.125,1.05e9,2e7\n";
+        let units = "quantity,position [%],value [MPa],uncertainty\ntrue_stress,0.5,812,16\n\
+                     true_stress,12.5,1050,20\n";
+        assert_eq!(
+            parse(Path::new("a.csv"), si).unwrap(),
+            parse(Path::new("b.csv"), units).unwrap()
+        );
+        let taylor =
+            "quantity,position [mm],value [mm],uncertainty [um]\nfinal_length,0,22.48,50\n";
+        let point = &parse(Path::new("t.csv"), taylor).unwrap()[0];
+        assert_eq!(
+            (point.position, point.value, point.uncertainty),
+            (0.0, 22.48e-3, 50e-6)
+        );
+    }
+
+    #[test]
+    fn a_unit_of_the_wrong_dimension_names_line_and_column() {
+        // GOAL: a stress unit on a length, an unknown unit and a unit on the quantity column
+        //   are errors naming the line and the column. SETUP: three such headers.
+        // REFERENCE: the messages.
+        let text = "quantity,position,value [MPa],uncertainty\nfinal_length,0,22.48,0.05\n";
+        let error = parse(Path::new("r.csv"), text).unwrap_err().to_string();
+        assert!(error.starts_with("r.csv:2: field `value`"), "{error}");
+        assert!(
+            error.contains("a stress") && error.contains("a length"),
+            "{error}"
+        );
+        let text = "quantity,position,value [furlong],uncertainty\nfinal_length,0,1,1\n";
+        let error = parse(Path::new("r.csv"), text).unwrap_err().to_string();
+        assert!(
+            error.starts_with("r.csv:1:") && error.contains("unknown unit"),
+            "{error}"
+        );
+        let text = "quantity [m],position,value,uncertainty\nfinal_length,0,1,1\n";
+        let error = parse(Path::new("r.csv"), text).unwrap_err().to_string();
+        assert!(error.contains("takes no unit"), "{error}");
+    }
 
     #[test]
     fn bad_cells_name_line_and_column() {
