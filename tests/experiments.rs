@@ -129,39 +129,140 @@ fn the_published_constants_fit_the_johnson_cook_dynamic_tension_curves() {
 }
 
 #[test]
-fn a_value_with_a_unit_in_an_experiment_names_its_field_and_line() {
-    // GOAL: a number given as text with a unit (not yet read as a quantity) is an error that
-    //       names the field and its line, not only the [setup] table.
-    // SETUP: the 343 m/s Taylor fixture with `velocity = "130 m/s"`.
-    // REFERENCE: the error names the file, the line of `velocity` and the field.
-    let text = std::fs::read_to_string(fixture("experiments/taylor-4340-343.toml")).unwrap();
+fn a_value_with_a_unit_in_an_experiment_is_read_or_named_with_its_line() {
+    // GOAL: a number given with a unit is read in SI; one of the wrong dimension, or text that
+    //       is no quantity, is an error naming the field and its line, not only the [setup]
+    //       table (issue 17).
+    // SETUP: the 343 m/s Taylor fixture with `velocity = "130 m/s"`, `"130 MPa"` and `"fast"`.
+    // REFERENCE: 130.0 m/s; errors naming the file, the line of `velocity` and the field.
+    let text = std::fs::read_to_string(fixture("experiments/taylor-4340-343.toml"))
+        .unwrap()
+        .replace(
+            "\"taylor-4340-343.csv",
+            &format!("\"{}", fixture("experiments/taylor-4340-343.csv").display()),
+        )
+        .replace("\"../", &format!("\"{}/", fixture("").display()));
     let line_of_velocity = text
         .lines()
         .position(|l| l.starts_with("velocity"))
         .unwrap()
         + 1;
-    let bad: String = text
-        .lines()
-        .map(|l| {
-            if l.starts_with("velocity") {
-                "velocity = \"130 m/s\"".to_string()
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
     let directory = std::env::temp_dir().join(format!("stoss-unit-{}", std::process::id()));
     std::fs::create_dir_all(&directory).unwrap();
     let path = directory.join("taylor.toml");
-    std::fs::write(&path, bad).unwrap();
-    let error = Experiment::load(&path).unwrap_err().to_string();
+    let load_with = |velocity: &str| {
+        let edited: String = text
+            .lines()
+            .map(|l| {
+                if l.starts_with("velocity") {
+                    format!("velocity = {velocity}")
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        std::fs::write(&path, edited).unwrap();
+        Experiment::load(&path)
+    };
+    let experiment = load_with("\"130 m/s\"").unwrap();
+    assert!(format!("{:?}", experiment.file.setup).contains("velocity: 130.0"));
+    let error = load_with("\"130 MPa\"").unwrap_err().to_string();
+    assert!(
+        error.contains(&format!("taylor.toml:{line_of_velocity}: field `velocity`"))
+            && error.contains("a stress")
+            && error.contains("m/s"),
+        "{error}"
+    );
+    let error = load_with("\"fast\"").unwrap_err().to_string();
     assert!(
         error.contains(&format!(
-            "taylor.toml:{line_of_velocity}: field `velocity`: invalid type: string \"130 m/s\""
+            "taylor.toml:{line_of_velocity}: field `velocity`: invalid type: string \"fast\""
         )),
         "{error}"
     );
+    std::fs::remove_dir_all(&directory).unwrap();
+}
+
+#[test]
+fn a_flow_curve_in_total_strain_gives_the_plastic_strain_curve() {
+    // GOAL: a flow curve recorded against true total strain (what a test machine gives), with
+    //       `recorded_strain = "total"`, is compared at the right points (issue 17).
+    // SETUP: the 4340 JC 570 /s tension curve, isothermal; its predictions at the recorded
+    //        plastic strains; the same stresses placed at total strain eps_p + sigma/E
+    //        (E = 9KG/(3K+G) of the material's linear EoS and shear modulus).
+    // REFERENCE: the plastic-strain predictions, within 0.1 % (the driver's strain step).
+    let directory = std::env::temp_dir().join(format!("stoss-total-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let name = "flow-4340-jc-tension-570s-298K";
+    let toml = std::fs::read_to_string(fixture(&format!("experiments/{name}.toml"))).unwrap();
+    let root = fixture("");
+    let toml = toml.replace("\"../", &format!("\"{}/", root.display()));
+    let plastic_path = directory.join("plastic.toml");
+    std::fs::write(
+        &plastic_path,
+        toml.replace("isothermal = false", "isothermal = true")
+            .replace(
+                &format!("recording = \"{name}.csv\""),
+                "recording = \"plastic.csv\"",
+            ),
+    )
+    .unwrap();
+    std::fs::copy(
+        fixture(&format!("experiments/{name}.csv")),
+        directory.join("plastic.csv"),
+    )
+    .unwrap();
+    let plastic = Experiment::load(&plastic_path).unwrap();
+    let (_, material) = material::load(&plastic.default_material_path().unwrap()).unwrap();
+    let material: stoss_kernel::PartMaterial = material.into();
+    let reference = plastic
+        .simulate(&material, &SolverSettings::default())
+        .unwrap()
+        .predicted;
+    // E of the 4340 file: G 81.8 GPa, K 159 GPa.
+    let (g, k) = (81.8e9, 159.0e9);
+    let youngs = 9.0 * k * g / (3.0 * k + g);
+    let mut csv = String::from("quantity,position,value,uncertainty\n");
+    for (point, stress) in plastic.recording.iter().zip(&reference) {
+        csv.push_str(&format!(
+            "true_stress,{:e},{:e},{:e}\n",
+            point.position + stress / youngs,
+            stress,
+            point.uncertainty
+        ));
+    }
+    std::fs::write(directory.join("total.csv"), csv).unwrap();
+    let total_path = directory.join("total.toml");
+    std::fs::write(
+        &total_path,
+        toml.replace(
+            "isothermal = false",
+            "isothermal = true\nrecorded_strain = \"total\"",
+        )
+        .replace(
+            &format!("recording = \"{name}.csv\""),
+            "recording = \"total.csv\"",
+        ),
+    )
+    .unwrap();
+    let total = Experiment::load(&total_path).unwrap();
+    let outcome = total
+        .simulate(&material, &SolverSettings::default())
+        .unwrap();
+    for ((point, value), expected) in total
+        .recording
+        .iter()
+        .zip(&outcome.predicted)
+        .zip(&reference)
+    {
+        assert!(
+            (value / expected - 1.0).abs() < 1e-3,
+            "at total strain {}: {value} vs {expected}",
+            point.position
+        );
+    }
+    assert!(outcome.report.unwrap().text.contains("total strain"));
     std::fs::remove_dir_all(&directory).unwrap();
 }
 

@@ -2,11 +2,12 @@
 //! characterisation curves (e.g. `shared/data/real/4340-flow`) and, for concrete, the
 //! strength against strain rate (dynamic increase factors). Runs the kernel's uniaxial-stress
 //! driver with either model family. Quantities:
-//! - `true_stress` (Pa, magnitude) at `position` = true plastic strain;
+//! - `true_stress` (Pa, magnitude) at `position` = true plastic strain, or true total strain
+//!   with `recorded_strain = "total"`;
 //! - `peak_stress` (Pa, magnitude; `position` unused, 0): the largest axial stress of the
 //!   path, the uniaxial strength of a softening material such as RHT concrete.
 
-use super::{Check, Outcome, SimulationError};
+use super::{Check, ExperimentReport, Outcome, SimulationError};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory, StateSample};
@@ -40,6 +41,22 @@ pub struct UniaxialSpec {
     /// metals; RHT concrete has no heating).
     #[serde(default)]
     pub isothermal: bool,
+    /// What the recording's `position` of `true_stress` is: the true *plastic* strain (the
+    /// default, as flow curves are published) or the true *total* strain a test machine
+    /// records (`"total"`), elastic part included.
+    #[serde(default)]
+    pub recorded_strain: RecordedStrain,
+}
+
+/// The strain measure of a flow curve's positions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RecordedStrain {
+    /// True plastic strain.
+    #[default]
+    Plastic,
+    /// True total strain `ln(L/L0)`: elastic plus plastic.
+    Total,
 }
 
 impl UniaxialSpec {
@@ -118,12 +135,25 @@ impl UniaxialSpec {
             .map(|p| p.position)
             .fold(0.0, f64::max);
         let history = self.history(material, max_strain)?;
-        let curve: Vec<(f64, f64)> = history
-            .samples
-            .iter()
-            .filter(|s| s.plastic_strain > 0.0)
-            .map(|s| (s.plastic_strain, s.axial_stress.abs()))
-            .collect();
+        let curve: Vec<(f64, f64)> = match self.recorded_strain {
+            RecordedStrain::Plastic => history
+                .samples
+                .iter()
+                .filter(|s| s.plastic_strain > 0.0)
+                .map(|s| (s.plastic_strain, s.axial_stress.abs()))
+                .collect(),
+            // The driver strains at a constant true rate from zero, so the total true strain
+            // of a sample is rate x time: the simulated curve itself, with the model's own
+            // elasticity, is mapped to the recording's measure (the recording is not changed).
+            RecordedStrain::Total => std::iter::once((0.0, 0.0))
+                .chain(
+                    history
+                        .samples
+                        .iter()
+                        .map(|s| (self.strain_rate * s.time, s.axial_stress.abs())),
+                )
+                .collect(),
+        };
         let peak = history
             .samples
             .iter()
@@ -149,7 +179,13 @@ impl UniaxialSpec {
             states: vec![history],
             field: None,
             element_cycles: 0,
-            report: None,
+            report: (self.recorded_strain == RecordedStrain::Total).then(|| ExperimentReport {
+                text: "flow curve recorded against true total strain (elastic part included): \
+                       the simulated curve is compared at rate x time, its own elasticity \
+                       included\n"
+                    .into(),
+                ..ExperimentReport::default()
+            }),
         })
     }
 }
