@@ -257,16 +257,18 @@ pub fn quantity_to_si(text: &str, expected: Dimension) -> Result<Option<f64>, St
 /// project's naming convention for fields, so a new field follows them by its name.
 pub fn field_dimension(key: &str) -> Option<Dimension> {
     let key = key.rsplit('.').next().unwrap_or(key).trim_matches('"');
-    // Pure numbers whose names end like a dimensioned field.
-    const PURE: [&str; 6] = [
-        "rate_sensitivity",
-        "strain_rate_sensitivity",
-        "poissons_ratio",
-        "failure_strain",
-        "erosion_strain",
-        "plastic_strain",
-    ];
-    if PURE.contains(&key) || key.ends_with("_exponent") || key.ends_with("_ratio") {
+    // A numbered field (`saturation_stress_1`) has the dimension of its name.
+    let key = match key.rsplit_once('_') {
+        Some((stem, number))
+            if !number.is_empty() && number.bytes().all(|b| b.is_ascii_digit()) =>
+        {
+            stem
+        }
+        _ => key,
+    };
+    // Ratios and exponents are pure numbers whatever their names end in
+    // (`shear_strength_ratio`, `tensile_rate_exponent`).
+    if key.ends_with("_exponent") || key.ends_with("_ratio") {
         return None;
     }
     const RULES: &[(&[&str], Dimension)] = &[
@@ -292,6 +294,7 @@ pub fn field_dimension(key: &str) -> Option<Dimension> {
                 "height",
                 "width",
                 "depth",
+                "_gauge",
             ],
             Dimension::Length,
         ),
@@ -401,6 +404,13 @@ mod tests {
             ("charge.mass", Some(Mass)),
             ("specific_heat", Some(SpecificHeat)),
             ("rate_sensitivity", None),
+            ("saturation_stress_1", Some(Stress)),
+            ("compressive_reference_rate", Some(StrainRate)),
+            ("incident_gauge", Some(Length)),
+            ("shear_strength_ratio", None),
+            ("tensile_rate_exponent", None),
+            ("erosion_geometric_strain", None),
+            ("anvil_friction", None),
             ("hardening_exponent", None),
             ("poissons_ratio", None),
             ("name", None),
