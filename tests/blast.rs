@@ -699,7 +699,7 @@ fn runaway_blast_plate_sizes_name_the_file_line_and_field() {
             .and_then(|rest| rest.split(':').next())
             .and_then(|number| number.parse::<usize>().ok());
         assert!(
-            line.is_some() && error.contains(&format!("`{field}`")),
+            line.is_some() && error.contains(&format!("{field}`")),
             "{to}: {error}"
         );
     }

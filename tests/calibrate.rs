@@ -126,27 +126,26 @@ fn log_lines(dir: &Path) -> Vec<String> {
 fn a_model_with_no_feasible_candidate_says_why_the_first_failed() {
     // GOAL: when no candidate can be simulated, the error gives the reason, not only the
     //       model (it used to be inside simulations.jsonl only).
-    // SETUP: the synthetic-flow campaign with yield_stress bounds [1e19, 2e19] Pa (a unit
-    //        slip), 4 simulations, one instance.
+    // SETUP: the synthetic-flow campaign with yield_stress bounds [6e9, 8e9] Pa (plausible
+    //        stresses, above the 5 GPa flow-stress realism limit), 4 simulations, one
+    //        instance; then [1e19, 2e19] Pa (a unit slip), without and with --force.
     // REFERENCE: non-zero exit; stderr names the model, says no candidate could be simulated
-    //        and quotes the first rejection (the flow-stress realism range).
+    //        and quotes the first rejection (the flow-stress realism range). The unit slip is
+    //        refused on load, naming the line and the field, unless --force, which lets it
+    //        reach the same candidate rejection.
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
     let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
-    let bad = text
-        .replace(
-            "yield_stress = [0.5e9, 2.0e9]",
-            "yield_stress = [1.0e19, 2.0e19]",
-        )
-        .replace("\"../", &format!("\"{root}/fixtures/"));
-    assert_ne!(bad, text);
     let out = temporary("infeasible");
     std::fs::create_dir_all(&out).unwrap();
-    let campaign = out.join("campaign-input.toml");
-    std::fs::write(&campaign, bad).unwrap();
-    let output = stoss()
-        .arg("calibrate")
-        .arg(&campaign)
-        .args([
+    let run = |bounds: &str, force: bool, name: &str| {
+        let bad = text
+            .replace("yield_stress = [0.5e9, 2.0e9]", bounds)
+            .replace("\"../", &format!("\"{root}/fixtures/"));
+        assert_ne!(bad, text);
+        let campaign = out.join(format!("{name}.toml"));
+        std::fs::write(&campaign, bad).unwrap();
+        let mut command = stoss();
+        command.arg("calibrate").arg(&campaign).args([
             "--budget",
             "4",
             "--polish",
@@ -154,16 +153,31 @@ fn a_model_with_no_feasible_candidate_says_why_the_first_failed() {
             "--instances",
             "1",
             "--output",
-        ])
-        .arg(out.join("run"))
-        .output()
-        .unwrap();
-    let errors = String::from_utf8_lossy(&output.stderr);
-    assert!(!output.status.success(), "{errors}");
+        ]);
+        command.arg(out.join(name));
+        if force {
+            command.arg("--force");
+        }
+        let output = command.output().unwrap();
+        assert!(!output.status.success());
+        String::from_utf8_lossy(&output.stderr).into_owned()
+    };
+    let rejected = "model jc: no candidate could be simulated; the first failed: flow stress";
+    let errors = run("yield_stress = [6.0e9, 8.0e9]", false, "strong");
+    assert!(errors.contains(rejected), "{errors}");
+    let errors = run("yield_stress = [1.0e19, 2.0e19]", false, "slip");
     assert!(
-        errors.contains("model jc: no candidate could be simulated; the first failed: flow stress"),
+        errors.contains("slip.toml:")
+            && errors.contains("field `models.parameters.yield_stress`")
+            && errors.contains("plausible range"),
         "{errors}"
     );
+    assert!(
+        !out.join("slip").exists(),
+        "a refused campaign left a folder"
+    );
+    let errors = run("yield_stress = [1.0e19, 2.0e19]", true, "forced");
+    assert!(errors.contains(rejected), "{errors}");
     std::fs::remove_dir_all(&out).unwrap();
 }
 

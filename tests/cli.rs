@@ -53,7 +53,8 @@ fn verify_fails_with_a_clear_error_on_a_missing_golden_directory() {
 fn simulate_refuses_a_result_without_finite_predictions() {
     // GOAL: a simulation whose predictions are not numbers is an error, not a result.
     // SETUP: the 570 /s 4340 tension flow curve with yield_stress = 1e20 (a unit slip: the
-    //        curve never yields, so no recorded plastic strain is reached).
+    //        curve never yields, so no recorded plastic strain is reached), run with --force
+    //        past the plausibility check that refuses it otherwise.
     // REFERENCE: non-zero exit; stderr names the experiment file and the first missing point;
     //        no output folder.
     let directory = std::env::temp_dir().join(format!("stoss-nan-{}", std::process::id()));
@@ -75,17 +76,32 @@ fn simulate_refuses_a_result_without_finite_predictions() {
     let material = directory.join("unit-slip.toml");
     std::fs::write(&material, bad).unwrap();
     let output = directory.join("out");
-    let result = stoss()
-        .args([
-            "simulate",
-            "fixtures/experiments/flow-4340-jc-tension-570s-298K.toml",
-        ])
-        .arg("--material")
-        .arg(&material)
-        .arg("--output")
-        .arg(&output)
-        .output()
-        .unwrap();
+    let simulate = |force: bool| {
+        let mut command = stoss();
+        command
+            .args([
+                "simulate",
+                "fixtures/experiments/flow-4340-jc-tension-570s-298K.toml",
+            ])
+            .arg("--material")
+            .arg(&material)
+            .arg("--output")
+            .arg(&output);
+        if force {
+            command.arg("--force");
+        }
+        command.output().unwrap()
+    };
+    // Refused on load as implausible (a unit slip), naming the line and the field.
+    let result = simulate(false);
+    let errors = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success());
+    assert!(
+        errors.contains("unit-slip.toml:") && errors.contains("field `strength.yield_stress`"),
+        "{errors}"
+    );
+    // With --force it runs, and its NaN predictions are refused.
+    let result = simulate(true);
     let errors = String::from_utf8_lossy(&result.stderr);
     assert!(!result.status.success(), "{errors}");
     assert!(

@@ -270,32 +270,51 @@ fn a_flow_curve_in_total_strain_gives_the_plastic_strain_curve() {
 fn a_rod_or_bar_in_the_wrong_length_unit_is_refused_before_it_runs() {
     // GOAL: a unit slip in a Taylor rod or Hopkinson bar is an error up front, not a runaway.
     // SETUP: the 208 m/s Taylor fixture with `length = 25.4` (m for mm); the 1000 /s SHPB
-    //        fixture with `incident_length = 500.0` (mm for m).
-    // REFERENCE: Experiment::load fails, naming the field and the estimated run size.
+    //        fixture with `incident_length = 500.0` (mm for m); the Taylor fixture with
+    //        a 2 m rod with `radial_elements = 200` (plausible lengths, ten million elements).
+    // REFERENCE: Experiment::load fails, naming the field: the slips as outside the plausible
+    //        range of a length, the huge mesh by its estimated run size.
     let directory = std::env::temp_dir().join(format!("stoss-slip-{}", std::process::id()));
     std::fs::create_dir_all(&directory).unwrap();
-    for (name, key, value) in [
-        ("taylor-4340-208", "length", "25.4"),
-        ("shpb-4340-1000", "incident_length", "500.0"),
-    ] {
+    // (fixture, edits (key, value), what the error says)
+    type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a str);
+    let cases: [Case; 3] = [
+        (
+            "taylor-4340-208",
+            &[("length", "25.4")],
+            "plausible range of a length",
+        ),
+        (
+            "shpb-4340-1000",
+            &[("incident_length", "500.0")],
+            "plausible range of a length",
+        ),
+        (
+            "taylor-4340-208",
+            &[("length", "2.0"), ("radial_elements", "200")],
+            "needs at least",
+        ),
+    ];
+    for (case, (name, edits, says)) in cases.iter().enumerate() {
         let text = std::fs::read_to_string(fixture(&format!("experiments/{name}.toml"))).unwrap();
         let bad: String = text
             .lines()
             .map(|l| {
-                if l.split('=').next().map(str::trim) == Some(key) {
-                    format!("{key} = {value}")
-                } else {
-                    l.to_string()
+                let key = l.split('=').next().map(str::trim);
+                match edits.iter().find(|(k, _)| Some(*k) == key) {
+                    Some((k, v)) => format!("{k} = {v}"),
+                    None => l.to_string(),
                 }
             })
             .collect::<Vec<_>>()
             .join("\n");
         assert_ne!(bad, text, "{name}");
-        let path = directory.join(format!("{name}.toml"));
+        let path = directory.join(format!("{name}-{case}.toml"));
         std::fs::write(&path, bad).unwrap();
         let error = Experiment::load(&path).unwrap_err().to_string();
+        let field = edits[0].0;
         assert!(
-            error.contains(&format!("field `{key}`: needs at least")),
+            error.contains(&format!("{field}`: ")) && error.contains(says),
             "{name}: {error}"
         );
     }

@@ -18,6 +18,11 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+    /// Accept input values outside their plausible range (a rod longer than 10 m, a velocity
+    /// above 10 km/s...) and runs above the size limits (2 M elements, 2e10 element-cycles),
+    /// which are otherwise refused as likely unit slips.
+    #[arg(long, global = true)]
+    pub force: bool,
 }
 
 /// Sub-commands.
@@ -44,6 +49,7 @@ pub enum Command {
 
 /// Run the parsed command line.
 pub fn run(cli: Cli) -> ExitCode {
+    crate::input::allow_implausible(cli.force);
     match cli.command {
         Command::Verify(args) => verify::run(&args),
         Command::Calibrate(args) => calibrate::run(&args),

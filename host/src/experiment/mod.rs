@@ -467,6 +467,9 @@ pub(crate) const MAXIMUM_STEPS: f64 = 1.0e6;
 /// Largest estimated run (element-cycles): about 2 hours at 2.5 M element-cycles/s.
 pub(crate) const MAXIMUM_ELEMENT_CYCLES: f64 = 2.0e10;
 
+/// Most elements of a mesh stoss builds without `--force`.
+pub(crate) const MAXIMUM_ELEMENTS: f64 = 2.0e6;
+
 /// Fastest elastic wave a metal carries, for up-front step estimates (m/s).
 const FASTEST_METAL_WAVE: f64 = 6000.0;
 
@@ -504,11 +507,15 @@ pub(crate) fn check_run_budget_of(
     let steps = end_time / time_step;
     check(
         field,
-        steps <= MAXIMUM_STEPS && steps * elements <= MAXIMUM_ELEMENT_CYCLES,
+        crate::input::implausible_allowed()
+            || (steps <= MAXIMUM_STEPS
+                && elements <= MAXIMUM_ELEMENTS
+                && steps * elements <= MAXIMUM_ELEMENT_CYCLES),
         &format!(
             "needs at least {steps:.0} steps of {elements:.0} elements ({:.1e} \
-             element-cycles; at most {MAXIMUM_STEPS:.0} steps and {MAXIMUM_ELEMENT_CYCLES:.0e} \
-             element-cycles, several hours on 2 cores): check the units (SI: m, s)",
+             element-cycles; at most {MAXIMUM_STEPS:.0} steps, {MAXIMUM_ELEMENTS:.0e} elements \
+             and {MAXIMUM_ELEMENT_CYCLES:.0e} element-cycles, several hours on 2 cores): check \
+             the units (SI: m, s), or pass --force to run it anyway",
             steps * elements
         ),
     )

@@ -106,7 +106,11 @@ impl TensionSpec {
             (0.0..0.5).contains(&self.rise_fraction),
             "must be in [0, 0.5)",
         )?;
-        check("max_steps", self.max_steps >= 1000, "must be >= 1000")
+        check("max_steps", self.max_steps >= 1000, "must be >= 1000")?;
+        // Mass scaling caps the steps at max_steps: the run is at most elements x max_steps.
+        let elements =
+            (self.radius / self.element_size).ceil() * (self.length / self.element_size).ceil();
+        super::check_run_budget_of(check, "element_size", self.max_steps as f64, 1.0, elements)
     }
 
     /// Test duration: the nominal `final_strain / rate`, lengthened by half the rise time so

@@ -10,6 +10,95 @@ pub use error::InputError;
 
 use serde::de::DeserializeOwned;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Set by `--force`: accept values outside their plausible range and runs above the size
+/// limits.
+static IMPLAUSIBLE_ALLOWED: AtomicBool = AtomicBool::new(false);
+
+/// Accept (`true`, the `--force` flag) or refuse implausible values and oversized runs for the
+/// rest of this process.
+pub fn allow_implausible(allow: bool) {
+    IMPLAUSIBLE_ALLOWED.store(allow, Ordering::Relaxed);
+}
+
+/// Whether `--force` was given.
+pub fn implausible_allowed() -> bool {
+    IMPLAUSIBLE_ALLOWED.load(Ordering::Relaxed)
+}
+
+/// Check every number of a parsed TOML tree: non-finite numbers are errors; a dimensioned
+/// field ([`units::field_dimension`]) outside its plausible range ([`units::plausible_range`])
+/// is an error unless `--force`. `prefix` is the dotted path of `table`.
+fn check_numbers(
+    path: &Path,
+    text: &str,
+    prefix: &str,
+    table: &toml::Table,
+) -> Result<(), InputError> {
+    for (key, value) in table {
+        let dotted = if prefix.is_empty() {
+            key.clone()
+        } else {
+            format!("{prefix}.{key}")
+        };
+        let numbers: Vec<f64> = match value {
+            toml::Value::Table(inner) => {
+                check_numbers(path, text, &dotted, inner)?;
+                continue;
+            }
+            toml::Value::Array(items) => {
+                for item in items {
+                    if let toml::Value::Table(inner) = item {
+                        check_numbers(path, text, &dotted, inner)?;
+                    }
+                }
+                items.iter().filter_map(toml::Value::as_float).collect()
+            }
+            toml::Value::Float(number) => vec![*number],
+            toml::Value::Integer(number) => vec![*number as f64],
+            _ => continue,
+        };
+        let error = |message: String| InputError::Field {
+            path: path.into(),
+            line: line_of_key(text, &dotted).or_else(|| line_of_key(text, key)),
+            field: dotted.clone(),
+            message,
+        };
+        let shown = |n: f64| {
+            if (1e-3..1e6).contains(&n.abs()) {
+                format!("{n}")
+            } else {
+                format!("{n:e}")
+            }
+        };
+        if let Some(bad) = numbers.iter().find(|n| !n.is_finite()) {
+            return Err(error(format!("{bad} is not a finite number")));
+        }
+        let Some(dimension) = units::field_dimension(key) else {
+            continue;
+        };
+        let (least, most) = match units::plausible_range(dimension) {
+            Some(range) if !implausible_allowed() => range,
+            _ => continue,
+        };
+        if let Some(bad) = numbers
+            .iter()
+            .find(|n| **n != 0.0 && !(least..=most).contains(&n.abs()))
+        {
+            return Err(error(format!(
+                "{} {} is outside the plausible range of {} ({least:e} to {most:e} {}): a \
+                 unit slip? Give it with its unit (\"25.4 mm\", \"92 MPa\"; docs/formats.md), or \
+                 pass --force to run it anyway",
+                shown(*bad),
+                dimension.si_unit(),
+                dimension.name(),
+                dimension.si_unit()
+            )));
+        }
+    }
+    Ok(())
+}
 
 /// Read a file to a string, naming it in the error.
 pub fn read_text(path: &Path) -> Result<String, InputError> {
@@ -196,6 +285,10 @@ fn quantities_in_si<'t>(
 pub fn parse_toml<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, InputError> {
     let si = quantities_in_si(path, text)?;
     let text: &str = &si;
+    // Syntax errors are reported by the typed parse below, with their field.
+    if let Ok(tree) = toml::from_str::<toml::Table>(text) {
+        check_numbers(path, text, "", &tree)?;
+    }
     toml::from_str(text).map_err(|error| {
         let message = error.message().to_string();
         // Name the field: toml reports unknown/missing fields in backticks. A wrong value type

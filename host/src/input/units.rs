@@ -316,6 +316,31 @@ pub fn field_dimension(key: &str) -> Option<Dimension> {
         .map(|&(_, dimension)| dimension)
 }
 
+/// The plausible range `(least, most)` of an input of `dimension` in SI, for the magnitude of
+/// the value (0 is always accepted): beyond it a value is far more likely a unit slip (a rod
+/// of 25.4 m, a yield stress of 1e20 Pa, a temperature of 20 K meant as °C) than an impact
+/// experiment, and stoss refuses it unless `--force`. `None`: no range (pure numbers).
+pub fn plausible_range(dimension: Dimension) -> Option<(f64, f64)> {
+    Some(match dimension {
+        Dimension::Dimensionless => return None,
+        // Moduli and flow stresses: from soft polymers to diamond.
+        Dimension::Stress => (1.0e3, 2.0e12),
+        // From a micrometre-scale element to a 10 m structure.
+        Dimension::Length => (1.0e-7, 10.0),
+        // Up to orbital debris and detonation speeds.
+        Dimension::Velocity => (1.0e-6, 1.0e4),
+        // From a nanosecond step to an hour of test time.
+        Dimension::Time => (1.0e-12, 3600.0),
+        Dimension::Temperature => (1.0, 1.0e4),
+        // From air to the densest metals.
+        Dimension::Density => (0.1, 1.0e5),
+        Dimension::Mass => (1.0e-9, 1.0e5),
+        Dimension::Energy => (1.0e-6, 1.0e12),
+        Dimension::StrainRate => (1.0e-9, 1.0e9),
+        Dimension::SpecificHeat => (10.0, 1.0e5),
+    })
+}
+
 /// `(position, value)` dimensions of a recorded quantity (the experiment kinds' `QUANTITIES`);
 /// `None` for a quantity stoss does not know.
 pub fn recorded_dimensions(quantity: &str) -> Option<(Dimension, Dimension)> {
@@ -382,6 +407,22 @@ mod tests {
         assert!(quantity_to_si("1e999 mm", Dimension::Length).is_err());
         assert_eq!(quantity_to_si("c4", Dimension::Length), Ok(None));
         assert_eq!(quantity_to_si("far-face", Dimension::Length), Ok(None));
+    }
+
+    #[test]
+    fn every_dimensioned_field_has_a_range_around_the_bundled_values() {
+        // GOAL: the plausibility ranges accept every bundled experiment, material and campaign
+        //   (they are checked on load: a range that refused one would fail its tests) and
+        //   refuse the unit slips of issue 17. SETUP: the slips. REFERENCE: outside the range.
+        let outside = |value: f64, dimension| {
+            let (least, most) = plausible_range(dimension).unwrap();
+            !(value == 0.0 || (least..=most).contains(&value.abs()))
+        };
+        assert!(outside(25.4, Dimension::Length) && !outside(25.4e-3, Dimension::Length));
+        assert!(outside(1e20, Dimension::Stress) && !outside(792e6, Dimension::Stress));
+        assert!(outside(13_000.0, Dimension::Velocity) && !outside(1700.0, Dimension::Velocity));
+        assert!(outside(0.5, Dimension::Temperature) && !outside(298.0, Dimension::Temperature));
+        assert!(plausible_range(Dimension::Dimensionless).is_none());
     }
 
     #[test]

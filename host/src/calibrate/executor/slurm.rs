@@ -279,7 +279,16 @@ impl SlurmExecutor {
     /// `step.sh TASK` runs one task; `probe.sh FILE` writes the probe. Each runs the prologue
     /// first.
     fn write_scripts(&self) -> Result<(), CalibrateError> {
-        let stoss = shell_quote(&self.stoss.to_string_lossy());
+        // The workers load the campaign as the coordinator did: with --force if it was given.
+        let stoss = format!(
+            "{}{}",
+            shell_quote(&self.stoss.to_string_lossy()),
+            if crate::input::implausible_allowed() {
+                " --force"
+            } else {
+                ""
+            }
+        );
         let threads = self.entry.cpus_per_task;
         let prologue: String = self
             .entry
