@@ -102,6 +102,41 @@ fn every_bundled_experiment_passes_its_input_checks() {
     assert!(count >= 20, "{count} experiments");
 }
 
+#[test]
+fn every_bundled_campaign_and_material_passes_its_input_checks() {
+    // GOAL: the plausibility ranges and unit rules refuse no bundled campaign or material
+    //       (issue 17). SETUP: every fixtures/campaigns/*.toml and fixtures/materials/*.toml,
+    //       and the diagnosis cases' campaigns. REFERENCE: each loads.
+    let mut count = 0;
+    let mut campaigns: Vec<PathBuf> = std::fs::read_dir(fixtures().join("campaigns"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().and_then(|e| e.to_str()) == Some("toml"))
+        .collect();
+    for entry in std::fs::read_dir(fixtures().join("diagnosis")).unwrap() {
+        let path = entry.unwrap().path().join("campaign.toml");
+        if path.exists() {
+            campaigns.push(path);
+        }
+    }
+    for path in campaigns {
+        if let Err(error) = stoss::calibrate::Campaign::load(&path) {
+            panic!("{}: {error}", path.display());
+        }
+        count += 1;
+    }
+    for entry in std::fs::read_dir(fixtures().join("materials")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) == Some("toml") {
+            if let Err(error) = stoss::input::material::load_part(&path) {
+                panic!("{}: {error}", path.display());
+            }
+            count += 1;
+        }
+    }
+    assert!(count >= 15, "{count} files");
+}
+
 /// A fixture's text with `from` replaced by `to` (each must occur).
 fn edited(text: &str, edits: &[(&str, &str)]) -> String {
     let mut text = text.to_string();
