@@ -320,6 +320,24 @@ impl Campaign {
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = input::read_text(path)?;
         let file: CampaignFile = input::parse_toml(path, &text)?;
+        // Bounds are `[lower, upper]`: serde reads the first two numbers of a longer array
+        // and would drop the rest silently.
+        if let Ok(tree) = toml::from_str::<toml::Table>(&text) {
+            let models = tree.get("models").and_then(toml::Value::as_array);
+            for model in models.into_iter().flatten() {
+                let parameters = model.get("parameters").and_then(toml::Value::as_table);
+                for (name, bounds) in parameters.into_iter().flatten() {
+                    if let Some(items) = bounds.as_array().filter(|a| a.len() != 2) {
+                        return Err(InputError::field(
+                            path,
+                            &text,
+                            name,
+                            format!("give [lower, upper], not {} numbers", items.len()),
+                        ));
+                    }
+                }
+            }
+        }
         let folder = path.parent().unwrap_or(Path::new("."));
         let (base, _) = material::load_part(&folder.join(&file.material))?;
         if file.models.is_empty() {

@@ -114,6 +114,14 @@ pub fn run(args: &CalibrateArgs) -> ExitCode {
 }
 
 fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
+    if let Some(budget) = args.budget.filter(|b| *b < 4) {
+        return Err(format!(
+            "--budget {budget}: give at least 4 simulations per instance (the initial design)"
+        ));
+    }
+    if args.instances == Some(0) {
+        return Err("--instances 0: give at least 1".into());
+    }
     let campaign = Campaign::load(&args.campaign).map_err(|e| e.to_string())?;
     let executor_entry = executor_settings(args, &campaign.file.executor)?;
     let output = args.output.clone().unwrap_or_else(|| {

@@ -277,7 +277,19 @@ impl Experiment {
             .parent()
             .unwrap_or(Path::new("."))
             .join(&file.recording);
-        let recording = recording::load(&recording_path)?;
+        // A recording that cannot be read is named with the field that points to it.
+        let recording = recording::load(&recording_path).map_err(|error| match error {
+            InputError::Io {
+                path: missing,
+                message,
+            } => InputError::field(
+                path,
+                &text,
+                "recording",
+                format!("{}: {message}", missing.display()),
+            ),
+            other => other,
+        })?;
         let known = file.setup.quantities();
         for (index, point) in recording.iter().enumerate() {
             if !known.contains(&point.quantity.as_str()) {

@@ -102,6 +102,12 @@ fn check_numbers(
 
 /// Read a file to a string, naming it in the error.
 pub fn read_text(path: &Path) -> Result<String, InputError> {
+    if path.is_dir() {
+        return Err(InputError::Io {
+            path: path.into(),
+            message: "is a folder, not a file".into(),
+        });
+    }
     let text = std::fs::read_to_string(path).map_err(|error| InputError::Io {
         path: path.into(),
         message: error.to_string(),
@@ -154,17 +160,23 @@ pub fn line_of_key(text: &str, key: &str) -> Option<usize> {
     None
 }
 
-/// For a message `invalid type: string "<value>", ...`: the key (and its 1-based line) of
-/// the first `key = "<value>"` in `text`, if exactly that value appears.
-fn key_of_quoted_value(text: &str, message: &str) -> Option<(String, usize)> {
-    let value = message.strip_prefix("invalid type: string \"")?;
-    let value = &value[..value.find('"')?];
-    text.lines().enumerate().find_map(|(index, line)| {
-        let (key, rest) = line.split_once('=')?;
-        let rest = rest.trim();
-        let quoted = rest.strip_prefix('"')?.split('"').next()?;
-        (quoted == value).then(|| (key.trim().to_string(), index + 1))
-    })
+/// For a message about a value (`invalid type: string "130 m/s"`, `invalid type: floating
+/// point `-1.0``, `unknown variant `fast``): the key (and its 1-based line) of the first
+/// `key = <value>` at or after line `from` (1-based) in `text`.
+fn key_of_value(text: &str, message: &str, from: usize) -> Option<(String, usize)> {
+    let value = match message.strip_prefix("invalid type: string \"") {
+        Some(rest) => &rest[..rest.find('"')?],
+        None => message.split('`').nth(1)?,
+    };
+    text.lines()
+        .enumerate()
+        .skip(from.saturating_sub(1))
+        .find_map(|(index, line)| {
+            let (key, rest) = line.split_once('=')?;
+            let rest = rest.split('#').next().unwrap_or_default().trim();
+            let unquoted = rest.trim_matches(['"', '\'']);
+            (rest == value || unquoted == value).then(|| (key.trim().to_string(), index + 1))
+        })
 }
 
 /// The quoted strings of one TOML line outside comments: `(byte range of the string with its
@@ -291,17 +303,42 @@ pub fn parse_toml<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, Inp
     }
     toml::from_str(text).map_err(|error| {
         let message = error.message().to_string();
-        // Name the field: toml reports unknown/missing fields in backticks. A wrong value type
-        // inside a tagged table (an experiment's [setup]) is reported at the table, without the
-        // key: find the key whose value is the quoted one (`invalid type: string "130 m/s"`).
-        let mut field = message
-            .split('`')
-            .nth(1)
-            .map(str::to_string)
-            .unwrap_or_default();
+        // Name the field. toml puts a field's name in backticks only in "unknown field",
+        // "missing field" and "duplicate field" messages; in "invalid type: floating point
+        // `-1.0`" the backticks hold the value. Otherwise the field is the key written on the
+        // error's line (`key = value`, or a table header `[a.b]`).
+        let names_a_field = ["unknown field", "missing field", "duplicate field"]
+            .iter()
+            .any(|start| message.starts_with(start));
+        let mut field = if names_a_field {
+            message
+                .split('`')
+                .nth(1)
+                .map(str::to_string)
+                .unwrap_or_default()
+        } else {
+            String::new()
+        };
         let mut line = error.span().map(|span| line_of(text, span.start));
         if field.is_empty() {
-            if let Some((key, key_line)) = key_of_quoted_value(text, &message) {
+            let written = line
+                .and_then(|n| text.lines().nth(n.saturating_sub(1)))
+                .map(str::trim)
+                .unwrap_or_default();
+            if let Some(header) = written.strip_prefix('[') {
+                // Reported at a table. A wrong value type inside a tagged table (an
+                // experiment's [setup]) is reported there, not at its key: find the key whose
+                // value is the quoted one (`invalid type: string "130 m/s"`).
+                match key_of_value(text, &message, line.unwrap_or(1)) {
+                    Some((key, key_line)) => {
+                        field = key;
+                        line = Some(key_line);
+                    }
+                    None => field = header.trim_matches(['[', ']']).trim().to_string(),
+                }
+            } else if let Some((key, _)) = written.split_once('=') {
+                field = key.trim().trim_matches('"').to_string();
+            } else if let Some((key, key_line)) = key_of_value(text, &message, 1) {
                 field = key;
                 line = Some(key_line);
             }
