@@ -38,7 +38,13 @@ pub struct DiagnoseArgs {
     /// Significant terms refitted at most.
     #[arg(long, default_value_t = 3)]
     pub max_refits: usize,
+    /// No progress lines (stages and simulation counts).
+    #[arg(long)]
+    pub quiet: bool,
 }
+
+/// Least time between two lines of simulation counts.
+const PROGRESS_INTERVAL: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// Run `stoss diagnose`.
 pub fn run(args: &DiagnoseArgs) -> ExitCode {
@@ -130,7 +136,36 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     let _lock = crate::run_lock::RunLock::acquire(&args.calibration)?;
     println!("campaign: {} (model {})", campaign.file.name, model.model);
     let log = args.calibration.join("diagnosis.jsonl");
-    let mut progress = |stage: &str| println!("  {stage}");
+    // A line per stage, and within a stage the simulation counts at most every
+    // PROGRESS_INTERVAL (a refit of penetration or blast experiments runs for minutes).
+    let started = std::time::Instant::now();
+    let mut last_line = started;
+    let quiet = args.quiet;
+    let mut progress = |event: diagnose::Progress<'_>| {
+        if quiet {
+            return;
+        }
+        let now = std::time::Instant::now();
+        match event {
+            diagnose::Progress::Stage(stage) => {
+                last_line = now;
+                println!(
+                    "  {stage} ({:.0} s elapsed)",
+                    now.duration_since(started).as_secs_f64()
+                );
+            }
+            diagnose::Progress::Simulations { run, replayed } => {
+                if now.duration_since(last_line) >= PROGRESS_INTERVAL {
+                    last_line = now;
+                    println!(
+                        "    {run} simulations run, {replayed} replayed from the log, {:.0} s \
+                         elapsed",
+                        now.duration_since(started).as_secs_f64()
+                    );
+                }
+            }
+        }
+    };
     let diagnose::Outcome {
         diagnosis,
         before,

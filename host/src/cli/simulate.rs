@@ -30,6 +30,68 @@ pub struct SimulateArgs {
     /// Worker threads (results do not depend on it).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// No progress output (the spinner on a terminal, the progress lines otherwise).
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Least time between two progress lines when stdout is not a terminal.
+const PROGRESS_INTERVAL: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// Run `simulate` while reporting the current run's progress: on a terminal a spinner with
+/// the fraction of the run done; otherwise a plain line at most every [`PROGRESS_INTERVAL`]
+/// (fraction, elapsed, estimated time left of the current run; an experiment of several runs,
+/// a ballistic-limit search, restarts the fraction at each).
+fn with_progress<T>(
+    progress: &crate::solver::RunProgress,
+    quiet: bool,
+    simulate: impl FnOnce() -> T,
+) -> T {
+    let done = std::sync::atomic::AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        if !quiet {
+            scope.spawn(|| {
+                let terminal = std::io::IsTerminal::is_terminal(&std::io::stdout());
+                let bar = if terminal {
+                    indicatif::ProgressBar::new_spinner()
+                } else {
+                    indicatif::ProgressBar::hidden()
+                };
+                let started = std::time::Instant::now();
+                let mut last_line = started;
+                while !done.load(std::sync::atomic::Ordering::Relaxed) {
+                    std::thread::sleep(std::time::Duration::from_millis(200));
+                    let fraction = progress.fraction().unwrap_or(0.0);
+                    let elapsed = started.elapsed().as_secs_f64();
+                    if terminal {
+                        bar.set_message(format!(
+                            "simulating: {:.0} % of the run, {elapsed:.0} s",
+                            100.0 * fraction
+                        ));
+                        bar.tick();
+                    } else if last_line.elapsed() >= PROGRESS_INTERVAL {
+                        last_line = std::time::Instant::now();
+                        let left = if fraction > 0.01 {
+                            format!(
+                                ", about {:.0} s left in this run",
+                                elapsed / fraction * (1.0 - fraction)
+                            )
+                        } else {
+                            String::new()
+                        };
+                        println!(
+                            "simulating: {:.0} % of the current run, {elapsed:.0} s elapsed{left}",
+                            100.0 * fraction
+                        );
+                    }
+                }
+                bar.finish_and_clear();
+            });
+        }
+        let result = simulate();
+        done.store(true, std::sync::atomic::Ordering::Relaxed);
+        result
+    })
 }
 
 fn write_outputs(
@@ -158,17 +220,17 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
         material_file.name(),
         material_path.display()
     );
+    let progress = crate::solver::RunProgress::watched();
     let settings = SolverSettings {
         threads: args.threads,
+        progress: progress.clone(),
         ..SolverSettings::default()
     };
-    let bar = indicatif::ProgressBar::new_spinner().with_message("simulating");
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
     let started = std::time::Instant::now();
-    let outcome = experiment
-        .simulate(&material, &settings)
-        .map_err(|e| format!("{}: {e}", args.experiment.display()))?;
-    bar.finish_and_clear();
+    let outcome = with_progress(&progress, args.quiet, || {
+        experiment.simulate(&material, &settings)
+    })
+    .map_err(|e| format!("{}: {e}", args.experiment.display()))?;
     let wall = started.elapsed().as_secs_f64();
     println!("wall time:  {wall:.2} s");
     if outcome.element_cycles > 0 {

@@ -36,10 +36,26 @@ fn fnv1a(text: &str) -> u64 {
     })
 }
 
+/// What a diagnosis reports while it runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Progress<'s> {
+    /// A stage begins (refit, locate, score tests, refit with a term...).
+    Stage(&'s str),
+    /// A batch of simulations ended: the totals so far, run and replayed from the log.
+    Simulations {
+        /// Simulations run.
+        run: usize,
+        /// Simulations replayed from the log.
+        replayed: usize,
+    },
+}
+
 /// The simulation engine of one diagnosis.
 pub struct Engine<'a> {
     /// The campaign whose experiments are simulated.
     pub campaign: &'a Campaign,
+    /// Where stages and simulation counts are reported.
+    progress: &'a mut dyn FnMut(Progress<'_>),
     pool: rayon::ThreadPool,
     settings: SolverSettings,
     known: HashMap<String, Result<Vec<f64>, String>>,
@@ -59,6 +75,7 @@ impl<'a> Engine<'a> {
         campaign: &'a Campaign,
         parallel: usize,
         log: Option<&Path>,
+        progress: &'a mut dyn FnMut(Progress<'_>),
     ) -> Result<Self, DiagnoseError> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(parallel.max(1))
@@ -86,6 +103,7 @@ impl<'a> Engine<'a> {
         };
         Ok(Self {
             campaign,
+            progress,
             pool,
             settings: SolverSettings {
                 threads: Some(1),
@@ -184,7 +202,16 @@ impl<'a> Engine<'a> {
             };
             results.push(result);
         }
+        (self.progress)(Progress::Simulations {
+            run: self.simulated,
+            replayed: self.replayed,
+        });
         Ok(results)
+    }
+
+    /// Report the start of a stage.
+    pub fn stage(&mut self, name: &str) {
+        (self.progress)(Progress::Stage(name));
     }
 
     /// Whitened residuals `(predicted - recorded) / uncertainty` of `experiments`,

@@ -33,6 +33,7 @@ use crate::calibrate::run::ModelResult;
 use crate::calibrate::{score as error_score, Campaign, Score};
 use candidates::{Candidate, NotApplicable};
 use engine::Engine;
+pub use engine::Progress;
 use fit::{levenberg_marquardt, Fit};
 use hypothesis::Hypothesis;
 use locate::ExperimentMisfit;
@@ -400,7 +401,7 @@ pub fn diagnose(
     model: &ModelResult,
     options: &Options,
     log: Option<&Path>,
-    progress: &mut dyn FnMut(&str),
+    progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Outcome, DiagnoseError> {
     let entry = campaign
         .file
@@ -418,13 +419,13 @@ pub fn diagnose(
         .map_err(DiagnoseError::Calibration)?;
     let start = base.values().map_err(DiagnoseError::Calibration)?;
     let fitted = campaign.fitted();
-    let mut engine = Engine::new(campaign, options.parallel, log)?;
+    let mut engine = Engine::new(campaign, options.parallel, log, progress)?;
     let mut cost = Cost::default();
     let stage = |engine: &Engine, name: &str, before: usize, cost: &mut Cost| {
         cost.stages.push((name.into(), engine.points - before));
     };
 
-    progress("least-squares refit of the calibrated model");
+    engine.stage("least-squares refit of the calibrated model");
     let mark = engine.points;
     let base_fit = levenberg_marquardt(&mut engine, &base, &start, &fitted, options.iterations)?;
     let base = base
@@ -433,7 +434,7 @@ pub fn diagnose(
     let (before, predictions_before) = assess(&mut engine, &base, &base_fit, &fitted)?;
     stage(&engine, "refit of the calibrated model", mark, &mut cost);
 
-    progress("locate");
+    engine.stage("locate");
     let outcomes = simulate_outcomes(&engine, &base)?;
     let misfit_before = locate_all(
         &engine,
@@ -443,7 +444,7 @@ pub fn diagnose(
         options.alpha,
     );
 
-    progress("score tests");
+    engine.stage("score tests");
     let mark = engine.points;
     let (library, not_applicable) =
         candidates::library(&base, campaign, max_plastic_strain(&outcomes));
@@ -466,7 +467,7 @@ pub fn diagnose(
         else {
             continue;
         };
-        progress(&format!("refit with {}", candidate.name));
+        engine.stage(&format!("refit with {}", candidate.name));
         let mark = engine.points;
         let (hypothesis, start) = candidate.refit(&base_fit.values);
         let refit = levenberg_marquardt(

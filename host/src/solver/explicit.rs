@@ -974,6 +974,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         M::AXIAL_COMPONENT,
                     ));
                 }
+                settings.progress.report(time, settings.end_time);
                 let decision = observer(&Snapshot {
                     time,
                     positions: &x,

@@ -61,6 +61,49 @@ pub struct SolverSettings {
     /// Stop early when the kinetic energy falls below this fraction of the initial energy
     /// after damping started (0 disables).
     pub rest_fraction: f64,
+    /// Where a run reports how far it has come (`stoss simulate`'s progress); results never
+    /// depend on it.
+    pub progress: RunProgress,
+}
+
+/// The fraction of its end time a run has reached, shared with whoever reports progress (a
+/// thread of `stoss simulate`). Every settings with a progress cell compare equal: it is not a
+/// numerical setting.
+#[derive(Clone, Debug, Default)]
+pub struct RunProgress(Option<std::sync::Arc<std::sync::atomic::AtomicU64>>);
+
+impl PartialEq for RunProgress {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl RunProgress {
+    /// A cell to watch.
+    pub fn watched() -> Self {
+        Self(Some(std::sync::Arc::new(
+            std::sync::atomic::AtomicU64::new(0),
+        )))
+    }
+
+    /// Record that a run is at `time` of `end_time`.
+    pub fn report(&self, time: f64, end_time: f64) {
+        if let Some(cell) = &self.0 {
+            let fraction = if end_time > 0.0 {
+                (time / end_time).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            cell.store(fraction.to_bits(), std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    /// The fraction reached by the current run (0 to 1), if the cell is watched.
+    pub fn fraction(&self) -> Option<f64> {
+        self.0
+            .as_ref()
+            .map(|cell| f64::from_bits(cell.load(std::sync::atomic::Ordering::Relaxed)))
+    }
 }
 
 impl SolverSettings {
@@ -133,6 +176,7 @@ impl Default for SolverSettings {
             threads: None,
             output_interval: 1e-6,
             rest_fraction: 0.0,
+            progress: RunProgress::default(),
         }
     }
 }
