@@ -77,14 +77,69 @@ fn frame<'a, 'b>(
     Ok(chart)
 }
 
-/// Draw the legend of a [`frame`] chart and write the file.
+/// The corner of the axes whose legend box covers the fewest data points (matplotlib's
+/// `loc = "best"`): the box is about 40 % of the width and a line per series high; lines are
+/// sampled between their points too. Ties keep the order upper right, upper left, lower right,
+/// lower left.
+fn emptiest_corner(
+    series: &[&[(f64, f64)]],
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> SeriesLabelPosition {
+    let (width, height) = (x1 - x0, y1 - y0);
+    let box_width = 0.4 * width;
+    let box_height = (0.06 * series.len() as f64 + 0.04).min(0.9) * height;
+    let mut samples = Vec::new();
+    for points in series {
+        for pair in points.windows(2) {
+            for k in 0..4 {
+                let t = f64::from(k) / 4.0;
+                samples.push((
+                    pair[0].0 + t * (pair[1].0 - pair[0].0),
+                    pair[0].1 + t * (pair[1].1 - pair[0].1),
+                ));
+            }
+        }
+        samples.extend(points.last().copied());
+    }
+    let corners = [
+        (
+            SeriesLabelPosition::UpperRight,
+            x1 - box_width,
+            y1 - box_height,
+        ),
+        (SeriesLabelPosition::UpperLeft, x0, y1 - box_height),
+        (SeriesLabelPosition::LowerRight, x1 - box_width, y0),
+        (SeriesLabelPosition::LowerLeft, x0, y0),
+    ];
+    let covered = |left: f64, bottom: f64| {
+        samples
+            .iter()
+            .filter(|(x, y)| {
+                (left..=left + box_width).contains(x) && (bottom..=bottom + box_height).contains(y)
+            })
+            .count()
+    };
+    let mut best = (usize::MAX, SeriesLabelPosition::UpperRight);
+    for (position, left, bottom) in corners {
+        let count = covered(left, bottom);
+        if count < best.0 {
+            best = (count, position);
+        }
+    }
+    best.1
+}
+
+/// Draw the legend of a [`frame`] chart at `position` and write the file.
 fn finish<'a, 'b: 'a>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     root: &DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    position: SeriesLabelPosition,
     error: &dyn Fn(&dyn std::fmt::Display) -> String,
 ) -> PlotResult {
     chart
         .configure_series_labels()
+        .position(position)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()
@@ -128,7 +183,9 @@ pub fn line_chart(
                 .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled())),
         };
     }
-    finish(&mut chart, &root, &error)
+    let all: Vec<&[(f64, f64)]> = series.iter().map(|s| s.points.as_slice()).collect();
+    let position = emptiest_corner(&all, (x0, x1), (y0, y1));
+    finish(&mut chart, &root, position, &error)
 }
 
 /// A histogram of `values` with `bins` bins.
@@ -308,5 +365,39 @@ pub fn residual_chart(
             .label(s.label.clone())
             .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
     }
-    finish(&mut chart, &root, &error)
+    // The residuals scatter about zero: the bands and the series all count.
+    let mut all: Vec<&[(f64, f64)]> = series.iter().map(|s| s.points.as_slice()).collect();
+    let zero = [(x0, 0.0), (x1, 0.0)];
+    all.push(&zero);
+    let position = emptiest_corner(&all, (x0, x1), (y0, y1));
+    finish(&mut chart, &root, position, &error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_legend_goes_to_the_corner_without_data() {
+        // GOAL: legends are placed off the data (issue 17). SETUP: a rising curve (empty upper
+        //   left and lower right), a falling one, and a flat curve near the top.
+        // REFERENCE: a corner the data leave empty.
+        let rising: Vec<(f64, f64)> = (0..=20).map(|i| (i as f64, i as f64)).collect();
+        assert!(matches!(
+            emptiest_corner(&[&rising], (0.0, 20.0), (0.0, 20.0)),
+            SeriesLabelPosition::UpperLeft | SeriesLabelPosition::LowerRight
+        ));
+        let falling: Vec<(f64, f64)> = (0..=20).map(|i| (i as f64, 20.0 - i as f64)).collect();
+        assert!(matches!(
+            emptiest_corner(&[&falling], (0.0, 20.0), (0.0, 20.0)),
+            SeriesLabelPosition::UpperRight | SeriesLabelPosition::LowerLeft
+        ));
+        let flat: Vec<(f64, f64)> = (0..=20)
+            .map(|i| (i as f64, 18.0 + 0.1 * i as f64))
+            .collect();
+        assert!(matches!(
+            emptiest_corner(&[&flat], (0.0, 20.0), (0.0, 20.0)),
+            SeriesLabelPosition::LowerRight | SeriesLabelPosition::LowerLeft
+        ));
+    }
 }
