@@ -305,6 +305,10 @@ pub fn write(
                     format!("{quantity} [{}; {}]", units.value.0, units.position.0)
                 };
                 predicted.sort_by(|a, b| a.0.total_cmp(&b.0));
+                // A quantity measured at one position (a Taylor rod's final length or
+                // footprint, a peak deflection) has no line to draw: its simulated value is a
+                // marker beside the recorded one.
+                let single = predicted.windows(2).all(|w| w[0].0 == w[1].0);
                 series.push(Series {
                     label: format!("{quantity} recorded"),
                     points: recorded,
@@ -314,7 +318,7 @@ pub fn write(
                 series.push(Series {
                     label: format!("{quantity} simulated"),
                     points: predicted,
-                    style: Style::Line,
+                    style: if single { Style::Markers } else { Style::Line },
                     colour: 2 * g + 1,
                 });
             }
