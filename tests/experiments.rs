@@ -320,3 +320,69 @@ fn a_rod_or_bar_in_the_wrong_length_unit_is_refused_before_it_runs() {
     }
     std::fs::remove_dir_all(&directory).unwrap();
 }
+
+#[test]
+fn the_quarter_3d_taylor_model_agrees_with_the_axisymmetric_one_and_writes_hexahedra() {
+    // GOAL: the Taylor kind's 3D option (geometry = "quarter-3d") measures the same final
+    //       shape as the axisymmetric model, and its final state renders as VTK hexahedra
+    //       (issue 17: 3D runs write VTK too).
+    // SETUP: the 4340 Taylor test at 208 m/s, 4 elements across the radius, both models.
+    // REFERENCE: the axisymmetric model: final length within 0.5 %, footprint within 2 %
+    //   (measured at 8 elements: 22.559 vs 22.554 mm, 10.648 vs 10.686 mm); the .vtu holds
+    //   one VTK_HEXAHEDRON (type 12) per element and a 3D displacement per node.
+    let directory = std::env::temp_dir().join(format!("stoss-3d-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let text = std::fs::read_to_string(fixture("experiments/taylor-4340-208.toml"))
+        .unwrap()
+        .replace(
+            "\"taylor-4340-208.csv",
+            &format!("\"{}", fixture("experiments/taylor-4340-208.csv").display()),
+        )
+        .replace("\"../", &format!("\"{}/", fixture("").display()))
+        .replace("radial_elements = 8", "radial_elements = 4");
+    let outcome_of = |geometry: &str| {
+        let path = directory.join(format!("{geometry}.toml"));
+        std::fs::write(
+            &path,
+            text.replace(
+                "radial_elements = 4",
+                &format!("radial_elements = 4\ngeometry = \"{geometry}\""),
+            ),
+        )
+        .unwrap();
+        let experiment = Experiment::load(&path).unwrap();
+        let (_, material) = material::load(&experiment.default_material_path().unwrap()).unwrap();
+        experiment
+            .simulate(&material.into(), &SolverSettings::default())
+            .unwrap()
+    };
+    let flat = outcome_of("axisymmetric");
+    let solid = outcome_of("quarter-3d");
+    let summary = |o: &stoss::experiment::Outcome, name: &str| {
+        o.summary.iter().find(|(n, _)| n == name).unwrap().1
+    };
+    for (name, tolerance) in [("final_length", 0.005), ("footprint_diameter", 0.02)] {
+        let (a, b) = (summary(&flat, name), summary(&solid, name));
+        assert!(
+            (b / a - 1.0).abs() < tolerance,
+            "{name}: 3D {b} vs axisymmetric {a}"
+        );
+    }
+    let field = solid.field_3d.as_ref().unwrap();
+    let vtu = stoss::report::vtk::render_hexahedral(field);
+    assert!(vtu.contains(&format!(
+        "NumberOfPoints=\"{}\" NumberOfCells=\"{}\"",
+        field.mesh.nodes.len(),
+        field.mesh.elements.len()
+    )));
+    let types = vtu
+        .split("Name=\"types\" format=\"ascii\">")
+        .nth(1)
+        .and_then(|rest| rest.split("</DataArray>").next())
+        .unwrap();
+    let types: Vec<&str> = types.split_whitespace().collect();
+    assert_eq!(types.len(), field.mesh.elements.len());
+    assert!(types.iter().all(|t| *t == "12"));
+    assert!(flat.field_3d.is_none() && solid.field.is_none());
+    std::fs::remove_dir_all(&directory).unwrap();
+}

@@ -151,6 +151,9 @@ fn write_outputs(
         }
     }
     std::fs::write(directory.join("states.csv"), states)?;
+    if let Some(field) = &outcome.field_3d {
+        std::fs::write(directory.join("final.vtu"), vtk::render_hexahedral(field))?;
+    }
     if let Some(field) = &outcome.field {
         std::fs::write(directory.join("final.vtu"), vtk::render(field))?;
     }

@@ -565,6 +565,7 @@ impl BallisticLimitSpec {
             .or(shots.last())
             .map(|s| s.field.clone());
         Ok(Outcome {
+            field_3d: None,
             predicted,
             summary,
             energy,

@@ -587,6 +587,7 @@ impl BlastPlateSpec {
             .collect();
         let report = self.report(&result, recording, &run);
         Ok(Outcome {
+            field_3d: None,
             predicted,
             summary: vec![
                 ("peak_deflection".into(), result.peak()),

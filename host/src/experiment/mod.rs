@@ -148,6 +148,19 @@ pub struct FieldOutput {
     pub eroded: Vec<bool>,
 }
 
+/// The final state of a 3D (hexahedral) run, for its VTK file.
+#[derive(Clone, Debug)]
+pub struct HexFieldOutput {
+    /// The mesh (reference configuration).
+    pub mesh: crate::mesh::HexMesh,
+    /// Final nodal positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Final element states.
+    pub states: Vec<MaterialState>,
+    /// Eroded elements.
+    pub eroded: Vec<bool>,
+}
+
 /// What a simulation of an experiment produced.
 #[derive(Clone, Debug)]
 pub struct Outcome {
@@ -159,8 +172,10 @@ pub struct Outcome {
     pub energy: Option<EnergyBalance>,
     /// State histories of the material points that drive the measurements.
     pub states: Vec<StateHistory>,
-    /// Final fields (FE runs).
+    /// Final fields (axisymmetric FE runs).
     pub field: Option<FieldOutput>,
+    /// Final fields (3D FE runs).
+    pub field_3d: Option<HexFieldOutput>,
     /// Element-cycles of the run (0 for driver runs).
     pub element_cycles: u64,
     /// A protocol's own report (e.g. the ballistic-limit table and fit), printed by

@@ -650,6 +650,7 @@ impl PenetrationSpec {
             })
             .collect();
         Ok(Outcome {
+            field_3d: None,
             predicted,
             summary: vec![
                 ("final_nose_depth".into(), final_depth),

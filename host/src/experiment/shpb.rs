@@ -785,6 +785,7 @@ impl ShpbSpec {
             history.label = format!("specimen mid-plane ({})", history.label);
         }
         Ok(Outcome {
+            field_3d: None,
             predicted,
             summary: vec![
                 ("mean_strain_rate".into(), analysis.mean_strain_rate()),

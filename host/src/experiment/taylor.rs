@@ -41,6 +41,23 @@ pub struct TaylorSpec {
     /// Elements across the radius; the axial count follows from square elements.
     #[serde(default = "default_radial")]
     pub radial_elements: usize,
+    /// The model: axisymmetric quads (the default, the calibration model) or a
+    /// quarter-symmetric 3D model of hexahedra (to check the axisymmetric one; its `.vtu` is
+    /// 3D).
+    #[serde(default)]
+    pub geometry: TaylorGeometry,
+}
+
+/// Which model of the rod a Taylor test runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TaylorGeometry {
+    /// 2D axisymmetric quads.
+    #[default]
+    Axisymmetric,
+    /// A quarter of the rod in 8-node hexahedra, symmetry planes x = 0 and y = 0.
+    #[serde(rename = "quarter-3d")]
+    Quarter3d,
 }
 
 /// Elastic wave transit time estimate `L / 5000 m/s` (steel-like).
@@ -58,6 +75,7 @@ impl TaylorSpec {
             temperature: default_temperature(),
             anvil_friction: 0.0,
             radial_elements,
+            geometry: TaylorGeometry::Axisymmetric,
         }
     }
 
@@ -86,12 +104,17 @@ impl TaylorSpec {
         )?;
         // A length in mm entered as m is a runaway, not a test: refuse it up front.
         let size = 0.5 * self.diameter / self.radial_elements as f64;
+        let section = match self.geometry {
+            TaylorGeometry::Axisymmetric => self.radial_elements as f64,
+            // The quarter O-grid: a core of (n/2)^2 and two ring blocks of as many.
+            TaylorGeometry::Quarter3d => 3.0 * ((self.radial_elements / 2).max(1) as f64).powi(2),
+        };
         super::check_run_budget_of(
             check,
             "length",
             self.damping_start() + 40.0 * transit(self.length),
             super::undeformed_time_step(size, false),
-            (self.radial_elements * self.axial_elements()) as f64,
+            section * self.axial_elements() as f64,
         )
     }
 
@@ -244,6 +267,9 @@ impl TaylorSpec {
         settings: &SolverSettings,
         recording: &[RecordedPoint],
     ) -> Result<Outcome, SimulationError> {
+        if self.geometry == TaylorGeometry::Quarter3d {
+            return self.simulate_3d(material, settings, recording);
+        }
         let (result, run, model) = self.run(material, settings)?;
         let predicted = recording
             .iter()
@@ -255,6 +281,7 @@ impl TaylorSpec {
             })
             .collect();
         Ok(Outcome {
+            field_3d: None,
             predicted,
             summary: vec![
                 ("final_length".into(), result.final_length),
@@ -271,6 +298,55 @@ impl TaylorSpec {
             field: Some(FieldOutput {
                 mesh: model.mesh,
                 positions: run.positions,
+                states: run.states,
+                eroded: run.eroded,
+            }),
+        })
+    }
+}
+
+impl TaylorSpec {
+    /// The recorded quantities of `result`, in the recording's order.
+    fn predictions(result: &TaylorResult, recording: &[RecordedPoint]) -> Vec<f64> {
+        recording
+            .iter()
+            .map(|point| match point.quantity.as_str() {
+                "final_length" => result.final_length,
+                "footprint_diameter" => result.footprint_diameter,
+                "diameter" => result.diameter_at(point.position),
+                _ => f64::NAN,
+            })
+            .collect()
+    }
+
+    /// [`Self::simulate`] with the quarter-symmetric 3D model.
+    fn simulate_3d(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+        recording: &[RecordedPoint],
+    ) -> Result<Outcome, SimulationError> {
+        let model = self.model_3d(material, settings);
+        let run = model.run(&mut |_, _| {})?;
+        let result = TaylorResult::measure_3d(&model.mesh, &run);
+        Ok(Outcome {
+            predicted: Self::predictions(&result, recording),
+            summary: vec![
+                ("final_length".into(), result.final_length),
+                ("footprint_diameter".into(), result.footprint_diameter),
+                (
+                    "diameter_at_0.2_L0".into(),
+                    result.diameter_at(0.2 * self.length),
+                ),
+            ],
+            energy: Some(run.energy()),
+            states: run.tracked.clone(),
+            element_cycles: run.element_cycles,
+            report: None,
+            field: None,
+            field_3d: Some(super::HexFieldOutput {
+                positions: run.positions.iter().map(|p| [p[0], p[1], p[2]]).collect(),
+                mesh: model.mesh,
                 states: run.states,
                 eroded: run.eroded,
             }),
@@ -306,6 +382,46 @@ impl TaylorResult {
             .collect();
         profile.sort_by(|a, b| a.0.total_cmp(&b.0));
         let footprint = run.positions.iter().map(|p| p[0]).fold(0.0, f64::max);
+        Self {
+            final_length: high - low,
+            footprint_diameter: 2.0 * footprint,
+            profile,
+        }
+    }
+
+    /// The final shape of the quarter-symmetric 3D rod: length along `z`; the profile is the
+    /// mean radius `sqrt(x^2 + y^2)` of the outer surface's nodes of each axial layer (they
+    /// differ around the circumference by the mesh's faceting only), at the layer's mean
+    /// distance from the impact face; the footprint twice the largest radius of any node.
+    pub fn measure_3d(mesh: &HexMesh, run: &crate::solver::ExplicitRun) -> Self {
+        let (low, high) = run
+            .positions
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p[2]), hi.max(p[2]))
+            });
+        let radius = |p: &[f64]| p[0].hypot(p[1]);
+        // Group the outer nodes by their reference axial position (layers are exact multiples
+        // of the element size, so equal bit patterns).
+        let mut layers: std::collections::BTreeMap<u64, (f64, f64, usize)> =
+            std::collections::BTreeMap::new();
+        for &n in mesh
+            .node_sets
+            .get("rod.outer")
+            .map_or(&[][..], Vec::as_slice)
+        {
+            let p = &run.positions[n];
+            let layer = layers.entry(mesh.nodes[n][2].to_bits()).or_default();
+            layer.0 += p[2] - low;
+            layer.1 += radius(p);
+            layer.2 += 1;
+        }
+        let mut profile: Vec<(f64, f64)> = layers
+            .values()
+            .map(|&(z, r, count)| (z / count as f64, r / count as f64))
+            .collect();
+        profile.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let footprint = run.positions.iter().map(|p| radius(p)).fold(0.0, f64::max);
         Self {
             final_length: high - low,
             footprint_diameter: 2.0 * footprint,

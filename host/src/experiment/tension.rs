@@ -307,6 +307,7 @@ impl TensionSpec {
             .collect();
         let last = result.curve.last().copied().unwrap_or((f64::NAN, f64::NAN));
         Ok(Outcome {
+            field_3d: None,
             predicted,
             summary: vec![
                 ("final_true_strain".into(), last.0),

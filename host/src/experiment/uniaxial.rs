@@ -168,6 +168,7 @@ impl UniaxialSpec {
             .collect();
         let last = history.samples.last().copied().unwrap_or_default();
         Ok(Outcome {
+            field_3d: None,
             predicted,
             summary: vec![
                 ("peak_stress".into(), peak),

@@ -1,14 +1,53 @@
-//! VTK XML unstructured grid (`.vtu`, ASCII) of an axisymmetric run's final state: the
-//! deformed `(r, z)` mesh as quads in the x-y plane, with per-element plastic strain, rate,
-//! temperature, pressure, von Mises stress, damage and an eroded flag, and nodal
-//! displacements. ParaView opens it directly.
+//! VTK XML unstructured grid (`.vtu`, ASCII) of a run's final state, with per-element plastic
+//! strain, rate, temperature, pressure, von Mises stress, damage and an eroded flag, and nodal
+//! displacements: an axisymmetric run's deformed `(r, z)` mesh as quads in the x-y plane, a 3D
+//! run's hexahedra as they are. ParaView opens it directly.
 
-use crate::experiment::FieldOutput;
+use crate::experiment::{FieldOutput, HexFieldOutput};
 use std::fmt::Write as _;
+use stoss_kernel::MaterialState;
 
-/// Render the `.vtu` text.
+/// VTK cell types (VTK file formats, "Cell types").
+const VTK_QUAD: u8 = 9;
+const VTK_HEXAHEDRON: u8 = 12;
+
+/// Render the `.vtu` text of an axisymmetric run.
 pub fn render(field: &FieldOutput) -> String {
-    let mesh = &field.mesh;
+    let cells: Vec<&[usize]> = field.mesh.elements.iter().map(|e| e.as_slice()).collect();
+    let reference: Vec<[f64; 3]> = field.mesh.nodes.iter().map(|n| [n[0], n[1], 0.0]).collect();
+    let current: Vec<[f64; 3]> = field.positions.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    grid(
+        &current,
+        &reference,
+        &cells,
+        VTK_QUAD,
+        &field.states,
+        &field.eroded,
+    )
+}
+
+/// Render the `.vtu` text of a 3D (hexahedral) run.
+pub fn render_hexahedral(field: &HexFieldOutput) -> String {
+    let cells: Vec<&[usize]> = field.mesh.elements.iter().map(|e| e.as_slice()).collect();
+    grid(
+        &field.positions,
+        &field.mesh.nodes,
+        &cells,
+        VTK_HEXAHEDRON,
+        &field.states,
+        &field.eroded,
+    )
+}
+
+/// The `.vtu` text of cells of one type over nodes at `current` (reference `reference`).
+fn grid(
+    current: &[[f64; 3]],
+    reference: &[[f64; 3]],
+    cells: &[&[usize]],
+    cell_type: u8,
+    states: &[MaterialState],
+    eroded: &[bool],
+) -> String {
     let mut text = String::new();
     let _ = writeln!(text, "<?xml version=\"1.0\"?>");
     let _ = writeln!(
@@ -19,37 +58,40 @@ pub fn render(field: &FieldOutput) -> String {
     let _ = writeln!(
         text,
         "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
-        mesh.nodes.len(),
-        mesh.elements.len()
+        current.len(),
+        cells.len()
     );
     let _ = writeln!(
         text,
         "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
     );
-    for p in &field.positions {
-        let _ = writeln!(text, "{:e} {:e} 0", p[0], p[1]);
+    for p in current {
+        let _ = writeln!(text, "{:e} {:e} {:e}", p[0], p[1], p[2]);
     }
     let _ = writeln!(text, "</DataArray></Points>");
     let _ = writeln!(
         text,
         "<Cells><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">"
     );
-    for e in &mesh.elements {
-        let _ = writeln!(text, "{} {} {} {}", e[0], e[1], e[2], e[3]);
+    for cell in cells {
+        let nodes: Vec<String> = cell.iter().map(usize::to_string).collect();
+        let _ = writeln!(text, "{}", nodes.join(" "));
     }
     let _ = writeln!(
         text,
         "</DataArray><DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">"
     );
-    for k in 0..mesh.elements.len() {
-        let _ = write!(text, "{} ", 4 * (k + 1));
+    let mut offset = 0;
+    for cell in cells {
+        offset += cell.len();
+        let _ = write!(text, "{offset} ");
     }
     let _ = writeln!(
         text,
         "\n</DataArray><DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">"
     );
-    for _ in 0..mesh.elements.len() {
-        let _ = write!(text, "9 ");
+    for _ in cells {
+        let _ = write!(text, "{cell_type} ");
     }
     let _ = writeln!(text, "\n</DataArray></Cells>");
     let _ = writeln!(text, "<CellData Scalars=\"plastic_strain\">");
@@ -63,7 +105,6 @@ pub fn render(field: &FieldOutput) -> String {
         }
         let _ = writeln!(text, "\n</DataArray>");
     };
-    let states = &field.states;
     scalar(
         &mut text,
         "plastic_strain",
@@ -93,12 +134,18 @@ pub fn render(field: &FieldOutput) -> String {
     scalar(
         &mut text,
         "eroded",
-        &mut field.eroded.iter().map(|&e| f64::from(u8::from(e))),
+        &mut eroded.iter().map(|&e| f64::from(u8::from(e))),
     );
     let _ = writeln!(text, "</CellData>");
     let _ = writeln!(text, "<PointData Vectors=\"displacement\"><DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">");
-    for (p, p0) in field.positions.iter().zip(&mesh.nodes) {
-        let _ = writeln!(text, "{:e} {:e} 0", p[0] - p0[0], p[1] - p0[1]);
+    for (p, p0) in current.iter().zip(reference) {
+        let _ = writeln!(
+            text,
+            "{:e} {:e} {:e}",
+            p[0] - p0[0],
+            p[1] - p0[1],
+            p[2] - p0[2]
+        );
     }
     let _ = writeln!(text, "</DataArray></PointData>");
     let _ = writeln!(text, "</Piece>\n</UnstructuredGrid>\n</VTKFile>");
