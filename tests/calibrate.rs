@@ -250,8 +250,9 @@ fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
     // GOAL: a calibration piped to a log reports its progress; --quiet silences it.
     // SETUP: synthetic-flow campaign, 8 simulations and 2 polish steps, one instance, stdout
     //        and stderr captured (not a terminal); the same with --quiet.
-    // REFERENCE: progress lines name the instance, done/total and the best error; none with
-    //        --quiet; the result table in both.
+    // REFERENCE: progress lines name the instance, done/total (the polish counted from the
+    //        start: 0/10 when the instance starts, 10/10 at its end, never past it) and the
+    //        best error; none with --quiet; the result table in both.
     for quiet in [false, true] {
         let out = temporary(if quiet { "quiet" } else { "progress" });
         let mut command = stoss();
@@ -278,7 +279,9 @@ fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
             assert_eq!(progress, 0, "{text}");
         } else {
             assert!(
-                progress >= 1 && text.contains("8/8 simulations, best error"),
+                progress >= 2
+                    && text.contains("jc #0: 0/10 simulations, no feasible candidate yet")
+                    && text.contains("10/10 simulations, best error"),
                 "{text}"
             );
         }

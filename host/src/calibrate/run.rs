@@ -244,6 +244,10 @@ impl Runner<'_> {
         let mut proposer = (self.factory)(space, self.budget, self.batch, seed);
         let mut tally = Tally::default();
         let mut index = 0;
+        // The total counts the polish from the start, so a bar never runs past it; the
+        // instance is announced before its initial design runs.
+        let total = self.budget + self.polish;
+        (self.progress)(&space.name, fold, instance, 0, total, None);
         while index < self.budget {
             let mut points = proposer.ask();
             if points.is_empty() {
@@ -288,7 +292,7 @@ impl Runner<'_> {
                 fold,
                 instance,
                 index,
-                self.budget,
+                total,
                 tally.best_value(),
             );
         }
@@ -346,7 +350,7 @@ impl Runner<'_> {
                     fold,
                     instance,
                     index,
-                    self.budget + self.polish,
+                    total,
                     tally.best_value(),
                 );
             }

@@ -183,9 +183,10 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     let mut stage_start = started;
     let mut last_line: Option<std::time::Instant> = None;
     let bars = indicatif::MultiProgress::new();
-    let style =
-        indicatif::ProgressStyle::with_template("{prefix:>24} [{bar:30}] {pos}/{len} {msg}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+    let style = indicatif::ProgressStyle::with_template(
+        "{prefix:>24} [{bar:30}] {pos}/{len} {msg} (eta {eta})",
+    )
+    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
     let mut current: Option<(String, indicatif::ProgressBar)> = None;
     let mut progress = |model: &str,
                         fold: Option<&str>,
