@@ -201,3 +201,26 @@ fn diagnose_refuses_a_runaway_parallel_before_reading_anything() {
         "{stderr}"
     );
 }
+
+#[test]
+fn verify_outside_the_repository_says_the_golden_folder_is_missing() {
+    // GOAL: `stoss verify` run elsewhere names the missing golden folder instead of reporting
+    //       45 failed comparisons (issue 17). SETUP: an empty temporary working directory.
+    // REFERENCE: non-zero exit; stderr names the folder and --golden-dir; no "45 failed".
+    let directory = std::env::temp_dir().join(format!("stoss-verify-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_stoss"))
+        .arg("verify")
+        .current_dir(&directory)
+        .output()
+        .unwrap();
+    let errors = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        errors.contains("golden folder fixtures/golden not found")
+            && errors.contains("--golden-dir"),
+        "{errors}"
+    );
+    assert!(!String::from_utf8_lossy(&output.stdout).contains("45 failed"));
+    std::fs::remove_dir_all(&directory).unwrap();
+}

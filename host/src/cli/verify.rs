@@ -83,6 +83,15 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
                 return ExitCode::FAILURE;
             }
         }
+    } else if !args.golden_dir.is_dir() {
+        // Not a failed comparison: there is nothing to compare with.
+        eprintln!(
+            "error: golden folder {} not found: run `stoss verify` from the repository's root, \
+             or give the folder with --golden-dir",
+            args.golden_dir.display()
+        );
+        println!("{} closed-form checks, {} failed", rows.len(), failures);
+        return ExitCode::FAILURE;
     } else {
         let cases = golden::cases();
         let mut golden_failures = 0;
