@@ -68,6 +68,18 @@ pub enum Setup {
     BlastPlate(BlastPlateSpec),
 }
 
+/// The quantities of every experiment kind (each kind's `QUANTITIES`).
+pub const QUANTITIES_OF_EVERY_KIND: [&[&str]; 8] = [
+    uniaxial::QUANTITIES,
+    shpb::QUANTITIES,
+    tension::QUANTITIES,
+    taylor::QUANTITIES,
+    penetration::QUANTITIES,
+    ballistic::QUANTITIES,
+    perforation::QUANTITIES,
+    blast_plate::QUANTITIES,
+];
+
 impl Setup {
     /// Quantities this kind can predict.
     pub fn quantities(&self) -> &'static [&'static str] {

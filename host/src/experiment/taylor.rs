@@ -271,26 +271,10 @@ impl TaylorSpec {
             return self.simulate_3d(material, settings, recording);
         }
         let (result, run, model) = self.run(material, settings)?;
-        let predicted = recording
-            .iter()
-            .map(|point| match point.quantity.as_str() {
-                "final_length" => result.final_length,
-                "footprint_diameter" => result.footprint_diameter,
-                "diameter" => result.diameter_at(point.position),
-                _ => f64::NAN,
-            })
-            .collect();
         Ok(Outcome {
             field_3d: None,
-            predicted,
-            summary: vec![
-                ("final_length".into(), result.final_length),
-                ("footprint_diameter".into(), result.footprint_diameter),
-                (
-                    "diameter_at_0.2_L0".into(),
-                    result.diameter_at(0.2 * self.length),
-                ),
-            ],
+            predicted: Self::predictions(&result, recording),
+            summary: self.summary(&result),
             energy: Some(run.energy()),
             states: run.tracked.clone(),
             element_cycles: run.element_cycles,
@@ -306,6 +290,18 @@ impl TaylorSpec {
 }
 
 impl TaylorSpec {
+    /// The named results `stoss simulate` prints: Lf, Df and the diameter at 0.2 L0.
+    fn summary(&self, result: &TaylorResult) -> Vec<(String, f64)> {
+        vec![
+            ("final_length".into(), result.final_length),
+            ("footprint_diameter".into(), result.footprint_diameter),
+            (
+                "diameter_at_0.2_L0".into(),
+                result.diameter_at(0.2 * self.length),
+            ),
+        ]
+    }
+
     /// The recorded quantities of `result`, in the recording's order.
     fn predictions(result: &TaylorResult, recording: &[RecordedPoint]) -> Vec<f64> {
         recording
@@ -331,14 +327,7 @@ impl TaylorSpec {
         let result = TaylorResult::measure_3d(&model.mesh, &run);
         Ok(Outcome {
             predicted: Self::predictions(&result, recording),
-            summary: vec![
-                ("final_length".into(), result.final_length),
-                ("footprint_diameter".into(), result.footprint_diameter),
-                (
-                    "diameter_at_0.2_L0".into(),
-                    result.diameter_at(0.2 * self.length),
-                ),
-            ],
+            summary: self.summary(&result),
             energy: Some(run.energy()),
             states: run.tracked.clone(),
             element_cycles: run.element_cycles,

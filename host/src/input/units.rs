@@ -466,15 +466,7 @@ mod tests {
         // GOAL: the dimensions of recorded quantities (input) and the report's display units
         //   (output) describe the same quantities. SETUP: every experiment kind's QUANTITIES.
         // REFERENCE: lengths are shown in mm (factor 1e3), stresses in MPa (1e-6).
-        let kinds = [
-            crate::experiment::uniaxial::QUANTITIES,
-            crate::experiment::shpb::QUANTITIES,
-            crate::experiment::tension::QUANTITIES,
-            crate::experiment::taylor::QUANTITIES,
-            crate::experiment::penetration::QUANTITIES,
-            crate::experiment::ballistic::QUANTITIES,
-            crate::experiment::blast_plate::QUANTITIES,
-        ];
+        let kinds = crate::experiment::QUANTITIES_OF_EVERY_KIND;
         for quantity in kinds.iter().flat_map(|k| k.iter()) {
             let (_, value) = recorded_dimensions(quantity).unwrap_or_else(|| panic!("{quantity}"));
             let shown = crate::report::units::display_units(quantity).value.1;

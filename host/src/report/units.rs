@@ -44,15 +44,7 @@ mod tests {
         // GOAL: no quantity of any experiment kind is shown in raw SI by accident.
         // SETUP: every kind's QUANTITIES list.
         // REFERENCE: each maps to a unit other than the SI fallback; stresses in MPa.
-        let kinds = [
-            crate::experiment::uniaxial::QUANTITIES,
-            crate::experiment::shpb::QUANTITIES,
-            crate::experiment::tension::QUANTITIES,
-            crate::experiment::taylor::QUANTITIES,
-            crate::experiment::penetration::QUANTITIES,
-            crate::experiment::ballistic::QUANTITIES,
-            crate::experiment::blast_plate::QUANTITIES,
-        ];
+        let kinds = crate::experiment::QUANTITIES_OF_EVERY_KIND;
         for quantity in kinds.iter().flat_map(|k| k.iter()) {
             let units = display_units(quantity);
             assert_ne!(units.value.0, "value (SI)", "{quantity}");
