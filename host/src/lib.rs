@@ -9,6 +9,7 @@ pub mod calibrate;
 pub mod cli;
 pub mod diagnose;
 pub mod experiment;
+pub mod hash;
 pub mod input;
 pub mod journal;
 pub mod measure;

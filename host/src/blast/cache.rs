@@ -6,6 +6,7 @@
 //! returning another charge's load. Writes go to a temporary file renamed into place, so a
 //! process that dies leaves no partial entry. A process-wide map keeps loaded entries.
 
+use crate::hash::fnv1a;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock};
@@ -78,16 +79,6 @@ struct Entry {
 fn memory() -> &'static Mutex<HashMap<String, Arc<PressureHistory>>> {
     static MEMORY: OnceLock<Mutex<HashMap<String, Arc<PressureHistory>>>> = OnceLock::new();
     MEMORY.get_or_init(|| Mutex::new(HashMap::new()))
-}
-
-/// FNV-1a, 64 bit.
-fn fnv1a(text: &str) -> u64 {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    for byte in text.bytes() {
-        hash ^= u64::from(byte);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    hash
 }
 
 /// The canonical key of a load.

@@ -10,6 +10,7 @@
 use super::hypothesis::Hypothesis;
 use super::DiagnoseError;
 use crate::calibrate::Campaign;
+use crate::hash::fnv1a;
 use crate::journal::Journal;
 use crate::solver::SolverSettings;
 use rayon::prelude::*;
@@ -27,13 +28,6 @@ struct LogEntry {
     predicted: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     error: Option<String>,
-}
-
-/// 64-bit FNV-1a.
-fn fnv1a(text: &str) -> u64 {
-    text.bytes().fold(0xcbf2_9ce4_8422_2325, |hash, byte| {
-        (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)
-    })
 }
 
 /// What a diagnosis reports while it runs.

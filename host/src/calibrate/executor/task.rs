@@ -126,12 +126,7 @@ pub fn result_path(task: &Path) -> PathBuf {
 /// A file name for the task of `key`: the model and a 64-bit FNV-1a hash of the key, stable
 /// across runs (a resumed run finds the results of its tasks by it).
 pub fn task_name(key: &Key) -> String {
-    let text = serde_json::to_string(key).unwrap_or_default();
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    for byte in text.bytes() {
-        hash ^= u64::from(byte);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-    }
+    let hash = crate::hash::fnv1a(&serde_json::to_string(key).unwrap_or_default());
     let model: String = key
         .model
         .chars()
