@@ -49,7 +49,7 @@ fn with_progress<T>(
 ) -> T {
     let done = std::sync::atomic::AtomicBool::new(false);
     std::thread::scope(|scope| {
-        if !quiet {
+        let reporter = (!quiet).then(|| {
             scope.spawn(|| {
                 let terminal = std::io::IsTerminal::is_terminal(&std::io::stdout());
                 let bar = if terminal {
@@ -60,7 +60,8 @@ fn with_progress<T>(
                 let started = std::time::Instant::now();
                 let mut last_line = started;
                 while !done.load(std::sync::atomic::Ordering::Relaxed) {
-                    std::thread::sleep(std::time::Duration::from_millis(200));
+                    // Woken at once when the simulation ends.
+                    std::thread::park_timeout(std::time::Duration::from_millis(200));
                     let fraction = progress.fraction().unwrap_or(0.0);
                     let elapsed = started.elapsed().as_secs_f64();
                     if terminal {
@@ -86,10 +87,13 @@ fn with_progress<T>(
                     }
                 }
                 bar.finish_and_clear();
-            });
-        }
+            })
+        });
         let result = simulate();
         done.store(true, std::sync::atomic::Ordering::Relaxed);
+        if let Some(reporter) = &reporter {
+            reporter.thread().unpark();
+        }
         result
     })
 }
