@@ -414,9 +414,9 @@ fn campaign_errors_name_the_file_line_and_field() {
                 "yeld_stress = [0.5e9, 2.0e9]",
             ),
             "c.toml:10: field `yeld_stress`: model jc: `yeld_stress` is not a constant of this \
-             model; its constants are hardening_exponent, hardening_modulus, melting_temperature, \
-             rate_sensitivity, reference_rate, reference_temperature, thermal_exponent, \
-             yield_stress",
+             model; its constants are yield_stress (A, Pa), hardening_modulus (B, Pa), \
+             hardening_exponent (n, -), rate_sensitivity (C, -), thermal_exponent (m, -), \
+             reference_rate (e0, 1/s), reference_temperature (Tr, K), melting_temperature (Tm, K)",
         ),
         (
             text.replace("budget = 40", "budget = 40\nbudgett = 3"),

@@ -2,7 +2,7 @@
 //! constants, a fuzzed state and a sequence of fuzzed steps through `update`.
 //!
 //! Domains (where the strong properties of [`crate::check::run_steps`] are asserted):
-//! - family constants: each family's `BOUNDS` (seed 000 section 4.1); constants without a
+//! - family constants: each family's search ranges (`PARAMETERS`) (seed 000 section 4.1); constants without a
 //!   bound: reference rates log-uniform in `[1e-3, 1e3]` /s (TJC: its bounds), `Tr` in
 //!   `[250, 350]` K, `Tm` in `[800, 4000]` K, ZA `C2` in `[0, 3 GPa]`;
 //! - material: `rho0` in `[1000, 20000]` kg/m^3, `G` in `[1, 300]` GPa (log), `c_p` in
@@ -21,8 +21,9 @@ use crate::check::{run_steps, FuzzStep, Tally};
 use crate::source::Source;
 use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::eos::{Eos, LinearEos};
+use stoss_kernel::parameters::Parameter;
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, ParameterBound, Strength,
+    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, Strength,
     TwoRateJohnsonCook, ZerilliArmstrong,
 };
 use stoss_kernel::{
@@ -43,20 +44,20 @@ pub enum Family {
 }
 
 /// The bound named `name` in `bounds`.
-fn bound(bounds: &[ParameterBound], name: &str) -> (f64, f64) {
-    let b = bounds
+fn bound(bounds: &[Parameter], name: &str) -> (f64, f64) {
+    bounds
         .iter()
         .find(|b| b.name == name)
-        .unwrap_or_else(|| panic!("harness: no bound {name}"));
-    (b.min, b.max)
+        .and_then(|b| b.search)
+        .unwrap_or_else(|| panic!("harness: no search range for {name}"))
 }
 
-fn draw(src: &mut Source, bounds: &[ParameterBound], name: &str) -> f64 {
+fn draw(src: &mut Source, bounds: &[Parameter], name: &str) -> f64 {
     let (min, max) = bound(bounds, name);
     src.linear(min, max)
 }
 
-fn draw_log(src: &mut Source, bounds: &[ParameterBound], name: &str) -> f64 {
+fn draw_log(src: &mut Source, bounds: &[Parameter], name: &str) -> f64 {
     let (min, max) = bound(bounds, name);
     src.log(min, max)
 }
@@ -65,7 +66,7 @@ fn draw_log(src: &mut Source, bounds: &[ParameterBound], name: &str) -> f64 {
 fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), ParameterError>) {
     match family {
         Family::JohnsonCook => {
-            let b = &JohnsonCook::BOUNDS;
+            let b = &JohnsonCook::PARAMETERS;
             let model = JohnsonCook {
                 yield_stress: draw(src, b, "yield_stress"),
                 hardening_modulus: draw(src, b, "hardening_modulus"),
@@ -79,7 +80,7 @@ fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), Parameter
             (model.into(), model.validate())
         }
         Family::ZerilliArmstrong => {
-            let b = &ZerilliArmstrong::BOUNDS;
+            let b = &ZerilliArmstrong::PARAMETERS;
             let structure = if src.flag() {
                 CrystalStructure::Fcc
             } else {
@@ -99,7 +100,7 @@ fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), Parameter
             (model.into(), model.validate())
         }
         Family::ModifiedJohnsonCook => {
-            let b = &ModifiedJohnsonCook::BOUNDS;
+            let b = &ModifiedJohnsonCook::PARAMETERS;
             let model = ModifiedJohnsonCook {
                 yield_stress: draw(src, b, "yield_stress"),
                 hardening_modulus: draw(src, b, "hardening_modulus"),
@@ -117,7 +118,7 @@ fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), Parameter
             (model.into(), model.validate())
         }
         Family::TwoRateJohnsonCook => {
-            let b = &TwoRateJohnsonCook::BOUNDS;
+            let b = &TwoRateJohnsonCook::PARAMETERS;
             let model = TwoRateJohnsonCook {
                 yield_stress: draw(src, b, "yield_stress"),
                 hardening_modulus: draw(src, b, "hardening_modulus"),

@@ -12,6 +12,7 @@
 //!   plus Zerilli-Armstrong, which couples rate and temperature.
 //! - [`eos`]: equations of state (pressure from compression and internal energy).
 //! - [`damage`]: Johnson-Cook failure and the erosion flags shared by every model.
+//! - [`parameters`]: one description (name, symbol, unit, search range) per model constant.
 //! - [`material`]: a complete material (elasticity, strength, heating, EoS, damage).
 //! - [`update`]: the stress update: EoS, elastic predictor, implicit (or lagged) radial
 //!   return, heating, damage, failure, the consistent tangent and the wave speed.
@@ -32,6 +33,7 @@ pub mod eos;
 pub mod error;
 pub mod material;
 pub mod math;
+pub mod parameters;
 pub mod part_material;
 pub mod rht;
 pub mod state;

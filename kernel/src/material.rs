@@ -168,3 +168,17 @@ impl Material {
         self
     }
 }
+
+// The Taylor-Quinney coefficient is in [0, 1] by definition; the transition rates are held
+// by convention.
+crate::enum_constants!(Heating, {
+    Isothermal {},
+    Adiabatic {
+        taylor_quinney = ("chi", "-", Some((0.0, 1.0))),
+    },
+    Transition {
+        taylor_quinney = ("chi", "-", Some((0.0, 1.0))),
+        isothermal_rate = ("e_iso", "1/s", crate::parameters::FIXED),
+        adiabatic_rate = ("e_ad", "1/s", crate::parameters::FIXED),
+    },
+});

@@ -226,32 +226,32 @@ pub struct ModelSpace {
 impl ModelSpace {
     /// The strength with `values` for the fitted constants (J2 metals).
     pub fn strength_with(&self, values: &[f64]) -> Result<StrengthSpec, String> {
-        let strength = self.strength.ok_or_else(|| {
+        let mut strength = self.strength.ok_or_else(|| {
             format!(
                 "model {} has no flow-stress model (RHT concrete)",
                 self.name
             )
         })?;
-        let mut tree = toml::Value::try_from(strength).map_err(|e| e.to_string())?;
         for (name, value) in self.names.iter().zip(values) {
-            set_dotted(&mut tree, name, *value)
+            strength
+                .set(name, *value)
                 .ok_or_else(|| format!("`{name}` is not a constant of this model"))?;
         }
-        tree.try_into().map_err(|e: toml::de::Error| e.to_string())
+        Ok(strength)
     }
 
-    /// The RHT file `base` with `values` at the fitted constants' dotted paths.
+    /// The RHT file `base` with `values` at the fitted constants' paths.
     fn rht_with(&self, base: &RhtMaterialFile, values: &[f64]) -> Result<RhtMaterialFile, String> {
-        let mut tree = toml::Value::try_from(base).map_err(|e| e.to_string())?;
+        let mut file = base.clone();
         for (name, value) in self.names.iter().zip(values) {
-            set_dotted(&mut tree, name, *value).ok_or_else(|| {
+            *file.constant_slot(name).ok_or_else(|| {
                 format!(
-                    "`{name}` is not a constant of the RHT file (dotted paths such as \
-                     `parameters.residual_b`)"
+                    "`{name}` is not a constant of the RHT file (`density`, \
+                     `parameters.<name>` such as `parameters.residual_b`, or `eos.<name>`)"
                 )
-            })?;
+            })? = *value;
         }
-        tree.try_into().map_err(|e: toml::de::Error| e.to_string())
+        Ok(file)
     }
 
     /// The kernel material: the campaign's base material with this model's constants, and
@@ -277,42 +277,6 @@ impl ModelSpace {
     pub fn dimension(&self) -> usize {
         self.names.len()
     }
-}
-
-/// Set the float at dotted path `name` in a TOML tree; `None` if it does not exist.
-pub(crate) fn set_dotted(tree: &mut toml::Value, name: &str, value: f64) -> Option<()> {
-    match name.split_once('.') {
-        Some((head, rest)) => set_dotted(tree.as_table_mut()?.get_mut(head)?, rest, value),
-        None => {
-            let slot = tree.as_table_mut()?.get_mut(name)?;
-            *slot = toml::Value::Float(value);
-            Some(())
-        }
-    }
-}
-
-/// The dotted paths of every number in `tree` (the constants [`set_dotted`] can set), in the
-/// tree's order.
-fn numeric_paths(tree: &toml::Value) -> Vec<String> {
-    fn walk(value: &toml::Value, prefix: &str, paths: &mut Vec<String>) {
-        match value {
-            toml::Value::Table(table) => {
-                for (key, child) in table {
-                    let path = if prefix.is_empty() {
-                        key.clone()
-                    } else {
-                        format!("{prefix}.{key}")
-                    };
-                    walk(child, &path, paths);
-                }
-            }
-            toml::Value::Float(_) | toml::Value::Integer(_) => paths.push(prefix.to_string()),
-            _ => {}
-        }
-    }
-    let mut paths = Vec::new();
-    walk(tree, "", &mut paths);
-    paths
 }
 
 impl Campaign {
@@ -475,10 +439,17 @@ impl Campaign {
                 ));
             }
             if let Some(strength) = &space.strength {
-                let constants = toml::Value::try_from(strength)
-                    .map(|tree| numeric_paths(&tree))
-                    .unwrap_or_default();
-                if let Some(name) = space.names.iter().find(|n| !constants.contains(n)) {
+                let described = strength.constants();
+                let constants: Vec<&str> = described.iter().map(|(n, _)| n.as_str()).collect();
+                let listed: Vec<String> = described
+                    .iter()
+                    .map(|(n, p)| format!("{n} ({}, {})", p.symbol, p.unit))
+                    .collect();
+                if let Some(name) = space
+                    .names
+                    .iter()
+                    .find(|n| !constants.contains(&n.as_str()))
+                {
                     return Err(InputError::field(
                         path,
                         &text,
@@ -487,7 +458,7 @@ impl Campaign {
                             "model {}: `{name}` is not a constant of this model; its constants \
                              are {}",
                             model.name,
-                            constants.join(", ")
+                            listed.join(", ")
                         ),
                     ));
                 }

@@ -3,8 +3,8 @@
 //! friction, the rate treatment), and the constants that are fitted with their bounds.
 //!
 //! Fitted constants are named by where they live:
-//! - `strength.<path>`, `heating.<field>`, `eos.<field>`, `failure.<path>`: a dotted path in
-//!   the material file's TOML tree (e.g. `strength.hardening.yield_stress`);
+//! - `strength.<name>`, `heating.<name>`: a described constant of the material
+//!   ([`MaterialFile::constant`], e.g. `strength.hardening.yield_stress`);
 //! - [`ANVIL_FRICTION`]: the Coulomb friction of every Taylor test's anvil;
 //! - [`LAGGED_MIXTURE`]: the weight `lambda` of the lagged-rate prediction in
 //!   `(1 - lambda) P(current treatment) + lambda P(other treatment)` (the linear family
@@ -12,7 +12,7 @@
 //! - [`EROSION_INTENSITY`]: `gamma = 1 / eps_f`, elements erode at plastic strain `eps_f`
 //!   (`gamma = 0`: no failure).
 
-use crate::calibrate::campaign::{set_dotted, Campaign, ModelSpace};
+use crate::calibrate::campaign::{Campaign, ModelSpace};
 use crate::experiment::{Experiment, Setup};
 use crate::input::material::{MaterialFile, StrengthSpec};
 use crate::solver::SolverSettings;
@@ -83,21 +83,6 @@ pub struct Realisation {
     pub erosion_intensity: f64,
 }
 
-/// The composed-term path of a Johnson-Cook constant, so that terms can be added to it.
-fn johnson_cook_path(name: &str) -> Option<&'static str> {
-    Some(match name {
-        "yield_stress" => "hardening.yield_stress",
-        "hardening_modulus" => "hardening.hardening_modulus",
-        "hardening_exponent" => "hardening.exponent",
-        "rate_sensitivity" => "rate.rate_sensitivity",
-        "reference_rate" => "rate.reference_rate",
-        "thermal_exponent" => "thermal.exponent",
-        "reference_temperature" => "thermal.reference_temperature",
-        "melting_temperature" => "thermal.melting_temperature",
-        _ => return None,
-    })
-}
-
 impl Hypothesis {
     /// The calibrated model of a campaign as the diagnosis's base hypothesis: a Johnson-Cook
     /// strength is rewritten as its composed terms (the same kernel model, bit for bit) so
@@ -112,26 +97,27 @@ impl Hypothesis {
         };
         let mut material = base.clone();
         material.strength = space.strength_with(values)?;
+        // A family with a composed form is rewritten as its terms, its constants renamed to
+        // their paths there (the kernel's `COMPOSED_PATHS`).
+        let paths = match material.strength.composed_with_paths() {
+            Some((composed, paths)) => {
+                material.strength = StrengthSpec::Composed(composed);
+                paths
+            }
+            None => space.names.iter().map(|n| (n.clone(), n.clone())).collect(),
+        };
         let mut parameters = Vec::new();
-        if let StrengthSpec::JohnsonCook(jc) = material.strength {
-            material.strength = StrengthSpec::Composed(jc.composed());
-            for (i, name) in space.names.iter().enumerate() {
-                let path = johnson_cook_path(name)
-                    .ok_or_else(|| format!("`{name}` is not a Johnson-Cook constant"))?;
-                parameters.push(Parameter {
-                    name: format!("strength.{path}"),
-                    lower: space.lower[i],
-                    upper: space.upper[i],
-                });
-            }
-        } else {
-            for (i, name) in space.names.iter().enumerate() {
-                parameters.push(Parameter {
-                    name: format!("strength.{name}"),
-                    lower: space.lower[i],
-                    upper: space.upper[i],
-                });
-            }
+        for (i, name) in space.names.iter().enumerate() {
+            let path = paths
+                .iter()
+                .find(|(family, _)| family == name)
+                .map(|(_, path)| path)
+                .ok_or_else(|| format!("`{name}` is not a constant of this model"))?;
+            parameters.push(Parameter {
+                name: format!("strength.{path}"),
+                lower: space.lower[i],
+                upper: space.upper[i],
+            });
         }
         Ok(Self {
             label: "base".into(),
@@ -145,14 +131,15 @@ impl Hypothesis {
 
     /// The current values of the fitted constants (read back from the material and settings).
     pub fn values(&self) -> Result<Vec<f64>, String> {
-        let tree = toml::Value::try_from(&self.material).map_err(|e| e.to_string())?;
         self.parameters
             .iter()
             .map(|p| match p.name.as_str() {
                 ANVIL_FRICTION => Ok(self.anvil_friction.unwrap_or(0.0)),
                 LAGGED_MIXTURE => Ok(self.lagged_mixture),
                 EROSION_INTENSITY => Ok(self.erosion_intensity),
-                path => get_dotted(&tree, path)
+                path => self
+                    .material
+                    .constant(path)
                     .ok_or_else(|| format!("`{path}` is not a constant of the material")),
             })
             .collect()
@@ -160,7 +147,7 @@ impl Hypothesis {
 
     /// Write `values` into a copy of the material and settings and build the kernel material.
     pub fn realise(&self, values: &[f64]) -> Result<Realisation, String> {
-        let mut tree = toml::Value::try_from(&self.material).map_err(|e| e.to_string())?;
+        let mut file = self.material.clone();
         let mut anvil_friction = self.anvil_friction;
         let mut lagged_mixture = self.lagged_mixture;
         let mut erosion_intensity = self.erosion_intensity;
@@ -169,13 +156,11 @@ impl Hypothesis {
                 ANVIL_FRICTION => anvil_friction = Some(*value),
                 LAGGED_MIXTURE => lagged_mixture = *value,
                 EROSION_INTENSITY => erosion_intensity = *value,
-                path => set_dotted(&mut tree, path, *value)
+                path => file
+                    .set_constant(path, *value)
                     .ok_or_else(|| format!("`{path}` is not a constant of the material"))?,
             }
         }
-        let mut file: MaterialFile = tree
-            .try_into()
-            .map_err(|e: toml::de::Error| e.to_string())?;
         if erosion_intensity > 0.0 {
             let mut failure = file.failure.unwrap_or(Failure::NONE);
             failure.erosion_plastic_strain = Some(1.0 / erosion_intensity);
@@ -209,18 +194,6 @@ pub fn other_rate_treatment(treatment: RateTreatment) -> RateTreatment {
     match treatment {
         RateTreatment::Implicit => RateTreatment::Lagged,
         RateTreatment::Lagged => RateTreatment::Implicit,
-    }
-}
-
-/// The float at dotted path `name` in a TOML tree.
-pub fn get_dotted(tree: &toml::Value, name: &str) -> Option<f64> {
-    match name.split_once('.') {
-        Some((head, rest)) => get_dotted(tree.as_table()?.get(head)?, rest),
-        None => match tree.as_table()?.get(name)? {
-            toml::Value::Float(x) => Some(*x),
-            toml::Value::Integer(i) => Some(*i as f64),
-            _ => None,
-        },
     }
 }
 

@@ -31,6 +31,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stoss_kernel::damage::Failure;
 use stoss_kernel::eos::Eos;
+use stoss_kernel::parameters::{Constants, Parameter};
 use stoss_kernel::rht::{RhtMaterial, RhtParameters};
 use stoss_kernel::strength::{
     ComposedStrength, JohnsonCook, ModifiedJohnsonCook, Strength, TwoRateJohnsonCook,
@@ -64,6 +65,92 @@ impl StrengthSpec {
             StrengthSpec::TwoRateJohnsonCook(m) => m.into(),
             StrengthSpec::Composed(m) => m.into(),
         }
+    }
+
+    /// The model's constants as a campaign names them, with their descriptions: a family's
+    /// field names (`rate_sensitivity`), or a composed model's `term.name` paths
+    /// (`rate.rate_sensitivity`).
+    pub fn constants(&self) -> Vec<(String, &'static Parameter)> {
+        let family = |parameters: &'static [Parameter]| {
+            parameters.iter().map(|p| (p.name.to_string(), p)).collect()
+        };
+        match self {
+            StrengthSpec::JohnsonCook(_) => family(JohnsonCook::PARAMETERS),
+            StrengthSpec::ZerilliArmstrong(_) => family(ZerilliArmstrong::PARAMETERS),
+            StrengthSpec::ModifiedJohnsonCook(_) => family(ModifiedJohnsonCook::PARAMETERS),
+            StrengthSpec::TwoRateJohnsonCook(_) => family(TwoRateJohnsonCook::PARAMETERS),
+            StrengthSpec::Composed(m) => m
+                .parameters()
+                .map(|(term, p)| (format!("{term}.{}", p.name), p))
+                .collect(),
+        }
+    }
+
+    /// The constant named `name` (see [`Self::constants`]).
+    pub fn get(&self, name: &str) -> Option<f64> {
+        let mut copy = *self;
+        copy.slot(name).map(|value| *value)
+    }
+
+    /// Set the constant named `name`; `None` if the model has no such constant.
+    pub fn set(&mut self, name: &str, value: f64) -> Option<()> {
+        *self.slot(name)? = value;
+        Some(())
+    }
+
+    /// The constant named `name`, mutably.
+    pub fn slot(&mut self, name: &str) -> Option<&mut f64> {
+        match self {
+            StrengthSpec::JohnsonCook(m) => m.named_slot(name),
+            StrengthSpec::ZerilliArmstrong(m) => m.named_slot(name),
+            StrengthSpec::ModifiedJohnsonCook(m) => m.named_slot(name),
+            StrengthSpec::TwoRateJohnsonCook(m) => m.named_slot(name),
+            StrengthSpec::Composed(m) => m.slot(name),
+        }
+    }
+
+    /// The model written as composed terms (the same kernel model, bit for bit), with the
+    /// composed path of each of its constants by name; `None` for Zerilli-Armstrong, whose
+    /// rate and temperature are coupled.
+    pub fn composed_with_paths(&self) -> Option<(ComposedStrength, Vec<(String, String)>)> {
+        fn family(
+            parameters: &'static [Parameter],
+            paths: &[&'static str],
+        ) -> Vec<(String, String)> {
+            parameters
+                .iter()
+                .zip(paths)
+                .map(|(p, path)| (p.name.to_string(), path.to_string()))
+                .collect()
+        }
+        Some(match self {
+            StrengthSpec::JohnsonCook(m) => (
+                m.composed(),
+                family(JohnsonCook::PARAMETERS, &JohnsonCook::COMPOSED_PATHS),
+            ),
+            StrengthSpec::ModifiedJohnsonCook(m) => (
+                m.composed(),
+                family(
+                    ModifiedJohnsonCook::PARAMETERS,
+                    &ModifiedJohnsonCook::COMPOSED_PATHS,
+                ),
+            ),
+            StrengthSpec::TwoRateJohnsonCook(m) => (
+                m.composed(),
+                family(
+                    TwoRateJohnsonCook::PARAMETERS,
+                    &TwoRateJohnsonCook::COMPOSED_PATHS,
+                ),
+            ),
+            StrengthSpec::Composed(m) => (
+                *m,
+                self.constants()
+                    .into_iter()
+                    .map(|(name, _)| (name.clone(), name))
+                    .collect(),
+            ),
+            StrengthSpec::ZerilliArmstrong(_) => return None,
+        })
     }
 
     /// Family validation (e.g. TJC's ordered reference rates).
@@ -137,6 +224,35 @@ impl MaterialFile {
     /// Render as TOML (the format `load` reads).
     pub fn to_toml(&self) -> String {
         toml::to_string(self).unwrap_or_default()
+    }
+
+    /// The constant at `path`: `density`, `shear_modulus`, `specific_heat`,
+    /// `strength.<name>` (see [`StrengthSpec::constants`]), `heating.<name>` or `eos.<name>`
+    /// (the kernel's descriptions of those terms).
+    pub fn constant(&self, path: &str) -> Option<f64> {
+        let mut copy = self.clone();
+        copy.constant_slot(path).map(|value| *value)
+    }
+
+    /// Set the constant at `path` (as [`Self::constant`]); `None` if there is none.
+    pub fn set_constant(&mut self, path: &str, value: f64) -> Option<()> {
+        *self.constant_slot(path)? = value;
+        Some(())
+    }
+
+    fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
+        match path.split_once('.') {
+            None => match path {
+                "density" => Some(&mut self.density),
+                "shear_modulus" => Some(&mut self.shear_modulus),
+                "specific_heat" => Some(&mut self.specific_heat),
+                _ => None,
+            },
+            Some(("strength", name)) => self.strength.slot(name),
+            Some(("heating", name)) => self.heating.named_slot(name),
+            Some(("eos", name)) => self.eos.slot(name),
+            Some(_) => None,
+        }
     }
 }
 
@@ -335,6 +451,17 @@ pub struct RhtMaterialFile {
 }
 
 impl RhtMaterialFile {
+    /// The constant at `path`, mutably: `density`, `parameters.<name>` (the kernel's
+    /// description of [`RhtParameters`]) or `eos.<name>`.
+    pub fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
+        match path.split_once('.') {
+            None if path == "density" => Some(&mut self.density),
+            Some(("parameters", name)) => self.parameters.named_slot(name),
+            Some(("eos", name)) => self.eos.slot(name),
+            _ => None,
+        }
+    }
+
     /// The kernel material, validated.
     pub fn material(&self) -> Result<RhtMaterial, ParameterError> {
         let material = RhtMaterial {
@@ -359,6 +486,17 @@ pub enum AnyMaterialFile {
 }
 
 impl AnyMaterialFile {
+    /// Name the file (and say where its constants come from), as a calibration does for the
+    /// material it writes: the constants are no longer the starting material's.
+    pub fn rename(&mut self, name: String, source: String) {
+        let (n, s) = match self {
+            AnyMaterialFile::J2(file) => (&mut file.name, &mut file.source),
+            AnyMaterialFile::Rht(file) => (&mut file.name, &mut file.source),
+        };
+        *n = name;
+        *s = source;
+    }
+
     /// Display name.
     pub fn name(&self) -> &str {
         match self {

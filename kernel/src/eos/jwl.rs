@@ -303,3 +303,18 @@ mod tests {
         );
     }
 }
+
+crate::struct_constants!(
+    Jwl,
+    [
+        a = ("A", "Pa", crate::parameters::FIXED),
+        b = ("B", "Pa", crate::parameters::FIXED),
+        r1 = ("R1", "-", crate::parameters::FIXED),
+        r2 = ("R2", "-", crate::parameters::FIXED),
+        omega = ("w", "-", crate::parameters::FIXED),
+        reference_density = ("rho0", "kg/m^3", crate::parameters::FIXED),
+        detonation_energy = ("E0", "J/m^3", crate::parameters::FIXED),
+        detonation_velocity = ("D", "m/s", crate::parameters::FIXED),
+        cj_pressure = ("P_CJ", "Pa", crate::parameters::FIXED),
+    ]
+);

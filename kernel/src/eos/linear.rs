@@ -30,3 +30,8 @@ impl LinearEos {
         check::positive("bulk_modulus", self.bulk_modulus)
     }
 }
+
+crate::struct_constants!(
+    LinearEos,
+    [bulk_modulus = ("K", "Pa", crate::parameters::FIXED)]
+);

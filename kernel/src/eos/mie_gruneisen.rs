@@ -249,3 +249,16 @@ mod tests {
         assert_eq!(Eos::from(COPPER).validate(), Ok(()));
     }
 }
+
+crate::struct_constants!(
+    MieGruneisen,
+    [
+        reference_density = ("rho0", "kg/m^3", crate::parameters::FIXED),
+        sound_speed = ("C", "m/s", crate::parameters::FIXED),
+        s1 = ("S1", "-", crate::parameters::FIXED),
+        s2 = ("S2", "-", crate::parameters::FIXED),
+        s3 = ("S3", "-", crate::parameters::FIXED),
+        gamma0 = ("gamma0", "-", crate::parameters::FIXED),
+        volume_correction = ("a", "-", crate::parameters::FIXED),
+    ]
+);

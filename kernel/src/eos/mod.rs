@@ -21,6 +21,7 @@ pub use polynomial::Polynomial;
 pub use tabulated_compaction::{CompactionPoint, TabulatedCompaction, MAX_COMPACTION_POINTS};
 
 use crate::error::ParameterError;
+use crate::parameters::{Constants, Parameter};
 
 /// Pressure at fixed compression in energy-linear form, with derivatives.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,6 +101,46 @@ impl Eos {
         match self {
             Eos::PAlpha(eos) => eos.initial_distension,
             _ => 0.0,
+        }
+    }
+
+    /// The constants of this EoS (P-alpha: its own; its matrix's are `solid.<name>`); none
+    /// for the tabulated compaction EoS, whose table is not a set of named constants.
+    pub fn constants(&self) -> &'static [Parameter] {
+        match self {
+            Eos::Linear(eos) => eos.parameters(),
+            Eos::MieGruneisen(eos) => eos.parameters(),
+            Eos::Polynomial(eos) => eos.parameters(),
+            Eos::Jwl(eos) => eos.parameters(),
+            Eos::TabulatedCompaction(_) => &[],
+            Eos::PAlpha(eos) => eos.parameters(),
+        }
+    }
+
+    /// The constant named `path` (see [`Self::constants`]).
+    pub fn get(&self, path: &str) -> Option<f64> {
+        let mut copy = *self;
+        copy.slot(path).map(|value| *value)
+    }
+
+    /// Set the constant named `path`; `None` if there is none.
+    pub fn set(&mut self, path: &str, value: f64) -> Option<()> {
+        *self.slot(path)? = value;
+        Some(())
+    }
+
+    /// The constant named `path`, mutably.
+    pub fn slot(&mut self, path: &str) -> Option<&mut f64> {
+        match self {
+            Eos::Linear(eos) => eos.named_slot(path),
+            Eos::MieGruneisen(eos) => eos.named_slot(path),
+            Eos::Polynomial(eos) => eos.named_slot(path),
+            Eos::Jwl(eos) => eos.named_slot(path),
+            Eos::TabulatedCompaction(_) => None,
+            Eos::PAlpha(eos) => match path.strip_prefix("solid.") {
+                Some(name) => eos.solid.named_slot(name),
+                None => eos.named_slot(path),
+            },
         }
     }
 

@@ -527,3 +527,14 @@ mod tests {
         assert_eq!(Eos::from(SAMPLE).validate(), Ok(()));
     }
 }
+
+// The matrix constants are addressed as `solid.<name>` ([`super::Eos::get`]).
+crate::struct_constants!(
+    PAlpha,
+    [
+        initial_distension = ("alpha0", "-", crate::parameters::FIXED),
+        crush_pressure = ("p_crush", "Pa", crate::parameters::FIXED),
+        lock_pressure = ("p_lock", "Pa", crate::parameters::FIXED),
+        exponent = ("n", "-", crate::parameters::FIXED),
+    ]
+);

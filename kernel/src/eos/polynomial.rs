@@ -187,3 +187,16 @@ mod tests {
         assert_eq!(SAMPLE.validate(), Ok(()));
     }
 }
+
+crate::struct_constants!(
+    Polynomial,
+    [
+        a1 = ("A1", "Pa", crate::parameters::FIXED),
+        a2 = ("A2", "Pa", crate::parameters::FIXED),
+        a3 = ("A3", "Pa", crate::parameters::FIXED),
+        b0 = ("B0", "-", crate::parameters::FIXED),
+        b1 = ("B1", "-", crate::parameters::FIXED),
+        t1 = ("T1", "Pa", crate::parameters::FIXED),
+        t2 = ("T2", "Pa", crate::parameters::FIXED),
+    ]
+);

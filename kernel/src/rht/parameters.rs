@@ -317,3 +317,32 @@ impl RhtParameters {
         Ok(())
     }
 }
+
+// The scalar constants (the surface, rate and tension options are not numbers and are chosen
+// in the material file).
+crate::struct_constants!(
+    RhtParameters,
+    [
+        shear_modulus = ("G", "Pa", crate::parameters::FIXED),
+        compressive_strength = ("f'c", "Pa", crate::parameters::FIXED),
+        tensile_strength_ratio = ("FT*", "-", crate::parameters::FIXED),
+        shear_strength_ratio = ("FS*", "-", crate::parameters::FIXED),
+        failure_a = ("A", "-", crate::parameters::FIXED),
+        failure_n = ("N", "-", crate::parameters::FIXED),
+        tensile_meridian_ratio = ("Q2,0", "-", crate::parameters::FIXED),
+        brittle_ductile_transition = ("BQ", "-", crate::parameters::FIXED),
+        shear_modulus_ratio = ("PREFACT", "-", crate::parameters::FIXED),
+        tensile_elastic_ratio = ("TENSRAT", "-", crate::parameters::FIXED),
+        compressive_elastic_ratio = ("COMPRAT", "-", crate::parameters::FIXED),
+        residual_b = ("B", "-", crate::parameters::FIXED),
+        residual_m = ("M", "-", crate::parameters::FIXED),
+        compressive_rate_exponent = ("alpha", "-", crate::parameters::FIXED),
+        tensile_rate_exponent = ("delta", "-", crate::parameters::FIXED),
+        compressive_reference_rate = ("e0c", "1/s", crate::parameters::FIXED),
+        tensile_reference_rate = ("e0t", "1/s", crate::parameters::FIXED),
+        damage_d1 = ("D1", "-", crate::parameters::FIXED),
+        damage_d2 = ("D2", "-", crate::parameters::FIXED),
+        minimum_failure_strain = ("EFMIN", "-", crate::parameters::FIXED),
+        residual_shear_modulus_ratio = ("SHRATD", "-", crate::parameters::FIXED),
+    ]
+);

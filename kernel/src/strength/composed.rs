@@ -2,6 +2,7 @@
 
 use super::{FlowStress, Hardening, RateTerm, ThermalTerm};
 use crate::error::ParameterError;
+use crate::parameters::{Constants, Parameter};
 
 /// `sigma_y = hardening(eps_p) * rate(deps_p) * thermal(T)`. JC, MJC and TJC are instances;
 /// the diagnosis adds a physics term by swapping one of the three enums.
@@ -51,6 +52,46 @@ impl ComposedStrength {
             d_plastic_strain: dh * r * theta,
             d_rate: h * dr * theta,
         }
+    }
+
+    /// The names of the three terms, as they prefix their constants' paths.
+    pub const TERMS: [&'static str; 3] = ["hardening", "rate", "thermal"];
+
+    /// The term named `term` (one of [`Self::TERMS`]).
+    fn term_mut(&mut self, term: &str) -> Option<&mut dyn Constants> {
+        match term {
+            "hardening" => Some(&mut self.hardening),
+            "rate" => Some(&mut self.rate),
+            "thermal" => Some(&mut self.thermal),
+            _ => None,
+        }
+    }
+
+    /// The constants of every term, with the term's name: the constant `name` of term `term`
+    /// has the path `term.name` (e.g. `rate.rate_sensitivity`).
+    pub fn parameters(&self) -> impl Iterator<Item = (&'static str, &'static Parameter)> {
+        let hardening = self.hardening.parameters().iter().map(|p| ("hardening", p));
+        let rate = self.rate.parameters().iter().map(|p| ("rate", p));
+        let thermal = self.thermal.parameters().iter().map(|p| ("thermal", p));
+        hardening.chain(rate).chain(thermal)
+    }
+
+    /// The constant at `path` (`term.name`).
+    pub fn get(&self, path: &str) -> Option<f64> {
+        let mut copy = *self;
+        copy.slot(path).map(|value| *value)
+    }
+
+    /// Set the constant at `path` (`term.name`); `None` if there is none.
+    pub fn set(&mut self, path: &str, value: f64) -> Option<()> {
+        *self.slot(path)? = value;
+        Some(())
+    }
+
+    /// The constant at `path` (`term.name`), mutably.
+    pub fn slot(&mut self, path: &str) -> Option<&mut f64> {
+        let (term, name) = path.split_once('.')?;
+        self.term_mut(term)?.named_slot(name)
     }
 
     /// Validate every term.

@@ -2,6 +2,7 @@
 
 use crate::error::{check, ParameterError};
 use crate::math::{exp, pow};
+use crate::parameters;
 
 /// Isotropic strain hardening as a function of equivalent plastic strain.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -175,3 +176,27 @@ impl Hardening {
         }
     }
 }
+
+crate::enum_constants!(Hardening, {
+    Power {
+        yield_stress = ("A", "Pa", parameters::STRESS),
+        hardening_modulus = ("B", "Pa", parameters::STRESS),
+        exponent = ("n", "-", parameters::HARDENING_EXPONENT),
+    },
+    Voce2 {
+        yield_stress = ("A", "Pa", parameters::STRESS),
+        saturation_stress_1 = ("Q1", "Pa", parameters::STRESS),
+        saturation_rate_1 = ("c1", "-", parameters::SATURATION_RATE),
+        saturation_stress_2 = ("Q2", "Pa", parameters::STRESS),
+        saturation_rate_2 = ("c2", "-", parameters::SATURATION_RATE),
+    },
+    PowerVoce2 {
+        yield_stress = ("A", "Pa", parameters::STRESS),
+        hardening_modulus = ("B", "Pa", parameters::STRESS),
+        exponent = ("n", "-", parameters::HARDENING_EXPONENT),
+        saturation_stress_1 = ("Q1", "Pa", parameters::STRESS),
+        saturation_rate_1 = ("c1", "-", parameters::SATURATION_RATE),
+        saturation_stress_2 = ("Q2", "Pa", parameters::STRESS),
+        saturation_rate_2 = ("c2", "-", parameters::SATURATION_RATE),
+    },
+});

@@ -2,8 +2,9 @@
 //! rate factor 1 for `e* < 1`. FOI (seed 001) writes the same law with letters
 //! `sigma0 -> A`, `A -> B`, `B -> C`.
 
-use super::{ComposedStrength, Hardening, ParameterBound, RateTerm, Strength, ThermalTerm};
+use super::{ComposedStrength, Hardening, RateTerm, Strength, ThermalTerm};
 use crate::error::ParameterError;
+use crate::parameters;
 
 /// Johnson-Cook constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,14 +57,19 @@ impl JohnsonCook {
         melting_temperature: 1793.0,
     };
 
-    /// Optimisation bounds, seed 000 section 4.1 (A, B in [0, 3 GPa]; n in [0, 1];
-    /// C in [0, 0.1]; m in [0.5, 1.5]).
-    pub const BOUNDS: [ParameterBound; 5] = [
-        ParameterBound::new("yield_stress", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("hardening_modulus", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("hardening_exponent", 0.0, 1.0, "-"),
-        ParameterBound::new("rate_sensitivity", 0.0, 0.1, "-"),
-        ParameterBound::new("thermal_exponent", 0.5, 1.5, "-"),
+    /// The composed-term path of each constant, in the order of
+    /// [`parameters`](crate::parameters::Constants::parameters):
+    /// where [`JohnsonCook::composed`] puts it, so that a physics term can be added to a
+    /// Johnson-Cook fit without renaming its constants.
+    pub const COMPOSED_PATHS: [&'static str; 8] = [
+        "hardening.yield_stress",
+        "hardening.hardening_modulus",
+        "hardening.exponent",
+        "rate.rate_sensitivity",
+        "thermal.exponent",
+        "rate.reference_rate",
+        "thermal.reference_temperature",
+        "thermal.melting_temperature",
     ];
 
     /// The composed form of this model.
@@ -97,3 +103,17 @@ impl From<JohnsonCook> for Strength {
         Strength::Composed(model.composed())
     }
 }
+
+crate::struct_constants!(
+    JohnsonCook,
+    [
+        yield_stress = ("A", "Pa", parameters::STRESS),
+        hardening_modulus = ("B", "Pa", parameters::STRESS),
+        hardening_exponent = ("n", "-", parameters::HARDENING_EXPONENT),
+        rate_sensitivity = ("C", "-", parameters::RATE_SENSITIVITY),
+        thermal_exponent = ("m", "-", parameters::THERMAL_EXPONENT),
+        reference_rate = ("e0", "1/s", parameters::FIXED),
+        reference_temperature = ("Tr", "K", parameters::FIXED),
+        melting_temperature = ("Tm", "K", parameters::FIXED),
+    ]
+);

@@ -5,9 +5,9 @@
 //! model — or [`ZerilliArmstrong`], whose rate and temperature dependence are coupled.
 //!
 //! The named families of seed 000 (JC, ZA, MJC, TJC) are parameter structs with `validate()`
-//! and optimisation bounds; each converts into a [`Strength`].
+//! and their constants' descriptions ([`crate::parameters`]); each converts into a
+//! [`Strength`].
 
-mod bounds;
 mod composed;
 mod hardening;
 mod johnson_cook;
@@ -17,7 +17,6 @@ mod thermal;
 mod two_rate_johnson_cook;
 mod zerilli_armstrong;
 
-pub use bounds::ParameterBound;
 pub use composed::ComposedStrength;
 pub use hardening::Hardening;
 pub use johnson_cook::JohnsonCook;

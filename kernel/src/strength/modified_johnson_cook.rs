@@ -2,8 +2,9 @@
 //! `(1 + e*)^beta`, JC thermal softening:
 //! `(A + B eps^n + Q1(1-exp(-c1 eps)) + Q2(1-exp(-c2 eps))) (1 + e*)^beta (1 - T*^m)`.
 
-use super::{ComposedStrength, Hardening, ParameterBound, RateTerm, Strength, ThermalTerm};
+use super::{ComposedStrength, Hardening, RateTerm, Strength, ThermalTerm};
 use crate::error::ParameterError;
+use crate::parameters;
 
 /// MJC constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,18 +39,21 @@ pub struct ModifiedJohnsonCook {
 }
 
 impl ModifiedJohnsonCook {
-    /// Optimisation bounds, seed 000 section 4.1. The text lost the exponent of the Q bounds;
-    /// stoss uses `[0, 3 GPa]` as for A and B.
-    pub const BOUNDS: [ParameterBound; 9] = [
-        ParameterBound::new("yield_stress", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("hardening_modulus", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("hardening_exponent", 0.0, 1.0, "-"),
-        ParameterBound::new("saturation_stress_1", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("saturation_rate_1", 0.0, 2000.0, "-"),
-        ParameterBound::new("saturation_stress_2", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("saturation_rate_2", 0.0, 2000.0, "-"),
-        ParameterBound::new("rate_exponent", 0.0, 0.1, "-"),
-        ParameterBound::new("thermal_exponent", 0.5, 1.5, "-"),
+    /// The composed-term path of each constant, in the order of
+    /// [`parameters`](crate::parameters::Constants::parameters).
+    pub const COMPOSED_PATHS: [&'static str; 12] = [
+        "hardening.yield_stress",
+        "hardening.hardening_modulus",
+        "hardening.exponent",
+        "hardening.saturation_stress_1",
+        "hardening.saturation_rate_1",
+        "hardening.saturation_stress_2",
+        "hardening.saturation_rate_2",
+        "rate.exponent",
+        "thermal.exponent",
+        "rate.reference_rate",
+        "thermal.reference_temperature",
+        "thermal.melting_temperature",
     ];
 
     /// The composed form of this model.
@@ -87,3 +91,21 @@ impl From<ModifiedJohnsonCook> for Strength {
         Strength::Composed(model.composed())
     }
 }
+
+crate::struct_constants!(
+    ModifiedJohnsonCook,
+    [
+        yield_stress = ("A", "Pa", parameters::STRESS),
+        hardening_modulus = ("B", "Pa", parameters::STRESS),
+        hardening_exponent = ("n", "-", parameters::HARDENING_EXPONENT),
+        saturation_stress_1 = ("Q1", "Pa", parameters::STRESS),
+        saturation_rate_1 = ("c1", "-", parameters::SATURATION_RATE),
+        saturation_stress_2 = ("Q2", "Pa", parameters::STRESS),
+        saturation_rate_2 = ("c2", "-", parameters::SATURATION_RATE),
+        rate_exponent = ("beta", "-", parameters::RATE_SENSITIVITY),
+        thermal_exponent = ("m", "-", parameters::THERMAL_EXPONENT),
+        reference_rate = ("e0", "1/s", parameters::FIXED),
+        reference_temperature = ("Tr", "K", parameters::FIXED),
+        melting_temperature = ("Tm", "K", parameters::FIXED),
+    ]
+);

@@ -2,6 +2,7 @@
 
 use crate::error::{check, ParameterError};
 use crate::math::{ln, pow};
+use crate::parameters;
 
 /// Multiplicative strain-rate factor on the flow stress.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -324,3 +325,40 @@ mod tests {
         }
     }
 }
+
+// Search ranges of the diagnosis' added terms: the upturn exponent in [0, 0.5]; the
+// rate-temperature coupling in [-1, 10] (at -1 the sensitivity vanishes at melt).
+crate::enum_constants!(RateTerm, {
+    None {},
+    JohnsonCookLog {
+        rate_sensitivity = ("C", "-", parameters::RATE_SENSITIVITY),
+        reference_rate = ("e0", "1/s", parameters::FIXED),
+    },
+    Power {
+        exponent = ("beta", "-", parameters::RATE_SENSITIVITY),
+        reference_rate = ("e0", "1/s", parameters::FIXED),
+    },
+    TwoPart {
+        exponent_1 = ("beta1", "-", parameters::RATE_SENSITIVITY),
+        reference_rate_1 = ("e01", "1/s", Some((1.0e-4, 1.0))),
+        exponent_2 = ("beta2", "-", parameters::RATE_SENSITIVITY),
+        reference_rate_2 = ("e02", "1/s", Some((1.0, 1.0e4))),
+    },
+    LogUpturn {
+        rate_sensitivity = ("C", "-", parameters::RATE_SENSITIVITY),
+        reference_rate = ("e0", "1/s", parameters::FIXED),
+        upturn_exponent = ("beta", "-", Some((0.0, 0.5))),
+        upturn_rate = ("e_up", "1/s", parameters::FIXED),
+    },
+    LogThermal {
+        rate_sensitivity = ("C", "-", parameters::RATE_SENSITIVITY),
+        reference_rate = ("e0", "1/s", parameters::FIXED),
+        coupling = ("kappa", "-", Some((-1.0, 10.0))),
+        reference_temperature = ("Tr", "K", parameters::FIXED),
+        melting_temperature = ("Tm", "K", parameters::FIXED),
+    },
+    CowperSymonds {
+        rate_constant = ("D", "1/s", Some((1.0, 1.0e8))),
+        exponent = ("q", "-", Some((1.0, 10.0))),
+    },
+});

@@ -2,6 +2,7 @@
 
 use crate::error::{check, ParameterError};
 use crate::math::pow;
+use crate::parameters;
 
 /// Homologous temperature `T* = (T - Tr)/(Tm - Tr)` clamped to `[0, 1]`.
 #[inline]
@@ -101,3 +102,16 @@ impl ThermalTerm {
         Ok(())
     }
 }
+
+crate::enum_constants!(ThermalTerm, {
+    None {},
+    HomologousPower {
+        exponent = ("m", "-", parameters::THERMAL_EXPONENT),
+        reference_temperature = ("Tr", "K", parameters::FIXED),
+        melting_temperature = ("Tm", "K", parameters::FIXED),
+    },
+    Linear {
+        reference_temperature = ("Tr", "K", parameters::FIXED),
+        melting_temperature = ("Tm", "K", parameters::FIXED),
+    },
+});

@@ -1,8 +1,9 @@
 //! Two-part-rate Johnson-Cook (TJC, seed 000): MJC hardening and thermal terms with the rate
 //! factor `(1 + deps_p/e01)^beta1 (1 + deps_p/e02)^beta2`.
 
-use super::{ComposedStrength, Hardening, ParameterBound, RateTerm, Strength, ThermalTerm};
+use super::{ComposedStrength, Hardening, RateTerm, Strength, ThermalTerm};
 use crate::error::ParameterError;
+use crate::parameters;
 
 /// TJC constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,21 +42,23 @@ pub struct TwoRateJohnsonCook {
 }
 
 impl TwoRateJohnsonCook {
-    /// Optimisation bounds, seed 000 section 4.1. Lost exponents chosen as: Q in [0, 3 GPa];
-    /// e01 in [1e-4, 1] /s (quasi-static side); e02 in [1, 1e4] /s (dynamic side).
-    pub const BOUNDS: [ParameterBound; 12] = [
-        ParameterBound::new("yield_stress", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("hardening_modulus", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("hardening_exponent", 0.0, 1.0, "-"),
-        ParameterBound::new("saturation_stress_1", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("saturation_rate_1", 0.0, 2000.0, "-"),
-        ParameterBound::new("saturation_stress_2", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("saturation_rate_2", 0.0, 2000.0, "-"),
-        ParameterBound::new("reference_rate_1", 1.0e-4, 1.0, "1/s"),
-        ParameterBound::new("rate_exponent_1", 0.0, 0.1, "-"),
-        ParameterBound::new("reference_rate_2", 1.0, 1.0e4, "1/s"),
-        ParameterBound::new("rate_exponent_2", 0.0, 0.1, "-"),
-        ParameterBound::new("thermal_exponent", 0.5, 1.5, "-"),
+    /// The composed-term path of each constant, in the order of
+    /// [`parameters`](crate::parameters::Constants::parameters).
+    pub const COMPOSED_PATHS: [&'static str; 14] = [
+        "hardening.yield_stress",
+        "hardening.hardening_modulus",
+        "hardening.exponent",
+        "hardening.saturation_stress_1",
+        "hardening.saturation_rate_1",
+        "hardening.saturation_stress_2",
+        "hardening.saturation_rate_2",
+        "rate.reference_rate_1",
+        "rate.exponent_1",
+        "rate.reference_rate_2",
+        "rate.exponent_2",
+        "thermal.exponent",
+        "thermal.reference_temperature",
+        "thermal.melting_temperature",
     ];
 
     /// The composed form of this model.
@@ -96,3 +99,25 @@ impl From<TwoRateJohnsonCook> for Strength {
         Strength::Composed(model.composed())
     }
 }
+
+// Seed 000 section 4.1 lost the exponents of some bounds; stoss searches Q in [0, 3 GPa],
+// e01 in [1e-4, 1] /s (the quasi-static side) and e02 in [1, 1e4] /s (the dynamic side).
+crate::struct_constants!(
+    TwoRateJohnsonCook,
+    [
+        yield_stress = ("A", "Pa", parameters::STRESS),
+        hardening_modulus = ("B", "Pa", parameters::STRESS),
+        hardening_exponent = ("n", "-", parameters::HARDENING_EXPONENT),
+        saturation_stress_1 = ("Q1", "Pa", parameters::STRESS),
+        saturation_rate_1 = ("c1", "-", parameters::SATURATION_RATE),
+        saturation_stress_2 = ("Q2", "Pa", parameters::STRESS),
+        saturation_rate_2 = ("c2", "-", parameters::SATURATION_RATE),
+        reference_rate_1 = ("e01", "1/s", Some((1.0e-4, 1.0))),
+        rate_exponent_1 = ("beta1", "-", parameters::RATE_SENSITIVITY),
+        reference_rate_2 = ("e02", "1/s", Some((1.0, 1.0e4))),
+        rate_exponent_2 = ("beta2", "-", parameters::RATE_SENSITIVITY),
+        thermal_exponent = ("m", "-", parameters::THERMAL_EXPONENT),
+        reference_temperature = ("Tr", "K", parameters::FIXED),
+        melting_temperature = ("Tm", "K", parameters::FIXED),
+    ]
+);

@@ -8,9 +8,10 @@
 //! [`ZerilliArmstrong::MINIMUM_RATE_RATIO`] the rate ratio is held at that floor, so the
 //! zero-rate (elastic-check) flow stress is finite and continuous.
 
-use super::{FlowStress, ParameterBound};
+use super::FlowStress;
 use crate::error::{check, ParameterError};
 use crate::math::{exp, ln, pow, sqrt};
+use crate::parameters;
 
 /// Lattice structure selecting the ZA form.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,19 +54,6 @@ pub struct ZerilliArmstrong {
 impl ZerilliArmstrong {
     /// Floor of `e* = deps_p / e0` inside `ln` (quasi-static limit).
     pub const MINIMUM_RATE_RATIO: f64 = 1e-6;
-
-    /// Optimisation bounds (seed 000 section 4.1, BCC). The extracted text lost the
-    /// exponents of C3 and C4; stoss uses `[0, 1e-2] /K` and `[0, 1e-3] /K`, which bracket
-    /// published BCC steel values (e.g. Zerilli-Armstrong 1987 Armco iron: C3 = 0.00698 /K,
-    /// C4 = 0.000415 /K).
-    pub const BOUNDS: [ParameterBound; 6] = [
-        ParameterBound::new("athermal_stress", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("c1", 0.5e9, 3.0e9, "Pa"),
-        ParameterBound::new("c3", 0.0, 1.0e-2, "1/K"),
-        ParameterBound::new("c4", 0.0, 1.0e-3, "1/K"),
-        ParameterBound::new("c5", 0.0, 3.0e9, "Pa"),
-        ParameterBound::new("exponent", 0.01, 1.5, "-"),
-    ];
 
     /// Flow stress and its strain and rate derivatives at fixed temperature.
     #[inline]
@@ -161,3 +149,21 @@ impl ZerilliArmstrong {
         Ok(())
     }
 }
+
+// Search ranges: seed 000 section 4.1 (BCC). The extracted text lost the exponents of C3 and
+// C4; stoss uses [0, 1e-2] /K and [0, 1e-3] /K, which bracket published BCC steel values
+// (e.g. Zerilli-Armstrong 1987 Armco iron: C3 = 0.00698 /K, C4 = 0.000415 /K). C2 (FCC) has
+// no published range; stoss uses that of C1.
+crate::struct_constants!(
+    ZerilliArmstrong,
+    [
+        athermal_stress = ("sigma_a", "Pa", parameters::STRESS),
+        c1 = ("C1", "Pa", Some((0.5e9, 3.0e9))),
+        c2 = ("C2", "Pa", Some((0.5e9, 3.0e9))),
+        c3 = ("C3", "1/K", Some((0.0, 1.0e-2))),
+        c4 = ("C4", "1/K", Some((0.0, 1.0e-3))),
+        c5 = ("C5", "Pa", parameters::STRESS),
+        exponent = ("n", "-", Some((0.01, 1.5))),
+        reference_rate = ("e0", "1/s", parameters::FIXED),
+    ]
+);

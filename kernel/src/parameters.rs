@@ -1,0 +1,245 @@
+//! One description per model constant (after MFront/MGIS): its name, symbol, SI unit and
+//! default search range, and access to its value by index. Every interface reads it: the
+//! material file keys (the name is the struct field and TOML key), a calibration's search
+//! space and its default bounds, the diagnosis' fitted constants, the reports and cards.
+//!
+//! A model implements [`Constants`] with [`struct_constants!`] (a parameter struct) or
+//! [`enum_constants!`] (a term enum, whose constants depend on its variant). Both macros
+//! take the field list once and derive the names from the field identifiers, so a
+//! description and the value it reads cannot drift apart.
+
+/// Description of one model constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Parameter {
+    /// Field name in the parameter struct or term variant, and the material file's key.
+    pub name: &'static str,
+    /// The symbol in the model's equation (`A`, `n`, `C1`, ...).
+    pub symbol: &'static str,
+    /// SI unit (`Pa`, `-`, `1/s`, `K`, `1/K`).
+    pub unit: &'static str,
+    /// Default search range of a calibration (seed 000 section 4.1 where it gives one);
+    /// `None` for a constant held by convention (reference rates and temperatures, the
+    /// melting temperature), which a user may still fit with explicit bounds.
+    pub search: Option<(f64, f64)>,
+}
+
+/// A model whose constants are described by [`Parameter`]s and addressable by index.
+pub trait Constants {
+    /// The constants of this model (of its variant, for a term enum), in order.
+    fn parameters(&self) -> &'static [Parameter];
+
+    /// The constant at `index` of [`Constants::parameters`], mutably; `None` past the end.
+    fn slot(&mut self, index: usize) -> Option<&mut f64>;
+
+    /// Index of the constant named `name`.
+    fn index_of(&self, name: &str) -> Option<usize> {
+        self.parameters().iter().position(|p| p.name == name)
+    }
+
+    /// The constant named `name`, mutably.
+    fn named_slot(&mut self, name: &str) -> Option<&mut f64> {
+        let index = self.index_of(name)?;
+        self.slot(index)
+    }
+
+    /// Value of the constant named `name`.
+    fn get(&self, name: &str) -> Option<f64>
+    where
+        Self: Copy,
+    {
+        let mut copy = *self;
+        copy.named_slot(name).map(|value| *value)
+    }
+
+    /// Set the constant named `name`; `None` if the model has no such constant.
+    fn set(&mut self, name: &str, value: f64) -> Option<()> {
+        *self.named_slot(name)? = value;
+        Some(())
+    }
+}
+
+/// Implement [`Constants`] for a struct of `f64` constants, with the descriptions also as the
+/// associated constant `PARAMETERS`:
+/// `struct_constants!(Type, [field = ("symbol", "unit", search), ...])`.
+#[macro_export]
+macro_rules! struct_constants {
+    ($ty:ty, [$($field:ident = ($symbol:literal, $unit:literal, $search:expr)),* $(,)?]) => {
+        impl $ty {
+            /// The descriptions of this model's constants
+            /// ([`Constants::parameters`](crate::parameters::Constants::parameters)).
+            pub const PARAMETERS: &'static [$crate::parameters::Parameter] = &[$(
+                $crate::parameters::Parameter {
+                    name: stringify!($field),
+                    symbol: $symbol,
+                    unit: $unit,
+                    search: $search,
+                }
+            ),*];
+        }
+
+        impl $crate::parameters::Constants for $ty {
+            fn parameters(&self) -> &'static [$crate::parameters::Parameter] {
+                Self::PARAMETERS
+            }
+
+            fn slot(&mut self, index: usize) -> Option<&mut f64> {
+                [$(&mut self.$field),*].into_iter().nth(index)
+            }
+        }
+    };
+}
+
+/// Implement [`Constants`] for an enum whose variants hold `f64` constants (unit variants
+/// are written `Variant {}`):
+/// `enum_constants!(Type, { Variant { field = ("symbol", "unit", search), ... }, ... })`.
+#[macro_export]
+macro_rules! enum_constants {
+    ($ty:ident, {$($variant:ident {$($field:ident = ($symbol:literal, $unit:literal, $search:expr)),* $(,)?}),* $(,)?}) => {
+        impl $crate::parameters::Constants for $ty {
+            fn parameters(&self) -> &'static [$crate::parameters::Parameter] {
+                match self {$(
+                    $ty::$variant { .. } => {
+                        const PARAMETERS: &[$crate::parameters::Parameter] = &[$(
+                            $crate::parameters::Parameter {
+                                name: stringify!($field),
+                                symbol: $symbol,
+                                unit: $unit,
+                                search: $search,
+                            }
+                        ),*];
+                        PARAMETERS
+                    }
+                )*}
+            }
+
+            fn slot(&mut self, index: usize) -> Option<&mut f64> {
+                match self {$(
+                    $ty::$variant { $($field),* } => [$($field),*].into_iter().nth(index),
+                )*}
+            }
+        }
+    };
+}
+
+/// The parameter named `name` in `parameters`.
+pub fn find<'a>(parameters: &'a [Parameter], name: &str) -> Option<&'a Parameter> {
+    parameters.iter().find(|p| p.name == name)
+}
+
+/// Search range of a stress constant: `[0, 3 GPa]` (seed 000 section 4.1).
+pub const STRESS: Option<(f64, f64)> = Some((0.0, 3.0e9));
+/// Search range of a hardening exponent: `[0, 1]` (seed 000 section 4.1).
+pub const HARDENING_EXPONENT: Option<(f64, f64)> = Some((0.0, 1.0));
+/// Search range of a Voce saturation rate: `[0, 2000]`.
+pub const SATURATION_RATE: Option<(f64, f64)> = Some((0.0, 2000.0));
+/// Search range of a rate sensitivity or rate exponent: `[0, 0.1]` (seed 000 section 4.1).
+pub const RATE_SENSITIVITY: Option<(f64, f64)> = Some((0.0, 0.1));
+/// Search range of the thermal-softening exponent: `[0.5, 1.5]` (seed 000 section 4.1).
+pub const THERMAL_EXPONENT: Option<(f64, f64)> = Some((0.5, 1.5));
+/// A constant held by convention (no default search range).
+pub const FIXED: Option<(f64, f64)> = None;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::strength::{
+        ComposedStrength, JohnsonCook, ModifiedJohnsonCook, RateTerm, TwoRateJohnsonCook,
+    };
+
+    /// Distinct values in every slot of `model`, written by index.
+    fn numbered<M: Constants>(mut model: M) -> M {
+        for index in 0..model.parameters().len() {
+            *model.slot(index).unwrap() = 1000.0 + index as f64;
+        }
+        assert!(model.slot(model.parameters().len()).is_none());
+        model
+    }
+
+    fn check_paths(model: ComposedStrength, values: &[f64], paths: &[&str]) {
+        assert_eq!(values.len(), paths.len());
+        for (value, path) in values.iter().zip(paths) {
+            assert_eq!(model.get(path), Some(*value), "{path}");
+        }
+        assert_eq!(model.parameters().count(), paths.len());
+    }
+
+    #[test]
+    fn the_families_composed_paths_find_each_constant_where_composed_puts_it() {
+        // GOAL: a family constant keeps its value when the family is rewritten as composed
+        //       terms (the diagnosis adds physics terms to that form).
+        // SETUP: JC, MJC, TJC with a distinct number in every constant, by index.
+        // REFERENCE: `composed()` holds constant i at COMPOSED_PATHS[i], and the composed
+        //            form has no other constant.
+        let jc = numbered(JohnsonCook::STEEL_4340);
+        let values: std::vec::Vec<f64> = (0..8).map(|i| 1000.0 + i as f64).collect();
+        check_paths(jc.composed(), &values, &JohnsonCook::COMPOSED_PATHS);
+        let mjc = numbered(ModifiedJohnsonCook {
+            yield_stress: 0.0,
+            hardening_modulus: 0.0,
+            hardening_exponent: 0.0,
+            saturation_stress_1: 0.0,
+            saturation_rate_1: 0.0,
+            saturation_stress_2: 0.0,
+            saturation_rate_2: 0.0,
+            rate_exponent: 0.0,
+            reference_rate: 0.0,
+            thermal_exponent: 0.0,
+            reference_temperature: 0.0,
+            melting_temperature: 0.0,
+        });
+        let values: std::vec::Vec<f64> = (0..12).map(|i| 1000.0 + i as f64).collect();
+        check_paths(
+            mjc.composed(),
+            &values,
+            &ModifiedJohnsonCook::COMPOSED_PATHS,
+        );
+        let tjc = numbered(TwoRateJohnsonCook {
+            yield_stress: 0.0,
+            hardening_modulus: 0.0,
+            hardening_exponent: 0.0,
+            saturation_stress_1: 0.0,
+            saturation_rate_1: 0.0,
+            saturation_stress_2: 0.0,
+            saturation_rate_2: 0.0,
+            rate_exponent_1: 0.0,
+            reference_rate_1: 0.0,
+            rate_exponent_2: 0.0,
+            reference_rate_2: 0.0,
+            thermal_exponent: 0.0,
+            reference_temperature: 0.0,
+            melting_temperature: 0.0,
+        });
+        let values: std::vec::Vec<f64> = (0..14).map(|i| 1000.0 + i as f64).collect();
+        check_paths(tjc.composed(), &values, &TwoRateJohnsonCook::COMPOSED_PATHS);
+    }
+
+    #[test]
+    fn constants_are_read_and_written_by_name_and_path() {
+        // GOAL: named access reads and writes the field of that name, nothing else.
+        // SETUP: JC 4340 and its composed form with a high-rate upturn.
+        // REFERENCE: the struct fields themselves.
+        let mut jc = JohnsonCook::STEEL_4340;
+        assert_eq!(jc.get("rate_sensitivity"), Some(0.014));
+        jc.set("rate_sensitivity", 0.02).unwrap();
+        assert_eq!(jc.rate_sensitivity, 0.02);
+        assert_eq!(jc.yield_stress, JohnsonCook::STEEL_4340.yield_stress);
+        assert!(jc.set("upturn_exponent", 0.1).is_none());
+        let mut composed = JohnsonCook::STEEL_4340.composed();
+        composed.rate = RateTerm::LogUpturn {
+            rate_sensitivity: 0.014,
+            reference_rate: 1.0,
+            upturn_exponent: 0.0,
+            upturn_rate: 1.0e3,
+        };
+        composed.set("rate.upturn_exponent", 0.2).unwrap();
+        assert_eq!(composed.get("rate.upturn_exponent"), Some(0.2));
+        assert_eq!(composed.get("hardening.exponent"), Some(0.26));
+        assert!(composed.set("rate.coupling", 1.0).is_none());
+        assert!(composed.get("thermal").is_none());
+        let symbols: std::vec::Vec<&str> = composed.parameters().map(|(_, p)| p.symbol).collect();
+        assert_eq!(
+            symbols,
+            ["A", "B", "n", "C", "e0", "beta", "e_up", "m", "Tr", "Tm"]
+        );
+    }
+}
