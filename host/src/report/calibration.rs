@@ -398,7 +398,20 @@ pub fn write(
                 );
             }
         }
-        // Cards.
+        // Cards, named after the campaign and model (the constants are the fit's).
+        let mut material_file = material_file;
+        material_file.rename(
+            format!(
+                "{} / {} (stoss calibration)",
+                campaign.file.name, result.model
+            ),
+            format!(
+                "stoss calibrate {}, model {}, starting from {}",
+                campaign.path.display(),
+                result.model,
+                campaign.base.name()
+            ),
+        );
         let stem = slug(&result.model);
         let mut written = vec![format!("cards/{stem}.toml")];
         std::fs::write(
@@ -421,7 +434,15 @@ pub fn write(
                 written.push(format!("cards/{stem}.{ext}"));
             }
         }
-        let _ = writeln!(md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA; `.inp`: Abaqus; `.rad`: OpenRadioss. Families without an equivalent card get the TOML only, usable through the stoss C ABI user material.)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
+        if let Some((card, _, error)) = metal_file.and_then(cards::tabulated::ls_dyna) {
+            std::fs::write(card_dir.join(format!("{stem}-mat224.k")), card)
+                .map_err(|e| e.to_string())?;
+            written.push(format!(
+                "cards/{stem}-mat224.k (largest interpolation error {:.2} %)",
+                100.0 * error.relative
+            ));
+        }
+        let _ = writeln!(md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `.inp`: Abaqus; `.rad`: OpenRadioss. Every model also runs through the stoss C ABI user material from its TOML.)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
     }
     std::fs::write(directory.join("report.md"), md).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(results).map_err(|e| e.to_string())?;

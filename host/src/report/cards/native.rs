@@ -1,60 +1,10 @@
-//! Material cards to paste into other codes, from a calibrated material file. Units are SI
-//! (kg, m, s, Pa, K): set the host model's unit system accordingly.
-//!
-//! - Johnson-Cook: LS-DYNA `*MAT_JOHNSON_COOK` (*MAT_015) with `*EOS_LINEAR_POLYNOMIAL`
-//!   (C1 = K) or `*EOS_GRUNEISEN`; Abaqus `*PLASTIC, HARDENING=JOHNSON COOK` with
-//!   `*RATE DEPENDENT, TYPE=JOHNSON COOK`; OpenRadioss `/MAT/PLAS_JOHNS` (law 2).
-//! - Zerilli-Armstrong: LS-DYNA `*MAT_ZERILLI-ARMSTRONG` (*MAT_065; BCC/FCC by its `MIX`
-//!   flag, rate reference EPSO).
-//! - MJC, TJC and composed models have no exact equivalent card: the stoss material TOML is
-//!   written (usable through the stoss C ABI user material), and the note says so.
+//! The codes' own material cards, for the families they fit exactly (see [`super`]).
 
+use super::{bulk_modulus, field, line, young_and_poisson};
 use crate::input::material::{MaterialFile, StrengthSpec};
 use std::fmt::Write as _;
 use stoss_kernel::eos::Eos;
 use stoss_kernel::strength::CrystalStructure;
-
-/// Young's modulus and Poisson's ratio from the bulk and shear moduli.
-fn young_and_poisson(bulk: f64, shear: f64) -> (f64, f64) {
-    (
-        9.0 * bulk * shear / (3.0 * bulk + shear),
-        (3.0 * bulk - 2.0 * shear) / (2.0 * (3.0 * bulk + shear)),
-    )
-}
-
-/// The bulk modulus of the material's EoS at the reference state.
-fn bulk_modulus(file: &MaterialFile) -> Option<f64> {
-    match file.eos {
-        Eos::Linear(e) => Some(e.bulk_modulus),
-        Eos::MieGruneisen(e) => Some(e.reference_density * e.sound_speed * e.sound_speed),
-        Eos::Polynomial(e) => Some(e.a1),
-        _ => None,
-    }
-}
-
-/// A fixed-width LS-DYNA card line of 10-character fields.
-fn dyna_line(values: &[f64]) -> String {
-    values
-        .iter()
-        .map(|v| format!("{:>10}", format_short(*v)))
-        .collect()
-}
-
-/// A number in at most 9 characters, so that a 10-column field always keeps a separating
-/// blank.
-fn format_short(v: f64) -> String {
-    let plain = format!("{v}");
-    if plain.len() <= 9 {
-        return plain;
-    }
-    for digits in (0..=5).rev() {
-        let text = format!("{v:.digits$e}");
-        if text.len() <= 9 {
-            return text;
-        }
-    }
-    format!("{v:.0e}")
-}
 
 /// LS-DYNA keyword cards (`None` if the family has no LS-DYNA equivalent).
 pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
@@ -76,16 +26,19 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
             let _ = writeln!(
                 text,
                 "{}",
-                dyna_line(&[
-                    1.0,
-                    file.density,
-                    file.shear_modulus,
-                    young,
-                    poisson,
-                    0.0,
-                    1.0,
-                    0.0
-                ])
+                line(
+                    &[
+                        1.0,
+                        file.density,
+                        file.shear_modulus,
+                        young,
+                        poisson,
+                        0.0,
+                        1.0,
+                        0.0
+                    ],
+                    10
+                )
             );
             let _ = writeln!(
                 text,
@@ -94,16 +47,19 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
             let _ = writeln!(
                 text,
                 "{}",
-                dyna_line(&[
-                    jc.yield_stress,
-                    jc.hardening_modulus,
-                    jc.hardening_exponent,
-                    jc.rate_sensitivity,
-                    jc.thermal_exponent,
-                    jc.melting_temperature,
-                    jc.reference_temperature,
-                    jc.reference_rate
-                ])
+                line(
+                    &[
+                        jc.yield_stress,
+                        jc.hardening_modulus,
+                        jc.hardening_exponent,
+                        jc.rate_sensitivity,
+                        jc.thermal_exponent,
+                        jc.melting_temperature,
+                        jc.reference_temperature,
+                        jc.reference_rate
+                    ],
+                    10
+                )
             );
             let _ = writeln!(
                 text,
@@ -112,12 +68,12 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
             let _ = writeln!(
                 text,
                 "{}",
-                dyna_line(&[file.specific_heat, -1.0e20, 2.0, 0.0, d1, d2, d3, d4])
+                line(&[file.specific_heat, -1.0e20, 2.0, 0.0, d1, d2, d3, d4], 10)
             );
             let _ = writeln!(
                 text,
                 "$       D5      C2/P      EROD     EFMIN    NUMINT\n{}",
-                dyna_line(&[d5, 0.0, 0.0, 0.0, 0.0])
+                line(&[d5, 0.0, 0.0, 0.0, 0.0], 10)
             );
         }
         StrengthSpec::ZerilliArmstrong(za) => {
@@ -130,16 +86,19 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
             let _ = writeln!(
                 text,
                 "{}",
-                dyna_line(&[
-                    1.0,
-                    file.density,
-                    file.shear_modulus,
-                    za.reference_rate,
-                    za.exponent,
-                    298.0,
-                    -1.0e20,
-                    2.0
-                ])
+                line(
+                    &[
+                        1.0,
+                        file.density,
+                        file.shear_modulus,
+                        za.reference_rate,
+                        za.exponent,
+                        298.0,
+                        -1.0e20,
+                        2.0
+                    ],
+                    10
+                )
             );
             let thermal = if mix == 1.0 { za.c2 } else { za.c1 };
             let _ = writeln!(
@@ -149,18 +108,21 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
             let _ = writeln!(
                 text,
                 "{}",
-                dyna_line(&[
-                    za.athermal_stress,
-                    thermal,
-                    za.c3,
-                    za.c4,
-                    za.c5,
-                    0.0,
-                    1.0e20,
-                    0.0
-                ])
+                line(
+                    &[
+                        za.athermal_stress,
+                        thermal,
+                        za.c3,
+                        za.c4,
+                        za.c5,
+                        0.0,
+                        1.0e20,
+                        0.0
+                    ],
+                    10
+                )
             );
-            let _ = writeln!(text, "$     LCMU       MIX\n{}", dyna_line(&[0.0, mix]));
+            let _ = writeln!(text, "$     LCMU       MIX\n{}", line(&[0.0, mix], 10));
         }
         _ => return None,
     }
@@ -170,17 +132,20 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
             let _ = writeln!(
                 text,
                 "{}\n$       V0\n{}",
-                dyna_line(&[
-                    1.0,
-                    g.sound_speed,
-                    g.s1,
-                    g.s2,
-                    g.s3,
-                    g.gamma0,
-                    g.volume_correction,
-                    0.0
-                ]),
-                dyna_line(&[1.0])
+                line(
+                    &[
+                        1.0,
+                        g.sound_speed,
+                        g.s1,
+                        g.s2,
+                        g.s3,
+                        g.gamma0,
+                        g.volume_correction,
+                        0.0
+                    ],
+                    10
+                ),
+                line(&[1.0], 10)
             );
         }
         _ => {
@@ -188,8 +153,8 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
             let _ = writeln!(
                 text,
                 "{}\n$       E0        V0\n{}",
-                dyna_line(&[1.0, 0.0, bulk, 0.0, 0.0, 0.0, 0.0, 0.0]),
-                dyna_line(&[0.0, 1.0])
+                line(&[1.0, 0.0, bulk, 0.0, 0.0, 0.0, 0.0, 0.0], 10),
+                line(&[0.0, 1.0], 10)
             );
         }
     }
@@ -245,41 +210,149 @@ pub fn open_radioss(file: &MaterialFile) -> Option<String> {
         "# stoss calibrated material: {}\n# units: kg, m, s, Pa, K\n/MAT/PLAS_JOHNS/1\nstoss\n",
         file.name
     );
-    let _ = writeln!(text, "#              RHO_I\n{:>20e}", file.density);
+    let _ = writeln!(text, "#              RHO_I\n{}", field(file.density, 20));
     let _ = writeln!(
         text,
-        "#                  E                  NU\n{young:>20e}{poisson:>20e}"
+        "#                  E                  NU\n{}",
+        line(&[young, poisson], 20)
     );
-    let _ = writeln!(text, "#                  A                   B                   N             EPS_MAX             SIG_MAX\n{:>20e}{:>20e}{:>20e}{:>20e}{:>20e}", jc.yield_stress, jc.hardening_modulus, jc.hardening_exponent, 0.0, 0.0);
-    let _ = writeln!(text, "#                  C           EPS_DOT_0       ICC   Fsmooth               F_cut\n{:>20e}{:>20e}{:>10}{:>10}{:>20e}", jc.rate_sensitivity, jc.reference_rate, 1, 0, 0.0);
-    let _ = writeln!(text, "#                  M              T_melt              rhoC_p                 T_r\n{:>20e}{:>20e}{:>20e}{:>20e}", jc.thermal_exponent, jc.melting_temperature, rho_cp, jc.reference_temperature);
+    let _ = writeln!(
+        text,
+        "#                  A                   B                   N             EPS_MAX             SIG_MAX\n{}",
+        line(&[jc.yield_stress, jc.hardening_modulus, jc.hardening_exponent, 0.0, 0.0], 20)
+    );
+    let _ = writeln!(
+        text,
+        "#                  C           EPS_DOT_0       ICC   Fsmooth               F_cut\n{}{}{}",
+        line(&[jc.rate_sensitivity, jc.reference_rate], 20),
+        line(&[1.0, 0.0], 10),
+        field(0.0, 20)
+    );
+    let _ = writeln!(
+        text,
+        "#                  M              T_melt              rhoC_p                 T_r\n{}",
+        line(
+            &[
+                jc.thermal_exponent,
+                jc.melting_temperature,
+                rho_cp,
+                jc.reference_temperature
+            ],
+            20
+        )
+    );
     Some(text)
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::read_fields;
     use super::*;
 
+    /// The data lines of a card (not comments, keywords or titles) read with `widths`.
+    fn data(card: &str, comment: char, widths: &[usize]) -> Vec<Vec<f64>> {
+        card.lines()
+            .filter(|l| !l.starts_with(comment) && !l.starts_with('*') && !l.starts_with('/'))
+            .filter(|l| l.trim() != "stoss")
+            .map(|l| read_fields(l, widths).unwrap_or_else(|e| panic!("{l}: {e}")))
+            .collect()
+    }
+
+    fn close(read: f64, exact: f64, digits: i32) -> bool {
+        (read - exact).abs() <= exact.abs() * 10f64.powi(1 - digits)
+    }
+
     #[test]
-    fn johnson_cook_cards_carry_the_constants() {
-        // GOAL: the exported cards hold the calibrated constants.
-        // SETUP: the bundled 4340 JC material file.
-        // REFERENCE: A, B, n, C, m appear in each card; fields fit LS-DYNA's 10 columns.
+    fn johnson_cook_cards_read_back_with_each_formats_column_rules() {
+        // GOAL: a code reading the exported cards gets the calibrated constants, not numbers
+        //       run together (an OpenRadioss card once read E as 20.9 Pa).
+        // SETUP: the bundled 4340 JC file with its Young's modulus perturbed to need every
+        //        digit (2.0947709377236935e11 Pa is 21 characters in Rust's `e` format).
+        // REFERENCE: the constants; LS-DYNA fixed format is 8 fields of 10 columns (5
+        //            significant digits fit), OpenRadioss lines are 20-column fields (10 for
+        //            the ICC and Fsmooth flags), read with the same rules.
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../fixtures/materials/4340-jc.toml");
-        let (file, _) = crate::input::material::load(&path).unwrap();
+        let (mut file, _) = crate::input::material::load(&path).unwrap();
+        file.shear_modulus = 80.8e9 + 0.123456789;
+        let StrengthSpec::JohnsonCook(jc) = file.strength else {
+            panic!("JC file")
+        };
+        let bulk = bulk_modulus(&file).unwrap();
+        let (young, poisson) = young_and_poisson(bulk, file.shear_modulus);
+
         let dyna = ls_dyna(&file).unwrap();
+        let lines = data(&dyna, '$', &[10; 8]);
+        let mat = &lines[0];
         assert!(
-            dyna.contains("*MAT_JOHNSON_COOK")
-                && dyna.contains("792000000")
-                && dyna.contains("0.014")
+            close(mat[1], file.density, 5) && close(mat[3], young, 5),
+            "{mat:?}"
         );
-        assert!(dyna
+        assert!(close(mat[4], poisson, 5));
+        let constants = &lines[1];
+        for (read, exact) in constants.iter().zip([
+            jc.yield_stress,
+            jc.hardening_modulus,
+            jc.hardening_exponent,
+            jc.rate_sensitivity,
+            jc.thermal_exponent,
+            jc.melting_temperature,
+            jc.reference_temperature,
+            jc.reference_rate,
+        ]) {
+            assert!(close(*read, exact, 5), "{read} vs {exact}");
+        }
+
+        let radioss = open_radioss(&file).unwrap();
+        let rows: Vec<&str> = radioss
             .lines()
-            .filter(|l| !l.starts_with('$') && !l.starts_with('*'))
-            .all(|l| l.len() <= 80));
-        assert!(abaqus(&file).unwrap().contains("7.92e8, 5.1e8, 2.6e-1"));
-        assert!(open_radioss(&file).unwrap().contains("/MAT/PLAS_JOHNS"));
-        assert_eq!(format_short(1.2345678901e-7).len(), 9);
+            .filter(|l| !l.starts_with('#') && !l.starts_with('/') && l.trim() != "stoss")
+            .collect();
+        assert!(close(
+            read_fields(rows[0], &[20]).unwrap()[0],
+            file.density,
+            15
+        ));
+        let elastic = read_fields(rows[1], &[20, 20]).unwrap();
+        assert!(
+            close(elastic[0], young, 15) && close(elastic[1], poisson, 15),
+            "{elastic:?}"
+        );
+        let hardening = read_fields(rows[2], &[20; 5]).unwrap();
+        assert!(close(hardening[0], jc.yield_stress, 15));
+        assert!(close(hardening[2], jc.hardening_exponent, 15));
+        let rate = read_fields(rows[3], &[20, 20, 10, 10, 20]).unwrap();
+        assert!(close(rate[0], jc.rate_sensitivity, 15) && rate[2] == 1.0);
+        let thermal = read_fields(rows[4], &[20; 4]).unwrap();
+        assert!(close(thermal[0], jc.thermal_exponent, 15));
+        assert!(close(thermal[2], file.density * file.specific_heat, 15));
+
+        let abaqus = abaqus(&file).unwrap();
+        assert!(abaqus.contains("7.92e8, 5.1e8, 2.6e-1"));
+    }
+
+    #[test]
+    fn fields_keep_a_separating_blank_and_the_most_digits_that_fit() {
+        // GOAL: no number fills or overflows its field.
+        // SETUP: numbers of every size in 10- and 20-column fields.
+        // REFERENCE: width - 1 characters at most; read back within the digits kept.
+        for value in [
+            0.0,
+            1.0,
+            -1.0e20,
+            2.0947709377236935e11,
+            -3.3e-7,
+            1.2345678901e-7,
+            7830.0,
+            0.26,
+        ] {
+            for (width, digits) in [(10, 4), (20, 15)] {
+                let text = field(value, width);
+                assert_eq!(text.len(), width);
+                assert!(text.starts_with(' '), "`{text}`");
+                let read: f64 = text.trim().parse().unwrap();
+                assert!(close(read, value, digits), "{text} vs {value}");
+            }
+        }
     }
 }
