@@ -20,6 +20,8 @@
 //! | `vumat_za_tension` | VUMAT, point 1 of 2 | same | uniaxial strain +0.2 |
 //! | `umat_tjc_tension` | LS-DYNA umat (Fortran) | TJC + JC failure | uniaxial strain +0.25, 250 steps, 1e4 /s |
 //! | `umat_jc_simple_shear` | LS-DYNA umat (Fortran) | JC 4340 | simple shear eps_xy 0.3, 300 steps, 1e3 /s |
+//! | `batch_jc_upturn_tension` | batch (block, layout 2) | JC 4340 + high-rate upturn (the diagnosis' term) | uniaxial strain +0.3, 300 steps, 1e4 /s |
+//! | `umat_jc_upturn_tension` | LS-DYNA umat (Fortran, card version 2) | same | uniaxial strain +0.25, 250 steps, 1e4 /s |
 //!
 //! Usage: `cargo run --release -p stoss-kernel-ffi --example reference_histories -- <dir>`
 
@@ -32,7 +34,9 @@ use stoss_kernel::drivers::{
     UniaxialStrainLoading,
 };
 use stoss_kernel::eos::MieGruneisen;
-use stoss_kernel::strength::{CrystalStructure, TwoRateJohnsonCook, ZerilliArmstrong};
+use stoss_kernel::strength::{
+    CrystalStructure, JohnsonCook, RateTerm, TwoRateJohnsonCook, ZerilliArmstrong,
+};
 use stoss_kernel::{Material, MaterialState, RateTreatment};
 
 /// Collects the hex lines of a driver run.
@@ -133,6 +137,19 @@ fn tjc_with_failure() -> Material {
     material
 }
 
+/// JC 4340 written as composed terms with the diagnosis' high-rate upturn
+/// `(1 + C ln e*) (1 + rate/e_up)^beta`, beta 0.08, e_up 2000 /s (test constants).
+fn jc_upturn() -> Material {
+    let mut composed = JohnsonCook::STEEL_4340.composed();
+    composed.rate = RateTerm::LogUpturn {
+        rate_sensitivity: 0.014,
+        reference_rate: 1.0,
+        upturn_exponent: 0.08,
+        upturn_rate: 2.0e3,
+    };
+    Material::STEEL_4340.with_strength(composed)
+}
+
 fn strain_case(material: &Material, final_strain: f64, steps: u32, strain_rate: f64) -> String {
     let mut state = MaterialState::initial(298.0);
     let mut lines = HexLines::default();
@@ -189,6 +206,14 @@ fn main() {
         (
             "umat_jc_simple_shear",
             shear_case(&Material::STEEL_4340, 0.3, 300, 1.0e3),
+        ),
+        (
+            "batch_jc_upturn_tension",
+            strain_case(&jc_upturn(), 0.3, 300, 1.0e4),
+        ),
+        (
+            "umat_jc_upturn_tension",
+            strain_case(&jc_upturn(), 0.25, 250, 1.0e4),
         ),
     ];
     for (name, text) in cases {

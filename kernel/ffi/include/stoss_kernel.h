@@ -60,8 +60,11 @@
 #define STOSS_STATE_PRESSURE_CUTOFF 8
 
 // Version of [`StossMaterialBlock`]'s layout (and of the card layout, slot P1). Bumped on any
-// change of field order, size or meaning.
-#define STOSS_LAYOUT_VERSION 1
+// change of field order, size or meaning. Version 2 added the rate terms the diagnosis adds
+// to a Johnson-Cook fit ([`StossRateModel::LogUpturn`], [`StossRateModel::LogThermal`]) and
+// their five fields at the end of [`StossRateTerm`]; a version-1 card is a valid version-2
+// card (it cannot hold the new codes), a version-1 block is not (its size differs).
+#define STOSS_LAYOUT_VERSION 2
 
 // Points of the tabulated-compaction EoS table in the block (the kernel's
 // `MAX_COMPACTION_POINTS`).
@@ -208,6 +211,13 @@ enum StossRateModel
   STOSS_RATE_MODEL_TWO_PART = 4,
   // `1 + (rate/D)^(1/q)`: `cowper_symonds_d`, `cowper_symonds_q`.
   STOSS_RATE_MODEL_COWPER_SYMONDS = 5,
+  // JC log with a high-rate upturn, `(1 + C ln(rate/e0)) (1 + rate/e_up)^beta`:
+  // `rate_sensitivity`, `reference_rate`, `upturn_exponent`, `upturn_rate` (layout 2).
+  STOSS_RATE_MODEL_LOG_UPTURN = 6,
+  // JC log with a temperature-dependent sensitivity, `1 + C (1 + kappa T*) ln(rate/e0)`:
+  // `rate_sensitivity`, `reference_rate`, `coupling`, `coupling_reference_temperature`,
+  // `coupling_melting_temperature` (layout 2).
+  STOSS_RATE_MODEL_LOG_THERMAL = 7,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -449,6 +459,16 @@ typedef struct StossRateTerm {
   double cowper_symonds_d;
   // Cowper-Symonds `q` (-).
   double cowper_symonds_q;
+  // Upturn exponent `beta` (-), log-upturn.
+  double upturn_exponent;
+  // Upturn rate `e_up` (1/s), log-upturn.
+  double upturn_rate;
+  // Rate-temperature coupling `kappa` (-), log-thermal.
+  double coupling;
+  // `Tr` (K) of the log-thermal `T*`.
+  double coupling_reference_temperature;
+  // `Tm` (K) of the log-thermal `T*`.
+  double coupling_melting_temperature;
 } StossRateTerm;
 
 // Thermal constants of a composed model (read according to `thermal_model`).

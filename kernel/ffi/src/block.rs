@@ -23,8 +23,11 @@ use stoss_kernel::{Heating, Material, MaterialState, RateTreatment};
 use crate::status::{FfiError, StossStatus};
 
 /// Version of [`StossMaterialBlock`]'s layout (and of the card layout, slot P1). Bumped on any
-/// change of field order, size or meaning.
-pub const STOSS_LAYOUT_VERSION: u32 = 1;
+/// change of field order, size or meaning. Version 2 added the rate terms the diagnosis adds
+/// to a Johnson-Cook fit ([`StossRateModel::LogUpturn`], [`StossRateModel::LogThermal`]) and
+/// their five fields at the end of [`StossRateTerm`]; a version-1 card is a valid version-2
+/// card (it cannot hold the new codes), a version-1 block is not (its size differs).
+pub const STOSS_LAYOUT_VERSION: u32 = 2;
 
 /// Points of the tabulated-compaction EoS table in the block (the kernel's
 /// `MAX_COMPACTION_POINTS`).
@@ -77,6 +80,13 @@ pub enum StossRateModel {
     TwoPart = 4,
     /// `1 + (rate/D)^(1/q)`: `cowper_symonds_d`, `cowper_symonds_q`.
     CowperSymonds = 5,
+    /// JC log with a high-rate upturn, `(1 + C ln(rate/e0)) (1 + rate/e_up)^beta`:
+    /// `rate_sensitivity`, `reference_rate`, `upturn_exponent`, `upturn_rate` (layout 2).
+    LogUpturn = 6,
+    /// JC log with a temperature-dependent sensitivity, `1 + C (1 + kappa T*) ln(rate/e0)`:
+    /// `rate_sensitivity`, `reference_rate`, `coupling`, `coupling_reference_temperature`,
+    /// `coupling_melting_temperature` (layout 2).
+    LogThermal = 7,
 }
 
 /// Thermal term of a composed model (`StossComposed::thermal_model`).
@@ -289,6 +299,16 @@ pub struct StossRateTerm {
     pub cowper_symonds_d: f64,
     /// Cowper-Symonds `q` (-).
     pub cowper_symonds_q: f64,
+    /// Upturn exponent `beta` (-), log-upturn.
+    pub upturn_exponent: f64,
+    /// Upturn rate `e_up` (1/s), log-upturn.
+    pub upturn_rate: f64,
+    /// Rate-temperature coupling `kappa` (-), log-thermal.
+    pub coupling: f64,
+    /// `Tr` (K) of the log-thermal `T*`.
+    pub coupling_reference_temperature: f64,
+    /// `Tm` (K) of the log-thermal `T*`.
+    pub coupling_melting_temperature: f64,
 }
 
 /// Thermal constants of a composed model (read according to `thermal_model`).
@@ -591,7 +611,15 @@ code_enum!(
 code_enum!(
     StossRateModel,
     "strength.composed.rate_model",
-    [None, JohnsonCookLog, Power, TwoPart, CowperSymonds]
+    [
+        None,
+        JohnsonCookLog,
+        Power,
+        TwoPart,
+        CowperSymonds,
+        LogUpturn,
+        LogThermal
+    ]
 );
 code_enum!(
     StossThermalModel,
@@ -677,6 +705,19 @@ impl StossComposed {
             StossRateModel::CowperSymonds => RateTerm::CowperSymonds {
                 rate_constant: r.cowper_symonds_d,
                 exponent: r.cowper_symonds_q,
+            },
+            StossRateModel::LogUpturn => RateTerm::LogUpturn {
+                rate_sensitivity: r.rate_sensitivity,
+                reference_rate: r.reference_rate,
+                upturn_exponent: r.upturn_exponent,
+                upturn_rate: r.upturn_rate,
+            },
+            StossRateModel::LogThermal => RateTerm::LogThermal {
+                rate_sensitivity: r.rate_sensitivity,
+                reference_rate: r.reference_rate,
+                coupling: r.coupling,
+                reference_temperature: r.coupling_reference_temperature,
+                melting_temperature: r.coupling_melting_temperature,
             },
         };
         let t = self.thermal;

@@ -6,7 +6,7 @@
 //!
 //! | P | meaning |
 //! |---|---|
-//! | 1 | card layout version (= `STOSS_LAYOUT_VERSION`) |
+//! | 1 | card layout version (`STOSS_LAYOUT_VERSION` = 2; version-1 cards are read too) |
 //! | 2 | reference density `rho0` (kg/m^3) |
 //! | 3 | shear modulus `G` (Pa) — LS-DYNA `IG = 3` |
 //! | 4 | bulk modulus `K` (Pa) — LS-DYNA `IBULK = 4`; the linear EoS's `K`, otherwise the initial EoS slope (informative, must be > 0) |
@@ -35,7 +35,8 @@
 //! | composed | `hardening rate thermal A B n Q1 c1 Q2 c2 R1 R2 R3 R4 m Tr Tm` |
 //!
 //! with the composed rate slots `R1..R4`: JC log `C e0`; power `beta e0`; two-part
-//! `beta1 e01 beta2 e02`; Cowper-Symonds `D q`.
+//! `beta1 e01 beta2 e02`; Cowper-Symonds `D q`; log-upturn `C e0 beta e_up` and log-thermal
+//! `C e0 kappa` (layout 2), whose `T*` uses the `Tr Tm` slots of the thermal term.
 
 use crate::block::{
     initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel,
@@ -115,11 +116,12 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
         ));
     }
     let version = code(card, 0, "layout version")?;
-    if version != STOSS_LAYOUT_VERSION as i32 {
+    // A version-1 card is a version-2 card without the two rate codes version 2 added.
+    if !(1..=STOSS_LAYOUT_VERSION as i32).contains(&version) {
         return Err(FfiError::new(
             StossStatus::BadLayoutVersion,
             format!(
-                "card P1 (layout version): card has {version}, this library expects \
+                "card P1 (layout version): card has {version}, this library reads 1 to \
                  {STOSS_LAYOUT_VERSION}"
             ),
         ));
@@ -269,6 +271,21 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
                 }
                 StossRateModel::CowperSymonds => {
                     [r.cowper_symonds_d, r.cowper_symonds_q] = [s[10], s[11]];
+                }
+                StossRateModel::LogUpturn => {
+                    [
+                        r.rate_sensitivity,
+                        r.reference_rate,
+                        r.upturn_exponent,
+                        r.upturn_rate,
+                    ] = [s[10], s[11], s[12], s[13]];
+                }
+                StossRateModel::LogThermal => {
+                    [r.rate_sensitivity, r.reference_rate, r.coupling] = [s[10], s[11], s[12]];
+                    [
+                        r.coupling_reference_temperature,
+                        r.coupling_melting_temperature,
+                    ] = [s[15], s[16]];
                 }
             }
             let t = &mut p.thermal;
@@ -516,6 +533,13 @@ pub fn card_from_block(
                     r.reference_rate_2,
                 ],
                 StossRateModel::CowperSymonds => &[r.cowper_symonds_d, r.cowper_symonds_q],
+                StossRateModel::LogUpturn => &[
+                    r.rate_sensitivity,
+                    r.reference_rate,
+                    r.upturn_exponent,
+                    r.upturn_rate,
+                ],
+                StossRateModel::LogThermal => &[r.rate_sensitivity, r.reference_rate, r.coupling],
             };
             s[10..10 + rate.len()].copy_from_slice(rate);
             let t = &p.thermal;
@@ -530,6 +554,23 @@ pub fn card_from_block(
                 }
                 StossThermalModel::Linear => {
                     s[15..17].copy_from_slice(&[t.reference_temperature, t.melting_temperature]);
+                }
+            }
+            // The log-thermal rate term's T* shares the thermal term's slots P40, P41.
+            if StossRateModel::from_code(p.rate_model)? == StossRateModel::LogThermal {
+                let coupling = [
+                    r.coupling_reference_temperature,
+                    r.coupling_melting_temperature,
+                ];
+                if StossThermalModel::from_code(p.thermal_model)? == StossThermalModel::None {
+                    s[15..17].copy_from_slice(&coupling);
+                } else if s[15..17] != coupling {
+                    return Err(slot_error(
+                        STRENGTH + 15,
+                        "log-thermal rate term",
+                        "its reference and melting temperatures share P40, P41 with the \
+                         thermal term's and must equal them on a card (use the block)",
+                    ));
                 }
             }
         }
@@ -630,6 +671,76 @@ mod tests {
     }
 
     #[test]
+    fn the_diagnosis_rate_terms_round_trip_and_a_version_1_card_still_reads() {
+        // GOAL: a model the diagnosis accepts (JC + high-rate upturn, JC + rate-temperature
+        //       coupling) is a card a foreign code can run (layout 2).
+        // SETUP: 4340's JC as composed terms with each added rate term.
+        // REFERENCE: the kernel material, through block -> card -> block; a card whose P1
+        //            says 1 and holds only version-1 codes reads the same.
+        let jc = stoss_kernel::strength::JohnsonCook::STEEL_4340;
+        let mut block = StossMaterialBlock::steel_4340();
+        block.strength_model = StossStrengthModel::Composed as i32;
+        let composed = |rate_model: StossRateModel, rate: StossRateTerm| StossComposed {
+            hardening_model: StossHardeningModel::Power as i32,
+            rate_model: rate_model as i32,
+            thermal_model: StossThermalModel::HomologousPower as i32,
+            reserved: 0,
+            hardening: StossHardening {
+                yield_stress: jc.yield_stress,
+                hardening_modulus: jc.hardening_modulus,
+                exponent: jc.hardening_exponent,
+                ..StossHardening::default()
+            },
+            rate,
+            thermal: StossThermalTerm {
+                exponent: jc.thermal_exponent,
+                reference_temperature: jc.reference_temperature,
+                melting_temperature: jc.melting_temperature,
+            },
+        };
+        block.strength.composed = composed(
+            StossRateModel::LogUpturn,
+            StossRateTerm {
+                rate_sensitivity: 0.014,
+                reference_rate: 1.0,
+                upturn_exponent: 0.08,
+                upturn_rate: 2.0e3,
+                ..StossRateTerm::default()
+            },
+        );
+        round_trip(&block);
+        let mut coupled = StossRateTerm {
+            rate_sensitivity: 0.014,
+            reference_rate: 1.0,
+            coupling: 2.0,
+            coupling_reference_temperature: jc.reference_temperature,
+            coupling_melting_temperature: jc.melting_temperature,
+            ..StossRateTerm::default()
+        };
+        block.strength.composed = composed(StossRateModel::LogThermal, coupled);
+        round_trip(&block);
+        coupled.coupling_melting_temperature = 1700.0;
+        block.strength.composed = composed(StossRateModel::LogThermal, coupled);
+        let error = card_from_block(&block).unwrap_err();
+        assert!(
+            error.message.starts_with("card P40 (log-thermal"),
+            "{}",
+            error.message
+        );
+
+        let version_1 = StossMaterialBlock::steel_4340();
+        let (mut card, length) = card_from_block(&version_1).unwrap();
+        card[0] = 1.0;
+        let parsed = block_from_card(&card[..length]).unwrap();
+        assert_eq!(parsed.to_material().unwrap(), Material::STEEL_4340);
+        card[0] = 3.0;
+        assert_eq!(
+            block_from_card(&card[..length]).unwrap_err().status,
+            StossStatus::BadLayoutVersion
+        );
+    }
+
+    #[test]
     fn every_eos_and_a_composed_strength_round_trip() {
         let mut block = StossMaterialBlock::steel_4340();
         block.failure.johnson_cook_enabled = 1;
@@ -727,7 +838,7 @@ mod tests {
         assert!(short.message.contains("at least 41"), "{}", short.message);
 
         let mut bad = card;
-        bad[0] = 2.0;
+        bad[0] = 3.0;
         assert_eq!(
             block_from_card(&bad[..length]).unwrap_err().status,
             StossStatus::BadLayoutVersion

@@ -244,10 +244,10 @@ fn null_pointers_are_reported_not_dereferenced() {
 #[test]
 fn layout_version_and_size_are_checked_before_the_block_is_read() {
     let mut block = defaults();
-    block.layout_version = 2;
+    block.layout_version = 1;
     let (status, message) = validate(&block);
     assert_eq!(status, StossStatus::BadLayoutVersion);
-    assert!(message.contains("expects 1"), "{message}");
+    assert!(message.contains("expects 2"), "{message}");
 
     let mut block = defaults();
     block.struct_size = 16;

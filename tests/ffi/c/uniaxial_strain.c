@@ -299,6 +299,32 @@ int main(int argc, char **argv) {
     za.strength.zerilli_armstrong.reference_rate = 1.0;
     vumat_case(&za);
 
-    printf("uniaxial_strain: wrote 5 histories to %s\n", output_directory);
+    /* JC 4340 as composed terms with the diagnosis' high-rate upturn (layout 2). */
+    StossMaterialBlock upturn;
+    stoss_material_defaults_4340(&upturn);
+    upturn.strength_model = STOSS_STRENGTH_MODEL_COMPOSED;
+    StossComposed *c = &upturn.strength.composed;
+    c->hardening_model = STOSS_HARDENING_MODEL_POWER;
+    c->rate_model = STOSS_RATE_MODEL_LOG_UPTURN;
+    c->thermal_model = STOSS_THERMAL_MODEL_HOMOLOGOUS_POWER;
+    c->hardening.yield_stress = 792.0e6;
+    c->hardening.hardening_modulus = 510.0e6;
+    c->hardening.exponent = 0.26;
+    c->rate.rate_sensitivity = 0.014;
+    c->rate.reference_rate = 1.0;
+    c->rate.upturn_exponent = 0.08;
+    c->rate.upturn_rate = 2.0e3;
+    c->thermal.exponent = 1.03;
+    c->thermal.reference_temperature = 298.0;
+    c->thermal.melting_temperature = 1793.0;
+    status = stoss_material_validate(&upturn, message, sizeof message);
+    if (status != STOSS_STATUS_OK) {
+        fail("validate upturn", status, message);
+    }
+    const double upturn_path[1] = {0.3};
+    const char *const upturn_names[1] = {"batch_jc_upturn_tension"};
+    batch_case(&upturn, 1, upturn_path, 300, 1.0e4, upturn_names);
+
+    printf("uniaxial_strain: wrote 6 histories to %s\n", output_directory);
     return 0;
 }

@@ -107,7 +107,7 @@ program umat_driver
   use hex_output
   implicit none
   integer, parameter :: lmc = 48, nhv = 10
-  real(c_double) :: cm_tjc(lmc), cm_jc(lmc)
+  real(c_double) :: cm_tjc(lmc), cm_jc(lmc), cm_upturn(lmc)
   character(len=1024) :: directory
 
   if (command_argument_count() /= 1) then
@@ -132,9 +132,21 @@ program umat_driver
                  0.0d0, 0.0d0, 0.0d0]
   cm_jc(25:32) = [792.0d6, 510.0d6, 0.26d0, 0.014d0, 1.03d0, 1.0d0, 298.0d0, 1793.0d0]
 
+  ! JC 4340 as composed terms with the diagnosis' high-rate upturn: a card of layout
+  ! version 2 (strength code 6 = composed; hardening 1 = power, rate 6 = log-upturn,
+  ! thermal 2 = homologous power; then A B n Q1 c1 Q2 c2, C e0 beta e_up, m Tr Tm).
+  cm_upturn = 0.0d0
+  cm_upturn(1:16) = [2.0d0, 7830.0d0, 81.8d9, 159.0d9, 477.0d0, 298.0d0, &
+                     6.0d0, 1.0d0, 1.0d0, 2.0d0, 0.9d0, 0.0d0, 0.0d0, &
+                     0.0d0, 0.0d0, 0.0d0]
+  cm_upturn(25:41) = [1.0d0, 6.0d0, 2.0d0, 792.0d6, 510.0d6, 0.26d0, 0.0d0, 0.0d0, &
+                      0.0d0, 0.0d0, 0.014d0, 1.0d0, 0.08d0, 2.0d3, 1.03d0, 298.0d0, &
+                      1793.0d0]
+
   call run_case(cm_tjc, 1, 0.25d0, 250, 1.0d4, 'umat_tjc_tension')
   call run_case(cm_jc, 4, 0.3d0, 300, 1.0d3, 'umat_jc_simple_shear')
-  write (*, '(a)') 'umat_driver: wrote 2 histories to '//trim(directory)
+  call run_case(cm_upturn, 1, 0.25d0, 250, 1.0d4, 'umat_jc_upturn_tension')
+  write (*, '(a)') 'umat_driver: wrote 3 histories to '//trim(directory)
 
 contains
 
