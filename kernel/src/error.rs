@@ -83,6 +83,15 @@ pub enum UpdateError {
     ReturnMappingDiverged,
     /// A computed quantity became non-finite (overflow).
     NonFiniteResult,
+    /// The incoming state holds a value no update can produce (negative plastic strain,
+    /// temperature <= 0 K, damage outside [0, 1], ...): `variable` names it
+    /// ([`crate::MaterialState::CHECKED_VARIABLES`]), `value` is what was passed.
+    InadmissibleState {
+        /// The state variable.
+        variable: &'static crate::state::StateVariable,
+        /// Its value.
+        value: f64,
+    },
 }
 
 impl core::fmt::Display for UpdateError {
@@ -94,6 +103,14 @@ impl core::fmt::Display for UpdateError {
             UpdateError::NonFiniteState => "incoming material state is not finite",
             UpdateError::ReturnMappingDiverged => "return mapping did not converge",
             UpdateError::NonFiniteResult => "update produced a non-finite result",
+            UpdateError::InadmissibleState { variable, value } => {
+                let open = if variable.lower_excluded { "(" } else { "[" };
+                return write!(
+                    f,
+                    "incoming state.{} = {value} is outside its valid range {open}{}, {}] {}",
+                    variable.name, variable.lower, variable.upper, variable.unit
+                );
+            }
         };
         f.write_str(text)
     }

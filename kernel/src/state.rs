@@ -60,7 +60,87 @@ pub struct MaterialState {
     pub flags: StateFlags,
 }
 
+/// Description of a state variable a host carries between steps: its name (as in
+/// [`MaterialState`]), unit and valid range. A state outside it is impossible for any model
+/// (a host wrote it, not the kernel) and is refused before an update.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StateVariable {
+    /// Field name in [`MaterialState`].
+    pub name: &'static str,
+    /// SI unit.
+    pub unit: &'static str,
+    /// Lower bound.
+    pub lower: f64,
+    /// `true` if the lower bound itself is excluded.
+    pub lower_excluded: bool,
+    /// Upper bound (inclusive; `+inf` for none).
+    pub upper: f64,
+}
+
+impl StateVariable {
+    /// `true` if `value` is in the valid range.
+    #[inline]
+    pub fn admits(&self, value: f64) -> bool {
+        let above = if self.lower_excluded {
+            value > self.lower
+        } else {
+            value >= self.lower
+        };
+        above && value <= self.upper
+    }
+}
+
 impl MaterialState {
+    /// The state variables with a valid range beyond finiteness (the relative volume's
+    /// `V/V0 > 0` is checked with finiteness, [`crate::UpdateError::NonFiniteState`]).
+    pub const CHECKED_VARIABLES: [StateVariable; 4] = [
+        StateVariable {
+            name: "plastic_strain",
+            unit: "-",
+            lower: 0.0,
+            lower_excluded: false,
+            upper: f64::INFINITY,
+        },
+        StateVariable {
+            name: "plastic_strain_rate",
+            unit: "1/s",
+            lower: 0.0,
+            lower_excluded: false,
+            upper: f64::INFINITY,
+        },
+        StateVariable {
+            name: "temperature",
+            unit: "K",
+            lower: 0.0,
+            lower_excluded: true,
+            upper: f64::INFINITY,
+        },
+        StateVariable {
+            name: "damage",
+            unit: "-",
+            lower: 0.0,
+            lower_excluded: false,
+            upper: 1.0,
+        },
+    ];
+
+    /// The first variable of [`Self::CHECKED_VARIABLES`] outside its valid range, with its
+    /// value (for a finite state).
+    #[inline]
+    pub fn inadmissible(&self) -> Option<(&'static StateVariable, f64)> {
+        let values = [
+            self.plastic_strain,
+            self.plastic_strain_rate,
+            self.temperature,
+            self.damage,
+        ];
+        Self::CHECKED_VARIABLES
+            .iter()
+            .zip(values)
+            .find(|(variable, value)| !variable.admits(*value))
+    }
+
     /// Undeformed, stress-free state at temperature `temperature` (K).
     pub const fn initial(temperature: f64) -> Self {
         Self {

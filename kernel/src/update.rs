@@ -164,6 +164,9 @@ fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateErr
     if !state.is_finite() || state.relative_volume <= 0.0 {
         return Err(UpdateError::NonFiniteState);
     }
+    if let Some((variable, value)) = state.inadmissible() {
+        return Err(UpdateError::InadmissibleState { variable, value });
+    }
     Ok(())
 }
 

@@ -137,6 +137,10 @@ enum StossStatus
   STOSS_STATUS_INVALID_ARGUMENT = 14,
   // A pointer argument is not aligned for its element type.
   STOSS_STATUS_MISALIGNED_POINTER = 15,
+  // The incoming state of a point holds a finite value no update can produce: negative
+  // plastic strain or rate, temperature <= 0 K, damage outside [0, 1] (the message names
+  // the point, the variable and its value).
+  STOSS_STATUS_INADMISSIBLE_STATE = 16,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -741,7 +745,7 @@ typedef struct StossBatchOutput {
 } StossBatchOutput;
 
 // Every status, in numerical order (for tables and tests).
-#define StossStatus_ALL { StossStatus_Ok, StossStatus_NullPointer, StossStatus_Panic, StossStatus_BadLayoutVersion, StossStatus_InvalidParameter, StossStatus_NonFiniteInput, StossStatus_NonPositiveTimeStep, StossStatus_NonPositiveVolume, StossStatus_ReturnMappingDiverged, StossStatus_ZeroPoints, StossStatus_BufferTooSmall, StossStatus_BadStructSize, StossStatus_NonFiniteState, StossStatus_NonFiniteResult, StossStatus_InvalidArgument, StossStatus_MisalignedPointer, }
+#define StossStatus_ALL { StossStatus_Ok, StossStatus_NullPointer, StossStatus_Panic, StossStatus_BadLayoutVersion, StossStatus_InvalidParameter, StossStatus_NonFiniteInput, StossStatus_NonPositiveTimeStep, StossStatus_NonPositiveVolume, StossStatus_ReturnMappingDiverged, StossStatus_ZeroPoints, StossStatus_BufferTooSmall, StossStatus_BadStructSize, StossStatus_NonFiniteState, StossStatus_NonFiniteResult, StossStatus_InvalidArgument, StossStatus_MisalignedPointer, StossStatus_InadmissibleState, }
 
 #ifdef __cplusplus
 extern "C" {

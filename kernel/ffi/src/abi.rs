@@ -131,6 +131,7 @@ pub extern "C" fn stoss_status_name(status: i32) -> *const c_char {
         Some(StossStatus::NonFiniteResult) => c"STOSS_STATUS_NON_FINITE_RESULT",
         Some(StossStatus::InvalidArgument) => c"STOSS_STATUS_INVALID_ARGUMENT",
         Some(StossStatus::MisalignedPointer) => c"STOSS_STATUS_MISALIGNED_POINTER",
+        Some(StossStatus::InadmissibleState) => c"STOSS_STATUS_INADMISSIBLE_STATE",
         None => c"STOSS_STATUS_UNKNOWN",
     };
     name.as_ptr()

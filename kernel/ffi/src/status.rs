@@ -48,11 +48,15 @@ pub enum StossStatus {
     InvalidArgument = 14,
     /// A pointer argument is not aligned for its element type.
     MisalignedPointer = 15,
+    /// The incoming state of a point holds a finite value no update can produce: negative
+    /// plastic strain or rate, temperature <= 0 K, damage outside [0, 1] (the message names
+    /// the point, the variable and its value).
+    InadmissibleState = 16,
 }
 
 impl StossStatus {
     /// Every status, in numerical order (for tables and tests).
-    pub const ALL: [StossStatus; 16] = [
+    pub const ALL: [StossStatus; 17] = [
         StossStatus::Ok,
         StossStatus::NullPointer,
         StossStatus::Panic,
@@ -69,6 +73,7 @@ impl StossStatus {
         StossStatus::NonFiniteResult,
         StossStatus::InvalidArgument,
         StossStatus::MisalignedPointer,
+        StossStatus::InadmissibleState,
     ];
 
     /// The C name of the status, e.g. `"STOSS_STATUS_NULL_POINTER"` (a static string).
@@ -90,6 +95,7 @@ impl StossStatus {
             StossStatus::NonFiniteResult => "STOSS_STATUS_NON_FINITE_RESULT",
             StossStatus::InvalidArgument => "STOSS_STATUS_INVALID_ARGUMENT",
             StossStatus::MisalignedPointer => "STOSS_STATUS_MISALIGNED_POINTER",
+            StossStatus::InadmissibleState => "STOSS_STATUS_INADMISSIBLE_STATE",
         }
     }
 
@@ -108,6 +114,7 @@ impl From<UpdateError> for StossStatus {
             UpdateError::NonFiniteState => StossStatus::NonFiniteState,
             UpdateError::ReturnMappingDiverged => StossStatus::ReturnMappingDiverged,
             UpdateError::NonFiniteResult => StossStatus::NonFiniteResult,
+            UpdateError::InadmissibleState { .. } => StossStatus::InadmissibleState,
         }
     }
 }
@@ -167,7 +174,7 @@ mod tests {
             assert_eq!(*status as i32, expected as i32, "{status:?}");
             assert_eq!(StossStatus::from_code(expected as i32), Some(*status));
         }
-        assert_eq!(StossStatus::from_code(16), None);
+        assert_eq!(StossStatus::from_code(17), None);
         assert_eq!(StossStatus::from_code(-1), None);
     }
 
@@ -180,6 +187,13 @@ mod tests {
             (UpdateError::ReturnMappingDiverged, 8),
             (UpdateError::NonFiniteState, 12),
             (UpdateError::NonFiniteResult, 13),
+            (
+                UpdateError::InadmissibleState {
+                    variable: &stoss_kernel::MaterialState::CHECKED_VARIABLES[2],
+                    value: -5.0,
+                },
+                16,
+            ),
         ];
         for (error, code) in errors {
             assert_eq!(StossStatus::from(error) as i32, code, "{error:?}");

@@ -231,6 +231,29 @@ int main(void) {
     check_status(update(&block, &p, N, 1e-7, 0, &first_failure, message, sizeof message),
                  STOSS_STATUS_NON_FINITE_STATE, "infinite temperature in the state");
 
+    /* Finite but impossible states, as a host integrator might pass them. */
+    reset(&p, &block);
+    p.temperature[1] = -5.0;
+    check_status(update(&block, &p, N, 1e-7, 0, &first_failure, message, sizeof message),
+                 STOSS_STATUS_INADMISSIBLE_STATE, "temperature -5 K in the state");
+    check(first_failure == 1 && p.status[1] == STOSS_STATUS_INADMISSIBLE_STATE &&
+              p.status[0] == STOSS_STATUS_OK,
+          "only the point with the impossible state fails");
+    check(starts_with(message, "point 1: incoming state.temperature = -5"),
+          "the message names the point, the variable and its value");
+    check(p.temperature[1] == -5.0, "the failing point keeps its state");
+    reset(&p, &block);
+    p.damage[2] = 2.0;
+    check_status(update(&block, &p, N, 1e-7, 0, &first_failure, message, sizeof message),
+                 STOSS_STATUS_INADMISSIBLE_STATE, "damage 2 in the state");
+    check(starts_with(message, "point 2: incoming state.damage = 2"), "damage message");
+    reset(&p, &block);
+    p.plastic_strain[0] = -1.0;
+    check_status(update(&block, &p, N, 1e-7, 0, &first_failure, message, sizeof message),
+                 STOSS_STATUS_INADMISSIBLE_STATE, "plastic strain -1 in the state");
+    check(starts_with(message, "point 0: incoming state.plastic_strain = -1"),
+          "plastic strain message");
+
     /* Mie-Gruneisen beyond its limiting compression (S1 = 2: V = 1/2) overflows. */
     StossMaterialBlock mg = block;
     mg.eos_model = STOSS_EOS_MODEL_MIE_GRUNEISEN;
