@@ -10,6 +10,8 @@
 #    goldens, the release test binary's stoss code is disassembled and must hold no
 #    fmadd/fmsub/fnmadd/fnmsub (skipped if the cross objdump is missing).
 # 3. The kernel builds for thumbv7em-none-eabihf (Cortex-M4F/M7, no std), debug and release.
+# 4. Host determinism: tests/determinism.rs (hashes of `stoss synthesize` outputs pinned on
+#    x86_64) passes on aarch64 under qemu.
 #
 # Installs what is missing: qemu-user-static (or qemu-user), gcc-aarch64-linux-gnu and
 # libc6-dev-arm64-cross through apt-get (sudo if not root), and the two rustup targets.
@@ -106,6 +108,9 @@ cargo test -p stoss --test golden --target "$aarch64"
 
 step "golden histories on $aarch64 under qemu (release)"
 cargo test -p stoss --test golden --target "$aarch64" --release
+
+step "host determinism on $aarch64 under qemu: synthetic recordings hash as on x86_64"
+cargo test -p stoss --test determinism --target "$aarch64" --release
 
 step "the kernel's exp, ln and pow on $aarch64 under qemu (oracle bound, result hash)"
 cargo test -p stoss-kernel --test math --target "$aarch64" --release

@@ -5,7 +5,7 @@ pub(crate) mod diagnose;
 mod evaluate;
 mod output_folder;
 mod simulate;
-mod synthesize;
+pub mod synthesize;
 mod verify;
 
 use clap::{Parser, Subcommand};

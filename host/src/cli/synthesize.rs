@@ -45,6 +45,22 @@ pub fn run(args: &SynthesizeArgs) -> ExitCode {
 }
 
 fn synthesize(args: &SynthesizeArgs) -> Result<(), String> {
+    let (noisy, clean) = recordings(args)?;
+    let truth_path = args.output.with_extension("truth.csv");
+    std::fs::write(&args.output, noisy).map_err(|e| format!("{}: {e}", args.output.display()))?;
+    std::fs::write(&truth_path, clean).map_err(|e| format!("{}: {e}", truth_path.display()))?;
+    println!(
+        "wrote {} and {}",
+        args.output.display(),
+        truth_path.display()
+    );
+    Ok(())
+}
+
+/// The texts `stoss synthesize` writes: the noisy recording and the noise-free truth. They
+/// depend only on the inputs and the seed, on every platform (the simulation and the normal
+/// sampler use no platform float function; tests/determinism.rs pins their hash).
+pub fn recordings(args: &SynthesizeArgs) -> Result<(String, String), String> {
     if !(args.noise >= 0.0 && args.noise.is_finite()) {
         return Err(format!("--noise must be >= 0, got {}", args.noise));
     }
@@ -80,13 +96,5 @@ fn synthesize(args: &SynthesizeArgs) -> Result<(), String> {
             point.quantity, point.position, predicted, sigma
         );
     }
-    let truth_path = args.output.with_extension("truth.csv");
-    std::fs::write(&args.output, noisy).map_err(|e| format!("{}: {e}", args.output.display()))?;
-    std::fs::write(&truth_path, clean).map_err(|e| format!("{}: {e}", truth_path.display()))?;
-    println!(
-        "wrote {} and {}",
-        args.output.display(),
-        truth_path.display()
-    );
-    Ok(())
+    Ok((noisy, clean))
 }

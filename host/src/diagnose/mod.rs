@@ -303,7 +303,7 @@ fn assess(
     }
     let n = fit.residuals.len() as f64;
     let k = fit.values.len() as f64;
-    let log_likelihood_term = n * (fit.chi_square.max(f64::MIN_POSITIVE) / n).ln();
+    let log_likelihood_term = n * libm::log(fit.chi_square.max(f64::MIN_POSITIVE) / n);
     let assessment = Assessment {
         label: hypothesis.label.clone(),
         constants: hypothesis
@@ -319,7 +319,7 @@ fn assess(
         fit_error,
         held_out_error: held_out,
         aic: log_likelihood_term + 2.0 * k,
-        bic: log_likelihood_term + k * n.ln(),
+        bic: log_likelihood_term + k * libm::log(n),
     };
     Ok((assessment, predictions))
 }
@@ -506,7 +506,7 @@ pub fn diagnose(
             let n = assessment.residuals as f64;
             assessment.constants_fitted += 1;
             assessment.aic += 2.0;
-            assessment.bic += n.ln();
+            assessment.bic += libm::log(n);
         }
         stage(
             &engine,

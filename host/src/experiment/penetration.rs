@@ -348,8 +348,8 @@ impl PenetrationSpec {
         let rod = (0.5 * self.rod_diameter / h_rod).ceil() * (self.rod_length / h_rod).ceil();
         let fine = self.fine_radius().min(self.target_radius);
         let graded = if self.grading_ratio > 1.0 {
-            ((self.target_radius - fine) / h * (self.grading_ratio - 1.0) + 1.0).ln()
-                / self.grading_ratio.ln()
+            libm::log((self.target_radius - fine) / h * (self.grading_ratio - 1.0) + 1.0)
+                / libm::log(self.grading_ratio)
         } else {
             (self.target_radius - fine) / h
         };

@@ -679,7 +679,7 @@ impl ShpbSpec {
                     .enumerate()
                     .map(|(slot, (_, area))| {
                         let sample = &run.tracked[2 + slot].samples[k];
-                        -sample.axial_stress * area * sample.plastic_strain.exp()
+                        -sample.axial_stress * area * libm::exp(sample.plastic_strain)
                     })
                     .sum::<f64>()
                     / total_area;

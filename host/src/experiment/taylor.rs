@@ -389,7 +389,7 @@ impl TaylorResult {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
                 (lo.min(p[2]), hi.max(p[2]))
             });
-        let radius = |p: &[f64]| p[0].hypot(p[1]);
+        let radius = |p: &[f64]| libm::hypot(p[0], p[1]);
         // Group the outer nodes by their reference axial position (layers are exact multiples
         // of the element size, so equal bit patterns).
         let mut layers: std::collections::BTreeMap<u64, (f64, f64, usize)> =

@@ -130,7 +130,7 @@ impl TensionSpec {
             let t = rise + (duration - rise) * k as f64 / samples as f64;
             points.push((
                 t.max(1e-300),
-                self.strain_rate * self.length * (self.strain_rate * t).exp(),
+                self.strain_rate * self.length * libm::exp(self.strain_rate * t),
             ));
         }
         if rise == 0.0 {
@@ -280,7 +280,7 @@ impl TensionSpec {
                 .map(|(h, w)| h.samples[k].axial_stress * w)
                 .sum::<f64>()
                 / total;
-            curve.push(((1.0 + displacement / self.length).ln(), stress));
+            curve.push((libm::log(1.0 + displacement / self.length), stress));
         }
         let mid_section = run.tracked.clone();
         Ok((

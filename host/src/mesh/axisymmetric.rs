@@ -30,7 +30,7 @@ impl Grading {
                 .collect();
         }
         // Element k has size h0 q^k with q^(count-1) = ratio.
-        let q = self.ratio.powf(1.0 / (count as f64 - 1.0));
+        let q = libm::pow(self.ratio, 1.0 / (count as f64 - 1.0));
         let total: f64 = (0..count).map(|k| q.powi(k as i32)).sum();
         let mut positions = Vec::with_capacity(count + 1);
         let mut x = start;

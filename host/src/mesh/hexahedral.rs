@@ -62,7 +62,7 @@ impl HexMesh {
             let mut layer = Vec::with_capacity(boundary_count);
             for (k, &inner) in core_boundary.iter().enumerate() {
                 let angle = std::f64::consts::FRAC_PI_2 * k as f64 / (boundary_count - 1) as f64;
-                let on_circle = [radius * angle.cos(), radius * angle.sin()];
+                let on_circle = [radius * libm::cos(angle), radius * libm::sin(angle)];
                 let start = section[inner];
                 let point = [
                     start[0] + (on_circle[0] - start[0]) * fraction,

@@ -65,10 +65,10 @@ impl CmaEs {
         settings.validate()?;
         let n = bounds.dim();
         let nf = n as f64;
-        let lambda = (4 + (3.0 * nf.ln()).floor() as usize).max(settings.batch);
+        let lambda = (4 + libm::floor(3.0 * libm::log(nf)) as usize).max(settings.batch);
         let mu = lambda / 2;
         let raw: Vec<f64> = (0..mu)
-            .map(|i| ((lambda as f64 + 1.0) / 2.0).ln() - ((i + 1) as f64).ln())
+            .map(|i| libm::log((lambda as f64 + 1.0) / 2.0) - libm::log((i + 1) as f64))
             .collect();
         let sum: f64 = raw.iter().sum();
         let weights: Vec<f64> = raw.iter().map(|w| w / sum).collect();
@@ -201,7 +201,7 @@ impl CmaEs {
                     + self.c_mu * rank_mu;
             }
         }
-        self.sigma *= ((self.c_sigma / self.d_sigma) * (norm_ps / self.chi_n - 1.0)).exp();
+        self.sigma *= libm::exp((self.c_sigma / self.d_sigma) * (norm_ps / self.chi_n - 1.0));
         self.sigma = self.sigma.min(1.0);
         let (b, eigenvalues) = symmetric_eigen(&self.c);
         let degenerate = eigenvalues.iter().any(|&e| !e.is_finite() || e <= 0.0);

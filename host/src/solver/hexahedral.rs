@@ -248,7 +248,7 @@ impl Discretisation for HexMesh {
         let density = material.density() / input.relative_volume;
         let viscous_pressure = settings.bulk_viscosity(
             density,
-            new.volume.cbrt(),
+            libm::cbrt(new.volume),
             volumetric_rate,
             output.wave_speed,
         );
@@ -269,7 +269,7 @@ impl Discretisation for HexMesh {
             * settings.hourglass_coefficient
             * density
             * output.wave_speed
-            * new.volume.powf(2.0 / 3.0);
+            * libm::pow(new.volume, 2.0 / 3.0);
         let mut hourglass_power = 0.0;
         for h in &HOURGLASS {
             let hx: [f64; 3] =
