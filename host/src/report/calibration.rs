@@ -434,6 +434,27 @@ pub fn write(
                 written.push(format!("cards/{stem}.{ext}"));
             }
         }
+        if let Some(file) = metal_file {
+            // The user material's initial temperature: the model's reference temperature
+            // where it has one (JC-type thermal terms), else 293 K; edit P6 for another.
+            let initial_temperature = file
+                .strength
+                .constants()
+                .iter()
+                .find(|(name, _)| name.ends_with("reference_temperature"))
+                .and_then(|(name, _)| file.strength.get(name))
+                .unwrap_or(293.0);
+            match cards::user_material::cards(file, initial_temperature) {
+                Ok((dyna, abaqus)) => {
+                    for (suffix, text) in [("umat.k", dyna), ("umat.inp", abaqus)] {
+                        std::fs::write(card_dir.join(format!("{stem}-{suffix}")), text)
+                            .map_err(|e| e.to_string())?;
+                        written.push(format!("cards/{stem}-{suffix}"));
+                    }
+                }
+                Err(reason) => written.push(format!("(no user-material card: {reason})")),
+            }
+        }
         if let Some((card, _, error)) = metal_file.and_then(cards::tabulated::ls_dyna) {
             std::fs::write(card_dir.join(format!("{stem}-mat224.k")), card)
                 .map_err(|e| e.to_string())?;
@@ -442,7 +463,7 @@ pub fn write(
                 100.0 * error.relative
             ));
         }
-        let _ = writeln!(md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `.inp`: Abaqus; `.rad`: OpenRadioss. Every model also runs through the stoss C ABI user material from its TOML.)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
+        let _ = writeln!(md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `.inp`: Abaqus; `.rad`: OpenRadioss; `-umat.k`, `-umat.inp`: the stoss user material's card for LS-DYNA and Abaqus, for any model (docs/user-material.md).)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
     }
     std::fs::write(directory.join("report.md"), md).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(results).map_err(|e| e.to_string())?;

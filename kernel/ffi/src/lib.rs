@@ -8,6 +8,7 @@
 //!
 //! - [`block`]: the versioned `#[repr(C)]` parameter block `StossMaterialBlock`;
 //! - [`card`]: the same constants as a flat array (LS-DYNA `cm`, Abaqus `props`);
+//! - [`export`]: a kernel material written as a block (every model gets a card);
 //! - [`batch`]: the structure-of-arrays update of `n` points;
 //! - [`adapters`]: LS-DYNA umat and Abaqus VUMAT conventions (thin Rust functions);
 //! - [`abi`]: the exported `extern "C"` functions;
@@ -35,6 +36,7 @@ pub mod block;
 pub(crate) mod boundary;
 pub mod card;
 pub mod checked;
+pub mod export;
 pub mod status;
 
 pub use abi::*;
@@ -47,4 +49,5 @@ pub use batch::{
 };
 pub use block::{StossMaterialBlock, STOSS_LAYOUT_VERSION};
 pub use card::{block_from_card, card_from_block};
+pub use export::from_material;
 pub use status::{FfiError, StossStatus};

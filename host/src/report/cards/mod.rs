@@ -9,12 +9,15 @@
 //! - [`tabulated`]: any J2 model (ZA, MJC, TJC, the diagnosis' composed terms) as LS-DYNA
 //!   `*MAT_TABULATED_JOHNSON_COOK` (*MAT_224) tables of flow stress, with the sampled ranges
 //!   and the largest interpolation error written in the card.
+//! - [`user_material`]: the stoss user material's own card (the C ABI's card) for any model,
+//!   as LS-DYNA `*MAT_USER_DEFINED_MATERIAL_MODELS` and Abaqus `*USER MATERIAL` input.
 //!
 //! Fixed-width fields are written so that every number fits its field with a separating
 //! blank ([`field`]); the tests read every card back with the target format's column rules.
 
 pub mod native;
 pub mod tabulated;
+pub mod user_material;
 
 use crate::input::material::MaterialFile;
 use stoss_kernel::eos::Eos;
