@@ -391,6 +391,50 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
 }
 
 #[test]
+fn an_error_in_a_later_models_entry_names_that_entrys_line() {
+    // GOAL: errors point at the entry that is wrong, not at the first one with the same key
+    //       (toml's spans, not a text search).
+    // SETUP: the synthetic flow campaign with a second [[models]] entry whose bounds of
+    //        `yield_stress` are inverted and whose `rate_sensitivity` is misspelt.
+    // REFERENCE: the line of the second entry's key in the file.
+    let dir = temporary("laterentry");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml"))
+        .unwrap()
+        .replace("../", &format!("{}/", fixtures().display()));
+    for (second, key) in [
+        ("yield_stress = [2.0e9, 0.5e9]\n", "yield_stress"),
+        (
+            "yield_stress = [0.5e9, 2.0e9]\nrate_sensitvity = [0.0, 0.1]\n",
+            "rate_sensitvity",
+        ),
+    ] {
+        let content = text.replacen(
+            "[[experiments]]",
+            &format!(
+                "[[models]]\nname = \"second\"\n[models.parameters]\n{second}\n[[experiments]]"
+            ),
+            1,
+        );
+        let line = content
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| l.starts_with(key))
+            .last()
+            .unwrap()
+            .0
+            + 1;
+        let path = dir.join("c.toml");
+        std::fs::write(&path, &content).unwrap();
+        let error = Campaign::load(&path).unwrap_err().to_string();
+        assert!(
+            error.contains(&format!("c.toml:{line}: field `{key}`")),
+            "expected line {line}: {error}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn campaign_errors_name_the_file_line_and_field() {
     // GOAL: bad campaigns are rejected with file, line and field.
     // SETUP: inverted bounds; an unknown constant; an unknown key; two models of one name;

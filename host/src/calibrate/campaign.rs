@@ -43,6 +43,9 @@ use crate::input::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use stoss_kernel::eos::Polynomial;
+use stoss_kernel::parameters::Parameter;
+use stoss_kernel::rht::RhtParameters;
 use stoss_kernel::PartMaterial;
 
 fn one() -> f64 {
@@ -273,6 +276,36 @@ impl ModelSpace {
         Ok((file, material))
     }
 
+    /// The SI unit of each fitted constant, from the model's descriptions (`?` for a name
+    /// no description covers; the campaign refuses those when it loads).
+    pub fn units(&self, base: &AnyMaterialFile) -> Vec<&'static str> {
+        let strength = self.strength.map(|s| s.constants()).unwrap_or_default();
+        self.names
+            .iter()
+            .map(|name| {
+                if let Some((_, p)) = strength.iter().find(|(n, _)| n == name) {
+                    return p.unit;
+                }
+                let AnyMaterialFile::Rht(file) = base else {
+                    return "?";
+                };
+                let described = |parameters: &'static [Parameter], name: &str| {
+                    parameters.iter().find(|p| p.name == name).map(|p| p.unit)
+                };
+                match name.split_once('.') {
+                    None if name == "density" => Some("kg/m^3"),
+                    Some(("parameters", n)) => described(RhtParameters::PARAMETERS, n),
+                    Some(("eos", n)) => match (n.strip_prefix("solid."), file.eos) {
+                        (Some(n), _) => described(Polynomial::PARAMETERS, n),
+                        (None, eos) => described(eos.constants(), n),
+                    },
+                    _ => None,
+                }
+                .unwrap_or("?")
+            })
+            .collect()
+    }
+
     /// Dimension of the search space.
     pub fn dimension(&self) -> usize {
         self.names.len()
@@ -288,14 +321,14 @@ impl Campaign {
         // and would drop the rest silently.
         if let Ok(tree) = toml::from_str::<toml::Table>(&text) {
             let models = tree.get("models").and_then(toml::Value::as_array);
-            for model in models.into_iter().flatten() {
+            for (index, model) in models.into_iter().flatten().enumerate() {
                 let parameters = model.get("parameters").and_then(toml::Value::as_table);
                 for (name, bounds) in parameters.into_iter().flatten() {
                     if let Some(items) = bounds.as_array().filter(|a| a.len() != 2) {
-                        return Err(InputError::field(
+                        return Err(InputError::at(
                             path,
                             &text,
-                            name,
+                            &["models", &index.to_string(), "parameters", name],
                             format!("give [lower, upper], not {} numbers", items.len()),
                         ));
                     }
@@ -342,12 +375,12 @@ impl Campaign {
                 "at least one experiment must be fitted (holdout = false)",
             ));
         }
-        for entry in &file.experiments {
+        for (index, entry) in file.experiments.iter().enumerate() {
             if !(entry.weight > 0.0 && entry.weight.is_finite()) {
-                return Err(InputError::field(
+                return Err(InputError::at(
                     path,
                     &text,
-                    "weight",
+                    &["experiments", &index.to_string(), "weight"],
                     format!("{}: must be > 0", entry.file),
                 ));
             }
@@ -391,12 +424,14 @@ impl Campaign {
             .map(|entry| Experiment::load(&folder.join(&entry.file)))
             .collect::<Result<Vec<_>, _>>()?;
         if let Ok(family) = base.material() {
-            for (entry, experiment) in file.experiments.iter().zip(&experiments) {
+            for (index, (entry, experiment)) in
+                file.experiments.iter().zip(&experiments).enumerate()
+            {
                 if let Err(error) = experiment.file.setup.accepts(&family) {
-                    return Err(InputError::field(
+                    return Err(InputError::at(
                         path,
                         &text,
-                        "experiments",
+                        &["experiments", &index.to_string(), "file"],
                         format!("{}: {error} (the campaign's material)", entry.file),
                     ));
                 }
@@ -408,14 +443,25 @@ impl Campaign {
             base,
             experiments,
         };
-        for model in &campaign.file.models {
+        for (index, model) in campaign.file.models.iter().enumerate() {
+            let index = index.to_string();
+            let at = |keys: &[&str]| -> Vec<String> {
+                ["models", index.as_str()]
+                    .iter()
+                    .chain(keys)
+                    .map(|k| k.to_string())
+                    .collect()
+            };
+            let error_at = |keys: &[&str], message: String| {
+                let keys = at(keys);
+                let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+                InputError::at(path, &text, &keys, message)
+            };
             let space = campaign.space(model);
             for (name, [lower, upper]) in &model.parameters {
                 if !(lower.is_finite() && upper.is_finite() && lower < upper) {
-                    return Err(InputError::field(
-                        path,
-                        &text,
-                        name,
+                    return Err(error_at(
+                        &["parameters", name],
                         format!("bounds [{lower}, {upper}] must be finite with lower < upper"),
                     ));
                 }
@@ -427,10 +473,8 @@ impl Campaign {
                 .map(|(l, u)| 0.5 * (l + u))
                 .collect();
             if matches!(campaign.base, AnyMaterialFile::Rht(_)) && model.strength.is_some() {
-                return Err(InputError::field(
-                    path,
-                    &text,
-                    "strength",
+                return Err(error_at(
+                    &["strength"],
                     format!(
                         "model {}: an RHT concrete campaign has no flow-stress model; fit its \
                          constants by their dotted paths in [models.parameters]",
@@ -450,10 +494,8 @@ impl Campaign {
                     .iter()
                     .find(|n| !constants.contains(&n.as_str()))
                 {
-                    return Err(InputError::field(
-                        path,
-                        &text,
-                        name,
+                    return Err(error_at(
+                        &["parameters", name],
                         format!(
                             "model {}: `{name}` is not a constant of this model; its constants \
                              are {}",
@@ -464,10 +506,8 @@ impl Campaign {
                 }
             }
             if let Err(message) = space.material(&campaign.base, &middle) {
-                return Err(InputError::field(
-                    path,
-                    &text,
-                    "parameters",
+                return Err(error_at(
+                    &["parameters"],
                     format!("model {}: {message}", model.name),
                 ));
             }

@@ -62,6 +62,51 @@ pub struct ModelResult {
     pub fit_error: f64,
     /// Its error over the held-out experiments (`None` if there are none).
     pub holdout_error: Option<f64>,
+    /// The selected constants by name, with their units (what `result.json` is checked
+    /// against when a campaign reads it back). Absent from results written before
+    /// 2026-11-25.
+    #[serde(default)]
+    pub constants: Vec<NamedConstant>,
+}
+
+/// A fitted constant by name (as the campaign names it), with its SI unit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NamedConstant {
+    /// The name in `[models.parameters]`.
+    pub name: String,
+    /// Value (SI).
+    pub value: f64,
+    /// SI unit (from the model's description).
+    pub unit: String,
+}
+
+impl ModelResult {
+    /// Check that these results belong to `space`: the same constants, by name, in the same
+    /// order (results written before the names were recorded are checked by count only).
+    pub fn check_against(&self, space: &ModelSpace) -> Result<(), String> {
+        if self.selected.values.len() != space.names.len() {
+            return Err(format!(
+                "model `{}`: the result holds {} constants, the campaign fits {}",
+                self.model,
+                self.selected.values.len(),
+                space.names.len()
+            ));
+        }
+        if self.constants.is_empty() {
+            return Ok(());
+        }
+        for (i, (constant, name)) in self.constants.iter().zip(&space.names).enumerate() {
+            if &constant.name != name {
+                return Err(format!(
+                    "model `{}`: constant {} of the result is `{}`, the campaign's is `{name}`",
+                    self.model,
+                    i + 1,
+                    constant.name
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Why a calibration stopped.
@@ -281,7 +326,7 @@ impl Runner<'_> {
             // log space; the transform is monotone, so the optimum is unchanged.
             let surrogate_values: Vec<Option<f64>> = values
                 .iter()
-                .map(|v| v.map(|e| e.max(1e-300).ln()))
+                .map(|v| v.map(|e| libm::log(e.max(1e-300))))
                 .collect();
             proposer
                 .tell(&points, &surrogate_values)
@@ -469,7 +514,19 @@ pub fn calibrate<'a>(
         } else {
             selected.total(campaign, &holdouts)
         };
+        let constants = space
+            .names
+            .iter()
+            .zip(&selected.values)
+            .zip(space.units(&campaign.base))
+            .map(|((name, value), unit)| NamedConstant {
+                name: name.clone(),
+                value: *value,
+                unit: unit.to_string(),
+            })
+            .collect();
         results.push(ModelResult {
+            constants,
             model: space.name.clone(),
             instances: instance_results,
             finalists,
@@ -479,4 +536,61 @@ pub fn calibrate<'a>(
         });
     }
     Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibrate::objective::Status;
+
+    #[test]
+    fn results_are_checked_against_the_campaign_by_name() {
+        // GOAL: a result.json read by another campaign (or a changed one) is refused by the
+        //       names of its constants, not only by their count.
+        // SETUP: a JC result fitting A and C, checked against spaces naming A, C / C, A / A.
+        // REFERENCE: accepted only in the same order; the error names both constants.
+        let space = |names: &[&str]| ModelSpace {
+            name: "jc".into(),
+            strength: None,
+            names: names.iter().map(|n| n.to_string()).collect(),
+            lower: vec![0.0; names.len()],
+            upper: vec![1.0; names.len()],
+        };
+        let constant = |name: &str, unit: &str| NamedConstant {
+            name: name.into(),
+            value: 1.0,
+            unit: unit.into(),
+        };
+        let result = ModelResult {
+            model: "jc".into(),
+            instances: Vec::new(),
+            finalists: Vec::new(),
+            selected: Evaluation {
+                values: vec![1.0e9, 0.01],
+                scores: Vec::new(),
+                status: Status::Ok,
+                wall_time: 0.0,
+            },
+            fit_error: 1.0,
+            holdout_error: None,
+            constants: vec![
+                constant("yield_stress", "Pa"),
+                constant("rate_sensitivity", "-"),
+            ],
+        };
+        assert!(result
+            .check_against(&space(&["yield_stress", "rate_sensitivity"]))
+            .is_ok());
+        let error = result
+            .check_against(&space(&["rate_sensitivity", "yield_stress"]))
+            .unwrap_err();
+        assert!(
+            error.contains("`yield_stress`") && error.contains("`rate_sensitivity`"),
+            "{error}"
+        );
+        assert!(result
+            .check_against(&space(&["yield_stress"]))
+            .unwrap_err()
+            .contains("holds 2 constants, the campaign fits 1"));
+    }
 }

@@ -103,30 +103,25 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     let campaign = Campaign::load(&campaign_file).map_err(|e| e.to_string())?;
     let results = read_results(&args.calibration)?;
     let model = diagnose::selected(&results, args.model.as_deref()).map_err(|e| e.to_string())?;
-    if model.selected.values.len()
-        != campaign
-            .space(
-                campaign
-                    .file
-                    .models
-                    .iter()
-                    .find(|m| m.name == model.model)
-                    .ok_or_else(|| {
-                        format!(
-                            "model `{}` is not in {}",
-                            model.model,
-                            campaign_file.display()
-                        )
-                    })?,
+    let entry = campaign
+        .file
+        .models
+        .iter()
+        .find(|m| m.name == model.model)
+        .ok_or_else(|| {
+            format!(
+                "model `{}` is not in {}",
+                model.model,
+                campaign_file.display()
             )
-            .dimension()
-    {
-        return Err(format!(
-            "result.json of {} does not match {} (different constants)",
+        })?;
+    model.check_against(&campaign.space(entry)).map_err(|e| {
+        format!(
+            "result.json of {} does not match {}: {e}",
             args.calibration.display(),
             campaign_file.display()
-        ));
-    }
+        )
+    })?;
     let options = Options {
         alpha: args.alpha,
         parallel: args.parallel.unwrap_or(Options::default().parallel),

@@ -40,6 +40,24 @@ impl InputError {
             message: message.into(),
         }
     }
+
+    /// An error about the value at `keys` (from the root; array entries by their 0-based
+    /// index, see [`super::line_of_path`]), at its exact line from toml's spans. The field
+    /// named is the last key.
+    pub fn at(
+        path: &std::path::Path,
+        text: &str,
+        keys: &[&str],
+        message: impl Into<String>,
+    ) -> Self {
+        let field = keys.last().copied().unwrap_or_default();
+        InputError::Field {
+            path: path.into(),
+            line: super::line_of_path(text, keys).or_else(|| super::line_of_key(text, field)),
+            field: field.into(),
+            message: message.into(),
+        }
+    }
 }
 
 impl std::fmt::Display for InputError {

@@ -134,6 +134,40 @@ pub fn line_of(text: &str, offset: usize) -> usize {
     text[..offset.min(text.len())].matches('\n').count() + 1
 }
 
+/// 1-based line of the key at `path` in TOML `text`, from toml's own spans: `path` is the
+/// keys from the root, with array entries by their 0-based index (`["models", "2",
+/// "parameters", "yield_stress"]` is that key in the third `[[models]]`). For an array entry
+/// that is the last element, the line where the entry starts. `None` if `text` does not parse
+/// or has no such key.
+pub fn line_of_path(text: &str, path: &[&str]) -> Option<usize> {
+    use toml::de::{DeTable, DeValue};
+    let root = DeTable::parse(text).ok()?;
+    let mut table = root.get_ref();
+    let mut segments = path.iter().peekable();
+    while let Some(segment) = segments.next() {
+        let (key, value) = table
+            .iter()
+            .find(|(k, _)| k.get_ref().as_ref() == *segment)?;
+        if segments.peek().is_none() {
+            return Some(line_of(text, key.span().start));
+        }
+        let mut value = value;
+        // Array entries: the next segment is the index.
+        while let DeValue::Array(items) = value.get_ref() {
+            let index: usize = segments.next()?.parse().ok()?;
+            value = items.get(index)?;
+            if segments.peek().is_none() {
+                return Some(line_of(text, value.span().start));
+            }
+        }
+        match value.get_ref() {
+            DeValue::Table(inner) => table = inner,
+            _ => return None,
+        }
+    }
+    None
+}
+
 /// 1-based line where `key = ...` is written (first match), if any. A dotted key
 /// `table.leaf` not written as such is looked up as `leaf = ...` inside a `[table]` or
 /// `[....table]` section.
