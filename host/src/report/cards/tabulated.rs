@@ -343,7 +343,7 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationE
         "$ stoss tabulated material: {}\n$ units: kg, m, s, Pa, K\n\
          $ flow stress of the stoss model sampled at plastic strain 0..{LARGEST_PLASTIC_STRAIN} \
          ({} points; curves extrapolated beyond),\n\
-         $ plastic strain rate {first_rate:e}..{last_rate:e} /s ({} rates, ln(rate) abscissae), \
+         $ plastic strain rate {first_rate:.3e}..{last_rate:.3e} /s ({} rates, ln(rate) abscissae), \
          temperature {:.1}..{:.1} K ({} tables).\n\
          $ largest interpolation error against the model at the cell midpoints: {:.3} % \
          (at plastic strain {:.3e}, {:.3e} /s, {:.1} K; below 0.9 of the temperature range), \
