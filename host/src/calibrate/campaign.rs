@@ -276,6 +276,21 @@ impl ModelSpace {
         Ok((file, material))
     }
 
+    /// The starting values of the fitted constants: what the model's strength (or the base
+    /// material file) holds before any fit. `None` if a name is not found.
+    pub fn starting_values(&self, base: &AnyMaterialFile) -> Option<Vec<f64>> {
+        self.names
+            .iter()
+            .map(|name| match (&self.strength, base) {
+                (Some(strength), _) => strength.get(name),
+                (None, AnyMaterialFile::Rht(file)) => {
+                    file.clone().constant_slot(name).map(|value| *value)
+                }
+                (None, AnyMaterialFile::J2(_)) => None,
+            })
+            .collect()
+    }
+
     /// The SI unit of each fitted constant, from the model's descriptions (`?` for a name
     /// no description covers; the campaign refuses those when it loads).
     pub fn units(&self, base: &AnyMaterialFile) -> Vec<&'static str> {

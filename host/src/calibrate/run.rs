@@ -67,6 +67,102 @@ pub struct ModelResult {
     /// 2026-11-25.
     #[serde(default)]
     pub constants: Vec<NamedConstant>,
+    /// The starting constants (the model's `strength`, or the base material's), scored on
+    /// the same experiments: what the calibration has to beat.
+    #[serde(default)]
+    pub baseline: Option<Baseline>,
+    /// Fitted constants that ended within 0.5 % of the search range of a bound: the
+    /// optimum may lie beyond it.
+    #[serde(default)]
+    pub at_bounds: Vec<String>,
+}
+
+/// The starting constants of a model, scored as the calibration scores its candidates.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Baseline {
+    /// The evaluation (values in the model space's order).
+    pub evaluation: Evaluation,
+    /// Error over the fitted experiments (`None` if a simulation failed).
+    pub fit_error: Option<f64>,
+    /// Error over the held-out experiments.
+    pub holdout_error: Option<f64>,
+}
+
+impl ModelResult {
+    /// What the console and the report say about the starting constants against the fit:
+    /// their errors, and plainly when they predict the held-out experiments better (or fit
+    /// better) than the calibrated constants. `None` without a baseline.
+    pub fn baseline_verdict(&self) -> Option<String> {
+        let baseline = self.baseline.as_ref()?;
+        let error =
+            |e: Option<f64>| e.map_or("- (a simulation failed)".into(), |e| format!("{e:.4}"));
+        let mut text = format!(
+            "{}: the starting constants score fit error {}, held-out error {}",
+            self.model,
+            error(baseline.fit_error),
+            error(baseline.holdout_error)
+        );
+        match (baseline.holdout_error, self.holdout_error) {
+            (Some(start), Some(fitted)) if start < fitted => {
+                let _ = std::fmt::Write::write_fmt(
+                    &mut text,
+                    format_args!(
+                        "; they predict the held-out experiments BETTER than the calibrated \
+                         constants ({fitted:.4}): the fit does not generalise, prefer the \
+                         starting constants or add experiments that constrain the model"
+                    ),
+                );
+            }
+            (Some(_), Some(fitted)) => {
+                let _ = std::fmt::Write::write_fmt(
+                    &mut text,
+                    format_args!("; the calibrated constants predict them better ({fitted:.4})"),
+                );
+            }
+            _ => {}
+        }
+        if let Some(start) = baseline.fit_error {
+            if start < self.fit_error {
+                let _ = std::fmt::Write::write_fmt(
+                    &mut text,
+                    format_args!(
+                        "; they also FIT better than the calibration ({:.4}): the search did \
+                         not converge (raise the budget) or the bounds exclude them",
+                        self.fit_error
+                    ),
+                );
+            }
+        }
+        Some(text)
+    }
+}
+
+/// Fraction of a search range within which a fitted constant counts as at its bound.
+pub const AT_BOUND: f64 = 0.005;
+
+/// The constants of `values` within [`AT_BOUND`] of the search range of a bound, described
+/// (`n = 1.000e0 at its upper bound 1.000e0`).
+pub fn constants_at_bounds(space: &ModelSpace, values: &[f64]) -> Vec<String> {
+    space
+        .names
+        .iter()
+        .zip(values)
+        .zip(space.lower.iter().zip(&space.upper))
+        .filter_map(|((name, value), (lower, upper))| {
+            let margin = AT_BOUND * (upper - lower);
+            if *value <= lower + margin {
+                Some(format!(
+                    "{name} = {value:.4e} at its lower bound {lower:.4e}"
+                ))
+            } else if *value >= upper - margin {
+                Some(format!(
+                    "{name} = {value:.4e} at its upper bound {upper:.4e}"
+                ))
+            } else {
+                None
+            }
+        })
+        .collect()
 }
 
 /// A fitted constant by name (as the campaign names it), with its SI unit.
@@ -514,6 +610,32 @@ pub fn calibrate<'a>(
         } else {
             selected.total(campaign, &holdouts)
         };
+        // The starting constants, scored on every experiment like a finalist.
+        let baseline = match space.starting_values(&campaign.base) {
+            Some(values) => {
+                let key = Key {
+                    model: space.name.clone(),
+                    fold: Some("baseline".into()),
+                    instance: 0,
+                    index: 0,
+                };
+                let evaluation = runner
+                    .evaluate_batch(&[key], std::slice::from_ref(&values), &space, &all, 0)?
+                    .into_iter()
+                    .next();
+                evaluation.map(|evaluation| Baseline {
+                    fit_error: evaluation.total(campaign, &fitted),
+                    holdout_error: if holdouts.is_empty() {
+                        None
+                    } else {
+                        evaluation.total(campaign, &holdouts)
+                    },
+                    evaluation,
+                })
+            }
+            None => None,
+        };
+        let at_bounds = constants_at_bounds(&space, &selected.values);
         let constants = space
             .names
             .iter()
@@ -526,6 +648,8 @@ pub fn calibrate<'a>(
             })
             .collect();
         results.push(ModelResult {
+            baseline,
+            at_bounds,
             constants,
             model: space.name.clone(),
             instances: instance_results,
@@ -577,6 +701,8 @@ mod tests {
                 constant("yield_stress", "Pa"),
                 constant("rate_sensitivity", "-"),
             ],
+            baseline: None,
+            at_bounds: Vec::new(),
         };
         assert!(result
             .check_against(&space(&["yield_stress", "rate_sensitivity"]))

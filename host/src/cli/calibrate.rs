@@ -290,6 +290,19 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             r.holdout_error.map_or("-".into(), |h| format!("{h:.4}"))
         );
     }
+    println!();
+    for r in &results {
+        if let Some(verdict) = r.baseline_verdict() {
+            println!("{verdict}.");
+        }
+        for bound in &r.at_bounds {
+            println!(
+                "warning: {}: {bound}; the optimum may lie beyond it (widen the bound if that \
+                 is physical)",
+                r.model
+            );
+        }
+    }
     let outcomes = calibration::selected_outcomes(&campaign, &results);
     let report = output.join("report");
     write_folder(&report, Leftovers::Clean, |folder| {

@@ -142,6 +142,27 @@ pub fn write(
             best.model
         );
     }
+    let _ = writeln!(
+        md,
+        "### Against the starting constants\n\nThe starting constants of each model (its \
+         `strength`, or the base material {}) are scored on the same experiments, as a \
+         finalist is.\n",
+        campaign.base.name()
+    );
+    for r in results {
+        if let Some(verdict) = r.baseline_verdict() {
+            let _ = writeln!(md, "- {verdict}.");
+        }
+        for bound in &r.at_bounds {
+            let _ = writeln!(
+                md,
+                "- **{}: {bound}**: the optimum may lie beyond it (widen the bound if that is \
+                 physical).",
+                r.model
+            );
+        }
+    }
+    let _ = writeln!(md);
 
     for (m, result) in results.iter().enumerate() {
         let model = campaign
