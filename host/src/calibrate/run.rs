@@ -719,4 +719,24 @@ mod tests {
             .unwrap_err()
             .contains("holds 2 constants, the campaign fits 1"));
     }
+
+    #[test]
+    fn constants_within_half_a_percent_of_a_bound_are_flagged() {
+        // GOAL: a fit that ends at a bound says so.
+        // SETUP: bounds [0, 1] for two constants; values 0.004, 0.5, 0.996, 0.006.
+        // REFERENCE: 0.5 % of the range: 0.004 (lower) and 0.996 (upper) flagged, not 0.006.
+        let space = ModelSpace {
+            name: "jc".into(),
+            strength: None,
+            names: vec!["n".into(), "C".into()],
+            lower: vec![0.0, 0.0],
+            upper: vec![1.0, 1.0],
+        };
+        let flagged = constants_at_bounds(&space, &[0.004, 0.5]);
+        assert_eq!(flagged.len(), 1);
+        assert!(flagged[0].starts_with("n = 4.0000e-3 at its lower bound"));
+        let flagged = constants_at_bounds(&space, &[0.996, 0.006]);
+        assert_eq!(flagged.len(), 1);
+        assert!(flagged[0].contains("at its upper bound"));
+    }
 }
