@@ -224,7 +224,7 @@ pub const PULSE_THRESHOLD: f64 = 0.05;
 /// without a pulse.
 pub fn incident_pulse(signal: &[(f64, f64)]) -> Option<(f64, f64)> {
     let peak = signal.iter().map(|p| p.1).fold(0.0, f64::max);
-    if !(peak > 0.0) {
+    if peak <= 0.0 {
         return None;
     }
     let crossing = |level: f64, rising: bool, from: usize| -> Option<(usize, f64)> {
