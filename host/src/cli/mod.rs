@@ -1,5 +1,6 @@
 //! The `stoss` command line.
 
+pub mod analyse_shpb;
 mod calibrate;
 pub(crate) mod diagnose;
 mod evaluate;
@@ -45,6 +46,9 @@ pub enum Command {
     /// Simulate one candidate of a distributed calibration from its task file (the worker
     /// that `stoss calibrate --executor slurm` runs on the cluster's nodes).
     Evaluate(evaluate::EvaluateArgs),
+    /// Kolsky analysis of a real split Hopkinson bar's recorded gauge signals: stress, strain
+    /// and strain rate by the 1-, 2- and 3-wave analyses, and a recording a campaign can fit.
+    AnalyseShpb(analyse_shpb::AnalyseShpbArgs),
 }
 
 /// Run the parsed command line.
@@ -57,5 +61,6 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Simulate(args) => simulate::run(&args),
         Command::Synthesize(args) => synthesize::run(&args),
         Command::Evaluate(args) => evaluate::run(&args),
+        Command::AnalyseShpb(args) => analyse_shpb::run(&args),
     }
 }

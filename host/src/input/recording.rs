@@ -43,7 +43,7 @@ pub struct RecordedPoint {
 pub const HEADER: [&str; 4] = ["quantity", "position", "value", "uncertainty"];
 
 /// A header cell: its column name and unit (`value [MPa]` -> `("value", Some(MPa))`).
-fn header_cell(cell: &str) -> Result<(&str, Option<Unit>), String> {
+pub(crate) fn header_cell(cell: &str) -> Result<(&str, Option<Unit>), String> {
     let Some((name, rest)) = cell.split_once('[') else {
         return Ok((cell.trim(), None));
     };

@@ -137,6 +137,11 @@ impl Unit {
 const UNITS: &[(&[&str], Dimension, f64)] = &[
     (&["1", "-", ""], Dimension::Dimensionless, 1.0),
     (&["%"], Dimension::Dimensionless, 1e-2),
+    (
+        &["microstrain", "ue", "µε", "με"],
+        Dimension::Dimensionless,
+        1e-6,
+    ),
     (&["m"], Dimension::Length, 1.0),
     (&["cm"], Dimension::Length, 1e-2),
     (&["mm"], Dimension::Length, 1e-3),
