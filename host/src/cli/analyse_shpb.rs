@@ -95,12 +95,15 @@ fn quantity(flag: &str, text: &str, dimension: Dimension) -> Result<f64, String>
     }
 }
 
+/// A gauge signal: `(time, strain)` samples, SI.
+pub type Signal = Vec<(f64, f64)>;
+
 /// The gauge signals of a gauges CSV, SI, compressive positive (`tension_positive` negates).
 pub fn read_gauges(
     path: &Path,
     text: &str,
     tension_positive: bool,
-) -> Result<(Vec<(f64, f64)>, Vec<(f64, f64)>), String> {
+) -> Result<(Signal, Signal), String> {
     const COLUMNS: [&str; 3] = ["time", "incident", "transmitted"];
     let mut scale = [1.0; 3];
     let mut header_seen = false;
