@@ -187,6 +187,13 @@ static void vumat_case(const StossMaterialBlock *block) {
         fail("vumat data check", status, message);
     }
 
+    /* The same points updated in place (stressNew = stressOld etc., which the documentation
+     * allows): must give the same bits as separate old and new arrays. */
+    double stress_alias[NCOMP * NBLOCK], state_alias[NSTATEV * NBLOCK], energy_alias[NBLOCK];
+    memcpy(stress_alias, stress_old, sizeof stress_alias);
+    memcpy(state_alias, state_old, sizeof state_alias);
+    memcpy(energy_alias, energy_old, sizeof energy_alias);
+
     double increment[NBLOCK], total[NBLOCK] = {0.0, 0.0};
     FILE *files[NBLOCK];
     for (int i = 0; i < NBLOCK; ++i) {
@@ -206,6 +213,19 @@ static void vumat_case(const StossMaterialBlock *block) {
                                     &first_failure, message, sizeof message);
         if (status != STOSS_STATUS_OK) {
             fail("stoss_abaqus_vumat", status, message);
+        }
+        status = stoss_abaqus_vumat(props, nprops, NBLOCK, 3, 3, NSTATEV, time + dt, time + dt, dt,
+                                    strain_inc, stress_alias, state_alias, energy_alias,
+                                    stress_alias, state_alias, energy_alias, NULL, NULL, NULL,
+                                    message, sizeof message);
+        if (status != STOSS_STATUS_OK) {
+            fail("stoss_abaqus_vumat (in place)", status, message);
+        }
+        if (memcmp(stress_alias, stress_new, sizeof stress_alias) != 0 ||
+            memcmp(state_alias, state_new, sizeof state_alias) != 0 ||
+            memcmp(energy_alias, energy_new, sizeof energy_alias) != 0) {
+            fail("in-place (aliased) VUMAT arrays differ from separate ones", STOSS_STATUS_OK,
+                 "");
         }
         time += dt;
         for (int i = 0; i < NBLOCK; ++i) {
