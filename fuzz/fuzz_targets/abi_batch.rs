@@ -56,7 +56,7 @@ const CODE_SENTINEL: i32 = -777;
 const TANGENT_SENTINEL: f64 = -9.87e300;
 
 /// Per-point statuses (what `output->status` may hold besides `OK`).
-const POINT_STATUSES: [StossStatus; 7] = [
+const POINT_STATUSES: [StossStatus; 8] = [
     StossStatus::Ok,
     StossStatus::NonFiniteInput,
     StossStatus::NonPositiveTimeStep,
@@ -64,6 +64,7 @@ const POINT_STATUSES: [StossStatus; 7] = [
     StossStatus::ReturnMappingDiverged,
     StossStatus::NonFiniteState,
     StossStatus::NonFiniteResult,
+    StossStatus::InadmissibleState,
 ];
 
 const STRAIN_FIELDS: [&str; 6] = [
@@ -171,8 +172,14 @@ fn material(src: &mut Source) -> StossMaterialBlock {
             block.heating_model = StossHeatingModel::Isothermal as i32;
             let za = &mut block.strength.zerilli_armstrong;
             let mut values = [0.0; 6];
-            for (value, bound) in values.iter_mut().zip(ZerilliArmstrong::BOUNDS.iter()) {
-                *value = src.linear(bound.min, bound.max);
+            let names = ["athermal_stress", "c1", "c3", "c4", "c5", "exponent"];
+            for (value, name) in values.iter_mut().zip(names) {
+                let (min, max) = ZerilliArmstrong::PARAMETERS
+                    .iter()
+                    .find(|p| p.name == name)
+                    .and_then(|p| p.search)
+                    .expect("ZA search range");
+                *value = src.linear(min, max);
             }
             [za.athermal_stress, za.c1, za.c3, za.c4, za.c5, za.exponent] = values;
             za.c2 = src.linear(0.0, 3.0e9);
