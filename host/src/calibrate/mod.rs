@@ -1,7 +1,7 @@
 //! `stoss calibrate`: fit model constants to recordings of functional experiments by Bayesian
 //! optimisation over simulations (seed 000 sec. 4): campaign files, the error measure, the
 //! simulation log that makes runs resumable, the protocols (instances, leave-one-out, model
-//! selection) and the report.
+//! selection), the linearised uncertainty of the calibrated constants and the report.
 
 pub mod campaign;
 pub mod executor;
@@ -10,6 +10,7 @@ pub mod objective;
 pub mod polish;
 pub mod proposer;
 pub mod run;
+pub mod uncertainty;
 
 pub use campaign::{Campaign, ModelSpace};
 pub use objective::{evaluate, score, Evaluation, Score, Status};

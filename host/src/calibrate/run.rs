@@ -75,6 +75,10 @@ pub struct ModelResult {
     /// optimum may lie beyond it.
     #[serde(default)]
     pub at_bounds: Vec<String>,
+    /// How well the fitted recordings determine the selected constants (linearised; `None`
+    /// if it could not be computed).
+    #[serde(default)]
+    pub uncertainty: Option<super::uncertainty::Uncertainty>,
 }
 
 /// The starting constants of a model, scored as the calibration scores its candidates.
@@ -134,6 +138,61 @@ impl ModelResult {
             }
         }
         Some(text)
+    }
+}
+
+impl ModelResult {
+    /// The constants' 95 % intervals and the pairs the recordings cannot tell apart, as
+    /// sentences (console and report); empty without an uncertainty.
+    pub fn uncertainty_lines(&self, names: &[String]) -> Vec<String> {
+        let Some(u) = &self.uncertainty else {
+            return Vec::new();
+        };
+        let mut lines = Vec::new();
+        let intervals: Vec<String> = names
+            .iter()
+            .zip(&self.selected.values)
+            .zip(&u.half_width_95)
+            .map(|((name, value), half)| match half {
+                Some(half) => format!("{name} {value:.4e} +- {half:.2e}"),
+                None => format!("{name} {value:.4e} (undetermined)"),
+            })
+            .collect();
+        lines.push(format!(
+            "{}: 95 % intervals (linearised, reduced chi-square {:.2} over {} points): {}",
+            self.model,
+            u.reduced_chi_square,
+            u.points,
+            intervals.join(", ")
+        ));
+        for (a, vif) in u.inflation.iter().enumerate() {
+            let Some(vif) = vif.filter(|v| *v >= super::uncertainty::COLLINEAR_VIF) else {
+                continue;
+            };
+            let partners: Vec<String> = (0..names.len())
+                .filter(|&b| b != a && u.correlation[a][b].abs() >= 0.5)
+                .map(|b| format!("{} ({:+.2})", names[b], u.correlation[a][b]))
+                .collect();
+            lines.push(format!(
+                "{}: {} is determined only in combination with {} (variance inflation {vif:.0}): \
+                 its interval is local, the recordings trade it off against them",
+                self.model,
+                names[a],
+                if partners.is_empty() {
+                    "the others".to_string()
+                } else {
+                    partners.join(", ")
+                }
+            ));
+        }
+        for (a, b, rho) in &u.correlated_pairs {
+            lines.push(format!(
+                "{}: {} and {} are correlated {rho:+.3}: these experiments cannot tell them \
+                 apart (fix one, or add an experiment that separates them)",
+                self.model, names[*a], names[*b]
+            ));
+        }
+        lines
     }
 }
 
@@ -636,6 +695,8 @@ pub fn calibrate<'a>(
             None => None,
         };
         let at_bounds = constants_at_bounds(&space, &selected.values);
+        let uncertainty =
+            super::uncertainty::linearised(campaign, &space, &selected.values, &fitted).ok();
         let constants = space
             .names
             .iter()
@@ -648,6 +709,7 @@ pub fn calibrate<'a>(
             })
             .collect();
         results.push(ModelResult {
+            uncertainty,
             baseline,
             at_bounds,
             constants,
@@ -703,6 +765,7 @@ mod tests {
             ],
             baseline: None,
             at_bounds: Vec::new(),
+            uncertainty: None,
         };
         assert!(result
             .check_against(&space(&["yield_stress", "rate_sensitivity"]))

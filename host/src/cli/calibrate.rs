@@ -295,6 +295,11 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         if let Some(verdict) = r.baseline_verdict() {
             println!("{verdict}.");
         }
+        if let Some(model) = campaign.file.models.iter().find(|m| m.name == r.model) {
+            for line in r.uncertainty_lines(&campaign.space(model).names) {
+                println!("{line}.");
+            }
+        }
         for bound in &r.at_bounds {
             println!(
                 "warning: {}: {bound}; the optimum may lie beyond it (widen the bound if that \

@@ -146,7 +146,9 @@ pub fn write(
         md,
         "### Against the starting constants\n\nThe starting constants of each model (its \
          `strength`, or the base material {}) are scored on the same experiments, as a \
-         finalist is.\n",
+         finalist is. The 95 % intervals of the calibrated constants are linearised \
+         (Gauss-Newton) from the fitted recordings, scaled by the reduced chi-square; pairs \
+         correlated beyond 0.95 are named.\n",
         campaign.base.name()
     );
     for r in results {
@@ -160,6 +162,11 @@ pub fn write(
                  physical).",
                 r.model
             );
+        }
+        if let Some(model) = campaign.file.models.iter().find(|m| m.name == r.model) {
+            for line in r.uncertainty_lines(&campaign.space(model).names) {
+                let _ = writeln!(md, "- {line}.");
+            }
         }
     }
     let _ = writeln!(md);
