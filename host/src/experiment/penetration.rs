@@ -665,6 +665,13 @@ impl PenetrationSpec {
                     "largest_debris_penetration".into(),
                     run.contact.largest_free_node_penetration,
                 ),
+                // The deepest overlap the eroding contact found on exposure and tolerated
+                // (docs/solver.md, "Accuracy"): several elements here means material of one
+                // part overlaps the other without resisting.
+                (
+                    "largest_tolerated_overlap".into(),
+                    run.contact.largest_initial_penetration,
+                ),
                 ("smallest_element".into(), built.smallest_element),
             ],
             energy: Some(run.energy()),
