@@ -271,14 +271,16 @@ fn a_rod_or_bar_in_the_wrong_length_unit_is_refused_before_it_runs() {
     // GOAL: a unit slip in a Taylor rod or Hopkinson bar is an error up front, not a runaway.
     // SETUP: the 208 m/s Taylor fixture with `length = 25.4` (m for mm); the 1000 /s SHPB
     //        fixture with `incident_length = 500.0` (mm for m); the Taylor fixture with
-    //        a 2 m rod with `radial_elements = 200` (plausible lengths, ten million elements).
+    //        a 2 m rod with `radial_elements = 200` (plausible lengths, ten million elements);
+    //        the SHPB fixture with a 2 m specimen of 64 radial elements (plausible lengths,
+    //        three million specimen elements at a fifth of the bars' step).
     // REFERENCE: Experiment::load fails, naming the field: the slips as outside the plausible
     //        range of a length, the huge mesh by its estimated run size.
     let directory = std::env::temp_dir().join(format!("stoss-slip-{}", std::process::id()));
     std::fs::create_dir_all(&directory).unwrap();
     // (fixture, edits (key, value), what the error says)
     type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a str);
-    let cases: [Case; 3] = [
+    let cases: [Case; 4] = [
         (
             "taylor-4340-208",
             &[("length", "25.4")],
@@ -292,6 +294,14 @@ fn a_rod_or_bar_in_the_wrong_length_unit_is_refused_before_it_runs() {
         (
             "taylor-4340-208",
             &[("length", "2.0"), ("radial_elements", "200")],
+            "needs at least",
+        ),
+        (
+            "shpb-4340-1000",
+            &[
+                ("specimen_length", "2.0"),
+                ("specimen_radial_elements", "64"),
+            ],
             "needs at least",
         ),
     ];

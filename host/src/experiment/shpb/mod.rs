@@ -285,16 +285,25 @@ impl ShpbSpec {
             (2..=64).contains(&self.specimen_radial_elements),
             "must be in 2..=64",
         )?;
-        // Bars in mm entered as m are a runaway: refuse them up front (the end time is about
-        // two bar transits; square bar elements).
-        let size = 0.5 * self.bar_diameter / self.bar_radial_elements as f64;
+        // Bars or a specimen in mm entered as m are a runaway: refuse them up front (the end
+        // time is about two bar transits; square elements in the bars and the specimen, whose
+        // smaller elements set the step). The error names the part with more elements.
+        let bar_size = 0.5 * self.bar_diameter / self.bar_radial_elements as f64;
+        let specimen_size = 0.5 * self.specimen_diameter / self.specimen_radial_elements as f64;
         let bars = self.incident_length + self.transmitter_length;
+        let bar_elements = self.bar_radial_elements as f64 * bars / bar_size;
+        let specimen_elements =
+            self.specimen_radial_elements as f64 * self.specimen_length / specimen_size;
         super::check_run_budget_of(
             check,
-            "incident_length",
+            if specimen_elements > bar_elements {
+                "specimen_length"
+            } else {
+                "incident_length"
+            },
             2.0 * bars / self.bar_wave_speed(),
-            super::undeformed_time_step(size, false),
-            self.bar_radial_elements as f64 * bars / size,
+            super::undeformed_time_step(bar_size.min(specimen_size), false),
+            bar_elements + specimen_elements,
         )?;
         let span = self.pulse_duration() + self.rise_time;
         let c0 = self.bar_wave_speed();
