@@ -58,6 +58,29 @@ pub trait Constants {
     }
 }
 
+/// A composite model (an EoS family, a composed strength, a material file's strength) whose
+/// constants are addressed by a path (`term.name`, or the constant's name in the family of
+/// the variant): the counterpart of [`Constants`] for models built from described parts.
+pub trait ConstantPaths {
+    /// The constant at `path`, mutably; `None` if there is none.
+    fn slot(&mut self, path: &str) -> Option<&mut f64>;
+
+    /// Value of the constant at `path`.
+    fn get(&self, path: &str) -> Option<f64>
+    where
+        Self: Clone,
+    {
+        let mut copy = self.clone();
+        copy.slot(path).map(|value| *value)
+    }
+
+    /// Set the constant at `path`; `None` if there is none.
+    fn set(&mut self, path: &str, value: f64) -> Option<()> {
+        *self.slot(path)? = value;
+        Some(())
+    }
+}
+
 /// Implement [`Constants`] for a struct of `f64` constants, with the descriptions also as the
 /// associated constant `PARAMETERS`:
 /// `struct_constants!(Type, [field = ("symbol", "unit", search), ...])`.

@@ -44,6 +44,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use stoss_kernel::eos::Polynomial;
+use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::parameters::Parameter;
 use stoss_kernel::rht::RhtParameters;
 use stoss_kernel::PartMaterial;

@@ -31,6 +31,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stoss_kernel::damage::Failure;
 use stoss_kernel::eos::Eos;
+use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::parameters::{Constants, Parameter};
 use stoss_kernel::rht::{RhtMaterial, RhtParameters};
 use stoss_kernel::strength::{
@@ -83,29 +84,6 @@ impl StrengthSpec {
                 .parameters()
                 .map(|(term, p)| (format!("{term}.{}", p.name), p))
                 .collect(),
-        }
-    }
-
-    /// The constant named `name` (see [`Self::constants`]).
-    pub fn get(&self, name: &str) -> Option<f64> {
-        let mut copy = *self;
-        copy.slot(name).map(|value| *value)
-    }
-
-    /// Set the constant named `name`; `None` if the model has no such constant.
-    pub fn set(&mut self, name: &str, value: f64) -> Option<()> {
-        *self.slot(name)? = value;
-        Some(())
-    }
-
-    /// The constant named `name`, mutably.
-    pub fn slot(&mut self, name: &str) -> Option<&mut f64> {
-        match self {
-            StrengthSpec::JohnsonCook(m) => m.named_slot(name),
-            StrengthSpec::ZerilliArmstrong(m) => m.named_slot(name),
-            StrengthSpec::ModifiedJohnsonCook(m) => m.named_slot(name),
-            StrengthSpec::TwoRateJohnsonCook(m) => m.named_slot(name),
-            StrengthSpec::Composed(m) => m.slot(name),
         }
     }
 
@@ -555,6 +533,19 @@ pub fn parse_part(path: &Path, text: &str) -> Result<(AnyMaterialFile, PartMater
 /// Load a material file of either family ([`parse_part`]).
 pub fn load_part(path: &Path) -> Result<(AnyMaterialFile, PartMaterial), InputError> {
     parse_part(path, &read_text(path)?)
+}
+
+impl ConstantPaths for StrengthSpec {
+    /// `name`: the constant's name in the family's description (see [`Self::constants`]).
+    fn slot(&mut self, name: &str) -> Option<&mut f64> {
+        match self {
+            StrengthSpec::JohnsonCook(m) => m.named_slot(name),
+            StrengthSpec::ZerilliArmstrong(m) => m.named_slot(name),
+            StrengthSpec::ModifiedJohnsonCook(m) => m.named_slot(name),
+            StrengthSpec::TwoRateJohnsonCook(m) => m.named_slot(name),
+            StrengthSpec::Composed(m) => m.slot(name),
+        }
+    }
 }
 
 #[cfg(test)]

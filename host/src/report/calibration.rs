@@ -20,6 +20,7 @@ use crate::solver::SolverSettings;
 use std::fmt::Write as _;
 use std::path::Path;
 use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
+use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::{Heating, Material, MaterialState};
 
 /// Reads one quantity of a state sample.

@@ -117,33 +117,6 @@ impl Eos {
         }
     }
 
-    /// The constant named `path` (see [`Self::constants`]).
-    pub fn get(&self, path: &str) -> Option<f64> {
-        let mut copy = *self;
-        copy.slot(path).map(|value| *value)
-    }
-
-    /// Set the constant named `path`; `None` if there is none.
-    pub fn set(&mut self, path: &str, value: f64) -> Option<()> {
-        *self.slot(path)? = value;
-        Some(())
-    }
-
-    /// The constant named `path`, mutably.
-    pub fn slot(&mut self, path: &str) -> Option<&mut f64> {
-        match self {
-            Eos::Linear(eos) => eos.named_slot(path),
-            Eos::MieGruneisen(eos) => eos.named_slot(path),
-            Eos::Polynomial(eos) => eos.named_slot(path),
-            Eos::Jwl(eos) => eos.named_slot(path),
-            Eos::TabulatedCompaction(_) => None,
-            Eos::PAlpha(eos) => match path.strip_prefix("solid.") {
-                Some(name) => eos.solid.named_slot(name),
-                None => eos.named_slot(path),
-            },
-        }
-    }
-
     /// Reject non-physical constants.
     pub fn validate(&self) -> Result<(), ParameterError> {
         match self {
@@ -229,5 +202,23 @@ impl From<TabulatedCompaction> for Eos {
 impl From<PAlpha> for Eos {
     fn from(eos: PAlpha) -> Self {
         Eos::PAlpha(eos)
+    }
+}
+
+impl crate::parameters::ConstantPaths for Eos {
+    /// `path`: the constant's name in the variant's family (`solid.<name>` for the P-alpha
+    /// solid's); a tabulated EoS has none.
+    fn slot(&mut self, path: &str) -> Option<&mut f64> {
+        match self {
+            Eos::Linear(eos) => eos.named_slot(path),
+            Eos::MieGruneisen(eos) => eos.named_slot(path),
+            Eos::Polynomial(eos) => eos.named_slot(path),
+            Eos::Jwl(eos) => eos.named_slot(path),
+            Eos::TabulatedCompaction(_) => None,
+            Eos::PAlpha(eos) => match path.strip_prefix("solid.") {
+                Some(name) => eos.solid.named_slot(name),
+                None => eos.named_slot(path),
+            },
+        }
     }
 }

@@ -76,28 +76,18 @@ impl ComposedStrength {
         hardening.chain(rate).chain(thermal)
     }
 
-    /// The constant at `path` (`term.name`).
-    pub fn get(&self, path: &str) -> Option<f64> {
-        let mut copy = *self;
-        copy.slot(path).map(|value| *value)
-    }
-
-    /// Set the constant at `path` (`term.name`); `None` if there is none.
-    pub fn set(&mut self, path: &str, value: f64) -> Option<()> {
-        *self.slot(path)? = value;
-        Some(())
-    }
-
-    /// The constant at `path` (`term.name`), mutably.
-    pub fn slot(&mut self, path: &str) -> Option<&mut f64> {
-        let (term, name) = path.split_once('.')?;
-        self.term_mut(term)?.named_slot(name)
-    }
-
     /// Validate every term.
     pub fn validate(&self) -> Result<(), ParameterError> {
         self.hardening.validate()?;
         self.rate.validate()?;
         self.thermal.validate()
+    }
+}
+
+impl crate::parameters::ConstantPaths for ComposedStrength {
+    /// `path`: `term.name` (`hardening`, `rate` or `thermal`).
+    fn slot(&mut self, path: &str) -> Option<&mut f64> {
+        let (term, name) = path.split_once('.')?;
+        self.term_mut(term)?.named_slot(name)
     }
 }

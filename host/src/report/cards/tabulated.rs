@@ -19,6 +19,7 @@
 use super::{bulk_modulus, field, line, young_and_poisson};
 use crate::input::material::MaterialFile;
 use std::fmt::Write as _;
+use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::strength::{Strength, ThermalTerm};
 use stoss_kernel::Heating;
 
