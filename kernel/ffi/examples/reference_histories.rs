@@ -22,6 +22,12 @@
 //! | `umat_jc_simple_shear` | LS-DYNA umat (Fortran) | JC 4340 | simple shear eps_xy 0.3, 300 steps, 1e3 /s |
 //! | `batch_jc_upturn_tension` | batch (block, layout 2) | JC 4340 + high-rate upturn (the diagnosis' term) | uniaxial strain +0.3, 300 steps, 1e4 /s |
 //! | `umat_jc_upturn_tension` | LS-DYNA umat (Fortran, card version 2) | same | uniaxial strain +0.25, 250 steps, 1e4 /s |
+//! | `batch_rht_compression` | batch (layout 3) | RHT HPC 92 MPa over P-alpha (`stoss_material_defaults_hpc92`) | uniaxial strain -0.05, 250 steps, 1e3 /s |
+//! | `batch_rht_tension` | batch | same | uniaxial strain +0.002, 200 steps, 1e3 /s (fails at the hydro tensile limit) |
+//! | `umat_rht_compression` | LS-DYNA umat (Fortran, card version 3) | same | uniaxial strain -0.08, 200 steps, 1e4 /s |
+//!
+//! RHT points start from the material's initial state at 293 K (P-alpha distension
+//! `alpha0`), as `stoss_state_init` and the adapters give them.
 //!
 //! Usage: `cargo run --release -p stoss-kernel-ffi --example reference_histories -- <dir>`
 
@@ -34,10 +40,11 @@ use stoss_kernel::drivers::{
     UniaxialStrainLoading,
 };
 use stoss_kernel::eos::MieGruneisen;
+use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::strength::{
     CrystalStructure, JohnsonCook, RateTerm, TwoRateJohnsonCook, ZerilliArmstrong,
 };
-use stoss_kernel::{Material, MaterialState, RateTreatment};
+use stoss_kernel::{Material, MaterialState, PointModel, RateTreatment};
 
 /// Collects the hex lines of a driver run.
 #[derive(Default)]
@@ -151,7 +158,28 @@ fn jc_upturn() -> Material {
 }
 
 fn strain_case(material: &Material, final_strain: f64, steps: u32, strain_rate: f64) -> String {
-    let mut state = MaterialState::initial(298.0);
+    strain_case_from(
+        material,
+        MaterialState::initial(298.0),
+        final_strain,
+        steps,
+        strain_rate,
+    )
+}
+
+fn rht_case(final_strain: f64, steps: u32, strain_rate: f64) -> String {
+    let material = RhtMaterial::HPC_92MPA;
+    let state = material.initial_state(293.0);
+    strain_case_from(&material, state, final_strain, steps, strain_rate)
+}
+
+fn strain_case_from(
+    material: &impl PointModel,
+    mut state: MaterialState,
+    final_strain: f64,
+    steps: u32,
+    strain_rate: f64,
+) -> String {
     let mut lines = HexLines::default();
     let loading = UniaxialStrainLoading {
         strain_rate,
@@ -215,6 +243,9 @@ fn main() {
             "umat_jc_upturn_tension",
             strain_case(&jc_upturn(), 0.25, 250, 1.0e4),
         ),
+        ("batch_rht_compression", rht_case(-0.05, 250, 1.0e3)),
+        ("batch_rht_tension", rht_case(0.002, 200, 1.0e3)),
+        ("umat_rht_compression", rht_case(-0.08, 200, 1.0e4)),
     ];
     for (name, text) in cases {
         let path = directory.join(format!("{name}.hex"));

@@ -64,7 +64,9 @@
 // to a Johnson-Cook fit ([`StossRateModel::LogUpturn`], [`StossRateModel::LogThermal`]) and
 // their five fields at the end of [`StossRateTerm`]; a version-1 card is a valid version-2
 // card (it cannot hold the new codes), a version-1 block is not (its size differs).
-#define STOSS_LAYOUT_VERSION 2
+// Version 3 added RHT concrete ([`StossStrengthModel::Rht`], [`StossRht`] at the end of
+// [`StossStrength`]); version-1 and -2 cards are valid version-3 cards.
+#define STOSS_LAYOUT_VERSION 3
 
 // Points of the tabulated-compaction EoS table in the block (the kernel's
 // `MAX_COMPACTION_POINTS`).
@@ -168,6 +170,11 @@ enum StossStrengthModel
   STOSS_STRENGTH_MODEL_TWO_RATE_JOHNSON_COOK = 5,
   // Free composition of hardening x rate x thermal terms, `strength.composed`.
   STOSS_STRENGTH_MODEL_COMPOSED = 6,
+  // RHT concrete (Riedel-Hiermaier-Thoma, seed 001 chapter 4), `strength.rht`, over the
+  // block's EoS (P-alpha for the elastic cap); not a J2 metal: heating must be isothermal,
+  // the rate treatment implicit and Johnson-Cook failure and the pressure cut-off off
+  // (RHT has its own damage and tensile limit). Layout 3.
+  STOSS_STRENGTH_MODEL_RHT = 7,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -503,6 +510,60 @@ typedef struct StossComposed {
   struct StossThermalTerm thermal;
 } StossComposed;
 
+// RHT concrete constants (SI; seed 001 table 4.1 names, Autodyn names in brackets). The
+// shear modulus is the block's `shear_modulus`, the density its `density` (the porous
+// reference density).
+typedef struct StossRht {
+  // [`StossRhtTensileFailure`] code.
+  int32_t tensile_failure;
+  // [`StossRhtMeridian`] code.
+  int32_t meridian;
+  // [`StossRhtRateScaling`] code.
+  int32_t rate_scaling;
+  // Cap on the elastic surface at the P-alpha crush pressure: 0 or 1.
+  uint32_t elastic_cap;
+  // Uniaxial compressive strength `f'c` (Pa).
+  double compressive_strength;
+  // `FT* = ft/fc` (-).
+  double tensile_strength_ratio;
+  // `FS* = fs/fc` (-).
+  double shear_strength_ratio;
+  // Failure surface constant `A` (-).
+  double failure_a;
+  // Failure surface exponent `N` (-).
+  double failure_n;
+  // Tensile-to-compressive meridian ratio `Q2,0` (-).
+  double tensile_meridian_ratio;
+  // Brittle-to-ductile transition `BQ` (-).
+  double brittle_ductile_transition;
+  // `PREFACT` (-), `>= 1`.
+  double shear_modulus_ratio;
+  // `TENSRAT` (-).
+  double tensile_elastic_ratio;
+  // `COMPRAT` (-).
+  double compressive_elastic_ratio;
+  // Residual surface constant `B` (-).
+  double residual_b;
+  // Residual surface exponent `M` (-).
+  double residual_m;
+  // Compressive rate exponent `alpha` (-).
+  double compressive_rate_exponent;
+  // Tensile rate exponent `delta` (-).
+  double tensile_rate_exponent;
+  // Compressive reference strain rate (1/s).
+  double compressive_reference_rate;
+  // Tensile reference strain rate (1/s).
+  double tensile_reference_rate;
+  // Damage constant `D1` (-).
+  double damage_d1;
+  // Damage exponent `D2` (-).
+  double damage_d2;
+  // Minimum plastic strain to failure `EFMIN` (-).
+  double minimum_failure_strain;
+  // `SHRATD` (-).
+  double residual_shear_modulus_ratio;
+} StossRht;
+
 // Constants of every strength family; `strength_model` says which one is read.
 typedef struct StossStrength {
   // Johnson-Cook.
@@ -515,6 +576,8 @@ typedef struct StossStrength {
   struct StossTwoRateJohnsonCook two_rate_johnson_cook;
   // Free composition.
   struct StossComposed composed;
+  // RHT concrete (layout 3).
+  struct StossRht rht;
 } StossStrength;
 
 // Linear EoS.
@@ -773,6 +836,17 @@ const char *stoss_status_name(int32_t status);
 // # Safety
 // `block` is NULL or valid for writes of one `StossMaterialBlock`.
 StossStatus stoss_material_defaults_4340(struct StossMaterialBlock *block);
+
+// Fill `block` with RHT concrete: the 92 MPa high-performance concrete of seed 001
+// (FOI-R--0281--SE) table 4.4 (G 18.0 GPa, f'c 92 MPa, FT* 0.057, FS* 0.30, A 1.9, N 0.6,
+// Q2,0 0.6805, BQ 0.0105, PREFACT 2, TENSRAT 0.80, COMPRAT 0.75, cap on, B 1.3, M 0.65,
+// alpha 0.010, delta 0.013, D1 0.04, D2 1, EFMIN 0.01, SHRATD 0.13, hydro tensile limit),
+// rho 2420 kg/m^3, over the kernel's illustrative P-alpha EoS (docs/user-material.md),
+// isothermal, initial temperature 293 K, no erosion. Every field is written.
+//
+// # Safety
+// `block` is NULL or valid for writes of one `StossMaterialBlock`.
+StossStatus stoss_material_defaults_hpc92(struct StossMaterialBlock *block);
 
 // Validate a material block: layout version, struct size, selectors, every constant of the
 // selected families. `STOSS_STATUS_OK`, or the status and a message naming the first

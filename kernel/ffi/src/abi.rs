@@ -13,11 +13,24 @@
 use std::ffi::c_char;
 
 use crate::adapters::{run_lsdyna, run_vumat, LsDynaArrays, VumatArrays, STOSS_HISTORY_COUNT};
+use crate::batch::AbiModel;
 use crate::batch::{
     run_batch, InputViews, OutputViews, StateViews, StossBatchInput, StossBatchOutput,
     StossBatchState,
 };
 use crate::block::{initial_bulk_modulus, StossMaterialBlock, BLOCK_SIZE, STOSS_LAYOUT_VERSION};
+use stoss_kernel::{PartMaterial, PointModel};
+
+/// Run `$body` with `$m` bound to the J2 metal or the RHT concrete of a [`PartMaterial`]:
+/// the body is compiled once per family, so no point pays for the dispatch.
+macro_rules! per_family {
+    ($model:expr, $m:ident => $body:expr) => {
+        match $model {
+            PartMaterial::J2(ref $m) => $body,
+            PartMaterial::Rht(ref $m) => $body,
+        }
+    };
+}
 use crate::boundary::{
     boundary, check_optional_pointer, read_struct, write_optional, write_struct, ArrayIn, ArrayOut,
 };
@@ -156,6 +169,25 @@ pub unsafe extern "C" fn stoss_material_defaults_4340(
     unsafe { boundary(std::ptr::null_mut(), 0, body) }
 }
 
+/// Fill `block` with RHT concrete: the 92 MPa high-performance concrete of seed 001
+/// (FOI-R--0281--SE) table 4.4 (G 18.0 GPa, f'c 92 MPa, FT* 0.057, FS* 0.30, A 1.9, N 0.6,
+/// Q2,0 0.6805, BQ 0.0105, PREFACT 2, TENSRAT 0.80, COMPRAT 0.75, cap on, B 1.3, M 0.65,
+/// alpha 0.010, delta 0.013, D1 0.04, D2 1, EFMIN 0.01, SHRATD 0.13, hydro tensile limit),
+/// rho 2420 kg/m^3, over the kernel's illustrative P-alpha EoS (docs/user-material.md),
+/// isothermal, initial temperature 293 K, no erosion. Every field is written.
+///
+/// # Safety
+/// `block` is NULL or valid for writes of one `StossMaterialBlock`.
+#[no_mangle]
+pub unsafe extern "C" fn stoss_material_defaults_hpc92(
+    block: *mut StossMaterialBlock,
+) -> StossStatus {
+    // SAFETY: caller contract on `block`.
+    let body = || unsafe { write_struct(block, StossMaterialBlock::concrete_hpc_92(), "block") };
+    // SAFETY: no message buffer (NULL).
+    unsafe { boundary(std::ptr::null_mut(), 0, body) }
+}
+
 /// Validate a material block: layout version, struct size, selectors, every constant of the
 /// selected families. `STOSS_STATUS_OK`, or the status and a message naming the first
 /// offending field (e.g. `strength.johnson_cook: yield_stress: must be > 0, got -1`).
@@ -173,7 +205,7 @@ pub unsafe extern "C" fn stoss_material_validate(
     let body = || {
         // SAFETY: caller contract on `block`.
         let block = unsafe { read_block(block) }?;
-        block.to_material().map(|_| ())
+        block.to_model().map(|_| ())
     };
     // SAFETY: caller contract on `message`.
     unsafe { boundary(message, message_capacity, body) }
@@ -198,20 +230,17 @@ pub unsafe extern "C" fn stoss_material_elastic_moduli(
 ) -> StossStatus {
     let body = || {
         // SAFETY: caller contract on `block`.
-        let material = unsafe { read_block(block) }?.to_material()?;
+        let model = unsafe { read_block(block) }?.to_model()?;
+        let (bulk, shear, speed) = per_family!(model, m => (
+            initial_bulk_modulus(m.eos()),
+            m.shear_modulus(),
+            crate::adapters::elastic_wave_speed(m),
+        ));
         // SAFETY: caller contract on the outputs.
         unsafe {
-            write_optional(
-                bulk_modulus,
-                initial_bulk_modulus(&material),
-                "bulk_modulus",
-            )?;
-            write_optional(shear_modulus, material.shear_modulus, "shear_modulus")?;
-            write_optional(
-                wave_speed,
-                crate::adapters::elastic_wave_speed(&material),
-                "wave_speed",
-            )?;
+            write_optional(bulk_modulus, bulk, "bulk_modulus")?;
+            write_optional(shear_modulus, shear, "shear_modulus")?;
+            write_optional(wave_speed, speed, "wave_speed")?;
         }
         Ok(())
     };
@@ -278,7 +307,7 @@ pub unsafe extern "C" fn stoss_material_from_card(
         let values = unsafe { ArrayIn::new(card, length, "card") }?;
         let (values, used) = copy_card(&values, length);
         let parsed = block_from_card(&values[..used])?;
-        parsed.to_material()?;
+        parsed.to_model()?;
         // SAFETY: caller contract on `block`.
         unsafe { write_struct(block, parsed, "block") }
     };
@@ -305,11 +334,11 @@ pub unsafe extern "C" fn stoss_state_init(
     let body = || {
         // SAFETY: caller contract on `block`.
         let block = unsafe { read_block(block) }?;
-        let material = block.to_material()?;
+        let model = block.to_model()?;
         zero_points(n)?;
         // SAFETY: caller contract on `state` and its arrays.
         let mut views = unsafe { StateViews::new(&read_struct(state, "state")?, n) }?;
-        let initial = block.initial_state(&material);
+        let initial = block.initial_state(&model);
         for i in 0..n {
             views.write(i, &initial);
         }
@@ -352,7 +381,7 @@ pub unsafe extern "C" fn stoss_update_batch(
 ) -> StossStatus {
     let body = || {
         // SAFETY: caller contract on `block`.
-        let material = unsafe { read_block(block) }?.to_material()?;
+        let model = unsafe { read_block(block) }?.to_model()?;
         zero_points(n)?;
         // SAFETY: caller contract on `input` and its arrays.
         let input = unsafe { InputViews::new(&read_struct(input, "input")?, n) }?;
@@ -365,7 +394,7 @@ pub unsafe extern "C" fn stoss_update_batch(
             unsafe { OutputViews::new(&read_struct(output, "output")?, n) }?
         };
         check_optional_pointer(first_failure.cast_const(), "first_failure")?;
-        let failure = run_batch(&material, n, dt, &input, &mut state, &mut output);
+        let failure = per_family!(model, m => run_batch(m, n, dt, &input, &mut state, &mut output));
         report(n, failure, first_failure)
     };
     // SAFETY: caller contract on `message`.
@@ -411,7 +440,7 @@ pub unsafe extern "C" fn stoss_lsdyna_umat(
         let card = unsafe { ArrayIn::new(cm, lmc, "cm") }?;
         let (card, used) = copy_card(&card, lmc);
         let block = block_from_card(&card[..used])?;
-        let material = block.to_material()?;
+        let model = block.to_model()?;
         zero_points(nlq)?;
         if nhv < STOSS_HISTORY_COUNT {
             return Err(FfiError::new(
@@ -434,8 +463,8 @@ pub unsafe extern "C" fn stoss_lsdyna_umat(
                 status: ArrayOut::optional(status, nlq, "status")?,
             }
         };
-        let initial = block.initial_state(&material);
-        let failure = run_lsdyna(&material, &initial, dt, &mut arrays);
+        let initial = block.initial_state(&model);
+        let failure = per_family!(model, m => run_lsdyna(m, &initial, dt, &mut arrays));
         report(nlq, failure, first_failure)
     };
     // SAFETY: caller contract on `message`.
@@ -492,7 +521,7 @@ pub unsafe extern "C" fn stoss_abaqus_vumat(
         let card = unsafe { ArrayIn::new(props, nprops, "props") }?;
         let (card, used) = copy_card(&card, nprops);
         let block = block_from_card(&card[..used])?;
-        let material = block.to_material()?;
+        let model = block.to_model()?;
         zero_points(nblock)?;
         if ndir != 3 || !(nshr == 1 || nshr == 3) {
             return Err(FfiError::new(
@@ -532,8 +561,8 @@ pub unsafe extern "C" fn stoss_abaqus_vumat(
             }
         };
         let data_check = total_time == 0.0 && step_time == 0.0;
-        let initial = block.initial_state(&material);
-        let failure = run_vumat(&material, &initial, dt, data_check, &mut arrays);
+        let initial = block.initial_state(&model);
+        let failure = per_family!(model, m => run_vumat(m, &initial, dt, data_check, &mut arrays));
         report(nblock, failure, first_failure)
     };
     // SAFETY: caller contract on `message`.

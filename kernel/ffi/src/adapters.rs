@@ -25,9 +25,9 @@
 //! logarithmic strain, so this is the host's volume to the accuracy of its integration).
 
 use stoss_kernel::tensor::{self, Sym};
-use stoss_kernel::{Material, MaterialState, StateFlags, StepOutput, UpdateError};
+use stoss_kernel::{MaterialState, StateFlags, StepOutput, UpdateError};
 
-use crate::batch::{failure_code, step_point};
+use crate::batch::{failure_code, step_point, AbiModel};
 use crate::block::initial_bulk_modulus;
 use crate::boundary::{set_optional, ArrayIn, ArrayOut};
 use crate::status::StossStatus;
@@ -102,8 +102,8 @@ pub fn history_from_state(state: &MaterialState) -> History {
 /// LS-DYNA umat convention for one point: strain increments with **engineering** shear
 /// (`gamma = 2 eps`) in Voigt order `xx yy zz xy yz zx`, the full Cauchy stress `sig`
 /// (updated in place) and the history `hsv` (updated in place). On error nothing is changed.
-pub fn lsdyna_umat_point(
-    material: &Material,
+pub fn lsdyna_umat_point<M: AbiModel>(
+    material: &M,
     initial: &MaterialState,
     dt: f64,
     engineering_strain_increment: &Sym,
@@ -161,8 +161,8 @@ pub struct VumatPoint {
 /// fictitious strain increment: it returns the elastic response
 /// `stressOld + K tr(deps) 1 + 2G dev(deps)` (`K` the initial EoS bulk modulus) and the
 /// (initialised) old history, and does not call the kernel.
-pub fn vumat_point(
-    material: &Material,
+pub fn vumat_point<M: AbiModel>(
+    material: &M,
     initial: &MaterialState,
     input: &VumatInput,
 ) -> Result<VumatPoint, UpdateError> {
@@ -177,8 +177,8 @@ pub fn vumat_point(
     let (strain_increment, stress_old) = (&strain_increment, &stress_old);
     let mut state = state_from_history(stress_old, state_old, initial)?;
     if *data_check {
-        let bulk = initial_bulk_modulus(material);
-        let shear = material.shear_modulus;
+        let bulk = initial_bulk_modulus(material.eos());
+        let shear = material.shear_modulus();
         let volumetric = tensor::trace(strain_increment);
         let deviator = tensor::deviator(strain_increment);
         let stress: Sym = core::array::from_fn(|k| {
@@ -197,7 +197,7 @@ pub fn vumat_point(
     Ok(VumatPoint {
         stress: state.stress,
         history: history_from_state(&state),
-        internal_energy_per_mass: state.internal_energy / material.density,
+        internal_energy_per_mass: state.internal_energy / material.density(),
         output: Some(output),
         state,
     })
@@ -216,8 +216,8 @@ pub(crate) struct LsDynaArrays<'a> {
     pub status: Option<ArrayOut<'a, i32>>,
 }
 
-pub(crate) fn run_lsdyna(
-    material: &Material,
+pub(crate) fn run_lsdyna<M: AbiModel>(
+    material: &M,
     initial: &MaterialState,
     dt: f64,
     arrays: &mut LsDynaArrays<'_>,
@@ -267,8 +267,8 @@ pub(crate) struct VumatArrays<'a> {
     pub status: Option<ArrayOut<'a, i32>>,
 }
 
-pub(crate) fn run_vumat(
-    material: &Material,
+pub(crate) fn run_vumat<M: AbiModel>(
+    material: &M,
     initial: &MaterialState,
     dt: f64,
     data_check: bool,
@@ -341,9 +341,9 @@ pub(crate) fn run_vumat(
 }
 
 /// Elastic longitudinal wave speed at the reference state, `sqrt((K + 4G/3)/rho0)`.
-pub fn elastic_wave_speed(material: &Material) -> f64 {
-    let modulus = initial_bulk_modulus(material) + 4.0 * material.shear_modulus / 3.0;
-    stoss_kernel::math::sqrt(modulus / material.density)
+pub fn elastic_wave_speed<M: AbiModel>(material: &M) -> f64 {
+    let modulus = initial_bulk_modulus(material.eos()) + 4.0 * material.shear_modulus() / 3.0;
+    stoss_kernel::math::sqrt(modulus / material.density())
 }
 
 #[cfg(test)]
@@ -351,6 +351,7 @@ mod tests {
     use super::*;
     use stoss_kernel::drivers::UniaxialStrainLoading;
     use stoss_kernel::drivers::{simple_shear, uniaxial_strain, LastRecord, SimpleShearLoading};
+    use stoss_kernel::Material;
 
     fn jc_failure() -> Material {
         let mut material = Material::STEEL_4340;

@@ -5,11 +5,12 @@
 //! `sigma_xx` of point `i`). Points are independent: a point whose update fails gets its
 //! status and keeps its state untouched; the others proceed.
 
+use stoss_kernel::eos::Eos;
 use stoss_kernel::math::exp;
+use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::tensor::{self, Matrix6, Sym};
 use stoss_kernel::{
-    update, update_with_tangent, Material, MaterialState, StateFlags, StepInput, StepOutput,
-    UpdateError,
+    Material, MaterialState, PointModel, StateFlags, StepInput, StepOutput, UpdateError,
 };
 
 use crate::boundary::{set_optional, ArrayIn, ArrayOut};
@@ -101,11 +102,30 @@ pub fn failure_code(state: &MaterialState) -> i32 {
     code
 }
 
+/// A kernel point model the ABI runs (a J2 metal or RHT concrete): the kernel's
+/// [`PointModel`], and the EoS the host's bulk modulus and wave speed come from.
+pub trait AbiModel: PointModel {
+    /// The model's equation of state.
+    fn eos(&self) -> &Eos;
+}
+
+impl AbiModel for Material {
+    fn eos(&self) -> &Eos {
+        &self.eos
+    }
+}
+
+impl AbiModel for RhtMaterial {
+    fn eos(&self) -> &Eos {
+        &self.eos
+    }
+}
+
 /// One point, one step: the kernel update with the relative volume either given or
 /// integrated as `V1 = V0 exp(tr deps)` (bit-identical to the kernel's drivers).
 #[inline]
-pub fn step_point(
-    material: &Material,
+pub fn step_point<M: PointModel>(
+    material: &M,
     state: &mut MaterialState,
     strain_increment: &Sym,
     dt: f64,
@@ -122,8 +142,8 @@ pub fn step_point(
         relative_volume,
     };
     match tangent {
-        Some(tangent) => update_with_tangent(material, state, &input, tangent),
-        None => update(material, state, &input),
+        Some(tangent) => material.update_with_tangent(state, &input, tangent),
+        None => material.update(state, &input),
     }
 }
 
@@ -283,8 +303,8 @@ impl<'a> StateViews<'a> {
 }
 
 /// Update `n` points; returns the first failure (index and error) after processing all.
-pub(crate) fn run_batch(
-    material: &Material,
+pub(crate) fn run_batch<M: PointModel>(
+    material: &M,
     n: usize,
     dt: f64,
     input: &InputViews<'_>,

@@ -14,11 +14,12 @@ use stoss_kernel::eos::{
     CompactionPoint, Eos, Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial, TabulatedCompaction,
     MAX_COMPACTION_POINTS,
 };
+use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters, TensileFailure};
 use stoss_kernel::strength::{
     ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm,
     Strength, ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
 };
-use stoss_kernel::{Heating, Material, MaterialState, RateTreatment};
+use stoss_kernel::{Heating, Material, MaterialState, PartMaterial, PointModel, RateTreatment};
 
 use crate::status::{FfiError, StossStatus};
 
@@ -27,7 +28,9 @@ use crate::status::{FfiError, StossStatus};
 /// to a Johnson-Cook fit ([`StossRateModel::LogUpturn`], [`StossRateModel::LogThermal`]) and
 /// their five fields at the end of [`StossRateTerm`]; a version-1 card is a valid version-2
 /// card (it cannot hold the new codes), a version-1 block is not (its size differs).
-pub const STOSS_LAYOUT_VERSION: u32 = 2;
+/// Version 3 added RHT concrete ([`StossStrengthModel::Rht`], [`StossRht`] at the end of
+/// [`StossStrength`]); version-1 and -2 cards are valid version-3 cards.
+pub const STOSS_LAYOUT_VERSION: u32 = 3;
 
 /// Points of the tabulated-compaction EoS table in the block (the kernel's
 /// `MAX_COMPACTION_POINTS`).
@@ -51,6 +54,44 @@ pub enum StossStrengthModel {
     TwoRateJohnsonCook = 5,
     /// Free composition of hardening x rate x thermal terms, `strength.composed`.
     Composed = 6,
+    /// RHT concrete (Riedel-Hiermaier-Thoma, seed 001 chapter 4), `strength.rht`, over the
+    /// block's EoS (P-alpha for the elastic cap); not a J2 metal: heating must be isothermal,
+    /// the rate treatment implicit and Johnson-Cook failure and the pressure cut-off off
+    /// (RHT has its own damage and tensile limit). Layout 3.
+    Rht = 7,
+}
+
+/// RHT tensile failure (`StossRht::tensile_failure`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossRhtTensileFailure {
+    /// Autodyn's hydro tensile limit: the point fails when its pressure would fall below
+    /// `p_min` (seed 001 table 4.4).
+    HydroTensileLimit = 1,
+    /// LS-DYNA `*MAT_RHT`: the pressure is held at `p_min`, damage grows from plastic strain.
+    PressureCutoff = 2,
+    /// Autodyn "principal stress": fails when the largest principal stress reaches `F_t ft`.
+    PrincipalStress = 3,
+}
+
+/// Shape of the RHT compressive meridian at low pressure (`StossRht::meridian`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossRhtMeridian {
+    /// Seed eq. 4.1 over the whole pressure range, `A (p* - p*_spall)^N`.
+    PowerLaw = 1,
+    /// Through the characteristic points `FT*`, `FS*`, 1 at low pressure (Autodyn's option).
+    CharacteristicPoints = 2,
+}
+
+/// How the RHT rate factor enters the failure surface (`StossRht::rate_scaling`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossRhtRateScaling {
+    /// Seed eqs. 4.1 and 4.5 as printed (Autodyn 4.2).
+    SeedEquation = 1,
+    /// The meridian scaled homothetically (Riedel 2000, LS-DYNA `*MAT_RHT`).
+    Homothetic = 2,
 }
 
 /// Hardening term of a composed model (`StossComposed::hardening_model`).
@@ -343,6 +384,62 @@ pub struct StossComposed {
     pub thermal: StossThermalTerm,
 }
 
+/// RHT concrete constants (SI; seed 001 table 4.1 names, Autodyn names in brackets). The
+/// shear modulus is the block's `shear_modulus`, the density its `density` (the porous
+/// reference density).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossRht {
+    /// [`StossRhtTensileFailure`] code.
+    pub tensile_failure: i32,
+    /// [`StossRhtMeridian`] code.
+    pub meridian: i32,
+    /// [`StossRhtRateScaling`] code.
+    pub rate_scaling: i32,
+    /// Cap on the elastic surface at the P-alpha crush pressure: 0 or 1.
+    pub elastic_cap: u32,
+    /// Uniaxial compressive strength `f'c` (Pa).
+    pub compressive_strength: f64,
+    /// `FT* = ft/fc` (-).
+    pub tensile_strength_ratio: f64,
+    /// `FS* = fs/fc` (-).
+    pub shear_strength_ratio: f64,
+    /// Failure surface constant `A` (-).
+    pub failure_a: f64,
+    /// Failure surface exponent `N` (-).
+    pub failure_n: f64,
+    /// Tensile-to-compressive meridian ratio `Q2,0` (-).
+    pub tensile_meridian_ratio: f64,
+    /// Brittle-to-ductile transition `BQ` (-).
+    pub brittle_ductile_transition: f64,
+    /// `PREFACT` (-), `>= 1`.
+    pub shear_modulus_ratio: f64,
+    /// `TENSRAT` (-).
+    pub tensile_elastic_ratio: f64,
+    /// `COMPRAT` (-).
+    pub compressive_elastic_ratio: f64,
+    /// Residual surface constant `B` (-).
+    pub residual_b: f64,
+    /// Residual surface exponent `M` (-).
+    pub residual_m: f64,
+    /// Compressive rate exponent `alpha` (-).
+    pub compressive_rate_exponent: f64,
+    /// Tensile rate exponent `delta` (-).
+    pub tensile_rate_exponent: f64,
+    /// Compressive reference strain rate (1/s).
+    pub compressive_reference_rate: f64,
+    /// Tensile reference strain rate (1/s).
+    pub tensile_reference_rate: f64,
+    /// Damage constant `D1` (-).
+    pub damage_d1: f64,
+    /// Damage exponent `D2` (-).
+    pub damage_d2: f64,
+    /// Minimum plastic strain to failure `EFMIN` (-).
+    pub minimum_failure_strain: f64,
+    /// `SHRATD` (-).
+    pub residual_shear_modulus_ratio: f64,
+}
+
 /// Constants of every strength family; `strength_model` says which one is read.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -357,6 +454,8 @@ pub struct StossStrength {
     pub two_rate_johnson_cook: StossTwoRateJohnsonCook,
     /// Free composition.
     pub composed: StossComposed,
+    /// RHT concrete (layout 3).
+    pub rht: StossRht,
 }
 
 /// Linear EoS.
@@ -600,8 +699,24 @@ code_enum!(
         ZerilliArmstrongFcc,
         ModifiedJohnsonCook,
         TwoRateJohnsonCook,
-        Composed
+        Composed,
+        Rht
     ]
+);
+code_enum!(
+    StossRhtTensileFailure,
+    "strength.rht.tensile_failure",
+    [HydroTensileLimit, PressureCutoff, PrincipalStress]
+);
+code_enum!(
+    StossRhtMeridian,
+    "strength.rht.meridian",
+    [PowerLaw, CharacteristicPoints]
+);
+code_enum!(
+    StossRhtRateScaling,
+    "strength.rht.rate_scaling",
+    [SeedEquation, Homothetic]
 );
 code_enum!(
     StossHardeningModel,
@@ -911,6 +1026,12 @@ impl StossMaterialBlock {
                     .map_err(|e| FfiError::parameter(section, e))?;
                 (model.into(), section)
             }
+            StossStrengthModel::Rht => {
+                return Err(invalid(
+                    "strength_model",
+                    "7 (RHT concrete) is not a J2 metal: read the block with to_model",
+                ))
+            }
             StossStrengthModel::Composed => {
                 let model = s.composed.to_kernel()?;
                 let section = "strength.composed";
@@ -1068,9 +1189,8 @@ impl StossMaterialBlock {
         Ok(failure)
     }
 
-    /// The kernel material this block describes, fully validated; the error names the first
-    /// offending field (with its section, e.g. `strength.johnson_cook: yield_stress: ...`).
-    pub fn to_material(&self) -> Result<Material, FfiError> {
+    /// The header, the rate treatment and the four positive scalars every family reads.
+    fn common(&self) -> Result<RateTreatment, FfiError> {
         Self::check_header(self.layout_version, self.struct_size)?;
         let rate_treatment = match StossRateTreatment::from_code(self.rate_treatment)? {
             StossRateTreatment::Implicit => RateTreatment::Implicit,
@@ -1089,6 +1209,113 @@ impl StossMaterialBlock {
                 return Err(invalid(field, format_args!("must be > 0, got {value}")));
             }
         }
+        Ok(rate_treatment)
+    }
+
+    /// The point model this block describes, of either family (a J2 metal or RHT concrete),
+    /// fully validated; the error names the first offending field.
+    pub fn to_model(&self) -> Result<PartMaterial, FfiError> {
+        Self::check_header(self.layout_version, self.struct_size)?;
+        if self.strength_model == StossStrengthModel::Rht as i32 {
+            self.to_rht().map(PartMaterial::Rht)
+        } else {
+            self.to_material().map(PartMaterial::J2)
+        }
+    }
+
+    /// The RHT concrete this block describes (`strength_model` = RHT), fully validated.
+    pub fn to_rht(&self) -> Result<RhtMaterial, FfiError> {
+        let rate_treatment = self.common()?;
+        if StossStrengthModel::from_code(self.strength_model)? != StossStrengthModel::Rht {
+            return Err(invalid(
+                "strength_model",
+                format_args!("{} is not RHT concrete (7)", self.strength_model),
+            ));
+        }
+        if rate_treatment != RateTreatment::Implicit {
+            return Err(invalid(
+                "rate_treatment",
+                "RHT concrete takes the step's own strain rate: must be implicit (1)",
+            ));
+        }
+        if StossHeatingModel::from_code(self.heating_model)? != StossHeatingModel::Isothermal {
+            return Err(invalid(
+                "heating_model",
+                "RHT concrete has no plastic-work heating: must be isothermal (1)",
+            ));
+        }
+        let f = &self.failure;
+        for (field, value) in [
+            ("failure.johnson_cook_enabled", f.johnson_cook_enabled),
+            ("failure.erode_on_failure", f.erode_on_failure),
+            ("failure.pressure_cutoff_enabled", f.pressure_cutoff_enabled),
+        ] {
+            if switch(field, value)? {
+                return Err(invalid(
+                    field,
+                    "RHT concrete has its own damage and tensile limit: must be 0",
+                ));
+            }
+        }
+        let r = &self.strength.rht;
+        let parameters = RhtParameters {
+            shear_modulus: self.shear_modulus,
+            compressive_strength: r.compressive_strength,
+            tensile_strength_ratio: r.tensile_strength_ratio,
+            shear_strength_ratio: r.shear_strength_ratio,
+            failure_a: r.failure_a,
+            failure_n: r.failure_n,
+            tensile_meridian_ratio: r.tensile_meridian_ratio,
+            brittle_ductile_transition: r.brittle_ductile_transition,
+            shear_modulus_ratio: r.shear_modulus_ratio,
+            tensile_elastic_ratio: r.tensile_elastic_ratio,
+            compressive_elastic_ratio: r.compressive_elastic_ratio,
+            elastic_cap: switch("strength.rht.elastic_cap", r.elastic_cap)?,
+            residual_b: r.residual_b,
+            residual_m: r.residual_m,
+            compressive_rate_exponent: r.compressive_rate_exponent,
+            tensile_rate_exponent: r.tensile_rate_exponent,
+            compressive_reference_rate: r.compressive_reference_rate,
+            tensile_reference_rate: r.tensile_reference_rate,
+            damage_d1: r.damage_d1,
+            damage_d2: r.damage_d2,
+            minimum_failure_strain: r.minimum_failure_strain,
+            residual_shear_modulus_ratio: r.residual_shear_modulus_ratio,
+            tensile_failure: match StossRhtTensileFailure::from_code(r.tensile_failure)? {
+                StossRhtTensileFailure::HydroTensileLimit => TensileFailure::HydroTensileLimit,
+                StossRhtTensileFailure::PressureCutoff => TensileFailure::PressureCutoff,
+                StossRhtTensileFailure::PrincipalStress => TensileFailure::PrincipalStress,
+            },
+            meridian: match StossRhtMeridian::from_code(r.meridian)? {
+                StossRhtMeridian::PowerLaw => FailureMeridian::PowerLaw,
+                StossRhtMeridian::CharacteristicPoints => FailureMeridian::CharacteristicPoints,
+            },
+            rate_scaling: match StossRhtRateScaling::from_code(r.rate_scaling)? {
+                StossRhtRateScaling::SeedEquation => RateScaling::SeedEquation,
+                StossRhtRateScaling::Homothetic => RateScaling::Homothetic,
+            },
+        };
+        parameters
+            .validate()
+            .map_err(|error| FfiError::parameter("strength.rht", error))?;
+        let material = RhtMaterial {
+            density: self.density,
+            parameters,
+            eos: self.eos()?,
+            erosion_plastic_strain: switch("failure.erosion_enabled", f.erosion_enabled)?
+                .then_some(f.erosion_plastic_strain),
+            erosion_geometric_strain: None,
+        };
+        material
+            .validate()
+            .map_err(|error| FfiError::parameter("material", error))?;
+        Ok(material)
+    }
+
+    /// The kernel material this block describes, fully validated; the error names the first
+    /// offending field (with its section, e.g. `strength.johnson_cook: yield_stress: ...`).
+    pub fn to_material(&self) -> Result<Material, FfiError> {
+        let rate_treatment = self.common()?;
         let (strength, _) = self.strength()?;
         let material = Material {
             density: self.density,
@@ -1109,18 +1336,68 @@ impl StossMaterialBlock {
 
     /// Initial state of a point of this material (undeformed, stress free, at
     /// `initial_temperature`, EoS history at its initial value).
-    pub fn initial_state(&self, material: &Material) -> MaterialState {
-        let mut state = MaterialState::initial(self.initial_temperature);
-        state.eos_history = material.eos.initial_history();
-        state
+    pub fn initial_state(&self, model: &impl PointModel) -> MaterialState {
+        model.initial_state(self.initial_temperature)
+    }
+
+    /// The 92 MPa high-performance concrete of seed 001 table 4.4 over its illustrative
+    /// P-alpha EoS: the kernel's `RhtMaterial::HPC_92MPA`, initial temperature 293 K, no
+    /// erosion. Specific heat 880 J/kg/K (a typical concrete; RHT does not read it).
+    pub fn concrete_hpc_92() -> Self {
+        crate::export::from_rht(&RhtMaterial::HPC_92MPA, 293.0, 880.0)
+            .map(|(block, _)| block)
+            .unwrap_or_else(|_| Self::empty())
+    }
+}
+
+impl StossRht {
+    /// The block form of kernel RHT constants (the shear modulus goes to the block's
+    /// `shear_modulus`).
+    pub fn from_kernel(p: &RhtParameters) -> Self {
+        Self {
+            tensile_failure: match p.tensile_failure {
+                TensileFailure::HydroTensileLimit => StossRhtTensileFailure::HydroTensileLimit,
+                TensileFailure::PressureCutoff => StossRhtTensileFailure::PressureCutoff,
+                TensileFailure::PrincipalStress => StossRhtTensileFailure::PrincipalStress,
+            } as i32,
+            meridian: match p.meridian {
+                FailureMeridian::PowerLaw => StossRhtMeridian::PowerLaw,
+                FailureMeridian::CharacteristicPoints => StossRhtMeridian::CharacteristicPoints,
+            } as i32,
+            rate_scaling: match p.rate_scaling {
+                RateScaling::SeedEquation => StossRhtRateScaling::SeedEquation,
+                RateScaling::Homothetic => StossRhtRateScaling::Homothetic,
+            } as i32,
+            elastic_cap: u32::from(p.elastic_cap),
+            compressive_strength: p.compressive_strength,
+            tensile_strength_ratio: p.tensile_strength_ratio,
+            shear_strength_ratio: p.shear_strength_ratio,
+            failure_a: p.failure_a,
+            failure_n: p.failure_n,
+            tensile_meridian_ratio: p.tensile_meridian_ratio,
+            brittle_ductile_transition: p.brittle_ductile_transition,
+            shear_modulus_ratio: p.shear_modulus_ratio,
+            tensile_elastic_ratio: p.tensile_elastic_ratio,
+            compressive_elastic_ratio: p.compressive_elastic_ratio,
+            residual_b: p.residual_b,
+            residual_m: p.residual_m,
+            compressive_rate_exponent: p.compressive_rate_exponent,
+            tensile_rate_exponent: p.tensile_rate_exponent,
+            compressive_reference_rate: p.compressive_reference_rate,
+            tensile_reference_rate: p.tensile_reference_rate,
+            damage_d1: p.damage_d1,
+            damage_d2: p.damage_d2,
+            minimum_failure_strain: p.minimum_failure_strain,
+            residual_shear_modulus_ratio: p.residual_shear_modulus_ratio,
+        }
     }
 }
 
 /// Bulk modulus the host should use for its time step, contact and hourglass stiffness: the
 /// EoS slope `dp/dmu` at the reference state (`mu = 0`, `E = 0`, initial EoS history). For the
 /// linear EoS this is `K`; for Mie-Grüneisen `rho0 C^2`; for the polynomial `A1`.
-pub fn initial_bulk_modulus(material: &Material) -> f64 {
-    let (terms, _) = material.eos.evaluate(0.0, material.eos.initial_history());
+pub fn initial_bulk_modulus(eos: &Eos) -> f64 {
+    let (terms, _) = eos.evaluate(0.0, eos.initial_history());
     terms.d_base_d_mu
 }
 
@@ -1132,7 +1409,7 @@ mod tests {
     fn defaults_are_the_kernel_4340() {
         let material = StossMaterialBlock::steel_4340().to_material().unwrap();
         assert_eq!(material, Material::STEEL_4340);
-        assert_eq!(initial_bulk_modulus(&material), 159.0e9);
+        assert_eq!(initial_bulk_modulus(&material.eos), 159.0e9);
     }
 
     #[test]

@@ -38,9 +38,11 @@
 //! `beta1 e01 beta2 e02`; Cowper-Symonds `D q`; log-upturn `C e0 beta e_up` and log-thermal
 //! `C e0 kappa` (layout 2), whose `T*` uses the `Tr Tm` slots of the thermal term.
 
+use stoss_kernel::PartMaterial;
+
 use crate::block::{
     initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel,
-    StossMaterialBlock, StossRateModel, StossStrengthModel, StossThermalModel,
+    StossMaterialBlock, StossRateModel, StossRht, StossStrengthModel, StossThermalModel,
     STOSS_LAYOUT_VERSION, STOSS_MAX_COMPACTION_POINTS,
 };
 use crate::status::{FfiError, StossStatus};
@@ -66,6 +68,9 @@ pub const STOSS_CARD_FAILURE_PRESSURE_CUTOFF: u32 = 8;
 
 /// 0-based index of the first strength slot (P25).
 const STRENGTH: usize = 24;
+/// 0-based index of the first RHT slot (P17): RHT concrete has no Johnson-Cook failure, so
+/// its 24 values take P17..P40 (the JC failure and strength slots).
+const RHT: usize = 16;
 /// 0-based index of the first EoS slot (P42).
 const EOS: usize = STOSS_CARD_FIXED_LENGTH;
 
@@ -162,6 +167,20 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
     f.pressure_cutoff_enabled = u32::from(flags & STOSS_CARD_FAILURE_PRESSURE_CUTOFF != 0);
     f.erosion_plastic_strain = card[14];
     f.pressure_cutoff = card[15];
+    if block.strength_model == StossStrengthModel::Rht as i32 {
+        let r = &mut block.strength.rht;
+        r.tensile_failure = code(card, RHT, "RHT tensile failure")?;
+        r.meridian = code(card, RHT + 1, "RHT meridian")?;
+        r.rate_scaling = code(card, RHT + 2, "RHT rate scaling")?;
+        let cap = code(card, RHT + 3, "RHT elastic cap")?;
+        r.elastic_cap = u32::try_from(cap)
+            .map_err(|_| slot_error(RHT + 3, "RHT elastic cap", "must be 0 or 1"))?;
+        for (slot, value) in rht_constants_mut(r).into_iter().enumerate() {
+            *value = card[RHT + 4 + slot];
+        }
+        read_eos(card, &mut block, bulk_modulus)?;
+        return Ok(block);
+    }
     let j = &mut f.johnson_cook;
     [
         j.d1,
@@ -177,6 +196,8 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
     let s: [f64; 17] = card[STRENGTH..STRENGTH + 17].try_into().expect("17 slots");
     let strength = &mut block.strength;
     match StossStrengthModel::from_code(block.strength_model)? {
+        // Read with its own slots above.
+        StossStrengthModel::Rht => {}
         StossStrengthModel::JohnsonCook => {
             let p = &mut strength.johnson_cook;
             [
@@ -293,6 +314,43 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
         }
     }
 
+    read_eos(card, &mut block, bulk_modulus)?;
+    Ok(block)
+}
+
+/// The twenty floating-point RHT constants in their card order (P21..P40).
+fn rht_constants_mut(r: &mut StossRht) -> [&mut f64; 20] {
+    [
+        &mut r.compressive_strength,
+        &mut r.tensile_strength_ratio,
+        &mut r.shear_strength_ratio,
+        &mut r.failure_a,
+        &mut r.failure_n,
+        &mut r.tensile_meridian_ratio,
+        &mut r.brittle_ductile_transition,
+        &mut r.shear_modulus_ratio,
+        &mut r.tensile_elastic_ratio,
+        &mut r.compressive_elastic_ratio,
+        &mut r.residual_b,
+        &mut r.residual_m,
+        &mut r.compressive_rate_exponent,
+        &mut r.tensile_rate_exponent,
+        &mut r.compressive_reference_rate,
+        &mut r.tensile_reference_rate,
+        &mut r.damage_d1,
+        &mut r.damage_d2,
+        &mut r.minimum_failure_strain,
+        &mut r.residual_shear_modulus_ratio,
+    ]
+}
+
+/// The EoS section (from P42) of a card into `block` (`bulk_modulus`, P4, is the linear
+/// EoS's `K`).
+fn read_eos(
+    card: &[f64],
+    block: &mut StossMaterialBlock,
+    bulk_modulus: f64,
+) -> Result<(), FfiError> {
     let eos = StossEosModel::from_code(block.eos_model)?;
     let point_count = if eos == StossEosModel::TabulatedCompaction {
         let count = card.get(EOS).copied().unwrap_or(0.0);
@@ -383,7 +441,7 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
             }
         }
     }
-    Ok(block)
+    Ok(())
 }
 
 /// The card of a (valid) block: `P1..P41` plus the EoS section; returns the values and the
@@ -391,12 +449,16 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
 pub fn card_from_block(
     block: &StossMaterialBlock,
 ) -> Result<([f64; STOSS_CARD_MAX_LENGTH], usize), FfiError> {
-    let material = block.to_material()?;
+    let model = block.to_model()?;
+    let eos = match &model {
+        PartMaterial::J2(material) => &material.eos,
+        PartMaterial::Rht(material) => &material.eos,
+    };
     let mut card = [0.0; STOSS_CARD_MAX_LENGTH];
     card[0] = f64::from(STOSS_LAYOUT_VERSION);
     card[1] = block.density;
     card[2] = block.shear_modulus;
-    card[3] = initial_bulk_modulus(&material);
+    card[3] = initial_bulk_modulus(eos);
     card[4] = block.specific_heat;
     card[5] = block.initial_temperature;
     card[6] = f64::from(block.strength_model);
@@ -439,6 +501,16 @@ pub fn card_from_block(
     let s = &mut card[STRENGTH..STRENGTH + 17];
     let strength = &block.strength;
     match StossStrengthModel::from_code(block.strength_model)? {
+        StossStrengthModel::Rht => {
+            let mut r = strength.rht;
+            card[RHT] = f64::from(r.tensile_failure);
+            card[RHT + 1] = f64::from(r.meridian);
+            card[RHT + 2] = f64::from(r.rate_scaling);
+            card[RHT + 3] = f64::from(r.elastic_cap);
+            for (slot, value) in rht_constants_mut(&mut r).into_iter().enumerate() {
+                card[RHT + 4 + slot] = *value;
+            }
+        }
         StossStrengthModel::JohnsonCook => {
             let p = &strength.johnson_cook;
             s[..8].copy_from_slice(&[
@@ -733,7 +805,7 @@ mod tests {
         card[0] = 1.0;
         let parsed = block_from_card(&card[..length]).unwrap();
         assert_eq!(parsed.to_material().unwrap(), Material::STEEL_4340);
-        card[0] = 3.0;
+        card[0] = 4.0;
         assert_eq!(
             block_from_card(&card[..length]).unwrap_err().status,
             StossStatus::BadLayoutVersion
@@ -784,7 +856,7 @@ mod tests {
         let material = round_trip(&block);
         let (card, _) = card_from_block(&block).unwrap();
         assert_eq!(card[3], 7830.0 * 4570.0 * 4570.0);
-        assert_eq!(initial_bulk_modulus(&material), card[3]);
+        assert_eq!(initial_bulk_modulus(&material.eos), card[3]);
 
         block.eos_model = StossEosModel::Polynomial as i32;
         block.eos.polynomial.a1 = 159.0e9;
@@ -838,7 +910,7 @@ mod tests {
         assert!(short.message.contains("at least 41"), "{}", short.message);
 
         let mut bad = card;
-        bad[0] = 3.0;
+        bad[0] = 4.0;
         assert_eq!(
             block_from_card(&bad[..length]).unwrap_err().status,
             StossStatus::BadLayoutVersion

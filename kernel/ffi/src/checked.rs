@@ -903,7 +903,7 @@ mod tests {
         );
         assert_eq!(call.hsv, before);
         let mut call = umat(2);
-        call.card[0] = 3.0;
+        call.card[0] = 4.0;
         assert_eq!(update_umat(&mut call).status, StossStatus::BadLayoutVersion);
         let mut call = umat(2);
         call.nhv = 7;

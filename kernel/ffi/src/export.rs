@@ -9,6 +9,7 @@
 //! principal-strain failure of `Failure`; [`from_material`] reports whether it dropped them.
 
 use stoss_kernel::eos::Eos;
+use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::strength::{
     ComposedStrength, CrystalStructure, Hardening, RateTerm, Strength, ThermalTerm,
 };
@@ -17,7 +18,7 @@ use stoss_kernel::{Heating, Material, RateTreatment};
 use crate::block::{
     StossComposed, StossEosModel, StossHardening, StossHardeningModel, StossHeatingModel,
     StossJohnsonCook, StossJohnsonCookFailure, StossMaterialBlock, StossRateModel, StossRateTerm,
-    StossRateTreatment, StossStrengthModel, StossThermalModel, StossThermalTerm,
+    StossRateTreatment, StossRht, StossStrengthModel, StossThermalModel, StossThermalTerm,
 };
 use crate::status::FfiError;
 
@@ -87,6 +88,32 @@ pub fn from_material(
         failure.erosion_geometric_strain.is_some() || failure.failure_principal_strain.is_some();
     block.to_material()?;
     Ok((block, dropped))
+}
+
+/// The block of RHT concrete `material` at `initial_temperature` (K), and whether the host-only
+/// geometric erosion strain was left out. Specific heat: `specific_heat` (RHT does not read
+/// it; the block requires a positive value). Validated by [`StossMaterialBlock::to_rht`].
+pub fn from_rht(
+    material: &RhtMaterial,
+    initial_temperature: f64,
+    specific_heat: f64,
+) -> Result<(StossMaterialBlock, bool), FfiError> {
+    let mut block = StossMaterialBlock::empty();
+    block.strength_model = StossStrengthModel::Rht as i32;
+    block.rate_treatment = StossRateTreatment::Implicit as i32;
+    block.heating_model = StossHeatingModel::Isothermal as i32;
+    block.density = material.density;
+    block.shear_modulus = material.parameters.shear_modulus;
+    block.specific_heat = specific_heat;
+    block.initial_temperature = initial_temperature;
+    block.strength.rht = StossRht::from_kernel(&material.parameters);
+    write_eos(&mut block, &material.eos);
+    if let Some(strain) = material.erosion_plastic_strain {
+        block.failure.erosion_enabled = 1;
+        block.failure.erosion_plastic_strain = strain;
+    }
+    block.to_rht()?;
+    Ok((block, material.erosion_geometric_strain.is_some()))
 }
 
 fn write_strength(block: &mut StossMaterialBlock, strength: &Strength) {

@@ -247,7 +247,7 @@ fn layout_version_and_size_are_checked_before_the_block_is_read() {
     block.layout_version = 1;
     let (status, message) = validate(&block);
     assert_eq!(status, StossStatus::BadLayoutVersion);
-    assert!(message.contains("expects 2"), "{message}");
+    assert!(message.contains("expects 3"), "{message}");
 
     let mut block = defaults();
     block.struct_size = 16;
@@ -677,4 +677,118 @@ fn vumat_plane_strain_equals_3d_without_out_of_plane_shear() {
     assert_eq!(plane_state, solid_state);
     assert_eq!(plane_energy, solid_energy);
     assert!(plane_state[0] > 0.0, "the path is plastic");
+}
+
+fn concrete() -> StossMaterialBlock {
+    let mut block = StossMaterialBlock::default();
+    // SAFETY: `block` is a valid, writable block.
+    assert_eq!(
+        unsafe { stoss_material_defaults_hpc92(&mut block) },
+        StossStatus::Ok
+    );
+    block
+}
+
+#[test]
+fn rht_concrete_runs_through_the_batch_bit_for_bit_and_round_trips_its_card() {
+    // GOAL: RHT concrete (layout 3) through the same entry points as the metals: the batch
+    //       equals the kernel's uniaxial-strain driver bit for bit, from the P-alpha initial
+    //       state that stoss_state_init gives; the card carries it exactly.
+    // SETUP: the library's HPC 92 MPa defaults; one point crushed to -5 %, one pulled to
+    //        +0.2 % (it fails at the hydro tensile limit), 250 steps at 1e3 /s.
+    // REFERENCE: stoss_kernel::drivers::uniaxial_strain on RhtMaterial::HPC_92MPA.
+    use stoss_kernel::rht::RhtMaterial;
+    let block = concrete();
+    assert_eq!(validate(&block).0, StossStatus::Ok);
+    assert_eq!(block.to_rht().unwrap(), RhtMaterial::HPC_92MPA);
+    let steps = 250;
+    let rate = 1.0e3;
+    let finals = [-0.05, 0.002];
+    for final_strain in finals {
+        let mut points = Points::new(1);
+        points.init(&block);
+        assert_eq!(
+            points.point(0),
+            RhtMaterial::HPC_92MPA.initial_state(293.0),
+            "initial state"
+        );
+        let increment = final_strain / f64::from(steps);
+        let dt = increment.abs() / rate;
+        points.strain[0] = vec![increment];
+        for _ in 0..steps {
+            let outcome = points.update(&block, dt, false);
+            assert_eq!(outcome.status, StossStatus::Ok, "{}", outcome.message);
+        }
+        let mut reference = RhtMaterial::HPC_92MPA.initial_state(293.0);
+        let loading = UniaxialStrainLoading {
+            strain_rate: rate,
+            final_strain,
+            steps,
+        };
+        let mut sink = LastRecord::default();
+        uniaxial_strain(&RhtMaterial::HPC_92MPA, &mut reference, &loading, &mut sink).unwrap();
+        assert_eq!(points.point(0), reference, "final strain {final_strain}");
+        assert_eq!(points.wave_speed[0], sink.last.unwrap().wave_speed);
+        let failed = if final_strain > 0.0 {
+            STOSS_FAILED_DAMAGE
+        } else {
+            0
+        };
+        assert_eq!(points.failed, vec![failed], "final strain {final_strain}");
+    }
+
+    let mut card = [0.0; STOSS_CARD_MAX_LENGTH];
+    let mut length = 0;
+    // SAFETY: `card` holds STOSS_CARD_MAX_LENGTH doubles.
+    let status = unsafe {
+        stoss_material_to_card(
+            &block,
+            card.as_mut_ptr(),
+            card.len(),
+            &mut length,
+            null_mut(),
+            0,
+        )
+    };
+    assert_eq!(status, StossStatus::Ok);
+    assert_eq!(length, 41 + 11, "P1..P41 and the P-alpha section");
+    assert_eq!(card[0], 3.0);
+    assert_eq!(card[6], 7.0, "strength code RHT");
+    assert_eq!(card[20], 92.0e6, "f'c at P21");
+    let mut parsed = StossMaterialBlock::default();
+    // SAFETY: `card` holds `length` doubles; `parsed` is writable.
+    let status =
+        unsafe { stoss_material_from_card(card.as_ptr(), length, &mut parsed, null_mut(), 0) };
+    assert_eq!(status, StossStatus::Ok);
+    assert_eq!(parsed.to_rht().unwrap(), RhtMaterial::HPC_92MPA);
+}
+
+#[test]
+fn rht_blocks_refuse_what_concrete_does_not_have() {
+    // GOAL: metal-only options on an RHT block are errors naming the field, not ignored.
+    // SETUP: the HPC defaults with, in turn, adiabatic heating, the lagged rate, JC failure
+    //        and the pressure cut-off switched on, a bad RHT code and a negative f'c.
+    // REFERENCE: INVALID_PARAMETER and the field's name in the message.
+    type Spoil = fn(&mut StossMaterialBlock);
+    let cases: [(&str, Spoil); 6] = [
+        ("heating_model", |b| b.heating_model = 2),
+        ("rate_treatment", |b| b.rate_treatment = 2),
+        ("failure.johnson_cook_enabled", |b| {
+            b.failure.johnson_cook_enabled = 1
+        }),
+        ("failure.pressure_cutoff_enabled", |b| {
+            b.failure.pressure_cutoff_enabled = 1
+        }),
+        ("strength.rht.meridian", |b| b.strength.rht.meridian = 9),
+        ("compressive_strength", |b| {
+            b.strength.rht.compressive_strength = -1.0
+        }),
+    ];
+    for (field, spoil) in cases {
+        let mut block = concrete();
+        spoil(&mut block);
+        let (status, message) = validate(&block);
+        assert_eq!(status, StossStatus::InvalidParameter, "{field}: {message}");
+        assert!(message.contains(field), "{field}: {message}");
+    }
 }

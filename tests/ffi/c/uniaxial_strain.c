@@ -345,6 +345,24 @@ int main(int argc, char **argv) {
     const char *const upturn_names[1] = {"batch_jc_upturn_tension"};
     batch_case(&upturn, 1, upturn_path, 300, 1.0e4, upturn_names);
 
-    printf("uniaxial_strain: wrote 6 histories to %s\n", output_directory);
+    /* RHT concrete (layout 3): seed 001's 92 MPa HPC over P-alpha, the library's defaults;
+       one point crushed in uniaxial strain, one pulled until the hydro tensile limit fails it. */
+    StossMaterialBlock rht;
+    status = stoss_material_defaults_hpc92(&rht);
+    if (status != STOSS_STATUS_OK) {
+        fail("stoss_material_defaults_hpc92", status, "");
+    }
+    status = stoss_material_validate(&rht, message, sizeof message);
+    if (status != STOSS_STATUS_OK) {
+        fail("validate rht", status, message);
+    }
+    const double rht_compression[1] = {-0.05};
+    const char *const rht_compression_names[1] = {"batch_rht_compression"};
+    batch_case(&rht, 1, rht_compression, 250, 1.0e3, rht_compression_names);
+    const double rht_tension[1] = {0.002};
+    const char *const rht_tension_names[1] = {"batch_rht_tension"};
+    batch_case(&rht, 1, rht_tension, 200, 1.0e3, rht_tension_names);
+
+    printf("uniaxial_strain: wrote 8 histories to %s\n", output_directory);
     return 0;
 }

@@ -106,8 +106,8 @@ program umat_driver
   use, intrinsic :: iso_c_binding
   use hex_output
   implicit none
-  integer, parameter :: lmc = 48, nhv = 10
-  real(c_double) :: cm_tjc(lmc), cm_jc(lmc), cm_upturn(lmc)
+  integer, parameter :: lmc = 56, nhv = 10
+  real(c_double) :: cm_tjc(lmc), cm_jc(lmc), cm_upturn(lmc), cm_rht(lmc)
   character(len=1024) :: directory
 
   if (command_argument_count() /= 1) then
@@ -143,10 +143,27 @@ program umat_driver
                       0.0d0, 0.0d0, 0.014d0, 1.0d0, 0.08d0, 2.0d3, 1.03d0, 298.0d0, &
                       1793.0d0]
 
+  ! RHT concrete, a card of layout version 3 (strength code 7, implicit, EoS 6 = P-alpha,
+  ! isothermal): seed 001 table 4.4's 92 MPa HPC. P17..P20: tensile failure 1 (hydro tensile
+  ! limit), meridian 2 (characteristic points), rate scaling 1 (seed equation), cap 1;
+  ! P21..P40: fc FT* FS* A N Q2 BQ PREFACT TENSRAT COMPRAT B M alpha delta e0c e0t D1 D2
+  ! EFMIN SHRATD; P42..P52: the P-alpha EoS (A1 A2 A3 B0 B1 T1 T2 alpha0 p_crush p_lock n).
+  cm_rht = 0.0d0
+  cm_rht(1:16) = [3.0d0, 2420.0d0, 18.0d9, 21.47d9, 880.0d0, 293.0d0, &
+                  7.0d0, 1.0d0, 6.0d0, 1.0d0, 0.0d0, 0.0d0, 0.0d0, &
+                  0.0d0, 0.0d0, 0.0d0]
+  cm_rht(17:20) = [1.0d0, 2.0d0, 1.0d0, 1.0d0]
+  cm_rht(21:40) = [92.0d6, 0.057d0, 0.30d0, 1.9d0, 0.6d0, 0.6805d0, 0.0105d0, 2.0d0, &
+                   0.80d0, 0.75d0, 1.3d0, 0.65d0, 0.010d0, 0.013d0, 30.0d-6, 3.0d-6, &
+                   0.04d0, 1.0d0, 0.01d0, 0.13d0]
+  cm_rht(42:52) = [24.4d9, 39.58d9, 9.04d9, 1.22d0, 1.22d0, 24.4d9, 0.0d0, &
+                   2750.0d0 / 2420.0d0, 2.0d0 / 3.0d0 * 92.0d6, 6.0d9, 3.0d0]
+
   call run_case(cm_tjc, 1, 0.25d0, 250, 1.0d4, 'umat_tjc_tension')
   call run_case(cm_jc, 4, 0.3d0, 300, 1.0d3, 'umat_jc_simple_shear')
   call run_case(cm_upturn, 1, 0.25d0, 250, 1.0d4, 'umat_jc_upturn_tension')
-  write (*, '(a)') 'umat_driver: wrote 3 histories to '//trim(directory)
+  call run_case(cm_rht, 1, -0.08d0, 200, 1.0d4, 'umat_rht_compression')
+  write (*, '(a)') 'umat_driver: wrote 4 histories to '//trim(directory)
 
 contains
 
