@@ -10,6 +10,7 @@ pub mod cli;
 pub mod diagnose;
 pub mod experiment;
 pub mod hash;
+pub mod history;
 pub mod input;
 pub mod journal;
 pub mod measure;

@@ -8,10 +8,10 @@
 //!   path, the uniaxial strength of a softening material such as RHT concrete.
 
 use super::{Check, ExperimentReport, Outcome, SimulationError};
+use crate::history::History;
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory, StateSample};
-use crate::verify::History;
 use serde::{Deserialize, Serialize};
 use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
 use stoss_kernel::{Heating, PartMaterial, PointModel};

@@ -52,7 +52,7 @@ fn flow_curve(material: &Material, rate: f64) -> Vec<(f64, f64)> {
     let mut material = *material;
     material.heating = Heating::Isothermal;
     let mut state = MaterialState::initial(298.0);
-    let mut history = crate::verify::History::default();
+    let mut history = crate::history::History::default();
     let loading = UniaxialStressLoading {
         strain_rate: rate,
         final_strain: 0.32,
@@ -463,26 +463,26 @@ pub fn write(
                 written.push(format!("cards/{stem}.{ext}"));
             }
         }
-        if let Some(file) = metal_file {
-            // The user material's initial temperature: the model's reference temperature
-            // where it has one (JC-type thermal terms), else 293 K; edit P6 for another.
-            let initial_temperature = file
-                .strength
-                .constants()
-                .iter()
-                .find(|(name, _)| name.ends_with("reference_temperature"))
-                .and_then(|(name, _)| file.strength.get(name))
-                .unwrap_or(293.0);
-            match cards::user_material::cards(file, initial_temperature) {
-                Ok((dyna, abaqus)) => {
-                    for (suffix, text) in [("umat.k", dyna), ("umat.inp", abaqus)] {
-                        std::fs::write(card_dir.join(format!("{stem}-{suffix}")), text)
-                            .map_err(|e| e.to_string())?;
-                        written.push(format!("cards/{stem}-{suffix}"));
-                    }
+        // The user material's initial temperature: a metal model's reference temperature
+        // where it has one (JC-type thermal terms), else 293 K; edit P6 for another.
+        let initial_temperature = metal_file
+            .and_then(|file| {
+                file.strength
+                    .constants()
+                    .iter()
+                    .find(|(name, _)| name.ends_with("reference_temperature"))
+                    .and_then(|(name, _)| file.strength.get(name))
+            })
+            .unwrap_or(293.0);
+        match cards::user_material::cards(&material_file, initial_temperature) {
+            Ok((dyna, abaqus)) => {
+                for (suffix, text) in [("umat.k", dyna), ("umat.inp", abaqus)] {
+                    std::fs::write(card_dir.join(format!("{stem}-{suffix}")), text)
+                        .map_err(|e| e.to_string())?;
+                    written.push(format!("cards/{stem}-{suffix}"));
                 }
-                Err(reason) => written.push(format!("(no user-material card: {reason})")),
             }
+            Err(reason) => written.push(format!("(no user-material card: {reason})")),
         }
         if let Some((card, _, error)) = metal_file.and_then(cards::tabulated::ls_dyna) {
             std::fs::write(card_dir.join(format!("{stem}-mat224.k")), card)

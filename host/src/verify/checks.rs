@@ -1,8 +1,8 @@
 //! Closed-form and published-number checks of the kernel. Each check runs a single-element
 //! driver and reports the largest error against an independent reference.
 
-use super::history::History;
 use super::materials::{reference_materials, ReferenceMaterial};
+use crate::history::History;
 use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::drivers::{
     hydrostatic, simple_shear, uniaxial_strain, uniaxial_stress, HydrostaticLoading,

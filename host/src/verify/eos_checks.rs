@@ -8,7 +8,7 @@
 
 use super::checks::{max_or_infinite, relative, CheckResult, Expectation};
 use super::golden::{steel_4340_gruneisen, table_5_2_compaction};
-use super::history::History;
+use crate::history::History;
 use stoss_kernel::drivers::{hydrostatic, HydrostaticLoading, PointModel, Record};
 use stoss_kernel::eos::{
     Eos, Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial, TabulatedCompaction,

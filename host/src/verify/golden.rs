@@ -12,8 +12,8 @@
 //! ```
 //! Regenerate with `stoss verify --bless`; every commit that changes a golden file says why.
 
-use super::history::History;
 use super::materials::reference_materials;
+use crate::history::History;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use stoss_kernel::drivers::{

@@ -6,9 +6,7 @@
 pub mod checks;
 pub mod eos_checks;
 pub mod golden;
-pub mod history;
 pub mod materials;
 pub mod rht_checks;
 
 pub use checks::{run_all, CheckResult, Expectation};
-pub use history::History;

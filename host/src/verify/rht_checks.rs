@@ -18,7 +18,7 @@
 
 use super::checks::{max_or_infinite, relative, CheckResult, Expectation};
 use super::eos_checks::{compare_with_p_alpha, drive_hydrostatic, hpc_p_alpha, PAlphaReference};
-use super::history::History;
+use crate::history::History;
 use std::sync::OnceLock;
 use stoss_kernel::drivers::{
     uniaxial_strain, uniaxial_stress, Record, UniaxialStrainLoading, UniaxialStressLoading,

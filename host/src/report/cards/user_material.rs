@@ -1,19 +1,40 @@
 //! The stoss user material's own card for any model: the C ABI's card (the
 //! `StossMaterialBlock` as a flat array, docs/user-material.md section 5) written as LS-DYNA
 //! `*MAT_USER_DEFINED_MATERIAL_MODELS` and Abaqus `*USER MATERIAL` input. Every J2 model
-//! stoss has, the diagnosis' terms included, runs bit for bit as in stoss through it.
+//! stoss has, the diagnosis' terms included, and RHT concrete run bit for bit as in stoss
+//! through it.
 
 use super::line;
-use crate::input::material::MaterialFile;
+use crate::input::material::AnyMaterialFile;
 use std::fmt::Write as _;
 use stoss_kernel_ffi::card::{card_from_block, STOSS_CARD_BULK_MODULUS, STOSS_CARD_SHEAR_MODULUS};
-use stoss_kernel_ffi::from_material;
+use stoss_kernel_ffi::export::{from_material, from_rht};
+
+/// Specific heat written on an RHT concrete's card (J/kg/K): the block requires one, RHT
+/// (isothermal) does not read it; a typical concrete's.
+const CONCRETE_SPECIFIC_HEAT: f64 = 880.0;
 
 /// The user-material cards of `file` at `initial_temperature` (K): `(LS-DYNA, Abaqus)`, or
 /// the reason there is none.
-pub fn cards(file: &MaterialFile, initial_temperature: f64) -> Result<(String, String), String> {
-    let material = file.material().map_err(|e| e.to_string())?;
-    let (block, dropped) = from_material(&material, initial_temperature).map_err(|e| e.message)?;
+pub fn cards(file: &AnyMaterialFile, initial_temperature: f64) -> Result<(String, String), String> {
+    let (block, dropped, erodes) = match file {
+        AnyMaterialFile::J2(file) => {
+            let material = file.material().map_err(|e| e.to_string())?;
+            let (block, dropped) =
+                from_material(&material, initial_temperature).map_err(|e| e.message)?;
+            let f = &material.failure;
+            let erodes = f.erode_on_failure || f.erosion_plastic_strain.is_some();
+            (block, dropped, erodes)
+        }
+        AnyMaterialFile::Rht(file) => {
+            let material = file.material().map_err(|e| e.to_string())?;
+            let (block, dropped) = from_rht(&material, initial_temperature, CONCRETE_SPECIFIC_HEAT)
+                .map_err(|e| e.message)?;
+            (block, dropped, material.erosion_plastic_strain.is_some())
+        }
+    };
+    let name = file.name();
+    let density = block.density;
     let (card, length) = card_from_block(&block).map_err(|e| e.message)?;
     let card = &card[..length];
     let note = if dropped {
@@ -31,7 +52,7 @@ pub fn cards(file: &MaterialFile, initial_temperature: f64) -> Result<(String, S
          section 7); 8 history variables.\n\
          $ fixed format keeps 5 significant digits; the Abaqus input beside this file keeps \
          every digit.\n{note}",
-        file.name
+        name
     );
     if length > 48 {
         let _ = writeln!(
@@ -45,7 +66,7 @@ pub fn cards(file: &MaterialFile, initial_temperature: f64) -> Result<(String, S
         line(
             &[
                 1.0,
-                file.density,
+                density,
                 41.0,
                 lmc as f64,
                 8.0,
@@ -56,8 +77,6 @@ pub fn cards(file: &MaterialFile, initial_temperature: f64) -> Result<(String, S
             10
         )
     );
-    let erodes =
-        material.failure.erode_on_failure || material.failure.erosion_plastic_strain.is_some();
     let _ = writeln!(
         dyna,
         "$    IVECT     IFAIL    ITHERM    IHYPER      IEOS\n{}",
@@ -78,7 +97,7 @@ pub fn cards(file: &MaterialFile, initial_temperature: f64) -> Result<(String, S
         "** stoss user material: {}\n** units: kg, m, s, Pa, K\n\
          ** call stoss_abaqus_vumat from your VUMAT (docs/user-material.md section 8)\n\
          *MATERIAL, NAME=STOSS\n*DENSITY\n{:e}\n*USER MATERIAL, CONSTANTS={length}\n",
-        file.name, file.density
+        name, density
     );
     for values in card.chunks(8) {
         let text: Vec<String> = values.iter().map(|v| format!("{v:e}")).collect();
@@ -114,7 +133,7 @@ mod tests {
         };
         file.strength = StrengthSpec::Composed(composed);
         let material = file.material().unwrap();
-        let (dyna, abaqus) = cards(&file, 298.0).unwrap();
+        let (dyna, abaqus) = cards(&AnyMaterialFile::J2(file), 298.0).unwrap();
 
         let values: Vec<f64> = abaqus
             .lines()
@@ -150,5 +169,41 @@ mod tests {
             stoss_kernel::strength::Strength::Composed(c)
                 if matches!(c.rate, RateTerm::LogUpturn { .. })
         ));
+    }
+
+    #[test]
+    fn rht_concrete_reads_back_from_its_user_material_card() {
+        // GOAL: RHT concrete (C ABI layout 3) gets a user-material card that gives back the
+        //       same kernel material.
+        // SETUP: the bundled seed 001 HPC file (P-alpha EoS, geometric erosion); its Abaqus
+        //        card read back with the C ABI's card reader.
+        // REFERENCE: the file's kernel material, constant for constant, without the
+        //            geometric erosion strain (a host criterion the card notes it leaves out).
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../fixtures/materials/hpc-92-rht.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (file, _) = crate::input::material::parse_part(&path, &text).unwrap();
+        let AnyMaterialFile::Rht(concrete) = &file else {
+            panic!("the HPC file is RHT concrete");
+        };
+        let mut expected = concrete.material().unwrap();
+        let (dyna, abaqus) = cards(&file, 293.0).unwrap();
+        let values: Vec<f64> = abaqus
+            .lines()
+            .skip_while(|l| !l.starts_with("*USER MATERIAL"))
+            .skip(1)
+            .take_while(|l| !l.starts_with('*'))
+            .flat_map(|l| {
+                l.split(", ")
+                    .map(|v| v.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        assert_eq!(values[6], 7.0, "strength model RHT");
+        let read = block_from_card(&values).unwrap().to_rht().unwrap();
+        if expected.erosion_geometric_strain.take().is_some() {
+            assert!(dyna.contains("host criteria"), "{dyna}");
+        }
+        assert_eq!(read, expected);
     }
 }

@@ -1,4 +1,5 @@
-//! A growable history for the kernel drivers (the kernel itself has no heap).
+//! A growable history of kernel-driver records (the kernel itself has no heap): what the
+//! verification checks, the goldens, the uniaxial experiment and the reports collect.
 
 use stoss_kernel::drivers::{DriverError, HistorySink, Record};
 
