@@ -114,6 +114,21 @@ mod tests {
     use stoss_kernel::strength::RateTerm;
     use stoss_kernel_ffi::block_from_card;
 
+    /// The constants of an Abaqus `*USER MATERIAL` block, as Abaqus reads them.
+    fn abaqus_constants(abaqus: &str) -> Vec<f64> {
+        abaqus
+            .lines()
+            .skip_while(|l| !l.starts_with("*USER MATERIAL"))
+            .skip(1)
+            .take_while(|l| !l.starts_with('*'))
+            .flat_map(|l| {
+                l.split(", ")
+                    .map(|v| v.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+
     #[test]
     fn a_diagnosed_model_reads_back_from_its_user_material_cards() {
         // GOAL: a model the diagnosis accepts (JC + high-rate upturn) is a user-material card.
@@ -135,17 +150,7 @@ mod tests {
         let material = file.material().unwrap();
         let (dyna, abaqus) = cards(&AnyMaterialFile::J2(file), 298.0).unwrap();
 
-        let values: Vec<f64> = abaqus
-            .lines()
-            .skip_while(|l| !l.starts_with("*USER MATERIAL"))
-            .skip(1)
-            .take_while(|l| !l.starts_with('*'))
-            .flat_map(|l| {
-                l.split(", ")
-                    .map(|v| v.parse::<f64>().unwrap())
-                    .collect::<Vec<_>>()
-            })
-            .collect();
+        let values = abaqus_constants(&abaqus);
         let read = block_from_card(&values).unwrap().to_material().unwrap();
         assert_eq!(read, material);
 
@@ -188,17 +193,7 @@ mod tests {
         };
         let mut expected = concrete.material().unwrap();
         let (dyna, abaqus) = cards(&file, 293.0).unwrap();
-        let values: Vec<f64> = abaqus
-            .lines()
-            .skip_while(|l| !l.starts_with("*USER MATERIAL"))
-            .skip(1)
-            .take_while(|l| !l.starts_with('*'))
-            .flat_map(|l| {
-                l.split(", ")
-                    .map(|v| v.parse::<f64>().unwrap())
-                    .collect::<Vec<_>>()
-            })
-            .collect();
+        let values = abaqus_constants(&abaqus);
         assert_eq!(values[6], 7.0, "strength model RHT");
         let read = block_from_card(&values).unwrap().to_rht().unwrap();
         if expected.erosion_geometric_strain.take().is_some() {
