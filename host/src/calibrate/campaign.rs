@@ -329,6 +329,11 @@ impl ModelSpace {
 }
 
 impl Campaign {
+    /// The campaign's model entry named `name`.
+    pub fn model(&self, name: &str) -> Option<&ModelEntry> {
+        self.file.models.iter().find(|m| m.name == name)
+    }
+
     /// Load a campaign, its base material and every experiment. Errors name file, line, field.
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = input::read_text(path)?;

@@ -103,18 +103,13 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     let campaign = Campaign::load(&campaign_file).map_err(|e| e.to_string())?;
     let results = read_results(&args.calibration)?;
     let model = diagnose::selected(&results, args.model.as_deref()).map_err(|e| e.to_string())?;
-    let entry = campaign
-        .file
-        .models
-        .iter()
-        .find(|m| m.name == model.model)
-        .ok_or_else(|| {
-            format!(
-                "model `{}` is not in {}",
-                model.model,
-                campaign_file.display()
-            )
-        })?;
+    let entry = campaign.model(&model.model).ok_or_else(|| {
+        format!(
+            "model `{}` is not in {}",
+            model.model,
+            campaign_file.display()
+        )
+    })?;
     model.check_against(&campaign.space(entry)).map_err(|e| {
         format!(
             "result.json of {} does not match {}: {e}",

@@ -403,17 +403,12 @@ pub fn diagnose(
     log: Option<&Path>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Outcome, DiagnoseError> {
-    let entry = campaign
-        .file
-        .models
-        .iter()
-        .find(|m| m.name == model.model)
-        .ok_or_else(|| {
-            DiagnoseError::Calibration(format!(
-                "model `{}` of result.json is not in the campaign",
-                model.model
-            ))
-        })?;
+    let entry = campaign.model(&model.model).ok_or_else(|| {
+        DiagnoseError::Calibration(format!(
+            "model `{}` of result.json is not in the campaign",
+            model.model
+        ))
+    })?;
     let space = campaign.space(entry);
     let base = Hypothesis::base(campaign, &space, &model.selected.values)
         .map_err(DiagnoseError::Calibration)?;

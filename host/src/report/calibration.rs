@@ -173,12 +173,7 @@ pub fn write(
     let _ = writeln!(md);
 
     for (m, result) in results.iter().enumerate() {
-        let model = campaign
-            .file
-            .models
-            .iter()
-            .find(|e| e.name == result.model)
-            .ok_or("model missing")?;
+        let model = campaign.model(&result.model).ok_or("model missing")?;
         let space = campaign.space(model);
         let _ = writeln!(md, "## Model `{}`\n\n### Constants\n\n| constant | lower | upper | selected |\n|---|---|---|---|", result.model);
         for (k, name) in space.names.iter().enumerate() {

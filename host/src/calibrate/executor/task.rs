@@ -183,19 +183,14 @@ pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
         ));
     }
     let campaign = Campaign::load(&task.campaign).map_err(|e| e.to_string())?;
-    let model = campaign
-        .file
-        .models
-        .iter()
-        .find(|m| m.name == task.model)
-        .ok_or_else(|| {
-            format!(
-                "{}: model {:?} is not in {}",
-                task_path.display(),
-                task.model,
-                task.campaign.display()
-            )
-        })?;
+    let model = campaign.model(&task.model).ok_or_else(|| {
+        format!(
+            "{}: model {:?} is not in {}",
+            task_path.display(),
+            task.model,
+            task.campaign.display()
+        )
+    })?;
     let space = campaign.space(model);
     if task.values.len() != space.dimension()
         || task
