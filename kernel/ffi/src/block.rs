@@ -1350,49 +1350,6 @@ impl StossMaterialBlock {
     }
 }
 
-impl StossRht {
-    /// The block form of kernel RHT constants (the shear modulus goes to the block's
-    /// `shear_modulus`).
-    pub fn from_kernel(p: &RhtParameters) -> Self {
-        Self {
-            tensile_failure: match p.tensile_failure {
-                TensileFailure::HydroTensileLimit => StossRhtTensileFailure::HydroTensileLimit,
-                TensileFailure::PressureCutoff => StossRhtTensileFailure::PressureCutoff,
-                TensileFailure::PrincipalStress => StossRhtTensileFailure::PrincipalStress,
-            } as i32,
-            meridian: match p.meridian {
-                FailureMeridian::PowerLaw => StossRhtMeridian::PowerLaw,
-                FailureMeridian::CharacteristicPoints => StossRhtMeridian::CharacteristicPoints,
-            } as i32,
-            rate_scaling: match p.rate_scaling {
-                RateScaling::SeedEquation => StossRhtRateScaling::SeedEquation,
-                RateScaling::Homothetic => StossRhtRateScaling::Homothetic,
-            } as i32,
-            elastic_cap: u32::from(p.elastic_cap),
-            compressive_strength: p.compressive_strength,
-            tensile_strength_ratio: p.tensile_strength_ratio,
-            shear_strength_ratio: p.shear_strength_ratio,
-            failure_a: p.failure_a,
-            failure_n: p.failure_n,
-            tensile_meridian_ratio: p.tensile_meridian_ratio,
-            brittle_ductile_transition: p.brittle_ductile_transition,
-            shear_modulus_ratio: p.shear_modulus_ratio,
-            tensile_elastic_ratio: p.tensile_elastic_ratio,
-            compressive_elastic_ratio: p.compressive_elastic_ratio,
-            residual_b: p.residual_b,
-            residual_m: p.residual_m,
-            compressive_rate_exponent: p.compressive_rate_exponent,
-            tensile_rate_exponent: p.tensile_rate_exponent,
-            compressive_reference_rate: p.compressive_reference_rate,
-            tensile_reference_rate: p.tensile_reference_rate,
-            damage_d1: p.damage_d1,
-            damage_d2: p.damage_d2,
-            minimum_failure_strain: p.minimum_failure_strain,
-            residual_shear_modulus_ratio: p.residual_shear_modulus_ratio,
-        }
-    }
-}
-
 /// Bulk modulus the host should use for its time step, contact and hourglass stiffness: the
 /// EoS slope `dp/dmu` at the reference state (`mu = 0`, `E = 0`, initial EoS history). For the
 /// linear EoS this is `K`; for Mie-Grüneisen `rho0 C^2`; for the polynomial `A1`.

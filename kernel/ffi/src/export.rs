@@ -9,7 +9,7 @@
 //! principal-strain failure of `Failure`; [`from_material`] reports whether it dropped them.
 
 use stoss_kernel::eos::Eos;
-use stoss_kernel::rht::RhtMaterial;
+use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters, TensileFailure};
 use stoss_kernel::strength::{
     ComposedStrength, CrystalStructure, Hardening, RateTerm, Strength, ThermalTerm,
 };
@@ -18,7 +18,8 @@ use stoss_kernel::{Heating, Material, RateTreatment};
 use crate::block::{
     StossComposed, StossEosModel, StossHardening, StossHardeningModel, StossHeatingModel,
     StossJohnsonCook, StossJohnsonCookFailure, StossMaterialBlock, StossRateModel, StossRateTerm,
-    StossRateTreatment, StossRht, StossStrengthModel, StossThermalModel, StossThermalTerm,
+    StossRateTreatment, StossRht, StossRhtMeridian, StossRhtRateScaling, StossRhtTensileFailure,
+    StossStrengthModel, StossThermalModel, StossThermalTerm,
 };
 use crate::status::FfiError;
 
@@ -106,7 +107,7 @@ pub fn from_rht(
     block.shear_modulus = material.parameters.shear_modulus;
     block.specific_heat = specific_heat;
     block.initial_temperature = initial_temperature;
-    block.strength.rht = StossRht::from_kernel(&material.parameters);
+    block.strength.rht = rht_block(&material.parameters);
     write_eos(&mut block, &material.eos);
     if let Some(strain) = material.erosion_plastic_strain {
         block.failure.erosion_enabled = 1;
@@ -114,6 +115,47 @@ pub fn from_rht(
     }
     block.to_rht()?;
     Ok((block, material.erosion_geometric_strain.is_some()))
+}
+
+/// The block form of kernel RHT constants (the shear modulus goes to the block's
+/// `shear_modulus`).
+fn rht_block(p: &RhtParameters) -> StossRht {
+    StossRht {
+        tensile_failure: match p.tensile_failure {
+            TensileFailure::HydroTensileLimit => StossRhtTensileFailure::HydroTensileLimit,
+            TensileFailure::PressureCutoff => StossRhtTensileFailure::PressureCutoff,
+            TensileFailure::PrincipalStress => StossRhtTensileFailure::PrincipalStress,
+        } as i32,
+        meridian: match p.meridian {
+            FailureMeridian::PowerLaw => StossRhtMeridian::PowerLaw,
+            FailureMeridian::CharacteristicPoints => StossRhtMeridian::CharacteristicPoints,
+        } as i32,
+        rate_scaling: match p.rate_scaling {
+            RateScaling::SeedEquation => StossRhtRateScaling::SeedEquation,
+            RateScaling::Homothetic => StossRhtRateScaling::Homothetic,
+        } as i32,
+        elastic_cap: u32::from(p.elastic_cap),
+        compressive_strength: p.compressive_strength,
+        tensile_strength_ratio: p.tensile_strength_ratio,
+        shear_strength_ratio: p.shear_strength_ratio,
+        failure_a: p.failure_a,
+        failure_n: p.failure_n,
+        tensile_meridian_ratio: p.tensile_meridian_ratio,
+        brittle_ductile_transition: p.brittle_ductile_transition,
+        shear_modulus_ratio: p.shear_modulus_ratio,
+        tensile_elastic_ratio: p.tensile_elastic_ratio,
+        compressive_elastic_ratio: p.compressive_elastic_ratio,
+        residual_b: p.residual_b,
+        residual_m: p.residual_m,
+        compressive_rate_exponent: p.compressive_rate_exponent,
+        tensile_rate_exponent: p.tensile_rate_exponent,
+        compressive_reference_rate: p.compressive_reference_rate,
+        tensile_reference_rate: p.tensile_reference_rate,
+        damage_d1: p.damage_d1,
+        damage_d2: p.damage_d2,
+        minimum_failure_strain: p.minimum_failure_strain,
+        residual_shear_modulus_ratio: p.residual_shear_modulus_ratio,
+    }
 }
 
 fn write_strength(block: &mut StossMaterialBlock, strength: &Strength) {
