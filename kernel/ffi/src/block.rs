@@ -1215,7 +1215,7 @@ impl StossMaterialBlock {
     /// The point model this block describes, of either family (a J2 metal or RHT concrete),
     /// fully validated; the error names the first offending field.
     pub fn to_model(&self) -> Result<PartMaterial, FfiError> {
-        Self::check_header(self.layout_version, self.struct_size)?;
+        // Both branches check the header first.
         if self.strength_model == StossStrengthModel::Rht as i32 {
             self.to_rht().map(PartMaterial::Rht)
         } else {

@@ -156,6 +156,35 @@ fn defaults() -> StossMaterialBlock {
     block
 }
 
+/// The card of a valid block through `stoss_material_to_card`, and its length.
+fn write_card(block: &StossMaterialBlock) -> ([f64; STOSS_CARD_MAX_LENGTH], usize) {
+    let mut card = [0.0; STOSS_CARD_MAX_LENGTH];
+    let mut length = 0;
+    // SAFETY: `card` holds STOSS_CARD_MAX_LENGTH doubles.
+    let status = unsafe {
+        stoss_material_to_card(
+            block,
+            card.as_mut_ptr(),
+            card.len(),
+            &mut length,
+            null_mut(),
+            0,
+        )
+    };
+    assert_eq!(status, StossStatus::Ok);
+    (card, length)
+}
+
+/// The block of a valid card through `stoss_material_from_card`.
+fn read_card(card: &[f64]) -> StossMaterialBlock {
+    let mut parsed = StossMaterialBlock::default();
+    // SAFETY: `card` holds `card.len()` doubles; `parsed` is writable.
+    let status =
+        unsafe { stoss_material_from_card(card.as_ptr(), card.len(), &mut parsed, null_mut(), 0) };
+    assert_eq!(status, StossStatus::Ok);
+    parsed
+}
+
 fn validate(block: *const StossMaterialBlock) -> (StossStatus, String) {
     let mut message = [0 as c_char; 256];
     // SAFETY: the message buffer holds 256 bytes; `block` is NULL or a valid block.
@@ -466,23 +495,8 @@ fn cards_round_trip_and_report_buffer_sizes() {
     assert_eq!(status, StossStatus::BufferTooSmall);
     assert_eq!(length, 41);
     assert_eq!(card[0], 0.0);
-    // SAFETY: `card` holds STOSS_CARD_MAX_LENGTH doubles.
-    let status = unsafe {
-        stoss_material_to_card(
-            &block,
-            card.as_mut_ptr(),
-            card.len(),
-            &mut length,
-            null_mut(),
-            0,
-        )
-    };
-    assert_eq!(status, StossStatus::Ok);
-    let mut parsed = StossMaterialBlock::default();
-    // SAFETY: `card` holds `length` doubles; `parsed` is writable.
-    let status =
-        unsafe { stoss_material_from_card(card.as_ptr(), length, &mut parsed, null_mut(), 0) };
-    assert_eq!(status, StossStatus::Ok);
+    let (card, length) = write_card(&block);
+    let parsed = read_card(&card[..length]);
     // Same material (switched-off families, e.g. the disabled JC failure constants, are not
     // carried by the card).
     assert_eq!(parsed.to_material(), block.to_material());
@@ -737,29 +751,12 @@ fn rht_concrete_runs_through_the_batch_bit_for_bit_and_round_trips_its_card() {
         assert_eq!(points.failed, vec![failed], "final strain {final_strain}");
     }
 
-    let mut card = [0.0; STOSS_CARD_MAX_LENGTH];
-    let mut length = 0;
-    // SAFETY: `card` holds STOSS_CARD_MAX_LENGTH doubles.
-    let status = unsafe {
-        stoss_material_to_card(
-            &block,
-            card.as_mut_ptr(),
-            card.len(),
-            &mut length,
-            null_mut(),
-            0,
-        )
-    };
-    assert_eq!(status, StossStatus::Ok);
+    let (card, length) = write_card(&block);
     assert_eq!(length, 41 + 11, "P1..P41 and the P-alpha section");
     assert_eq!(card[0], 3.0);
     assert_eq!(card[6], 7.0, "strength code RHT");
     assert_eq!(card[20], 92.0e6, "f'c at P21");
-    let mut parsed = StossMaterialBlock::default();
-    // SAFETY: `card` holds `length` doubles; `parsed` is writable.
-    let status =
-        unsafe { stoss_material_from_card(card.as_ptr(), length, &mut parsed, null_mut(), 0) };
-    assert_eq!(status, StossStatus::Ok);
+    let parsed = read_card(&card[..length]);
     assert_eq!(parsed.to_rht().unwrap(), RhtMaterial::HPC_92MPA);
 }
 
