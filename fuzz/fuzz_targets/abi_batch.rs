@@ -268,8 +268,8 @@ fn message_capacity(src: &mut Source) -> Option<usize> {
 }
 
 fn initial_state_of(block: &StossMaterialBlock) -> MaterialState {
-    match block.to_material() {
-        Ok(material) => block.initial_state(&material),
+    match block.to_model() {
+        Ok(model) => block.initial_state(&model),
         Err(_) => MaterialState::initial(298.0),
     }
 }
@@ -530,7 +530,7 @@ fn batch_call_error(call: &BatchCall) -> Option<CallError> {
     if block.struct_size as usize != std::mem::size_of::<StossMaterialBlock>() {
         return Some(CallError::field(StossStatus::BadStructSize, "struct_size"));
     }
-    if let Err(error) = block.to_material() {
+    if let Err(error) = block.to_model() {
         return Some(CallError {
             status: error.status,
             field: error.message,
@@ -606,7 +606,7 @@ fn check_batch(
             "wrong layout version"
         );
     }
-    if p.block == Pass::Valid && before.block.to_material().is_ok() && n == 0 {
+    if p.block == Pass::Valid && before.block.to_model().is_ok() && n == 0 {
         assert_eq!(outcome.status, StossStatus::ZeroPoints, "n = 0");
     }
 
@@ -619,7 +619,7 @@ fn check_batch(
 
     let material = before
         .block
-        .to_material()
+        .to_model()
         .expect("checked by batch_call_error");
     let outputs = p.output == Pass::Valid;
     let want = |pass: Pass| outputs && pass == Pass::Valid;
@@ -931,7 +931,7 @@ fn umat_call_error(call: &UmatCall) -> Option<CallError> {
         return Some(error);
     }
     let used = call.lmc.min(STOSS_CARD_MAX_LENGTH);
-    let material = block_from_card(&call.card[..used]).and_then(|block| block.to_material());
+    let material = block_from_card(&call.card[..used]).and_then(|block| block.to_model());
     if let Err(error) = material {
         return Some(CallError {
             status: error.status,
@@ -984,7 +984,7 @@ fn check_umat(before: &UmatCall, after: &UmatCall, outcome: &CallOutcome) {
     }
     let used = before.lmc.min(STOSS_CARD_MAX_LENGTH);
     let block = block_from_card(&before.card[..used]).expect("checked");
-    let material = block.to_material().expect("checked");
+    let material = block.to_model().expect("checked");
     let initial = block.initial_state(&material);
     let nlq = before.nlq;
     let p = &before.pointers;

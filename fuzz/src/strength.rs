@@ -23,8 +23,8 @@ use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::eos::{Eos, LinearEos};
 use stoss_kernel::parameters::Parameter;
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, Strength,
-    TwoRateJohnsonCook, ZerilliArmstrong,
+    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, Strength, TwoRateJohnsonCook,
+    ZerilliArmstrong,
 };
 use stoss_kernel::{
     Heating, Material, MaterialState, ParameterError, RateTreatment, StateFlags, StepInput,

@@ -9,6 +9,7 @@ use stoss_kernel::eos::Eos;
 use stoss_kernel::math::exp;
 use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::tensor::{self, Matrix6, Sym};
+use stoss_kernel::PartMaterial;
 use stoss_kernel::{
     Material, MaterialState, PointModel, StateFlags, StepInput, StepOutput, UpdateError,
 };
@@ -118,6 +119,15 @@ impl AbiModel for Material {
 impl AbiModel for RhtMaterial {
     fn eos(&self) -> &Eos {
         &self.eos
+    }
+}
+
+impl AbiModel for PartMaterial {
+    fn eos(&self) -> &Eos {
+        match self {
+            PartMaterial::J2(material) => material.eos(),
+            PartMaterial::Rht(material) => material.eos(),
+        }
     }
 }
 
