@@ -479,15 +479,20 @@ pub fn write(
             }
             Err(reason) => written.push(format!("(no user-material card: {reason})")),
         }
-        if let Some((card, _, error)) = metal_file.and_then(cards::tabulated::ls_dyna) {
-            std::fs::write(card_dir.join(format!("{stem}-mat224.k")), card)
-                .map_err(|e| e.to_string())?;
-            written.push(format!(
-                "cards/{stem}-mat224.k (largest interpolation error {:.2} %)",
-                100.0 * error.relative
-            ));
+        for (suffix, card) in [
+            ("mat224.k", metal_file.and_then(cards::tabulated::ls_dyna)),
+            ("plastic.inp", metal_file.and_then(cards::tabulated::abaqus)),
+        ] {
+            if let Some((card, _, error)) = card {
+                std::fs::write(card_dir.join(format!("{stem}-{suffix}")), card)
+                    .map_err(|e| e.to_string())?;
+                written.push(format!(
+                    "cards/{stem}-{suffix} (largest interpolation error {:.2} %)",
+                    100.0 * error.relative
+                ));
+            }
         }
-        let _ = writeln!(md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `.inp`: Abaqus; `.rad`: OpenRadioss; `-umat.k`, `-umat.inp`: the stoss user material's card for LS-DYNA and Abaqus, for any model (docs/user-material.md).)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
+        let _ = writeln!(md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `-plastic.inp`: the same tables as Abaqus/Explicit `*PLASTIC, RATE=` data; `.inp`: Abaqus; `.rad`: OpenRadioss; `-umat.k`, `-umat.inp`: the stoss user material's card for LS-DYNA and Abaqus, for any model (docs/user-material.md).)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
     }
     std::fs::write(directory.join("report.md"), md).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(results).map_err(|e| e.to_string())?;

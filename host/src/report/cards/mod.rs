@@ -6,9 +6,10 @@
 //!   `*EOS_GRUNEISEN`, Abaqus `*PLASTIC, HARDENING=JOHNSON COOK` with
 //!   `*RATE DEPENDENT, TYPE=JOHNSON COOK`, OpenRadioss `/MAT/PLAS_JOHNS` (law 2);
 //!   Zerilli-Armstrong as LS-DYNA `*MAT_ZERILLI-ARMSTRONG` (*MAT_065).
-//! - [`tabulated`]: any J2 model (ZA, MJC, TJC, the diagnosis' composed terms) as LS-DYNA
-//!   `*MAT_TABULATED_JOHNSON_COOK` (*MAT_224) tables of flow stress, with the sampled ranges
-//!   and the largest interpolation error written in the card.
+//! - [`tabulated`]: any J2 model (ZA, MJC, TJC, the diagnosis' composed terms) as tables of
+//!   flow stress: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` (*MAT_224) and Abaqus/Explicit
+//!   `*PLASTIC, RATE=` with a temperature column, with the sampled ranges and the largest
+//!   interpolation error written in the card.
 //! - [`user_material`]: the stoss user material's own card (the C ABI's card) for any model,
 //!   as LS-DYNA `*MAT_USER_DEFINED_MATERIAL_MODELS` and Abaqus `*USER MATERIAL` input.
 //!

@@ -1,20 +1,29 @@
-//! Any J2 model as LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` (*MAT_224): the flow stress
-//! `sigma_y(eps_p, deps_p/dt, T)` sampled on a grid and written as a `*DEFINE_TABLE_3D` (one
-//! `*DEFINE_TABLE_2D` per temperature, one `*DEFINE_CURVE` of flow stress against plastic
-//! strain per plastic strain rate), which `LCK1` names. This carries every stoss model,
-//! coupled ones (Zerilli-Armstrong, the diagnosis' rate-temperature term) included, into a
-//! code that has no card for it.
+//! Any J2 model as tabulated flow-stress cards: the flow stress `sigma_y(eps_p, deps_p/dt, T)`
+//! sampled on one grid and written two ways. This carries every stoss model, coupled ones
+//! (Zerilli-Armstrong, the diagnosis' rate-temperature term) included, into a code that has
+//! no card for it.
 //!
-//! The reading this card assumes (LS-DYNA manual vol. II, *MAT_224 and *DEFINE_TABLE):
-//! - the 2D tables' abscissae are natural logarithms of the plastic strain rate (their first
-//!   value is negative, which tells LS-DYNA so);
-//! - interpolation is linear in plastic strain along a curve (extrapolated from its last
-//!   segment), linear in `ln(rate)` between curves and linear in temperature between tables,
-//!   and rates and temperatures outside the table take the nearest end.
+//! - [`ls_dyna`]: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` (*MAT_224), a `*DEFINE_TABLE_3D` (one
+//!   `*DEFINE_TABLE_2D` per temperature, one `*DEFINE_CURVE` of flow stress against plastic
+//!   strain per plastic strain rate), which `LCK1` names. The reading it assumes (LS-DYNA
+//!   manual vol. II, *MAT_224 and *DEFINE_TABLE): the 2D tables' abscissae are natural
+//!   logarithms of the plastic strain rate (their first value is negative, which tells
+//!   LS-DYNA so); interpolation is linear in plastic strain along a curve (extrapolated from
+//!   its last segment), linear in `ln(rate)` between curves and linear in temperature between
+//!   tables; rates and temperatures outside the table take the nearest end.
+//! - [`abaqus`]: Abaqus/Explicit `*PLASTIC, RATE=` tables, one per plastic strain rate, each
+//!   with a temperature column, under `*MATERIAL, STRAIN RATE INTERPOLATION=LOGARITHMIC`. The
+//!   reading it assumes (Abaqus keywords reference, *MATERIAL and *PLASTIC; Analysis User's
+//!   Guide, "Rate-dependent yield"): the yield stress is interpolated linearly in plastic
+//!   strain and temperature within a table, in `ln(rate)` between the rate tables, and is
+//!   held constant outside the given plastic strains, temperatures and rates. Abaqus/Explicit
+//!   also regularizes tabular data to within `RTOL` (default 3 %) before the analysis; that
+//!   is not part of the stated error. Abaqus/Standard interpolates between the rate tables
+//!   linearly in the rate, so the stated error holds for Abaqus/Explicit only.
 //!
-//! [`FlowTable::interpolate`] implements exactly that reading; the card states the sampled
-//! ranges and the largest interpolation error against the model, measured at the midpoints
-//! of every grid cell.
+//! [`FlowTable::interpolate`] implements both readings ([`Reading`]); they differ only beyond
+//! the largest plastic strain. Each card states the sampled ranges and the largest
+//! interpolation error against the model, measured at the midpoints of every grid cell.
 
 use super::{bulk_modulus, field, line, young_and_poisson};
 use crate::input::material::MaterialFile;
@@ -36,6 +45,17 @@ pub struct FlowTable {
     pub values: Vec<Vec<Vec<f64>>>,
 }
 
+/// How a code reads a [`FlowTable`] between and beyond its points (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reading {
+    /// LS-DYNA *MAT_224: a curve is extended from its last segment beyond the largest
+    /// plastic strain.
+    LsDyna,
+    /// Abaqus/Explicit `*PLASTIC, RATE=` with logarithmic rate interpolation: the yield
+    /// stress is held at its last value beyond the largest plastic strain.
+    AbaqusExplicit,
+}
+
 /// Plastic strain rates sampled: 1e-4 to 1e5 /s, two per decade, plus the model's own
 /// reference rates inside that range (where a rate term has a kink).
 const RATE_DECADES: (i32, i32) = (-4, 5);
@@ -46,7 +66,8 @@ const HOMOLOGOUS: [f64; 17] = [
 /// The temperature range used when the model has no melting temperature (Zerilli-Armstrong,
 /// which softens through `exp(-C3 T)`): 293 K to 1800 K.
 const DEFAULT_TEMPERATURES: (f64, f64) = (293.0, 1800.0);
-/// Largest plastic strain sampled (beyond it a curve is extrapolated from its last segment).
+/// Largest plastic strain sampled (beyond it LS-DYNA extends a curve's last segment and
+/// Abaqus holds its last value).
 const LARGEST_PLASTIC_STRAIN: f64 = 5.0;
 
 /// The reference and melting temperature of the model's thermal term, if it has them.
@@ -132,8 +153,14 @@ impl FlowTable {
         }
     }
 
-    /// The flow stress as LS-DYNA reads the table (see the module docs).
-    pub fn interpolate(&self, plastic_strain: f64, rate: f64, temperature: f64) -> f64 {
+    /// The flow stress as a code reads the table (see the module docs).
+    pub fn interpolate(
+        &self,
+        reading: Reading,
+        plastic_strain: f64,
+        rate: f64,
+        temperature: f64,
+    ) -> f64 {
         let ln_rate = if rate > 0.0 {
             libm::log(rate)
         } else {
@@ -142,7 +169,12 @@ impl FlowTable {
         let (t0, t1, wt) = bracket(&self.temperatures, temperature);
         let (r0, r1, wr) = bracket(&self.ln_rates, ln_rate);
         let curve = |t: usize, r: usize| {
-            along_curve(&self.plastic_strains, &self.values[t][r], plastic_strain)
+            along_curve(
+                reading,
+                &self.plastic_strains,
+                &self.values[t][r],
+                plastic_strain,
+            )
         };
         let at_t0 = (1.0 - wr) * curve(t0, r0) + wr * curve(t0, r1);
         let at_t1 = (1.0 - wr) * curve(t1, r0) + wr * curve(t1, r1);
@@ -153,7 +185,8 @@ impl FlowTable {
     /// grid cell (geometric in plastic strain, arithmetic in `ln(rate)` and temperature):
     /// `(relative error, where)` over the points below 0.9 of the temperature range (near
     /// melt the flow stress tends to 0 and a relative error says nothing), and the largest
-    /// absolute error (Pa) anywhere.
+    /// absolute error (Pa) anywhere. The points lie inside the table, where every
+    /// [`Reading`] agrees.
     pub fn largest_error(&self, strength: &Strength) -> InterpolationError {
         let mids = |x: &[f64], geometric: bool| -> Vec<f64> {
             x.windows(2)
@@ -181,7 +214,7 @@ impl FlowTable {
                 let rate = libm::exp(ln);
                 for &e in &strains {
                     let model = at.flow_stress(e, rate).value;
-                    let table = self.interpolate(e, rate, t);
+                    let table = self.interpolate(Reading::LsDyna, e, rate, t);
                     let absolute = (table - model).abs();
                     if absolute > worst.absolute {
                         worst.absolute = absolute;
@@ -253,6 +286,87 @@ impl FlowTable {
     }
 }
 
+impl FlowTable {
+    /// Read the tables back from a card written by [`abaqus`], as Abaqus reads comma-separated
+    /// data lines: one `*PLASTIC, RATE=` table per rate, rows of yield stress, plastic strain
+    /// and temperature, grouped by temperature. The rates come back as `ln(rate)` of the
+    /// written rate.
+    pub fn read_abaqus(card: &str) -> Result<Self, String> {
+        let mut table = FlowTable {
+            plastic_strains: Vec::new(),
+            ln_rates: Vec::new(),
+            temperatures: Vec::new(),
+            values: Vec::new(),
+        };
+        // rows[r] = (stress, strain, temperature) of the r-th rate table.
+        let mut rows: Vec<Vec<[f64; 3]>> = Vec::new();
+        let mut in_plastic = false;
+        for (number, line) in card.lines().enumerate() {
+            let number = number + 1;
+            if line.starts_with("**") {
+                continue;
+            }
+            if let Some(keyword) = line.strip_prefix('*') {
+                let mut parts = keyword.split(',').map(str::trim);
+                in_plastic = parts
+                    .next()
+                    .is_some_and(|k| k.eq_ignore_ascii_case("PLASTIC"));
+                if in_plastic {
+                    let rate = parts
+                        .find_map(|p| p.strip_prefix("RATE="))
+                        .ok_or(format!("line {number}: *PLASTIC without RATE="))?
+                        .parse::<f64>()
+                        .map_err(|_| format!("line {number}: RATE is not a number"))?;
+                    table.ln_rates.push(libm::log(rate));
+                    rows.push(Vec::new());
+                }
+                continue;
+            }
+            if in_plastic {
+                let values: Vec<f64> = line
+                    .split(',')
+                    .map(|f| f.trim().parse::<f64>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| format!("line {number}: `{line}` is not three numbers"))?;
+                let [stress, strain, temperature] = values[..] else {
+                    return Err(format!("line {number}: `{line}` is not three numbers"));
+                };
+                if let Some(current) = rows.last_mut() {
+                    current.push([stress, strain, temperature]);
+                }
+            }
+        }
+        let first = rows.first().ok_or("no *PLASTIC, RATE= table")?;
+        for row in first {
+            if !table.temperatures.contains(&row[2]) {
+                table.temperatures.push(row[2]);
+            }
+        }
+        table.plastic_strains = first
+            .iter()
+            .filter(|row| row[2] == table.temperatures[0])
+            .map(|row| row[1])
+            .collect();
+        let per_table = table.temperatures.len() * table.plastic_strains.len();
+        if let Some(r) = rows.iter().position(|rows| rows.len() != per_table) {
+            return Err(format!("rate table {r} is not {per_table} rows"));
+        }
+        table.values = (0..table.temperatures.len())
+            .map(|t| {
+                rows.iter()
+                    .map(|rate| {
+                        rate[t * table.plastic_strains.len()..(t + 1) * table.plastic_strains.len()]
+                            .iter()
+                            .map(|row| row[0])
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        Ok(table)
+    }
+}
+
 /// The largest interpolation error of a [`FlowTable`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct InterpolationError {
@@ -299,9 +413,13 @@ fn bracket(points: &[f64], x: f64) -> (usize, usize, f64) {
     )
 }
 
-/// Linear interpolation along a curve, extrapolated from its last segment beyond its end.
-fn along_curve(x: &[f64], y: &[f64], at: f64) -> f64 {
+/// Linear interpolation along a curve; beyond its end, extrapolated from its last segment
+/// (LS-DYNA) or held at its last value (Abaqus).
+fn along_curve(reading: Reading, x: &[f64], y: &[f64], at: f64) -> f64 {
     let last = x.len() - 1;
+    if at >= x[last] && reading == Reading::AbaqusExplicit {
+        return y[last];
+    }
     if at >= x[last] {
         let slope = (y[last] - y[last - 1]) / (x[last] - x[last - 1]);
         return y[last] + slope * (at - x[last]);
@@ -313,14 +431,28 @@ fn along_curve(x: &[f64], y: &[f64], at: f64) -> f64 {
 /// Id of the 3D table (`LCK1`); 2D tables are `1000 (t + 1)`, curves `1000 (t + 1) + r + 1`.
 const TABLE_3D: usize = 100;
 
-/// The card and the table it holds (`None` if the EoS gives no bulk modulus for `E`, `PR`).
-pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationError)> {
+/// What both tabulated cards hold: the elastic constants, the sampled table, its error and
+/// the heating.
+struct Sampled {
+    young: f64,
+    poisson: f64,
+    table: FlowTable,
+    error: InterpolationError,
+    /// The Taylor-Quinney factor (0 if isothermal).
+    taylor_quinney: f64,
+    /// The card's comment lines (without the comment marker): the material, units, sampled
+    /// ranges, the stated error and, if any, the heating transition the card cannot hold.
+    summary: Vec<String>,
+}
+
+/// Sample `file`'s flow stress (`None` if the EoS gives no bulk modulus for `E`, `nu`).
+fn sampled(file: &MaterialFile) -> Option<Sampled> {
     let bulk = bulk_modulus(file)?;
     let (young, poisson) = young_and_poisson(bulk, file.shear_modulus);
     let strength = file.strength.strength();
     let table = FlowTable::sample(&strength, &reference_rates(file));
     let error = table.largest_error(&strength);
-    let (beta, heating_note) = match file.heating {
+    let (taylor_quinney, heating_note) = match file.heating {
         Heating::Isothermal => (0.0, None),
         Heating::Adiabatic { taylor_quinney } => (taylor_quinney, None),
         Heating::Transition {
@@ -330,40 +462,71 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationE
         } => (
             taylor_quinney,
             Some(format!(
-                "$ NOTE: stoss heats this material only above {isothermal_rate:e} /s (fully above \
-                 {adiabatic_rate:e} /s); BETA heats at every rate.\n"
+                "NOTE: stoss heats this material only above {isothermal_rate:e} /s (fully above \
+                 {adiabatic_rate:e} /s); the card's heat fraction heats at every rate."
             )),
         ),
     };
-    let cold = table.temperatures[0];
     let (first_rate, last_rate) = (
         libm::exp(table.ln_rates[0]),
         libm::exp(table.ln_rates[table.ln_rates.len() - 1]),
     );
-    let mut text = format!(
-        "$ stoss tabulated material: {}\n$ units: kg, m, s, Pa, K\n\
-         $ flow stress of the stoss model sampled at plastic strain 0..{LARGEST_PLASTIC_STRAIN} \
-         ({} points; curves extrapolated beyond),\n\
-         $ plastic strain rate {first_rate:.3e}..{last_rate:.3e} /s ({} rates, ln(rate) abscissae), \
-         temperature {:.1}..{:.1} K ({} tables).\n\
-         $ largest interpolation error against the model at the cell midpoints: {:.3} % \
-         (at plastic strain {:.3e}, {:.3e} /s, {:.1} K; below 0.9 of the temperature range), \
-         {:.3e} Pa anywhere.\n",
-        file.name,
-        table.plastic_strains.len(),
-        table.ln_rates.len(),
-        cold,
-        table.temperatures[table.temperatures.len() - 1],
-        table.temperatures.len(),
-        100.0 * error.relative,
-        error.at.0,
-        error.at.1,
-        error.at.2,
-        error.absolute,
-    );
-    if let Some(note) = heating_note {
-        text.push_str(&note);
+    let mut summary = vec![
+        format!("stoss tabulated material: {}", file.name),
+        "units: kg, m, s, Pa, K".to_string(),
+        format!(
+            "flow stress of the stoss model sampled at plastic strain 0..{LARGEST_PLASTIC_STRAIN} ({} points),",
+            table.plastic_strains.len()
+        ),
+        format!(
+            "plastic strain rate {first_rate:.3e}..{last_rate:.3e} /s ({} rates), temperature {:.1}..{:.1} K ({} temperatures).",
+            table.ln_rates.len(),
+            table.temperatures[0],
+            table.temperatures[table.temperatures.len() - 1],
+            table.temperatures.len(),
+        ),
+        format!(
+            "largest interpolation error against the model at the cell midpoints: {:.3} % \
+             (at plastic strain {:.3e}, {:.3e} /s, {:.1} K; below 0.9 of the temperature range), \
+             {:.3e} Pa anywhere.",
+            100.0 * error.relative,
+            error.at.0,
+            error.at.1,
+            error.at.2,
+            error.absolute,
+        ),
+    ];
+    summary.extend(heating_note);
+    Some(Sampled {
+        young,
+        poisson,
+        table,
+        error,
+        taylor_quinney,
+        summary,
+    })
+}
+
+/// The LS-DYNA *MAT_224 card and the table it holds (`None` if the EoS gives no bulk modulus
+/// for `E`, `PR`).
+pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationError)> {
+    let Sampled {
+        young,
+        poisson,
+        table,
+        error,
+        taylor_quinney: beta,
+        summary,
+    } = sampled(file)?;
+    let cold = table.temperatures[0];
+    let mut text = String::new();
+    for line in &summary {
+        let _ = writeln!(text, "$ {line}");
     }
+    let _ = writeln!(
+        text,
+        "$ curves are extended beyond the largest plastic strain; abscissae of the 2D tables are ln(rate)."
+    );
     let _ = writeln!(
         text,
         "*MAT_TABULATED_JOHNSON_COOK\n$      MID        RO         E        PR        CP        TR      BETA    NUMINT\n{}",
@@ -412,6 +575,66 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationE
             );
             for (e, value) in table.plastic_strains.iter().zip(&table.values[t][r]) {
                 let _ = writeln!(text, "{}{}", field(*e, 20), field(*value, 20));
+            }
+        }
+    }
+    Some((text, table, error))
+}
+
+/// The Abaqus/Explicit card (`*PLASTIC, RATE=` tables with a temperature column) and the
+/// table it holds (`None` if the EoS gives no bulk modulus for `E`, `nu`). Every number is
+/// written in its shortest exact form, so the card holds the sampled table to the last bit.
+pub fn abaqus(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationError)> {
+    let Sampled {
+        young,
+        poisson,
+        table,
+        error,
+        taylor_quinney,
+        summary,
+    } = sampled(file)?;
+    let mut text = String::new();
+    for line in &summary {
+        let _ = writeln!(text, "** {line}");
+    }
+    let _ = writeln!(
+        text,
+        "** Abaqus/Explicit reading: linear in plastic strain and temperature, logarithmic in rate\n\
+         ** (STRAIN RATE INTERPOLATION below), held constant outside the tables. Abaqus/Standard\n\
+         ** interpolates linearly in rate; the stated error is for Abaqus/Explicit.\n\
+         ** Heating needs an adiabatic step (*DYNAMIC, EXPLICIT, ADIABATIC) and an initial\n\
+         ** temperature (*INITIAL CONDITIONS, TYPE=TEMPERATURE, from {:.1} K).",
+        table.temperatures[0]
+    );
+    let _ = writeln!(
+        text,
+        "*MATERIAL, NAME=STOSS, STRAIN RATE INTERPOLATION=LOGARITHMIC\n*DENSITY\n{:e}\n*ELASTIC\n{:e}, {:e}",
+        file.density, young, poisson
+    );
+    if taylor_quinney > 0.0 {
+        let _ = writeln!(
+            text,
+            "*SPECIFIC HEAT\n{:e}\n*INELASTIC HEAT FRACTION\n{taylor_quinney:e}",
+            file.specific_heat
+        );
+    }
+    for (r, ln_rate) in table.ln_rates.iter().enumerate() {
+        // A rate a few ulp from a round number is written round (1e-4, not
+        // exp(ln 1e-4) = 9.999999999999991e-5).
+        let exact = libm::exp(*ln_rate);
+        let round: f64 = format!("{exact:.11e}").parse().unwrap_or(exact);
+        let rate = if (round - exact).abs() <= 1e-14 * exact {
+            round
+        } else {
+            exact
+        };
+        let _ = writeln!(
+            text,
+            "*PLASTIC, RATE={rate:e}\n** yield stress (Pa), plastic strain, temperature (K)"
+        );
+        for (t, temperature) in table.temperatures.iter().enumerate() {
+            for (e, value) in table.plastic_strains.iter().zip(&table.values[t][r]) {
+                let _ = writeln!(text, "{value:e}, {e:e}, {temperature:e}");
             }
         }
     }
@@ -536,85 +759,140 @@ mod tests {
             .collect()
     }
 
+    /// The card of `file` in each format, read back from its text as the target code reads
+    /// it, with the table written and the error stated.
+    fn cards_read_back(
+        file: &MaterialFile,
+    ) -> Vec<(Reading, String, FlowTable, FlowTable, InterpolationError)> {
+        let (dyna, dyna_written, dyna_error) = ls_dyna(file).unwrap();
+        let (inp, inp_written, inp_error) = abaqus(file).unwrap();
+        vec![
+            (
+                Reading::LsDyna,
+                dyna.clone(),
+                FlowTable::read_ls_dyna(&dyna).unwrap(),
+                dyna_written,
+                dyna_error,
+            ),
+            (
+                Reading::AbaqusExplicit,
+                inp.clone(),
+                FlowTable::read_abaqus(&inp).unwrap(),
+                inp_written,
+                inp_error,
+            ),
+        ]
+    }
+
     #[test]
-    fn every_model_read_back_from_its_tabulated_card_follows_the_kernel_history() {
+    fn every_model_read_back_from_its_tabulated_cards_follows_the_kernel_history() {
         // GOAL: a model with no native card (ZA, MJC, TJC, the diagnosis' terms) reaches
-        //       LS-DYNA through *MAT_224 and flows there as it does in stoss.
-        // SETUP: one model per family and term; the card written, then read back from its
-        //        text with LS-DYNA's column rules and interpolated as *MAT_224 documents;
-        //        single-element histories (isochoric tension, adiabatic) at 1e-3, 30 and
-        //        5000 /s from 293 K and 700 K to 50 % strain, through the kernel's update.
+        //       LS-DYNA through *MAT_224 and Abaqus/Explicit through *PLASTIC, RATE= tables,
+        //       and flows there as it does in stoss.
+        // SETUP: one model per family and term; each card written, then read back from its
+        //        text with the target format's rules (LS-DYNA columns; Abaqus comma-separated
+        //        rows) and interpolated as the code documents; single-element histories
+        //        (isochoric tension, adiabatic) at 1e-3, 30 and 5000 /s from 293 K and 700 K
+        //        to 50 % strain, through the kernel's update.
         // REFERENCE: the kernel's flow stress at every step's (eps_p, rate, T); the table
         //            agrees within the interpolation error the card states (measured at the
         //            cell midpoints; 1.5x allows for points between them), and that error is
         //            below 1 %.
         for (name, file) in families() {
-            let (card, written, error) = ls_dyna(&file).unwrap();
-            let read = FlowTable::read_ls_dyna(&card).unwrap();
-            let same = |a: &[f64], b: &[f64]| {
-                a.len() == b.len()
-                    && a.iter()
-                        .zip(b)
-                        .all(|(x, y)| (x - y).abs() <= 1e-14 * y.abs())
-            };
-            let holds = same(&read.plastic_strains, &written.plastic_strains)
-                && same(&read.ln_rates, &written.ln_rates)
-                && same(&read.temperatures, &written.temperatures)
-                && read
-                    .values
-                    .iter()
-                    .flatten()
-                    .zip(written.values.iter().flatten())
-                    .all(|(a, b)| same(a, b));
-            assert!(
-                holds,
-                "{name}: the card holds the sampled table to 15 digits"
-            );
-            assert!(error.relative < 0.01, "{name}: {error:?}");
-            assert!(card.contains(&format!("{:.3} %", 100.0 * error.relative)));
-            let material = file.material().unwrap();
-            let mut worst: f64 = 0.0;
-            for rate in [1.0e-3, 30.0, 5.0e3] {
-                for temperature in [293.0, 700.0] {
-                    let steps = 400;
-                    let dt = 0.5 / rate / f64::from(steps);
-                    let de = rate * dt;
-                    let mut state = MaterialState::initial(temperature);
-                    for _ in 0..steps {
-                        let before = state;
-                        let input = StepInput {
-                            strain_increment: [de, -0.5 * de, -0.5 * de, 0.0, 0.0, 0.0],
-                            dt,
-                            relative_volume: 1.0,
-                        };
-                        let output = update(&material, &mut state, &input).unwrap();
-                        if output.plastic_increment > 0.0 {
-                            let table = read.interpolate(
-                                state.plastic_strain,
-                                output.plastic_increment / dt,
-                                before.temperature,
-                            );
-                            let relative =
-                                (table - output.yield_stress).abs() / output.yield_stress;
-                            worst = worst.max(relative);
+            for (reading, card, read, written, error) in cards_read_back(&file) {
+                let same = |a: &[f64], b: &[f64]| {
+                    a.len() == b.len()
+                        && a.iter()
+                            .zip(b)
+                            .all(|(x, y)| (x - y).abs() <= 1e-14 * y.abs())
+                };
+                let holds = same(&read.plastic_strains, &written.plastic_strains)
+                    && same(&read.ln_rates, &written.ln_rates)
+                    && same(&read.temperatures, &written.temperatures)
+                    && read.values.len() == written.values.len()
+                    && read
+                        .values
+                        .iter()
+                        .zip(&written.values)
+                        .all(|(a, b)| a.len() == b.len())
+                    && read
+                        .values
+                        .iter()
+                        .flatten()
+                        .zip(written.values.iter().flatten())
+                        .all(|(a, b)| same(a, b));
+                assert!(
+                    holds,
+                    "{name}, {reading:?}: the card holds the sampled table to 15 digits"
+                );
+                assert!(error.relative < 0.01, "{name}: {error:?}");
+                assert!(card.contains(&format!("{:.3} %", 100.0 * error.relative)));
+                let material = file.material().unwrap();
+                let mut worst: f64 = 0.0;
+                for rate in [1.0e-3, 30.0, 5.0e3] {
+                    for temperature in [293.0, 700.0] {
+                        let steps = 400;
+                        let dt = 0.5 / rate / f64::from(steps);
+                        let de = rate * dt;
+                        let mut state = MaterialState::initial(temperature);
+                        for _ in 0..steps {
+                            let before = state;
+                            let input = StepInput {
+                                strain_increment: [de, -0.5 * de, -0.5 * de, 0.0, 0.0, 0.0],
+                                dt,
+                                relative_volume: 1.0,
+                            };
+                            let output = update(&material, &mut state, &input).unwrap();
+                            if output.plastic_increment > 0.0 {
+                                let table = read.interpolate(
+                                    reading,
+                                    state.plastic_strain,
+                                    output.plastic_increment / dt,
+                                    before.temperature,
+                                );
+                                let relative =
+                                    (table - output.yield_stress).abs() / output.yield_stress;
+                                worst = worst.max(relative);
+                            }
                         }
                     }
                 }
+                assert!(
+                    worst <= 1.5 * error.relative,
+                    "{name}, {reading:?}: history error {worst:e} against stated {:e}",
+                    error.relative
+                );
             }
-            assert!(
-                worst <= 1.5 * error.relative,
-                "{name}: history error {worst:e} against stated {:e}",
-                error.relative
-            );
         }
+    }
+
+    #[test]
+    fn the_abaqus_card_asks_for_logarithmic_rate_interpolation_and_heats_adiabatically() {
+        // GOAL: the Abaqus card is read the way its stated error assumes.
+        // SETUP: the bundled 4340 Johnson-Cook file (adiabatic, Taylor-Quinney 0.9).
+        // REFERENCE: Abaqus keywords reference: *MATERIAL's STRAIN RATE INTERPOLATION,
+        //            *PLASTIC's RATE parameter, *INELASTIC HEAT FRACTION; one table per rate,
+        //            in increasing rate order.
+        let (_, file) = families().remove(0);
+        let (card, table, _) = abaqus(&file).unwrap();
+        assert!(card.contains("*MATERIAL, NAME=STOSS, STRAIN RATE INTERPOLATION=LOGARITHMIC\n"));
+        assert!(card.contains("*INELASTIC HEAT FRACTION\n"));
+        let rates: Vec<f64> = card
+            .lines()
+            .filter_map(|l| l.strip_prefix("*PLASTIC, RATE="))
+            .map(|r| r.parse().unwrap())
+            .collect();
+        assert_eq!(rates.len(), table.ln_rates.len());
+        assert!(rates.windows(2).all(|w| w[0] < w[1]));
     }
 
     #[test]
     fn interpolation_is_linear_in_strain_ln_rate_and_temperature_and_clamped_outside() {
         // GOAL: the reading the card assumes, checked on a table of a known function.
         // SETUP: values a + b e + c ln(rate) + d T on a 3 x 2 x 2 grid.
-        // REFERENCE: exact inside (the function is trilinear); the nearest end outside in
-        //            rate and temperature; the last segment extended beyond the largest strain.
+        // REFERENCE: exact inside (the function is trilinear) in either reading; the nearest
+        //            end outside in rate and temperature; beyond the largest strain, the last
+        //            segment extended (LS-DYNA) or the last value held (Abaqus).
         let f = |e: f64, ln: f64, t: f64| 1.0 + 2.0 * e + 3.0 * ln + 0.01 * t;
         let plastic_strains = vec![0.0, 0.1, 1.0];
         let ln_rates = vec![-2.0, 3.0];
@@ -636,24 +914,32 @@ mod tests {
         };
         let close = |a: f64, b: f64| (a - b).abs() < 1e-12 * b.abs().max(1.0);
         assert!(close(
-            table.interpolate(0.05, 1.0, 500.0),
+            table.interpolate(Reading::LsDyna, 0.05, 1.0, 500.0),
             f(0.05, 0.0, 500.0)
         ));
         assert!(close(
-            table.interpolate(0.5, 10.0, 850.0),
+            table.interpolate(Reading::LsDyna, 0.5, 10.0, 850.0),
             f(0.5, 10f64.ln(), 850.0)
         ));
         assert!(close(
-            table.interpolate(0.5, 1e-9, 850.0),
+            table.interpolate(Reading::LsDyna, 0.5, 1e-9, 850.0),
             f(0.5, -2.0, 850.0)
         ));
         assert!(close(
-            table.interpolate(0.5, 1.0, 2000.0),
+            table.interpolate(Reading::LsDyna, 0.5, 1.0, 2000.0),
             f(0.5, 0.0, 900.0)
         ));
         assert!(close(
-            table.interpolate(2.0, 1.0, 300.0),
+            table.interpolate(Reading::LsDyna, 2.0, 1.0, 300.0),
             f(2.0, 0.0, 300.0)
+        ));
+        assert!(close(
+            table.interpolate(Reading::AbaqusExplicit, 2.0, 1.0, 300.0),
+            f(1.0, 0.0, 300.0)
+        ));
+        assert!(close(
+            table.interpolate(Reading::AbaqusExplicit, 0.5, 10.0, 850.0),
+            f(0.5, 10f64.ln(), 850.0)
         ));
     }
 }
