@@ -14,7 +14,7 @@ use stoss_kernel::{
     Material, MaterialState, PointModel, StateFlags, StepInput, StepOutput, UpdateError,
 };
 
-use crate::boundary::{set_optional, ArrayIn, ArrayOut};
+use crate::boundary::{ArrayIn, ArrayOut};
 use crate::status::{FfiError, StossStatus};
 
 /// `failed` output bit: damage reached 1; the point carries no shear and no tension.
@@ -283,20 +283,6 @@ impl<'a> StateViews<'a> {
         }
     }
 
-    pub(crate) fn read(&self, i: usize) -> MaterialState {
-        MaterialState {
-            stress: core::array::from_fn(|k| self.stress[k].get(i)),
-            plastic_strain: self.plastic_strain.get(i),
-            plastic_strain_rate: self.plastic_strain_rate.get(i),
-            temperature: self.temperature.get(i),
-            damage: self.damage.get(i),
-            relative_volume: self.relative_volume.get(i),
-            internal_energy: self.internal_energy.get(i),
-            eos_history: self.eos_history.get(i),
-            flags: StateFlags(self.flags.get(i)),
-        }
-    }
-
     pub(crate) fn write(&mut self, i: usize, state: &MaterialState) {
         for (k, array) in self.stress.iter_mut().enumerate() {
             array.set(i, state.stress[k]);
@@ -309,6 +295,64 @@ impl<'a> StateViews<'a> {
         self.internal_energy.set(i, state.internal_energy);
         self.eos_history.set(i, state.eos_history);
         self.flags.set(i, state.flags.0);
+    }
+
+    /// Whether every array holds at least `n` elements.
+    fn covers(&self, n: usize) -> bool {
+        self.stress.iter().all(|a| a.covers(n))
+            && self.plastic_strain.covers(n)
+            && self.plastic_strain_rate.covers(n)
+            && self.temperature.covers(n)
+            && self.damage.covers(n)
+            && self.relative_volume.covers(n)
+            && self.internal_energy.covers(n)
+            && self.eos_history.covers(n)
+            && self.flags.covers(n)
+    }
+
+    /// [`StateViews::read`] without the bounds checks.
+    ///
+    /// # Safety
+    /// `i < n` for an `n` that [`StateViews::covers`].
+    #[inline]
+    unsafe fn read_unchecked(&self, i: usize) -> MaterialState {
+        // SAFETY: `i < n <= len` of every array (caller).
+        unsafe {
+            MaterialState {
+                stress: core::array::from_fn(|k| self.stress[k].get_unchecked(i)),
+                plastic_strain: self.plastic_strain.get_unchecked(i),
+                plastic_strain_rate: self.plastic_strain_rate.get_unchecked(i),
+                temperature: self.temperature.get_unchecked(i),
+                damage: self.damage.get_unchecked(i),
+                relative_volume: self.relative_volume.get_unchecked(i),
+                internal_energy: self.internal_energy.get_unchecked(i),
+                eos_history: self.eos_history.get_unchecked(i),
+                flags: StateFlags(self.flags.get_unchecked(i)),
+            }
+        }
+    }
+
+    /// [`StateViews::write`] without the bounds checks.
+    ///
+    /// # Safety
+    /// `i < n` for an `n` that [`StateViews::covers`].
+    #[inline]
+    unsafe fn write_unchecked(&mut self, i: usize, state: &MaterialState) {
+        // SAFETY: `i < n <= len` of every array (caller).
+        unsafe {
+            for (k, array) in self.stress.iter_mut().enumerate() {
+                array.set_unchecked(i, state.stress[k]);
+            }
+            self.plastic_strain.set_unchecked(i, state.plastic_strain);
+            self.plastic_strain_rate
+                .set_unchecked(i, state.plastic_strain_rate);
+            self.temperature.set_unchecked(i, state.temperature);
+            self.damage.set_unchecked(i, state.damage);
+            self.relative_volume.set_unchecked(i, state.relative_volume);
+            self.internal_energy.set_unchecked(i, state.internal_energy);
+            self.eos_history.set_unchecked(i, state.eos_history);
+            self.flags.set_unchecked(i, state.flags.0);
+        }
     }
 }
 
@@ -323,10 +367,33 @@ pub(crate) fn run_batch<M: PointModel>(
 ) -> Option<(usize, UpdateError)> {
     let mut first_failure = None;
     let want_tangent = output.tangent.is_some();
+    // Every array is checked once to hold `n` points (36 n tangent entries), so the loop
+    // reads and writes without a bounds check per access. The views are built with `n` by
+    // the exports; a shorter one is a defect here, a panic caught at the boundary.
+    let covered = input.strain_increment.iter().all(|a| a.covers(n))
+        && input.relative_volume.as_ref().is_none_or(|a| a.covers(n))
+        && state.covers(n)
+        && output.wave_speed.as_ref().is_none_or(|a| a.covers(n))
+        && output.failed.as_ref().is_none_or(|a| a.covers(n))
+        && output.status.as_ref().is_none_or(|a| a.covers(n))
+        && output
+            .tangent
+            .as_ref()
+            .is_none_or(|a| n.checked_mul(36).is_some_and(|len| a.covers(len)));
+    assert!(covered, "a batch view holds fewer than {n} points");
     for i in 0..n {
-        let increment: Sym = core::array::from_fn(|k| input.strain_increment[k].get(i));
-        let volume = input.relative_volume.as_ref().map(|v| v.get(i));
-        let mut point = state.read(i);
+        // Every unchecked access below is at point `i < n` of an array asserted above to
+        // cover `n` points (`36 n` tangent entries).
+        let increment: Sym = core::array::from_fn(|k| {
+            // SAFETY: `i < n`, covered (above).
+            unsafe { input.strain_increment[k].get_unchecked(i) }
+        });
+        let volume = input.relative_volume.as_ref().map(|v| {
+            // SAFETY: `i < n`, covered (above).
+            unsafe { v.get_unchecked(i) }
+        });
+        // SAFETY: `i < n`, covered (above).
+        let mut point = unsafe { state.read_unchecked(i) };
         // The tangent is formed (and its 36 entries zeroed) only when the host asks for it.
         let mut matrix: Option<Matrix6> = want_tangent.then_some([[0.0; 6]; 6]);
         let result = step_point(
@@ -337,26 +404,38 @@ pub(crate) fn run_batch<M: PointModel>(
             volume,
             matrix.as_mut(),
         );
-        match result {
+        let status = match result {
             Ok(step) => {
-                state.write(i, &point);
-                set_optional(&mut output.wave_speed, i, step.wave_speed);
-                set_optional(&mut output.failed, i, failure_code(&point));
-                set_optional(&mut output.status, i, StossStatus::Ok as i32);
+                // SAFETY: `i < n`, covered (above).
+                unsafe { state.write_unchecked(i, &point) };
+                if let Some(array) = &mut output.wave_speed {
+                    // SAFETY: `i < n`, covered (above).
+                    unsafe { array.set_unchecked(i, step.wave_speed) };
+                }
+                if let Some(array) = &mut output.failed {
+                    // SAFETY: `i < n`, covered (above).
+                    unsafe { array.set_unchecked(i, failure_code(&point)) };
+                }
                 if let (Some(tangent), Some(matrix)) = (&mut output.tangent, &matrix) {
                     for (r, row) in matrix.iter().enumerate() {
                         for (c, value) in row.iter().enumerate() {
-                            tangent.set(36 * i + 6 * r + c, *value);
+                            // SAFETY: `36 i + 6 r + c < 36 n`, covered (above).
+                            unsafe { tangent.set_unchecked(36 * i + 6 * r + c, *value) };
                         }
                     }
                 }
+                StossStatus::Ok
             }
             Err(error) => {
-                set_optional(&mut output.status, i, StossStatus::from(error) as i32);
                 if first_failure.is_none() {
                     first_failure = Some((i, error));
                 }
+                StossStatus::from(error)
             }
+        };
+        if let Some(array) = &mut output.status {
+            // SAFETY: `i < n`, covered (above).
+            unsafe { array.set_unchecked(i, status as i32) };
         }
     }
     first_failure

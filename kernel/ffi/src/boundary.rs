@@ -203,6 +203,25 @@ impl<'a, T: Copy> ArrayIn<'a, T> {
         // SAFETY: `index < len` and the constructor's contract makes `len` elements readable.
         unsafe { self.pointer.add(index).read() }
     }
+
+    /// Whether the array holds at least `n` elements.
+    #[inline]
+    pub(crate) fn covers(&self, n: usize) -> bool {
+        n <= self.len
+    }
+
+    /// Element `index`, unchecked: for a loop whose bound was checked once with
+    /// [`ArrayIn::covers`] (a checked access costs a reload of `len` after every write
+    /// through an output array, which may alias it as far as the compiler knows).
+    ///
+    /// # Safety
+    /// `index < len`.
+    #[inline]
+    pub(crate) unsafe fn get_unchecked(&self, index: usize) -> T {
+        debug_assert!(index < self.len);
+        // SAFETY: `index < len` (caller) and the constructor's contract.
+        unsafe { self.pointer.add(index).read() }
+    }
 }
 
 /// A caller-owned in/out array of `len` elements, read and written element by element.
@@ -265,6 +284,34 @@ impl<'a, T: Copy> ArrayOut<'a, T> {
     pub(crate) fn set(&mut self, index: usize, value: T) {
         assert!(index < self.len, "array index {index} out of {}", self.len);
         // SAFETY: `index < len`; the constructor's contract makes the element writable.
+        unsafe { self.pointer.add(index).write(value) }
+    }
+
+    /// Whether the array holds at least `n` elements.
+    #[inline]
+    pub(crate) fn covers(&self, n: usize) -> bool {
+        n <= self.len
+    }
+
+    /// Element `index`, unchecked (see [`ArrayIn::get_unchecked`]).
+    ///
+    /// # Safety
+    /// `index < len`.
+    #[inline]
+    pub(crate) unsafe fn get_unchecked(&self, index: usize) -> T {
+        debug_assert!(index < self.len);
+        // SAFETY: `index < len` (caller) and the constructor's contract.
+        unsafe { self.pointer.add(index).read() }
+    }
+
+    /// Store `value` at `index`, unchecked (see [`ArrayIn::get_unchecked`]).
+    ///
+    /// # Safety
+    /// `index < len`.
+    #[inline]
+    pub(crate) unsafe fn set_unchecked(&mut self, index: usize, value: T) {
+        debug_assert!(index < self.len);
+        // SAFETY: `index < len` (caller) and the constructor's contract.
         unsafe { self.pointer.add(index).write(value) }
     }
 }
