@@ -66,6 +66,8 @@ impl core::fmt::Display for ParameterError {
     }
 }
 
+impl core::error::Error for ParameterError {}
+
 /// Why a stress update could not be carried out. The state is left unchanged when one of
 /// these is returned.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,6 +117,8 @@ impl core::fmt::Display for UpdateError {
         f.write_str(text)
     }
 }
+
+impl core::error::Error for UpdateError {}
 
 /// Helpers shared by every `validate()`.
 pub(crate) mod check {

@@ -8,8 +8,6 @@
 //! Every function is deterministic (`libm`, fixed search grids, no random restarts) and
 //! refuses to invent a limit the data do not determine.
 
-use std::fmt;
-
 /// One shot: impact and residual velocity (m/s; residual 0 = stopped).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Shot {
@@ -42,19 +40,25 @@ impl LambertJonas {
 }
 
 /// Why a ballistic fit was refused.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum BallisticFitError {
     /// A velocity is negative or not finite.
+    #[error("shot {}: velocities must be finite and >= 0 (m/s)", .index + 1)]
     BadValue {
         /// Index of the shot.
         index: usize,
     },
     /// Impact velocities are not strictly increasing.
+    #[error("shot {}: impact velocities must be strictly increasing", .index + 1)]
     NotIncreasing {
         /// Index of the first shot out of order.
         index: usize,
     },
     /// Too few perforating shots for the fit.
+    #[error(
+        "{found} perforating shot(s), the fit needs at least {needed}: V_bl not \
+         determined"
+    )]
     TooFewPerforations {
         /// Perforating shots given.
         found: usize,
@@ -62,6 +66,10 @@ pub enum BallisticFitError {
         needed: usize,
     },
     /// A stop above a perforation: no limit separates them for a residual-velocity law.
+    #[error(
+        "a stop at {stop} m/s lies above a perforation at {perforation} m/s: no single \
+         V_bl separates them"
+    )]
     StopAbovePerforation {
         /// Highest stop (m/s).
         stop: f64,
@@ -69,6 +77,7 @@ pub enum BallisticFitError {
         perforation: f64,
     },
     /// V50: too few outcomes of one kind.
+    #[error("{perforations} perforation(s) and {stops} stop(s): V50 needs at least 2 of each")]
     TooFewOutcomes {
         /// Perforations given.
         perforations: usize,
@@ -76,6 +85,11 @@ pub enum BallisticFitError {
         stops: usize,
     },
     /// V50: every stop is below every perforation, so the likelihood has no finite maximum.
+    #[error(
+        "every stop (highest {highest_stop} m/s) is below every perforation (lowest \
+         {lowest_perforation} m/s): with no zone of mixed results the likelihood has no \
+         maximum, V50 is not determined (only that it lies in the gap)"
+    )]
     CompleteSeparation {
         /// Highest stop (m/s).
         highest_stop: f64,
@@ -83,56 +97,9 @@ pub enum BallisticFitError {
         lowest_perforation: f64,
     },
     /// V50: the confidence level is outside (0, 1).
+    #[error("confidence level {0} must be between 0 and 1")]
     BadConfidenceLevel(f64),
 }
-
-impl fmt::Display for BallisticFitError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::BadValue { index } => write!(
-                f,
-                "shot {}: velocities must be finite and >= 0 (m/s)",
-                index + 1
-            ),
-            Self::NotIncreasing { index } => write!(
-                f,
-                "shot {}: impact velocities must be strictly increasing",
-                index + 1
-            ),
-            Self::TooFewPerforations { found, needed } => write!(
-                f,
-                "{found} perforating shot(s), the fit needs at least {needed}: V_bl not \
-                 determined"
-            ),
-            Self::StopAbovePerforation { stop, perforation } => write!(
-                f,
-                "a stop at {stop} m/s lies above a perforation at {perforation} m/s: no single \
-                 V_bl separates them"
-            ),
-            Self::TooFewOutcomes {
-                perforations,
-                stops,
-            } => write!(
-                f,
-                "{perforations} perforation(s) and {stops} stop(s): V50 needs at least 2 of each"
-            ),
-            Self::CompleteSeparation {
-                highest_stop,
-                lowest_perforation,
-            } => write!(
-                f,
-                "every stop (highest {highest_stop} m/s) is below every perforation (lowest \
-                 {lowest_perforation} m/s): with no zone of mixed results the likelihood has no \
-                 maximum, V50 is not determined (only that it lies in the gap)"
-            ),
-            Self::BadConfidenceLevel(level) => {
-                write!(f, "confidence level {level} must be between 0 and 1")
-            }
-        }
-    }
-}
-
-impl std::error::Error for BallisticFitError {}
 
 /// `a (Vi^p - V_bl^p)^(1/p)` above the limit, 0 at or below it.
 fn lambert_jonas(a: f64, p: f64, limit: f64, impact_velocity: f64) -> f64 {

@@ -39,34 +39,18 @@ pub struct ConcreteShot {
 }
 
 /// Why an analytic estimate is not available.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ConcreteError {
     /// An input is not finite and positive (or the ogive is not a tangent ogive, `psi < 0.5`).
+    #[error("{0} must be finite and > 0 (a tangent ogive has psi >= 0.5)")]
     BadInput(&'static str),
     /// The projectile does not get past the crater (`m V0^2 <= 4 pi a^3 S fc`).
+    #[error("the projectile stops in the crater (depth < 4a)")]
     StopsInCrater,
     /// The slab is outside the NDRC fit's range (`e/d > 1.32 + 1.24 * 13.5`).
+    #[error("the slab is outside the NDRC fit's range")]
     OutsideFit,
 }
-
-impl std::fmt::Display for ConcreteError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ConcreteError::BadInput(field) => {
-                write!(
-                    f,
-                    "{field} must be finite and > 0 (a tangent ogive has psi >= 0.5)"
-                )
-            }
-            ConcreteError::StopsInCrater => {
-                f.write_str("the projectile stops in the crater (depth < 4a)")
-            }
-            ConcreteError::OutsideFit => f.write_str("the slab is outside the NDRC fit's range"),
-        }
-    }
-}
-
-impl std::error::Error for ConcreteError {}
 
 impl ConcreteShot {
     fn check(&self) -> Result<(), ConcreteError> {

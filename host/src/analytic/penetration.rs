@@ -16,8 +16,6 @@
 //! (2003) 363. Walker & Anderson, Int. J. Impact Eng. 16 (1995) 19–48, with the implementation
 //! choices (Hugoniot start, crater radius fit) of the public C# code `awcsc` (`CalcAW`).
 
-use std::fmt;
-
 /// Fixed internal time step of the Runge–Kutta integrations (s).
 pub const INTERNAL_STEP: f64 = 1.0e-9;
 
@@ -40,9 +38,10 @@ pub const TUNGSTEN_ALLOY_HUGONIOT: (f64, f64) = (4029.0, 1.237);
 pub const STEEL_HUGONIOT: (f64, f64) = (4570.0, 1.49);
 
 /// Why a penetration model could not be evaluated.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum AnalyticError {
     /// An input is NaN or infinite.
+    #[error("{quantity} must be finite, got {value}")]
     NonFinite {
         /// Which input.
         quantity: &'static str,
@@ -50,6 +49,7 @@ pub enum AnalyticError {
         value: f64,
     },
     /// An input that must be strictly positive is not.
+    #[error("{quantity} must be positive, got {value}")]
     NotPositive {
         /// Which input.
         quantity: &'static str,
@@ -57,6 +57,7 @@ pub enum AnalyticError {
         value: f64,
     },
     /// An input that must be non-negative is negative.
+    #[error("{quantity} must not be negative, got {value}")]
     Negative {
         /// Which input.
         quantity: &'static str,
@@ -64,30 +65,12 @@ pub enum AnalyticError {
         value: f64,
     },
     /// The inputs are valid numbers but outside the range where the model is defined.
+    #[error("outside the model's range: {0}")]
     OutsideModel(String),
     /// A history is too short for the requested measure.
+    #[error("history too short: {0}")]
     HistoryTooShort(String),
 }
-
-impl fmt::Display for AnalyticError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            AnalyticError::NonFinite { quantity, value } => {
-                write!(f, "{quantity} must be finite, got {value}")
-            }
-            AnalyticError::NotPositive { quantity, value } => {
-                write!(f, "{quantity} must be positive, got {value}")
-            }
-            AnalyticError::Negative { quantity, value } => {
-                write!(f, "{quantity} must not be negative, got {value}")
-            }
-            AnalyticError::OutsideModel(text) => write!(f, "outside the model's range: {text}"),
-            AnalyticError::HistoryTooShort(text) => write!(f, "history too short: {text}"),
-        }
-    }
-}
-
-impl std::error::Error for AnalyticError {}
 
 fn finite(quantity: &'static str, value: f64) -> Result<f64, AnalyticError> {
     if value.is_finite() {

@@ -15,29 +15,18 @@ pub struct GasState {
 }
 
 /// Why a Riemann problem has no solution here.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum RiemannError {
     /// A density or pressure is not positive, or gamma is not above 1.
+    #[error("Riemann problem: invalid {0}")]
     Invalid(&'static str),
     /// The data generate a vacuum (Toro eq. 4.40), which this solver does not treat.
+    #[error("Riemann problem: the data generate a vacuum")]
     Vacuum,
     /// Newton's iteration did not converge.
+    #[error("Riemann problem: the star pressure did not converge")]
     NoConvergence,
 }
-
-impl std::fmt::Display for RiemannError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            RiemannError::Invalid(field) => write!(f, "Riemann problem: invalid {field}"),
-            RiemannError::Vacuum => f.write_str("Riemann problem: the data generate a vacuum"),
-            RiemannError::NoConvergence => {
-                f.write_str("Riemann problem: the star pressure did not converge")
-            }
-        }
-    }
-}
-
-impl std::error::Error for RiemannError {}
 
 /// The solved problem: the states on both sides and the star region.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -44,11 +44,13 @@ pub struct CachedLoad {
 }
 
 /// Why the cache failed.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum CacheError {
     /// The load could not be computed.
+    #[error(transparent)]
     Blast(BlastError),
     /// The cache folder or an entry could not be read or written.
+    #[error("blast-load cache {path}: {message}")]
     Io {
         /// The file or folder.
         path: PathBuf,
@@ -56,19 +58,6 @@ pub enum CacheError {
         message: String,
     },
 }
-
-impl std::fmt::Display for CacheError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            CacheError::Blast(e) => write!(f, "{e}"),
-            CacheError::Io { path, message } => {
-                write!(f, "blast-load cache {}: {message}", path.display())
-            }
-        }
-    }
-}
-
-impl std::error::Error for CacheError {}
 
 #[derive(Serialize, Deserialize)]
 struct Entry {

@@ -100,11 +100,13 @@ pub struct Boundaries {
 pub type Conserved = [f64; 5];
 
 /// Why the Euler solver stopped.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum EulerError {
     /// The set-up is not valid (named field).
+    #[error("blast solver set-up: {0}")]
     Setup(String),
     /// A cell's state became non-finite.
+    #[error("blast solver: cell {cell} became non-finite at t = {time:.4e} s")]
     NonFinite {
         /// Cell index.
         cell: usize,
@@ -112,20 +114,6 @@ pub enum EulerError {
         time: f64,
     },
 }
-
-impl std::fmt::Display for EulerError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            EulerError::Setup(text) => write!(f, "blast solver set-up: {text}"),
-            EulerError::NonFinite { cell, time } => write!(
-                f,
-                "blast solver: cell {cell} became non-finite at t = {time:.4e} s"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for EulerError {}
 
 /// A face state: `[rho, u, v, p, Y, E, c]`.
 type Face = [f64; 7];

@@ -35,33 +35,21 @@ const REFLECTED_IMPULSE_K: [f64; 2] = [-0.204004455, 1.37882996];
 const REFLECTED_IMPULSE_C: [f64; 4] = [2.55875566, -0.903118886, 0.101771878, -0.024213975];
 
 /// Why a fit cannot be evaluated.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum KingeryBulmashError {
     /// The scaled distance is outside `[0.0531, 40]` m/kg^(1/3).
+    #[error(
+        "scaled distance {scaled_distance:.4} m/kg^(1/3) is outside the Kingery-Bulmash \
+         range {MINIMUM_SCALED_DISTANCE}..{MAXIMUM_SCALED_DISTANCE}"
+    )]
     OutOfRange {
         /// The scaled distance asked for.
         scaled_distance: f64,
     },
     /// Mass or range not positive.
+    #[error("Kingery-Bulmash needs a positive TNT mass and range")]
     NonPositive,
 }
-
-impl std::fmt::Display for KingeryBulmashError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            KingeryBulmashError::OutOfRange { scaled_distance } => write!(
-                f,
-                "scaled distance {scaled_distance:.4} m/kg^(1/3) is outside the Kingery-Bulmash \
-                 range {MINIMUM_SCALED_DISTANCE}..{MAXIMUM_SCALED_DISTANCE}"
-            ),
-            KingeryBulmashError::NonPositive => {
-                f.write_str("Kingery-Bulmash needs a positive TNT mass and range")
-            }
-        }
-    }
-}
-
-impl std::error::Error for KingeryBulmashError {}
 
 fn fit(k: &[f64; 2], c: &[f64], scaled_distance: f64) -> Result<f64, KingeryBulmashError> {
     if !(MINIMUM_SCALED_DISTANCE..=MAXIMUM_SCALED_DISTANCE).contains(&scaled_distance) {

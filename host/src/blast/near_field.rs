@@ -233,9 +233,10 @@ pub struct BlastRun {
 }
 
 /// Why a blast load could not be computed.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum BlastError {
     /// A field is out of range (field name and reason).
+    #[error("{field}: {reason}")]
     Invalid {
         /// The field.
         field: &'static str,
@@ -243,24 +244,8 @@ pub enum BlastError {
         reason: String,
     },
     /// The Euler solver failed.
-    Euler(EulerError),
-}
-
-impl std::fmt::Display for BlastError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            BlastError::Invalid { field, reason } => write!(f, "{field}: {reason}"),
-            BlastError::Euler(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for BlastError {}
-
-impl From<EulerError> for BlastError {
-    fn from(e: EulerError) -> Self {
-        BlastError::Euler(e)
-    }
+    #[error(transparent)]
+    Euler(#[from] EulerError),
 }
 
 fn invalid(field: &'static str, reason: String) -> BlastError {

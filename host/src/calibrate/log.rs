@@ -40,31 +40,20 @@ pub struct Entry {
 }
 
 /// Why the log could not be used.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum LogError {
     /// Reading or writing failed.
-    Io(PathBuf, std::io::Error),
+    #[error("{0}: {1}")]
+    Io(PathBuf, #[source] std::io::Error),
     /// A line is not a valid entry.
+    #[error("{0}:{1}: {2}")]
     Corrupt(PathBuf, usize, String),
     /// An entry exists under the same key with other constants: the campaign changed.
+    #[error(
+        "{0}: the logged candidate {1:?} differs from this run's: the campaign or stoss changed since the log was written; start a new output folder"
+    )]
     Mismatch(PathBuf, Key),
 }
-
-impl std::fmt::Display for LogError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            LogError::Io(path, error) => write!(f, "{}: {error}", path.display()),
-            LogError::Corrupt(path, line, message) => write!(f, "{}:{line}: {message}", path.display()),
-            LogError::Mismatch(path, key) => write!(
-                f,
-                "{}: the logged candidate {key:?} differs from this run's: the campaign or stoss changed since the log was written; start a new output folder",
-                path.display()
-            ),
-        }
-    }
-}
-
-impl std::error::Error for LogError {}
 
 /// An open simulation log.
 pub struct SimulationLog {

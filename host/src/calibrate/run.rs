@@ -265,44 +265,32 @@ impl ModelResult {
 }
 
 /// Why a calibration stopped.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum CalibrateError {
     /// The simulation log failed.
-    Log(LogError),
+    #[error(transparent)]
+    Log(#[from] LogError),
     /// No candidate of a model could be simulated: the model, and why the first candidate
     /// failed (if one was tried).
+    #[error("model {0}: no candidate could be simulated{reason}", reason = first_failure(.1))]
     NoFeasibleCandidate(String, Option<String>),
     /// The thread pool could not be built.
+    #[error("thread pool: {0}")]
     Threads(String),
     /// The optimiser rejected its input.
+    #[error("optimiser: {0}")]
     Optimiser(String),
     /// The executor (Slurm) could not run the simulations.
+    #[error("executor: {0}")]
     Executor(String),
 }
 
-impl std::fmt::Display for CalibrateError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            CalibrateError::Log(error) => write!(f, "{error}"),
-            CalibrateError::NoFeasibleCandidate(model, reason) => {
-                write!(f, "model {model}: no candidate could be simulated")?;
-                match reason {
-                    Some(reason) => write!(f, "; the first failed: {reason}"),
-                    None => Ok(()),
-                }
-            }
-            CalibrateError::Threads(message) => write!(f, "thread pool: {message}"),
-            CalibrateError::Optimiser(message) => write!(f, "optimiser: {message}"),
-            CalibrateError::Executor(message) => write!(f, "executor: {message}"),
-        }
-    }
-}
-
-impl std::error::Error for CalibrateError {}
-
-impl From<LogError> for CalibrateError {
-    fn from(error: LogError) -> Self {
-        CalibrateError::Log(error)
+/// The tail of [`CalibrateError::NoFeasibleCandidate`]'s message: why the first candidate
+/// failed, when one was tried.
+fn first_failure(reason: &Option<String>) -> String {
+    match reason {
+        Some(reason) => format!("; the first failed: {reason}"),
+        None => String::new(),
     }
 }
 

@@ -42,30 +42,21 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Why a diagnosis stopped.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum DiagnoseError {
     /// Reading or writing a file failed.
+    #[error("{0}")]
     Io(String),
     /// The calibration folder is incomplete or inconsistent.
+    #[error("calibration: {0}")]
     Calibration(String),
     /// The thread pool could not be built.
+    #[error("thread pool: {0}")]
     Threads(String),
     /// A simulation the diagnosis cannot do without failed.
+    #[error("simulation failed: {0}")]
     Simulation(String),
 }
-
-impl std::fmt::Display for DiagnoseError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            DiagnoseError::Io(m) => write!(f, "{m}"),
-            DiagnoseError::Calibration(m) => write!(f, "calibration: {m}"),
-            DiagnoseError::Threads(m) => write!(f, "thread pool: {m}"),
-            DiagnoseError::Simulation(m) => write!(f, "simulation failed: {m}"),
-        }
-    }
-}
-
-impl std::error::Error for DiagnoseError {}
 
 /// Settings of a diagnosis.
 #[derive(Clone, Debug, Serialize, Deserialize)]

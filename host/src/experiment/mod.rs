@@ -220,13 +220,16 @@ pub struct Chart {
 }
 
 /// Why a simulation failed.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum SimulationError {
     /// The solver failed.
-    Solver(SolverError),
+    #[error(transparent)]
+    Solver(#[from] SolverError),
     /// The kernel driver failed.
+    #[error(transparent)]
     Driver(stoss_kernel::drivers::DriverError),
     /// The material's model family is not one this experiment kind can use.
+    #[error("a {kind} experiment needs {needs} material, not {given}")]
     Family {
         /// The experiment kind.
         kind: &'static str,
@@ -235,26 +238,6 @@ pub enum SimulationError {
         /// The family it was given.
         given: &'static str,
     },
-}
-
-impl std::fmt::Display for SimulationError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SimulationError::Solver(error) => write!(f, "{error}"),
-            SimulationError::Driver(error) => write!(f, "{error}"),
-            SimulationError::Family { kind, needs, given } => {
-                write!(f, "a {kind} experiment needs {needs} material, not {given}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for SimulationError {}
-
-impl From<SolverError> for SimulationError {
-    fn from(error: SolverError) -> Self {
-        SimulationError::Solver(error)
-    }
 }
 
 impl Experiment {
@@ -558,4 +541,60 @@ pub(crate) fn check_run_budget_of(
             steps * elements
         ),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::error::Error as _;
+    use stoss_kernel::ParameterError;
+
+    #[test]
+    fn simulation_error_exposes_its_cause_through_source() {
+        // GOAL: a wrapping SimulationError keeps the chain of causes reachable through
+        //       `std::error::Error::source()`, and a leaf variant has no source.
+        // SETUP: Solver(Material { error: NotPositive }) (a solver error with a kernel
+        //        cause); Solver(Model(..)) (a solver error without one); Family (a leaf).
+        // REFERENCE: thiserror's `#[error(transparent)]` forwards both the message and
+        //   `source()` to the wrapped error, and `#[source]` returns the marked field;
+        //   so the first source is the kernel's ParameterError, with its own message.
+        let cause = ParameterError::NotPositive {
+            field: "density",
+            value: -1.0,
+        };
+        let wrapped = SimulationError::Solver(SolverError::Material {
+            part: "plate".into(),
+            error: cause,
+        });
+        assert_eq!(
+            wrapped.to_string(),
+            "part plate: density: must be > 0, got -1"
+        );
+        let source = wrapped.source().expect("the kernel error is the source");
+        assert_eq!(source.to_string(), cause.to_string());
+        assert_eq!(
+            source.downcast_ref::<ParameterError>(),
+            Some(&cause),
+            "the source is the kernel's error itself"
+        );
+        assert!(
+            source.source().is_none(),
+            "the kernel error is the end of the chain"
+        );
+
+        let without_cause = SimulationError::from(SolverError::Model("no parts".into()));
+        assert_eq!(without_cause.to_string(), "no parts");
+        assert!(without_cause.source().is_none());
+
+        let leaf = SimulationError::Family {
+            kind: "Taylor",
+            needs: "a J2 metal",
+            given: "RHT concrete",
+        };
+        assert_eq!(
+            leaf.to_string(),
+            "a Taylor experiment needs a J2 metal material, not RHT concrete"
+        );
+        assert!(leaf.source().is_none());
+    }
 }

@@ -3,9 +3,10 @@
 use std::path::PathBuf;
 
 /// What is wrong with an input file, and where.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum InputError {
     /// The file could not be read or written.
+    #[error("{path}: {message}")]
     Io {
         /// File path.
         path: PathBuf,
@@ -13,6 +14,7 @@ pub enum InputError {
         message: String,
     },
     /// A field is missing, unknown, of the wrong type, or out of its physical range.
+    #[error("{path}{}: {}", location(.line, .field), .message.trim_end())]
     Field {
         /// File path.
         path: PathBuf,
@@ -23,6 +25,19 @@ pub enum InputError {
         /// What is wrong.
         message: String,
     },
+}
+
+/// What follows the path in [`InputError::Field`]'s message: `:line` when the line is known,
+/// then ``: field `name` `` when the field is named.
+fn location(line: &Option<usize>, field: &str) -> String {
+    let mut text = String::new();
+    if let Some(line) = line {
+        text.push_str(&format!(":{line}"));
+    }
+    if !field.is_empty() {
+        text.push_str(&format!(": field `{field}`"));
+    }
+    text
 }
 
 impl InputError {
@@ -59,28 +74,3 @@ impl InputError {
         }
     }
 }
-
-impl std::fmt::Display for InputError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            InputError::Io { path, message } => write!(f, "{}: {message}", path.display()),
-            InputError::Field {
-                path,
-                line,
-                field,
-                message,
-            } => {
-                write!(f, "{}", path.display())?;
-                if let Some(line) = line {
-                    write!(f, ":{line}")?;
-                }
-                if !field.is_empty() {
-                    write!(f, ": field `{field}`")?;
-                }
-                write!(f, ": {}", message.trim_end())
-            }
-        }
-    }
-}
-
-impl std::error::Error for InputError {}

@@ -54,14 +54,14 @@ pub use bayes::{BayesianOptimiser, Kernel};
 pub use cmaes::CmaEs;
 pub use design::{latin_hypercube, random_latin_hypercube, RandomSearch};
 
-use std::fmt;
-
 /// Errors of the optimiser core.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum OptimiseError {
     /// The bounds have no parameters.
+    #[error("the bounds have no parameters")]
     NoParameters,
     /// Lower and upper bounds have different lengths.
+    #[error("{lower} lower bounds but {upper} upper bounds; give one of each per parameter")]
     BoundsLength {
         /// Number of lower bounds.
         lower: usize,
@@ -69,6 +69,7 @@ pub enum OptimiseError {
         upper: usize,
     },
     /// A bound is not finite, or the lower bound is not below the upper bound.
+    #[error("parameter {index}: bounds [{lower}, {upper}] must be finite with lower < upper")]
     InvalidBound {
         /// Parameter index.
         index: usize,
@@ -78,8 +79,10 @@ pub enum OptimiseError {
         upper: f64,
     },
     /// A setting is out of range.
+    #[error("optimiser settings: {0}")]
     InvalidSettings(String),
     /// `tell` was given a different number of points and values.
+    #[error("tell: {points} points but {values} values")]
     LengthMismatch {
         /// Number of points.
         points: usize,
@@ -87,6 +90,7 @@ pub enum OptimiseError {
         values: usize,
     },
     /// A point has the wrong number of coordinates.
+    #[error("point {point} has {found} coordinates; the bounds have {expected}")]
     DimensionMismatch {
         /// Index of the point in the call.
         point: usize,
@@ -96,6 +100,9 @@ pub enum OptimiseError {
         found: usize,
     },
     /// A point has a non-finite coordinate or lies outside the bounds.
+    #[error(
+        "point {point}: coordinate {coordinate} = {value} is not finite or outside the bounds"
+    )]
     PointOutOfBounds {
         /// Index of the point in the call.
         point: usize,
@@ -105,6 +112,7 @@ pub enum OptimiseError {
         value: f64,
     },
     /// The objective returned a different number of values than points it was given.
+    #[error("the objective returned {found} values for {expected} points")]
     ObjectiveLength {
         /// Points given.
         expected: usize,
@@ -112,61 +120,12 @@ pub enum OptimiseError {
         found: usize,
     },
     /// Every evaluation of the run failed.
+    #[error("all {evaluations} evaluations failed; check the objective and the bounds")]
     NoSuccessfulEvaluation {
         /// Evaluations made.
         evaluations: usize,
     },
 }
-
-impl fmt::Display for OptimiseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::NoParameters => write!(f, "the bounds have no parameters"),
-            Self::BoundsLength { lower, upper } => write!(
-                f,
-                "{lower} lower bounds but {upper} upper bounds; give one of each per parameter"
-            ),
-            Self::InvalidBound {
-                index,
-                lower,
-                upper,
-            } => write!(
-                f,
-                "parameter {index}: bounds [{lower}, {upper}] must be finite with lower < upper"
-            ),
-            Self::InvalidSettings(message) => write!(f, "optimiser settings: {message}"),
-            Self::LengthMismatch { points, values } => {
-                write!(f, "tell: {points} points but {values} values")
-            }
-            Self::DimensionMismatch {
-                point,
-                expected,
-                found,
-            } => write!(
-                f,
-                "point {point} has {found} coordinates; the bounds have {expected}"
-            ),
-            Self::PointOutOfBounds {
-                point,
-                coordinate,
-                value,
-            } => write!(
-                f,
-                "point {point}: coordinate {coordinate} = {value} is not finite or outside the bounds"
-            ),
-            Self::ObjectiveLength { expected, found } => write!(
-                f,
-                "the objective returned {found} values for {expected} points"
-            ),
-            Self::NoSuccessfulEvaluation { evaluations } => write!(
-                f,
-                "all {evaluations} evaluations failed; check the objective and the bounds"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for OptimiseError {}
 
 /// A box of parameters: the optimisers work in the unit cube and scale in and out of it.
 #[derive(Clone, Debug, PartialEq)]

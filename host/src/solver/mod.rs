@@ -182,25 +182,30 @@ impl Default for SolverSettings {
 }
 
 /// Why a run stopped with an error.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SolverError {
     /// A material failed validation.
+    #[error("part {part}: {error}")]
     Material {
         /// Part name.
         part: String,
         /// The kernel's error.
+        #[source]
         error: stoss_kernel::ParameterError,
     },
     /// The kernel rejected an update (e.g. an inverted element).
+    #[error("element {element} at t = {time:.4e} s: {error}")]
     Update {
         /// Element index.
         element: usize,
         /// Time (s).
         time: f64,
         /// The kernel's error.
+        #[source]
         error: stoss_kernel::UpdateError,
     },
     /// An element inverted (non-positive area or volume).
+    #[error("element {element} of part {part} inverted at t = {time:.4e} s")]
     InvertedElement {
         /// Element index.
         element: usize,
@@ -210,6 +215,7 @@ pub enum SolverError {
         time: f64,
     },
     /// The time step collapsed below the given floor.
+    #[error("time step collapsed to {time_step:.3e} s at t = {time:.4e} s")]
     TimeStepCollapse {
         /// Time (s).
         time: f64,
@@ -217,35 +223,6 @@ pub enum SolverError {
         time_step: f64,
     },
     /// The model is not well formed.
+    #[error("{0}")]
     Model(String),
 }
-
-impl std::fmt::Display for SolverError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SolverError::Material { part, error } => write!(f, "part {part}: {error}"),
-            SolverError::Update {
-                element,
-                time,
-                error,
-            } => write!(f, "element {element} at t = {time:.4e} s: {error}"),
-            SolverError::InvertedElement {
-                element,
-                part,
-                time,
-            } => {
-                write!(
-                    f,
-                    "element {element} of part {part} inverted at t = {time:.4e} s"
-                )
-            }
-            SolverError::TimeStepCollapse { time, time_step } => write!(
-                f,
-                "time step collapsed to {time_step:.3e} s at t = {time:.4e} s"
-            ),
-            SolverError::Model(text) => f.write_str(text),
-        }
-    }
-}
-
-impl std::error::Error for SolverError {}

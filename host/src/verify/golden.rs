@@ -295,23 +295,28 @@ pub fn cases() -> Vec<GoldenCase> {
 }
 
 /// What went wrong with a golden file.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum GoldenError {
     /// The driver itself failed.
+    #[error("{case}: driver failed: {error}")]
     Driver {
         /// Golden file name.
         case: String,
         /// The driver error.
+        #[source]
         error: DriverError,
     },
     /// Reading or writing the file failed.
+    #[error("{path}: {error}")]
     Io {
         /// File path.
         path: PathBuf,
         /// The I/O error.
+        #[source]
         error: std::io::Error,
     },
     /// The file is malformed.
+    #[error("{path}:{line}: {message}")]
     Parse {
         /// File path.
         path: PathBuf,
@@ -321,6 +326,11 @@ pub enum GoldenError {
         message: String,
     },
     /// The stored and computed histories differ.
+    #[error(
+        "{path}:{line}: column {column}: stored {expected:e} ({:016x}), computed {actual:e} ({:016x})",
+        .expected.to_bits(),
+        .actual.to_bits()
+    )]
     Mismatch {
         /// File path.
         path: PathBuf,
@@ -334,6 +344,7 @@ pub enum GoldenError {
         actual: f64,
     },
     /// The stored and computed histories have different lengths.
+    #[error("{path}: {expected} records stored, {actual} computed")]
     Length {
         /// File path.
         path: PathBuf,
@@ -343,44 +354,6 @@ pub enum GoldenError {
         actual: usize,
     },
 }
-
-impl std::fmt::Display for GoldenError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            GoldenError::Driver { case, error } => write!(f, "{case}: driver failed: {error}"),
-            GoldenError::Io { path, error } => write!(f, "{}: {error}", path.display()),
-            GoldenError::Parse {
-                path,
-                line,
-                message,
-            } => write!(f, "{}:{line}: {message}", path.display()),
-            GoldenError::Mismatch {
-                path,
-                line,
-                column,
-                expected,
-                actual,
-            } => write!(
-                f,
-                "{}:{line}: column {column}: stored {expected:e} ({:016x}), computed {actual:e} ({:016x})",
-                path.display(),
-                expected.to_bits(),
-                actual.to_bits()
-            ),
-            GoldenError::Length {
-                path,
-                expected,
-                actual,
-            } => write!(
-                f,
-                "{}: {expected} records stored, {actual} computed",
-                path.display()
-            ),
-        }
-    }
-}
-
-impl std::error::Error for GoldenError {}
 
 /// Render a history in the golden format.
 pub fn render(case: &GoldenCase, records: &[Record]) -> String {

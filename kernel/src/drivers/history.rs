@@ -154,6 +154,17 @@ impl core::fmt::Display for DriverError {
     }
 }
 
+impl core::error::Error for DriverError {
+    /// The parameter or update error a driver failed on.
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            DriverError::Parameter(error) => Some(error),
+            DriverError::Update(error) => Some(error),
+            _ => None,
+        }
+    }
+}
+
 /// Where a driver writes its records.
 pub trait HistorySink {
     /// Append one record; [`DriverError::BufferFull`] when there is no room.
