@@ -224,3 +224,57 @@ fn verify_outside_the_repository_says_the_golden_folder_is_missing() {
     assert!(!String::from_utf8_lossy(&output.stdout).contains("45 failed"));
     std::fs::remove_dir_all(&directory).unwrap();
 }
+
+#[test]
+fn fit_jc_fits_the_bundled_tension_curves_and_refuses_other_kinds_without_output() {
+    // GOAL: `stoss fit-jc` (seed 001 sec. 3.2 direct fit) runs on real flow curves and writes
+    //       a material file that stoss reads; bad input writes nothing and says why.
+    // SETUP: the four bundled Johnson & Cook (1985) 4340 tension curves; then a Taylor test
+    //        given as a flow curve.
+    // REFERENCE: exit 0, the constants printed, the written file loads as a material with
+    //            the fitted C within 20 % of Johnson and Cook's 0.014 (docs/calibration.md);
+    //            exit 1 naming the file for the Taylor test, and no output file.
+    let dir = std::env::temp_dir().join(format!("stoss-fit-jc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let written = dir.join("jc.toml");
+    let curves = [
+        "fixtures/experiments/flow-4340-jc-tension-0.002s-298K.toml",
+        "fixtures/experiments/flow-4340-jc-tension-570s-298K.toml",
+        "fixtures/experiments/flow-4340-jc-tension-604s-500K.toml",
+        "fixtures/experiments/flow-4340-jc-tension-650s-735K.toml",
+    ];
+    let output = stoss()
+        .arg("fit-jc")
+        .args(curves)
+        .arg("--output")
+        .arg(&written)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{text}");
+    assert!(
+        text.contains("C from: 4340 flow curve, tension 570.0 /s, 298 K"),
+        "{text}"
+    );
+    let material = std::fs::read_to_string(&written).unwrap();
+    let rate_sensitivity: f64 = material
+        .lines()
+        .find_map(|l| l.strip_prefix("rate_sensitivity = "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((rate_sensitivity / 0.014 - 1.0).abs() < 0.2, "{material}");
+    let refused = dir.join("refused.toml");
+    let output = stoss()
+        .arg("fit-jc")
+        .arg("fixtures/experiments/taylor-4340-208.toml")
+        .arg("--output")
+        .arg(&refused)
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(error.contains("taylor-4340-208.toml"), "{error}");
+    assert!(!refused.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

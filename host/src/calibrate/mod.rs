@@ -4,6 +4,7 @@
 //! selection), the linearised uncertainty of the calibrated constants and the report.
 
 pub mod campaign;
+pub mod direct_jc;
 pub mod executor;
 pub mod log;
 pub mod objective;

@@ -4,6 +4,7 @@ pub mod analyse_shpb;
 mod calibrate;
 pub(crate) mod diagnose;
 mod evaluate;
+mod fit_jc;
 mod output_folder;
 mod simulate;
 pub mod synthesize;
@@ -49,6 +50,9 @@ pub enum Command {
     /// Kolsky analysis of a real split Hopkinson bar's recorded gauge signals: stress, strain
     /// and strain rate by the 1-, 2- and 3-wave analyses, and a recording a campaign can fit.
     AnalyseShpb(analyse_shpb::AnalyseShpbArgs),
+    /// The conventional direct Johnson-Cook fit from flow curves (seed 001 sec. 3.2), with no
+    /// simulation: a starting point and a baseline for `calibrate`.
+    FitJc(fit_jc::FitJcArgs),
 }
 
 /// Run the parsed command line.
@@ -62,5 +66,6 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Synthesize(args) => synthesize::run(&args),
         Command::Evaluate(args) => evaluate::run(&args),
         Command::AnalyseShpb(args) => analyse_shpb::run(&args),
+        Command::FitJc(args) => fit_jc::run(&args),
     }
 }
