@@ -128,6 +128,9 @@ pub fn fit(
             s.melting_temperature, s.reference_temperature
         )));
     }
+    let homologous = |temperature: f64| {
+        (temperature - s.reference_temperature) / (s.melting_temperature - s.reference_temperature)
+    };
     let at_reference_temperature =
         |c: &FlowCurve| (c.temperature - s.reference_temperature).abs() <= SAME_TEMPERATURE;
     let mut notes = Vec::new();
@@ -218,9 +221,7 @@ pub fn fit(
         .collect();
     let (mut sxy, mut sxx, mut left_out) = (0.0, 0.0, 0);
     for curve in &hot {
-        let homologous = (curve.temperature - s.reference_temperature)
-            / (s.melting_temperature - s.reference_temperature);
-        let x = libm::log(homologous);
+        let x = libm::log(homologous(curve.temperature));
         for &(eps, sigma, _) in curve.points.iter().filter(|p| p.0 > 0.0) {
             let softening = 1.0 - sigma / (quasi_static(eps) * rate_factor(curve.rate));
             if softening > 0.0 && softening < 1.0 {
@@ -260,10 +261,7 @@ pub fn fit(
     let rms_relative = curves
         .iter()
         .map(|curve| {
-            let homologous = ((curve.temperature - s.reference_temperature)
-                / (s.melting_temperature - s.reference_temperature))
-                .max(0.0);
-            let thermal = 1.0 - libm::pow(homologous, thermal_exponent);
+            let thermal = 1.0 - libm::pow(homologous(curve.temperature).max(0.0), thermal_exponent);
             let squares: Vec<f64> = curve
                 .points
                 .iter()

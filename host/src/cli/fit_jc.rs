@@ -12,7 +12,6 @@ use crate::report::cards::{bulk_modulus, young_and_poisson};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use stoss_kernel::parameters::ConstantPaths;
 
 /// Arguments of `stoss fit-jc`.
 #[derive(Debug, Args)]
@@ -102,13 +101,7 @@ fn fit(args: &FitJcArgs) -> Result<(), String> {
             points,
         });
     }
-    let constant = |suffix: &str| {
-        base.strength
-            .constants()
-            .into_iter()
-            .find(|(name, _)| name.ends_with(suffix))
-            .and_then(|(name, _)| base.strength.get(&name))
-    };
+    let constant = |name: &str| base.strength.constant_named(name);
     let melting_temperature = args
         .melting_temperature
         .or_else(|| constant("melting_temperature"))

@@ -68,6 +68,15 @@ impl StrengthSpec {
         }
     }
 
+    /// The value of the constant called `name` in whichever term has it (`reference_temperature`
+    /// matches a family's field and a composed model's `thermal.reference_temperature`).
+    pub fn constant_named(&self, name: &str) -> Option<f64> {
+        self.constants()
+            .into_iter()
+            .find(|(path, _)| path == name || path.ends_with(&format!(".{name}")))
+            .and_then(|(path, _)| self.get(&path))
+    }
+
     /// The model's constants as a campaign names them, with their descriptions: a family's
     /// field names (`rate_sensitivity`), or a composed model's `term.name` paths
     /// (`rate.rate_sensitivity`).

@@ -20,7 +20,6 @@ use crate::solver::SolverSettings;
 use std::fmt::Write as _;
 use std::path::Path;
 use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
-use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::{Heating, Material, MaterialState};
 
 /// Reads one quantity of a state sample.
@@ -461,13 +460,7 @@ pub fn write(
         // The user material's initial temperature: a metal model's reference temperature
         // where it has one (JC-type thermal terms), else 293 K; edit P6 for another.
         let initial_temperature = metal_file
-            .and_then(|file| {
-                file.strength
-                    .constants()
-                    .iter()
-                    .find(|(name, _)| name.ends_with("reference_temperature"))
-                    .and_then(|(name, _)| file.strength.get(name))
-            })
+            .and_then(|file| file.strength.constant_named("reference_temperature"))
             .unwrap_or(293.0);
         match cards::user_material::cards(&material_file, initial_temperature) {
             Ok((dyna, abaqus)) => {
