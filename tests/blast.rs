@@ -241,6 +241,7 @@ mod plate_support {
             thickness: 2.0e-3,
             exposed_radius: 0.05,
             layers: 4,
+            aspect_ratio: 1.0,
             temperature: 298.0,
             charge: Charge {
                 mass: 0.005,
