@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use stoss::calibrate::campaign::LeaveOneOut;
 use stoss::calibrate::executor::{Batch, Executor, Local, Origin, Record};
 use stoss::calibrate::proposer::bayesian_factory;
 use stoss::calibrate::run::{calibrate, CalibrateError, RunOptions};
@@ -25,7 +26,11 @@ fn options(budget: usize, polish: usize, leave_one_out: bool) -> RunOptions {
     RunOptions {
         budget: Some(budget),
         instances: Some(1),
-        leave_one_out: Some(leave_one_out),
+        leave_one_out: Some(if leave_one_out {
+            LeaveOneOut::Every
+        } else {
+            LeaveOneOut::Off
+        }),
         polish: Some(polish),
     }
 }
@@ -46,7 +51,7 @@ fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
     //        the starting constants (not the truth) score worse, fitted and held out.
     let campaign = Campaign::load(&fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
     let output = temporary("recover");
-    let factory = bayesian_factory();
+    let factory = bayesian_factory(None);
     let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
     let results = calibrate(
         &campaign,
@@ -133,7 +138,7 @@ fn leave_one_out_scores_every_fold_on_all_experiments() {
     // REFERENCE: 4 finalists, each with a score for all 4 experiments.
     let campaign = Campaign::load(&fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
     let output = temporary("loo");
-    let factory = bayesian_factory();
+    let factory = bayesian_factory(None);
     let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
     let results = calibrate(
         &campaign,
@@ -150,6 +155,114 @@ fn leave_one_out_scores_every_fold_on_all_experiments() {
         .iter()
         .all(|(_, e)| e.scores.iter().all(Option::is_some)));
     std::fs::remove_dir_all(&output).unwrap();
+}
+
+#[test]
+fn warm_started_leave_one_out_runs_for_the_selected_model_only() {
+    // GOAL: seed 000's protocol at a cost a campaign of slow experiments can pay: model
+    //       selection first, then leave-one-out only for the selected model, each fold
+    //       starting from that model's all-experiment simulations and running `fold_budget`
+    //       new ones; a fold's best is completed on every experiment by simulating only those
+    //       it lacks.
+    // SETUP: the synthetic-flow campaign (3 fitted curves, 1 held out) with a second model,
+    //        `jc-soft`, whose box excludes the truth (yield stress <= 0.7 GPa, truth 1.25 GPa);
+    //        budget 10 (design 6), no polish, leave_one_out = "selected", fold_budget = 2.
+    // REFERENCE: `jc` is selected and gets 1 + 3 finalists, `jc-soft` 1; each fold instance
+    //            simulated exactly 2 candidates; every finalist has all 4 scores; a fold's
+    //            best is no worse, on the fold's experiments, than the best all-experiment
+    //            simulation it started from (the warm start is offered as a candidate).
+    let dir = temporary("loo-selected");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml"))
+        .unwrap()
+        .replace("../", &format!("{}/", fixtures().display()))
+        .replacen(
+            "[[experiments]]",
+            "[[models]]\nname = \"jc-soft\"\n[models.parameters]\nyield_stress = [0.3e9, 0.7e9]\n\
+             hardening_modulus = [0.0, 1.5e9]\n\n[[experiments]]",
+            1,
+        )
+        .replace(
+            "parallel = 2",
+            "parallel = 2\ndesign = 6\nleave_one_out = \"selected\"\nfold_budget = 2",
+        );
+    let path = dir.join("campaign.toml");
+    std::fs::write(&path, text).unwrap();
+    let campaign = Campaign::load(&path).unwrap();
+    let output = dir.join("out");
+    std::fs::create_dir_all(&output).unwrap();
+    let factory = bayesian_factory(campaign.file.optimiser.design);
+    let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
+    let run = RunOptions {
+        budget: Some(10),
+        instances: Some(1),
+        leave_one_out: None,
+        polish: Some(0),
+    };
+    let results = calibrate(
+        &campaign,
+        &output,
+        &run,
+        &mut local(&campaign),
+        &factory,
+        &mut progress,
+    )
+    .unwrap();
+    let jc = results.iter().find(|r| r.model == "jc").unwrap();
+    let soft = results.iter().find(|r| r.model == "jc-soft").unwrap();
+    assert!(
+        jc.fit_error < soft.fit_error,
+        "{} {}",
+        jc.fit_error,
+        soft.fit_error
+    );
+    assert_eq!(jc.finalists.len(), 4);
+    assert_eq!(soft.finalists.len(), 1);
+    let fitted = campaign.fitted();
+    let all_experiment_best = jc.instances[0].best.clone();
+    for instance in jc.instances.iter().filter(|i| i.fold.is_some()) {
+        assert_eq!(instance.simulated, 2, "{:?}", instance.fold);
+        let left = campaign
+            .file
+            .experiments
+            .iter()
+            .position(|e| Some(&e.file) == instance.fold.as_ref())
+            .unwrap();
+        let rest: Vec<usize> = fitted.iter().copied().filter(|&i| i != left).collect();
+        let warm = all_experiment_best.total(&campaign, &rest).unwrap();
+        assert!(
+            instance.fit_error <= warm,
+            "{} > {warm}",
+            instance.fit_error
+        );
+    }
+    assert!(jc
+        .finalists
+        .iter()
+        .all(|(_, e)| e.scores.iter().all(Option::is_some)));
+    // The settings are checked: a design larger than the budget, a zero fold budget, an
+    // unknown leave-one-out word.
+    let text = std::fs::read_to_string(&path).unwrap();
+    for (content, expected) in [
+        (text.replace("design = 6", "design = 60"), "field `design`"),
+        (
+            text.replace("fold_budget = 2", "fold_budget = 0"),
+            "field `fold_budget`",
+        ),
+        (
+            text.replace("\"selected\"", "\"best\""),
+            "expected true, false or \"selected\"",
+        ),
+    ] {
+        std::fs::write(dir.join("bad.toml"), content).unwrap();
+        let error = Campaign::load(&dir.join("bad.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("bad.toml") && error.contains(expected),
+            "{error}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 fn stoss() -> Command {
@@ -673,7 +786,7 @@ fn calibration_does_not_depend_on_the_order_tasks_finish_in() {
     let path = folder.join("campaign.toml");
     std::fs::write(&path, with_taylor).unwrap();
     let campaign = Campaign::load(&path).unwrap();
-    let factory = bayesian_factory();
+    let factory = bayesian_factory(None);
     let run = |executor: &mut dyn Executor, name: &str| {
         let output = folder.join(name);
         std::fs::create_dir_all(&output).unwrap();

@@ -118,7 +118,7 @@ fn main() {
                 ));
                 let _ = std::fs::remove_dir_all(&output);
                 std::fs::create_dir_all(&output).expect("temporary folder");
-                let factory = bayesian_factory();
+                let factory = bayesian_factory(None);
                 let mut progress =
                     |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
                 let results = calibrate(
@@ -127,7 +127,7 @@ fn main() {
                     &RunOptions {
                         budget: Some(budget),
                         instances: Some(1),
-                        leave_one_out: Some(false),
+                        leave_one_out: Some(stoss::calibrate::campaign::LeaveOneOut::Off),
                         polish: Some(polish),
                     },
                     &mut Local::new(campaign.file.optimiser.parallel).expect("thread pool"),

@@ -26,6 +26,9 @@
 //! seed = 1
 //! parallel = 2                             # simulations run at once (one batch)
 //! polish = 20                              # Nelder-Mead from each instance's best (default budget/2)
+//! design = 15                              # initial Latin hypercube (default 3 x constants)
+//! leave_one_out = "selected"               # false, true (every model) or "selected"
+//! fold_budget = 3                          # warm-started folds: new simulations per fold
 //!
 //! [executor]                               # optional: run the simulations on a Slurm cluster
 //! kind = "slurm"                           # (executor/settings.rs lists every key)
@@ -149,13 +152,73 @@ pub struct OptimiserEntry {
     /// Simulations run at once.
     #[serde(default = "default_parallel")]
     pub parallel: usize,
-    /// Leave-one-out over the fitted experiments (fit on n-1, score all n).
+    /// Leave-one-out over the fitted experiments (fit on n-1, score all n): `false`, `true`
+    /// (every model) or `"selected"` (only the model that model selection picks, as seed 000
+    /// did for MJC).
     #[serde(default)]
-    pub leave_one_out: bool,
+    pub leave_one_out: LeaveOneOut,
     /// Simulations of the Nelder-Mead polish from each instance's best point (default: half
     /// the Bayesian budget; 0 disables).
     #[serde(default)]
     pub polish: Option<usize>,
+    /// Points of the initial Latin hypercube (default `3 x` the number of fitted constants,
+    /// seed 000 sec. 4.1; at most the budget).
+    #[serde(default)]
+    pub design: Option<usize>,
+    /// Warm-started leave-one-out: each fold's instances start from every simulation of the
+    /// model's all-experiment instances (scored without the left-out experiment) and run this
+    /// many new simulations each, without polish. Unset: each fold is an independent
+    /// calibration with the full budget and polish.
+    #[serde(default)]
+    pub fold_budget: Option<usize>,
+}
+
+/// Which models leave-one-out runs for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LeaveOneOut {
+    /// None.
+    #[default]
+    Off,
+    /// Every model of the campaign.
+    Every,
+    /// The model with the lowest all-experiment fit error (model selection first).
+    Selected,
+}
+
+impl LeaveOneOut {
+    /// Whether any model runs leave-one-out.
+    pub fn is_on(self) -> bool {
+        self != LeaveOneOut::Off
+    }
+}
+
+impl Serialize for LeaveOneOut {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            LeaveOneOut::Off => serializer.serialize_bool(false),
+            LeaveOneOut::Every => serializer.serialize_bool(true),
+            LeaveOneOut::Selected => serializer.serialize_str("selected"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for LeaveOneOut {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Written {
+            Flag(bool),
+            Word(String),
+        }
+        match Written::deserialize(deserializer)? {
+            Written::Flag(false) => Ok(LeaveOneOut::Off),
+            Written::Flag(true) => Ok(LeaveOneOut::Every),
+            Written::Word(word) if word == "selected" => Ok(LeaveOneOut::Selected),
+            Written::Word(word) => Err(serde::de::Error::custom(format!(
+                "`{word}`: expected true, false or \"selected\""
+            ))),
+        }
+    }
 }
 
 impl Default for OptimiserEntry {
@@ -165,8 +228,10 @@ impl Default for OptimiserEntry {
             instances: default_instances(),
             seed: 0,
             parallel: default_parallel(),
-            leave_one_out: false,
+            leave_one_out: LeaveOneOut::Off,
             polish: None,
+            design: None,
+            fold_budget: None,
         }
     }
 }
@@ -413,6 +478,22 @@ impl Campaign {
                 &text,
                 "budget",
                 "budget >= 4, instances >= 1, parallel >= 1",
+            ));
+        }
+        if o.design == Some(0) || o.design.is_some_and(|d| d > o.budget) {
+            return Err(InputError::field(
+                path,
+                &text,
+                "design",
+                format!("must be between 1 and the budget ({})", o.budget),
+            ));
+        }
+        if o.fold_budget == Some(0) {
+            return Err(InputError::field(
+                path,
+                &text,
+                "fold_budget",
+                "must be at least 1 (leave it out for independent folds)",
             ));
         }
         // A fixed bound, not one from this machine's cores: `parallel` sets the optimiser's

@@ -173,24 +173,29 @@ pub fn evaluate(
             return finish(scores, Status::Infeasible(message));
         }
     }
-    for &index in experiments {
+    let run = |&index: &usize| {
         let experiment = &campaign.experiments[index];
         match experiment.simulate(&material, settings) {
-            Ok(outcome) => match score(&experiment.recording, &outcome.predicted) {
-                Some(s) => scores[index] = Some(s),
-                None => {
-                    return finish(
-                        scores,
-                        Status::Failed(format!("{}: non-finite prediction", experiment.file.name)),
-                    )
-                }
-            },
-            Err(error) => {
-                return finish(
-                    scores,
-                    Status::Failed(format!("{}: {error}", experiment.file.name)),
-                )
-            }
+            Ok(outcome) => score(&experiment.recording, &outcome.predicted).ok_or_else(|| {
+                Status::Failed(format!("{}: non-finite prediction", experiment.file.name))
+            }),
+            Err(error) => Err(Status::Failed(format!("{}: {error}", experiment.file.name))),
+        }
+    };
+    // One solver thread per simulation: the experiments of a candidate run side by side on
+    // the calling pool's threads (so a lone candidate, as in the polish, still fills the
+    // cores). With more solver threads they run one after another, each using them all.
+    let outcomes: Vec<Result<Score, Status>> = if settings.threads == Some(1) {
+        use rayon::prelude::*;
+        experiments.par_iter().map(run).collect()
+    } else {
+        experiments.iter().map(run).collect()
+    };
+    // The first failure in the campaign's order decides, as if they had run in turn.
+    for (&index, outcome) in experiments.iter().zip(outcomes) {
+        match outcome {
+            Ok(s) => scores[index] = Some(s),
+            Err(status) => return finish(scores, status),
         }
     }
     finish(scores, Status::Ok)

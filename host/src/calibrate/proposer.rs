@@ -32,10 +32,13 @@ impl Proposer for Unusable {
     }
 }
 
-/// Builds a Bayesian optimiser per instance: Latin hypercube of `3 x dimension`, GP + log-EI,
-/// batches of `batch` (kriging believer), seeded.
-pub fn bayesian_factory() -> impl Fn(&ModelSpace, usize, usize, u64) -> Box<dyn Proposer> + Sync {
-    |space: &ModelSpace, budget: usize, batch: usize, seed: u64| -> Box<dyn Proposer> {
+/// Builds a Bayesian optimiser per instance: Latin hypercube of `design` points (default
+/// `3 x dimension`, at most the budget), GP + log-EI, batches of `batch` (kriging believer),
+/// seeded.
+pub fn bayesian_factory(
+    design: Option<usize>,
+) -> impl Fn(&ModelSpace, usize, usize, u64) -> Box<dyn Proposer> + Sync {
+    move |space: &ModelSpace, budget: usize, batch: usize, seed: u64| -> Box<dyn Proposer> {
         let pairs: Vec<(f64, f64)> = space
             .lower
             .iter()
@@ -43,8 +46,11 @@ pub fn bayesian_factory() -> impl Fn(&ModelSpace, usize, usize, u64) -> Box<dyn 
             .zip(space.upper.iter().copied())
             .collect();
         let built = Bounds::from_pairs(&pairs).and_then(|bounds| {
-            let settings =
+            let mut settings =
                 OptimiserSettings::new(space.dimension(), budget, seed).with_batch(batch);
+            if let Some(design) = design {
+                settings.initial = design.min(budget);
+            }
             BayesianOptimiser::new(bounds, settings)
         });
         match built {

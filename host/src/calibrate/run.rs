@@ -4,7 +4,7 @@
 //! campaign's models. Batches of candidates are simulated in parallel; every result is logged
 //! as it ends, and a resumed run replays the log instead of simulating again.
 
-use super::campaign::{Campaign, ModelSpace};
+use super::campaign::{Campaign, LeaveOneOut, ModelSpace};
 use super::executor::{Batch, Candidate, Executor, Origin};
 use super::log::{Entry, Key, LogError, SimulationLog};
 use super::objective::{Evaluation, Status};
@@ -305,7 +305,7 @@ pub struct RunOptions {
     /// Override of the campaign's instances.
     pub instances: Option<usize>,
     /// Override of leave-one-out.
-    pub leave_one_out: Option<bool>,
+    pub leave_one_out: Option<LeaveOneOut>,
     /// Override of the polish budget.
     pub polish: Option<usize>,
 }
@@ -344,6 +344,16 @@ impl Tally {
         self.history.push(self.best_value().unwrap_or(f64::NAN));
     }
 
+    /// Offer an earlier simulation (a warm start) as a candidate for the best, without
+    /// counting it as simulated by this instance or adding to its history.
+    fn offer(&mut self, evaluation: &Evaluation, value: Option<f64>) {
+        if let Some(value) = value {
+            if self.best.as_ref().is_none_or(|(_, b)| value < *b) {
+                self.best = Some((evaluation.clone(), value));
+            }
+        }
+    }
+
     fn best_value(&self) -> Option<f64> {
         self.best.as_ref().map(|b| b.1)
     }
@@ -358,6 +368,7 @@ struct Runner<'a> {
     budget: usize,
     batch: usize,
     polish: usize,
+    fold_budget: Option<usize>,
 }
 
 impl Runner<'_> {
@@ -416,12 +427,19 @@ impl Runner<'_> {
         Ok(results.into_iter().flatten().collect())
     }
 
+    /// One optimisation instance on `experiments`. `warm` are earlier simulations of the same
+    /// model (every fitted experiment scored): when given, the instance starts from them
+    /// (told to the proposer, offered as its best) and runs `fold_budget` new simulations
+    /// without polish. Every simulation it runs is appended to `seen`.
+    #[allow(clippy::too_many_arguments)]
     fn instance(
         &mut self,
         space: &ModelSpace,
         fold: Option<&str>,
         experiments: &[usize],
         instance: usize,
+        warm: &[Evaluation],
+        seen: &mut Vec<Evaluation>,
     ) -> Result<InstanceResult, CalibrateError> {
         let seed = self
             .campaign
@@ -429,19 +447,50 @@ impl Runner<'_> {
             .optimiser
             .seed
             .wrapping_add(instance as u64);
-        let mut proposer = (self.factory)(space, self.budget, self.batch, seed);
+        let value_of = |campaign: &Campaign, e: &Evaluation| {
+            if e.status == Status::Ok {
+                e.total(campaign, experiments)
+            } else {
+                None
+            }
+        };
+        let warm: Vec<(&Evaluation, Option<f64>)> = match self.fold_budget {
+            Some(_) if !warm.is_empty() => warm
+                .iter()
+                .map(|e| (e, value_of(self.campaign, e)))
+                .collect(),
+            _ => Vec::new(),
+        };
+        let (budget, polish) = match self.fold_budget {
+            Some(fresh) if !warm.is_empty() => (fresh, 0),
+            _ => (self.budget, self.polish),
+        };
+        let mut proposer = (self.factory)(space, warm.len() + budget, self.batch, seed);
         let mut tally = Tally::default();
+        if !warm.is_empty() {
+            let points: Vec<Vec<f64>> = warm.iter().map(|(e, _)| e.values.clone()).collect();
+            let values: Vec<Option<f64>> = warm
+                .iter()
+                .map(|(_, v)| v.map(|e| libm::log(e.max(1e-300))))
+                .collect();
+            proposer
+                .tell(&points, &values)
+                .map_err(CalibrateError::Optimiser)?;
+            for (evaluation, value) in &warm {
+                tally.offer(evaluation, *value);
+            }
+        }
         let mut index = 0;
         // The total counts the polish from the start, so a bar never runs past it; the
         // instance is announced before its initial design runs.
-        let total = self.budget + self.polish;
+        let total = budget + polish;
         (self.progress)(&space.name, fold, instance, 0, total, None);
-        while index < self.budget {
+        while index < budget {
             let mut points = proposer.ask();
             if points.is_empty() {
                 break;
             }
-            points.truncate(self.budget - index);
+            points.truncate(budget - index);
             let keys: Vec<Key> = (0..points.len())
                 .map(|k| Key {
                     model: space.name.clone(),
@@ -453,14 +502,9 @@ impl Runner<'_> {
             let evaluations = self.evaluate_batch(&keys, &points, space, experiments, seed)?;
             let values: Vec<Option<f64>> = evaluations
                 .iter()
-                .map(|e| {
-                    if e.status == Status::Ok {
-                        e.total(self.campaign, experiments)
-                    } else {
-                        None
-                    }
-                })
+                .map(|e| value_of(self.campaign, e))
                 .collect();
+            seen.extend(evaluations.iter().cloned());
             for (evaluation, value) in evaluations.into_iter().zip(&values) {
                 tally.record(evaluation, *value);
             }
@@ -487,7 +531,7 @@ impl Runner<'_> {
         // Nelder-Mead polish from the best point, one candidate at a time.
         if let (Some((start, start_value)), true) = (
             tally.best.as_ref().map(|(e, v)| (e.values.clone(), *v)),
-            self.polish > 0,
+            polish > 0,
         ) {
             let span: Vec<f64> = space
                 .lower
@@ -502,7 +546,7 @@ impl Runner<'_> {
                 .map(|((x, l), s)| (x - l) / s)
                 .collect();
             let mut simplex = NelderMead::new(&unit, start_value, 0.05);
-            for _ in 0..self.polish {
+            for _ in 0..polish {
                 let point: Vec<f64> = simplex
                     .ask()
                     .iter()
@@ -525,11 +569,8 @@ impl Runner<'_> {
                         seed,
                     )?
                     .remove(0);
-                let value = if evaluation.status == Status::Ok {
-                    evaluation.total(self.campaign, experiments)
-                } else {
-                    None
-                };
+                let value = value_of(self.campaign, &evaluation);
+                seen.push(evaluation.clone());
                 tally.record(evaluation, value);
                 simplex.tell(value);
                 index += 1;
@@ -567,7 +608,18 @@ impl Runner<'_> {
     }
 }
 
-/// Run the campaign: every model, instance and (optionally) leave-one-out fold, the
+/// The finalists of one model so far: its instances, each fold's best re-scored on every
+/// experiment, and every simulation its all-experiment instances ran (the warm start of
+/// its folds).
+struct ModelRun {
+    space: ModelSpace,
+    instances: Vec<InstanceResult>,
+    finalists: Vec<(Option<String>, Evaluation)>,
+    seen: Vec<Evaluation>,
+}
+
+/// Run the campaign: every model's instances on the fitted experiments, then leave-one-out
+/// folds (for every model, or only for the model with the lowest fit error), the
 /// simulations through `executor`. Results go to `output/simulations.jsonl` as they arrive.
 pub fn calibrate<'a>(
     campaign: &'a Campaign,
@@ -591,6 +643,7 @@ pub fn calibrate<'a>(
             .polish
             .or(optimiser.polish)
             .unwrap_or(options.budget.unwrap_or(optimiser.budget) / 2),
+        fold_budget: optimiser.fold_budget,
     };
     let instances = options.instances.unwrap_or(optimiser.instances);
     let leave_one_out = options.leave_one_out.unwrap_or(optimiser.leave_one_out);
@@ -598,64 +651,153 @@ pub fn calibrate<'a>(
     let holdouts: Vec<usize> = (0..campaign.experiments.len())
         .filter(|i| !fitted.contains(i))
         .collect();
-    let all: Vec<usize> = (0..campaign.experiments.len()).collect();
-    let mut results = Vec::new();
+    // Model selection: every model on every fitted experiment.
+    let mut runs = Vec::new();
     for model in &campaign.file.models {
         let space = campaign.space(model);
-        let mut folds: Vec<(Option<String>, Vec<usize>)> = vec![(None, fitted.clone())];
-        if leave_one_out && fitted.len() > 1 {
+        let mut run = ModelRun {
+            space,
+            instances: Vec::new(),
+            finalists: Vec::new(),
+            seen: Vec::new(),
+        };
+        runner.fold(&mut run, None, &fitted, instances)?;
+        runs.push(run);
+    }
+    // Leave-one-out: fit on n-1, score the fold's best on all n (seed 000 sec. 4.2).
+    let selected_model = runs
+        .iter()
+        .enumerate()
+        .filter_map(|(k, run)| {
+            run.finalists
+                .first()
+                .and_then(|(_, e)| e.total(campaign, &fitted))
+                .map(|t| (k, t))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(k, _)| k);
+    if fitted.len() > 1 {
+        for (k, run) in runs.iter_mut().enumerate() {
+            let wanted = match leave_one_out {
+                LeaveOneOut::Off => false,
+                LeaveOneOut::Every => true,
+                LeaveOneOut::Selected => selected_model == Some(k),
+            };
+            if !wanted {
+                continue;
+            }
             for &left in &fitted {
-                let rest = fitted.iter().copied().filter(|&i| i != left).collect();
-                folds.push((Some(campaign.file.experiments[left].file.clone()), rest));
+                let rest: Vec<usize> = fitted.iter().copied().filter(|&i| i != left).collect();
+                let fold = campaign.file.experiments[left].file.clone();
+                runner.fold(run, Some(fold), &rest, instances)?;
             }
         }
-        let mut instance_results = Vec::new();
-        let mut finalists = Vec::new();
-        for (fold, experiments) in &folds {
-            let mut fold_results = Vec::new();
-            for instance in 0..instances {
-                fold_results.push(runner.instance(
-                    &space,
-                    fold.as_deref(),
-                    experiments,
-                    instance,
-                )?);
-            }
-            // The fold's best, re-scored on every experiment (seed 000's LOO protocol).
-            let winner = fold_results
+    }
+    let mut results = Vec::new();
+    for run in runs {
+        results.push(runner.conclude(run, &fitted, &holdouts)?);
+    }
+    Ok(results)
+}
+
+impl Runner<'_> {
+    /// Run one fold's instances on `experiments` and add its best, scored on every
+    /// experiment, to the model's finalists. The all-experiment fold (`None`) records its
+    /// simulations as the warm start of the later folds.
+    fn fold(
+        &mut self,
+        run: &mut ModelRun,
+        fold: Option<String>,
+        experiments: &[usize],
+        instances: usize,
+    ) -> Result<(), CalibrateError> {
+        let all: Vec<usize> = (0..self.campaign.experiments.len()).collect();
+        let warm = if fold.is_some() {
+            std::mem::take(&mut run.seen)
+        } else {
+            Vec::new()
+        };
+        let mut seen = Vec::new();
+        let mut fold_results = Vec::new();
+        for instance in 0..instances {
+            fold_results.push(self.instance(
+                &run.space,
+                fold.as_deref(),
+                experiments,
+                instance,
+                &warm,
+                &mut seen,
+            )?);
+        }
+        if fold.is_none() {
+            run.seen = seen;
+        } else {
+            run.seen = warm;
+        }
+        // The fold's best, re-scored on every experiment (seed 000's LOO protocol): only
+        // the experiments it was not simulated on run again (simulations are deterministic
+        // in the constants, so the scores it has stand).
+        let winner = fold_results
+            .iter()
+            .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error))
+            .cloned();
+        run.instances.extend(fold_results);
+        if let Some(winner) = winner {
+            let missing: Vec<usize> = all
                 .iter()
-                .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error))
-                .cloned();
-            instance_results.extend(fold_results);
-            if let Some(winner) = winner {
+                .copied()
+                .filter(|&i| winner.best.scores.get(i).is_none_or(|s| s.is_none()))
+                .collect();
+            let scored = if missing.is_empty() || winner.best.status != Status::Ok {
+                winner.best.clone()
+            } else {
                 let key = Key {
-                    model: space.name.clone(),
+                    model: run.space.name.clone(),
                     fold: Some(format!("final:{}", fold.clone().unwrap_or_default())),
                     instance: winner.instance,
                     index: 0,
                 };
-                let scored = runner.evaluate_batch(
-                    &[key],
-                    std::slice::from_ref(&winner.best.values),
-                    &space,
-                    &all,
-                    winner.seed,
-                )?;
-                finalists.push((
-                    fold.clone(),
-                    scored.into_iter().next().unwrap_or(winner.best),
-                ));
-            }
+                let rest = self
+                    .evaluate_batch(
+                        &[key],
+                        std::slice::from_ref(&winner.best.values),
+                        &run.space,
+                        &missing,
+                        winner.seed,
+                    )?
+                    .into_iter()
+                    .next();
+                match rest {
+                    Some(rest) => merge_scores(&winner.best, &rest, &missing),
+                    None => winner.best.clone(),
+                }
+            };
+            run.finalists.push((fold, scored));
         }
-        let (selected, fit_error) = finalists
+        Ok(())
+    }
+
+    /// The model's result: the finalist with the lowest fitted error, its held-out error, the
+    /// starting constants scored as a baseline, constants at bounds and uncertainty.
+    fn conclude(
+        &mut self,
+        run: ModelRun,
+        fitted: &[usize],
+        holdouts: &[usize],
+    ) -> Result<ModelResult, CalibrateError> {
+        let campaign = self.campaign;
+        let all: Vec<usize> = (0..campaign.experiments.len()).collect();
+        let space = run.space;
+        let (selected, fit_error) = run
+            .finalists
             .iter()
-            .filter_map(|(_, e)| e.total(campaign, &fitted).map(|t| (e.clone(), t)))
+            .filter_map(|(_, e)| e.total(campaign, fitted).map(|t| (e.clone(), t)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone(), None))?;
         let holdout_error = if holdouts.is_empty() {
             None
         } else {
-            selected.total(campaign, &holdouts)
+            selected.total(campaign, holdouts)
         };
         // The starting constants, scored on every experiment like a finalist.
         let baseline = match space.starting_values(&campaign.base) {
@@ -666,16 +808,16 @@ pub fn calibrate<'a>(
                     instance: 0,
                     index: 0,
                 };
-                let evaluation = runner
+                let evaluation = self
                     .evaluate_batch(&[key], std::slice::from_ref(&values), &space, &all, 0)?
                     .into_iter()
                     .next();
                 evaluation.map(|evaluation| Baseline {
-                    fit_error: evaluation.total(campaign, &fitted),
+                    fit_error: evaluation.total(campaign, fitted),
                     holdout_error: if holdouts.is_empty() {
                         None
                     } else {
-                        evaluation.total(campaign, &holdouts)
+                        evaluation.total(campaign, holdouts)
                     },
                     evaluation,
                 })
@@ -684,7 +826,7 @@ pub fn calibrate<'a>(
         };
         let at_bounds = constants_at_bounds(&space, &selected.values);
         let uncertainty =
-            super::uncertainty::linearised(campaign, &space, &selected.values, &fitted).ok();
+            super::uncertainty::linearised(campaign, &space, &selected.values, fitted).ok();
         let constants = space
             .names
             .iter()
@@ -696,20 +838,35 @@ pub fn calibrate<'a>(
                 unit: unit.to_string(),
             })
             .collect();
-        results.push(ModelResult {
+        Ok(ModelResult {
             uncertainty,
             baseline,
             at_bounds,
             constants,
             model: space.name.clone(),
-            instances: instance_results,
-            finalists,
+            instances: run.instances,
+            finalists: run.finalists,
             selected,
             fit_error,
             holdout_error,
-        });
+        })
     }
-    Ok(results)
+}
+
+/// `base` with the scores of the experiments `missing` taken from `rest` (the same constants
+/// simulated on those experiments only); failed if either failed.
+fn merge_scores(base: &Evaluation, rest: &Evaluation, missing: &[usize]) -> Evaluation {
+    let mut merged = base.clone();
+    for &i in missing {
+        if let (Some(slot), Some(score)) = (merged.scores.get_mut(i), rest.scores.get(i)) {
+            *slot = *score;
+        }
+    }
+    merged.wall_time += rest.wall_time;
+    if rest.status != Status::Ok {
+        merged.status = rest.status.clone();
+    }
+    merged
 }
 
 #[cfg(test)]

@@ -165,7 +165,9 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     let options = RunOptions {
         budget: args.budget,
         instances: args.instances,
-        leave_one_out: args.leave_one_out.then_some(true),
+        leave_one_out: args
+            .leave_one_out
+            .then_some(crate::calibrate::campaign::LeaveOneOut::Every),
         polish: args.polish,
     };
     println!(
@@ -264,7 +266,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             .map_err(|e| e.to_string())?,
         ),
     };
-    let factory = crate::calibrate::proposer::bayesian_factory();
+    let factory = crate::calibrate::proposer::bayesian_factory(campaign.file.optimiser.design);
     let results = calibrate(
         &campaign,
         &output,

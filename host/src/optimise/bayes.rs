@@ -249,11 +249,15 @@ impl AskTell for BayesianOptimiser {
         if remaining == 0 {
             return Vec::new();
         }
-        let unit = if self.started {
+        // Points told before the first ask (a warm start) count towards the initial design:
+        // the Latin hypercube fills only what they leave of it.
+        let design = self.settings.initial.saturating_sub(self.evaluations.len());
+        let unit = if self.started || design == 0 {
+            self.started = true;
             self.propose(self.settings.batch.min(remaining))
         } else {
             self.started = true;
-            let n = self.settings.initial.min(remaining);
+            let n = design.min(remaining);
             // The bounds have at least one parameter, so the design cannot fail.
             latin_hypercube(n, self.bounds.dim(), self.settings.seed).unwrap_or_default()
         };

@@ -148,6 +148,43 @@ fn bayesian_optimiser_spends_exactly_its_budget_in_batches() {
 }
 
 #[test]
+fn points_told_before_the_first_ask_count_towards_the_design() {
+    // GOAL: a warm start (evaluations told before any ask, as a leave-one-out fold is given
+    //       its model's earlier simulations) shortens the Latin hypercube by what it told,
+    //       and counts towards the budget.
+    // SETUP: 3-D sphere on [-1, 2]^3, design 9, batch 2; warm starts of 4 points (budget
+    //        4 + 7) and of 10 points (budget 10 + 3).
+    // REFERENCE: batches 5, 2 (design filled, then proposals) and 2, 1 (no design at all);
+    //            the budget is spent exactly.
+    let bounds = Bounds::new(vec![-1.0; 3], vec![2.0; 3]).unwrap();
+    let warm = latin_hypercube(10, 3, 77).unwrap();
+    for (told, fresh, expected) in [(4, 7, vec![5, 2]), (10, 3, vec![2, 1])] {
+        let settings = OptimiserSettings {
+            budget: told + fresh,
+            initial: 9,
+            batch: 2,
+            seed: 5,
+        };
+        let mut bo = BayesianOptimiser::new(bounds.clone(), settings).unwrap();
+        let points: Vec<Vec<f64>> = warm[..told].iter().map(|u| bounds.from_unit(u)).collect();
+        let values: Vec<Option<f64>> = points.iter().map(|x| Some(sphere(x))).collect();
+        bo.tell(&points, &values).unwrap();
+        let mut sizes = Vec::new();
+        loop {
+            let asked = bo.ask();
+            if asked.is_empty() {
+                break;
+            }
+            sizes.push(asked.len());
+            let values: Vec<Option<f64>> = asked.iter().map(|x| Some(sphere(x))).collect();
+            bo.tell(&asked, &values).unwrap();
+        }
+        assert_eq!(sizes, expected, "warm start of {told}");
+        assert_eq!(bo.evaluations().len(), told + fresh);
+    }
+}
+
+#[test]
 fn asking_again_before_telling_gives_new_points() {
     // GOAL: pending points enter the surrogate as constant lies, so a second ask before the
     //       tell does not repeat them.

@@ -11,6 +11,7 @@
 use super::cards;
 use super::plots::{self, Series, Style};
 use super::units::display_units;
+use crate::calibrate::campaign::LeaveOneOut;
 use crate::calibrate::run::ModelResult;
 use crate::calibrate::{Campaign, Evaluation};
 use crate::experiment::Outcome;
@@ -102,7 +103,16 @@ pub fn write(
     }
     let o = &campaign.file.optimiser;
     let _ = writeln!(md, "Campaign `{}`; base material `{}`. Optimiser: Latin hypercube start then GP expected improvement, budget {} simulations per instance, {} instance(s), seed {} (instance k uses seed + k), {} parallel simulations{}.\n",
-        campaign.path.display(), campaign.base.name(), o.budget, o.instances, o.seed, o.parallel, if o.leave_one_out { ", leave-one-out over the fitted experiments" } else { "" });
+        campaign.path.display(), campaign.base.name(), o.budget, o.instances, o.seed, o.parallel, match (o.leave_one_out, o.fold_budget) {
+            (LeaveOneOut::Off, _) => String::new(),
+            (every, fresh) => format!(
+                ", leave-one-out over the fitted experiments for {}{}",
+                if every == LeaveOneOut::Every { "every model" } else { "the selected model" },
+                fresh.map_or(String::new(), |n| format!(
+                    " (each fold warm-started from the model's all-experiment simulations, {n} new simulation(s) per instance)"
+                ))
+            ),
+        });
     let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n");
 
     // Model selection table.
@@ -359,16 +369,26 @@ pub fn write(
             )?;
             let _ = writeln!(md, "![{}](figures/{file})", experiment.file.name);
         }
-        // State histograms (validity range).
-        let samples: Vec<StateSample> = outcomes
-            .get(m)
-            .into_iter()
-            .flatten()
-            .flatten()
-            .flat_map(|o| o.states.iter().filter_map(|h| h.samples.last().copied()))
-            .collect();
-        if !samples.is_empty() {
-            let _ = writeln!(md, "\n### Validity range (final state of the tracked material points)\n\n| quantity | min | max |\n|---|---|---|");
+        // State histograms (validity range), per experiment type (seed 000 fig. 14): the
+        // final state of every tracked material point, and its peak plastic strain rate.
+        let mut kinds: Vec<(&str, Vec<&Outcome>)> = Vec::new();
+        for (experiment, outcome) in campaign
+            .experiments
+            .iter()
+            .zip(outcomes.get(m).into_iter().flatten())
+        {
+            let Some(outcome) = outcome else { continue };
+            if outcome.states.is_empty() {
+                continue;
+            }
+            let kind = crate::experiment::kind_name(&experiment.file.setup);
+            match kinds.iter_mut().find(|(k, _)| *k == kind) {
+                Some((_, list)) => list.push(outcome),
+                None => kinds.push((kind, vec![outcome])),
+            }
+        }
+        if !kinds.is_empty() {
+            let _ = writeln!(md, "\n### Validity range (tracked material points, per experiment type)\n\n| quantity | experiment type | points | min | max |\n|---|---|---|---|---|");
             let quantities: [(&str, StateReader); 4] = [
                 ("plastic strain", |s| s.plastic_strain),
                 ("peak plastic strain rate (1/s)", |s| s.plastic_strain_rate),
@@ -376,43 +396,48 @@ pub fn write(
                 ("triaxiality", |s| s.triaxiality),
             ];
             for (k, (name, get)) in quantities.iter().enumerate() {
-                let values: Vec<f64> = if k == 1 {
-                    outcomes
-                        .get(m)
-                        .into_iter()
-                        .flatten()
-                        .flatten()
-                        .flat_map(|o| {
-                            o.states.iter().map(|h| {
-                                h.samples
-                                    .iter()
-                                    .map(|s| s.plastic_strain_rate)
-                                    .fold(0.0, f64::max)
-                            })
-                        })
-                        .collect()
-                } else {
-                    samples.iter().map(get).collect()
-                };
-                let (lo, hi) = values
+                let groups: Vec<(String, Vec<f64>)> = kinds
                     .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                        (a.min(*v), b.max(*v))
-                    });
-                let _ = writeln!(md, "| {name} | {lo:.4e} | {hi:.4e} |");
+                    .map(|(kind, list)| {
+                        let values = list
+                            .iter()
+                            .flat_map(|o| o.states.iter())
+                            .filter_map(|h| {
+                                if k == 1 {
+                                    Some(
+                                        h.samples
+                                            .iter()
+                                            .map(|s| s.plastic_strain_rate)
+                                            .fold(0.0, f64::max),
+                                    )
+                                } else {
+                                    h.samples.last().map(get)
+                                }
+                            })
+                            .collect();
+                        (kind.to_string(), values)
+                    })
+                    .collect();
+                for (kind, values) in &groups {
+                    let (lo, hi) = values
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                            (a.min(*v), b.max(*v))
+                        });
+                    let _ = writeln!(
+                        md,
+                        "| {name} | {kind} | {} | {lo:.4e} | {hi:.4e} |",
+                        values.len()
+                    );
+                }
                 let file = format!("{}-hist-{}.svg", slug(&result.model), slug(name));
-                plots::histogram(&figures.join(&file), name, name, &values, 20)?;
+                plots::histogram(&figures.join(&file), name, name, &groups, 20)?;
             }
             let _ = writeln!(
                 md,
                 "\nThe constants are validated only within these ranges (seed 000 sec. 5).\n"
             );
-            for name in [
-                "plastic strain",
-                "peak plastic strain rate (1/s)",
-                "temperature (K)",
-                "triaxiality",
-            ] {
+            for (name, _) in quantities {
                 let _ = writeln!(
                     md,
                     "![{name}](figures/{}-hist-{}.svg)",

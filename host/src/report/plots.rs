@@ -188,24 +188,36 @@ pub fn line_chart(
     finish(&mut chart, &root, position, &error)
 }
 
-/// A histogram of `values` with `bins` bins.
+/// A stacked histogram of several groups of values over one set of `bins` bins, one colour
+/// per group with its label (seed 000 fig. 14: the tracked states per experiment type).
 pub fn histogram(
     path: &Path,
     title: &str,
     x_label: &str,
-    values: &[f64],
+    groups: &[(String, Vec<f64>)],
     bins: usize,
 ) -> PlotResult {
     let error = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-    let (lo, hi) = range(finite.iter().copied());
+    let bins = bins.max(1);
+    let finite =
+        |values: &[f64]| -> Vec<f64> { values.iter().copied().filter(|v| v.is_finite()).collect() };
+    let (lo, hi) = range(groups.iter().flat_map(|(_, v)| finite(v)));
     let width = (hi - lo) / bins as f64;
-    let mut counts = vec![0usize; bins];
-    for v in &finite {
-        let k = (((v - lo) / width) as usize).min(bins - 1);
-        counts[k] += 1;
-    }
-    let top = counts.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.1;
+    let counts: Vec<Vec<usize>> = groups
+        .iter()
+        .map(|(_, values)| {
+            let mut counts = vec![0usize; bins];
+            for v in finite(values) {
+                let k = (((v - lo) / width) as usize).min(bins - 1);
+                counts[k] += 1;
+            }
+            counts
+        })
+        .collect();
+    let totals: Vec<usize> = (0..bins)
+        .map(|k| counts.iter().map(|c| c[k]).sum())
+        .collect();
+    let top = totals.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.15;
     let root = SVGBackend::new(path, (560, 360)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| error(&e))?;
     let mut chart = ChartBuilder::on(&root)
@@ -221,14 +233,34 @@ pub fn histogram(
         .y_desc("count")
         .draw()
         .map_err(|e| error(&e))?;
+    let mut below = vec![0usize; bins];
+    for (g, ((label, _), counts)) in groups.iter().zip(&counts).enumerate() {
+        let fill = colour(g).mix(0.75).filled();
+        let bars: Vec<Rectangle<(f64, f64)>> = counts
+            .iter()
+            .enumerate()
+            .filter(|(_, &c)| c > 0)
+            .map(|(k, &c)| {
+                let x = lo + k as f64 * width;
+                let base = below[k] as f64;
+                Rectangle::new([(x, base), (x + width, base + c as f64)], fill)
+            })
+            .collect();
+        for (b, c) in below.iter_mut().zip(counts) {
+            *b += c;
+        }
+        chart
+            .draw_series(bars)
+            .map_err(|e| error(&e))?
+            .label(label.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], fill));
+    }
     chart
-        .draw_series(counts.iter().enumerate().map(|(k, &c)| {
-            let x = lo + k as f64 * width;
-            Rectangle::new(
-                [(x, 0.0), (x + width, c as f64)],
-                colour(0).mix(0.7).filled(),
-            )
-        }))
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
         .map_err(|e| error(&e))?;
     root.present().map_err(|e| error(&e))
 }
