@@ -165,7 +165,7 @@ fn warm_started_leave_one_out_runs_for_the_selected_model_only() {
     //       new ones; a fold's best is completed on every experiment by simulating only those
     //       it lacks.
     // SETUP: the synthetic-flow campaign (3 fitted curves, 1 held out) with a second model,
-    //        `jc-soft`, whose box excludes the truth (yield stress <= 0.7 GPa, truth 1.25 GPa);
+    //        `jc-soft`, whose box excludes the truth (A <= 0.7 GPa, B <= 0.2 GPa; truth 1.25, 0.55);
     //        budget 10 (design 6), no polish, leave_one_out = "selected", fold_budget = 2.
     // REFERENCE: `jc` is selected and gets 1 + 3 finalists, `jc-soft` 1; each fold instance
     //            simulated exactly 2 candidates; every finalist has all 4 scores; a fold's
@@ -178,7 +178,7 @@ fn warm_started_leave_one_out_runs_for_the_selected_model_only() {
         .replacen(
             "[[experiments]]",
             "[[models]]\nname = \"jc-soft\"\n[models.parameters]\nyield_stress = [0.3e9, 0.7e9]\n\
-             hardening_modulus = [0.0, 1.5e9]\n\n[[experiments]]",
+             hardening_modulus = [0.0, 0.2e9]\n\n[[experiments]]",
             1,
         )
         .replace(

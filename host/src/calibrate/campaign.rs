@@ -29,6 +29,7 @@
 //! design = 15                              # initial Latin hypercube (default 3 x constants)
 //! leave_one_out = "selected"               # false, true (every model) or "selected"
 //! fold_budget = 3                          # warm-started folds: new simulations per fold
+//! uncertainty = "selected"                 # linearised intervals: "every" (default), "selected", "none"
 //!
 //! [executor]                               # optional: run the simulations on a Slurm cluster
 //! kind = "slurm"                           # (executor/settings.rs lists every key)
@@ -171,6 +172,24 @@ pub struct OptimiserEntry {
     /// calibration with the full budget and polish.
     #[serde(default)]
     pub fold_budget: Option<usize>,
+    /// Which models get the linearised 95 % intervals of their constants (a forward-difference
+    /// Jacobian: one more candidate per fitted constant, not logged): `"every"` (default),
+    /// `"selected"` (the model with the lowest fit error) or `"none"`.
+    #[serde(default)]
+    pub uncertainty: UncertaintyFor,
+}
+
+/// Which models get the linearised uncertainty of their constants.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum UncertaintyFor {
+    /// Every model.
+    #[default]
+    Every,
+    /// The model with the lowest fit error.
+    Selected,
+    /// No model.
+    None,
 }
 
 /// Which models leave-one-out runs for.
@@ -232,6 +251,7 @@ impl Default for OptimiserEntry {
             polish: None,
             design: None,
             fold_budget: None,
+            uncertainty: UncertaintyFor::Every,
         }
     }
 }

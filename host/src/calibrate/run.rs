@@ -4,7 +4,7 @@
 //! campaign's models. Batches of candidates are simulated in parallel; every result is logged
 //! as it ends, and a resumed run replays the log instead of simulating again.
 
-use super::campaign::{Campaign, LeaveOneOut, ModelSpace};
+use super::campaign::{Campaign, LeaveOneOut, ModelSpace, UncertaintyFor};
 use super::executor::{Batch, Candidate, Executor, Origin};
 use super::log::{Entry, Key, LogError, SimulationLog};
 use super::objective::{Evaluation, Status};
@@ -694,8 +694,13 @@ pub fn calibrate<'a>(
         }
     }
     let mut results = Vec::new();
-    for run in runs {
-        results.push(runner.conclude(run, &fitted, &holdouts)?);
+    for (k, run) in runs.into_iter().enumerate() {
+        let intervals = match optimiser.uncertainty {
+            UncertaintyFor::Every => true,
+            UncertaintyFor::Selected => selected_model == Some(k),
+            UncertaintyFor::None => false,
+        };
+        results.push(runner.conclude(run, &fitted, &holdouts, intervals)?);
     }
     Ok(results)
 }
@@ -778,12 +783,14 @@ impl Runner<'_> {
     }
 
     /// The model's result: the finalist with the lowest fitted error, its held-out error, the
-    /// starting constants scored as a baseline, constants at bounds and uncertainty.
+    /// starting constants scored as a baseline, constants at bounds and (if `intervals`) the
+    /// linearised uncertainty.
     fn conclude(
         &mut self,
         run: ModelRun,
         fitted: &[usize],
         holdouts: &[usize],
+        intervals: bool,
     ) -> Result<ModelResult, CalibrateError> {
         let campaign = self.campaign;
         let all: Vec<usize> = (0..campaign.experiments.len()).collect();
@@ -825,8 +832,11 @@ impl Runner<'_> {
             None => None,
         };
         let at_bounds = constants_at_bounds(&space, &selected.values);
-        let uncertainty =
-            super::uncertainty::linearised(campaign, &space, &selected.values, fitted).ok();
+        let uncertainty = if intervals {
+            super::uncertainty::linearised(campaign, &space, &selected.values, fitted).ok()
+        } else {
+            None
+        };
         let constants = space
             .names
             .iter()

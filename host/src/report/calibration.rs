@@ -207,14 +207,30 @@ pub fn write(
         }
         if result.finalists.len() > 1 {
             let _ = writeln!(md, "\n### Leave-one-out finalists (each fold's best, scored on all experiments)\n\n| left out | total (fitted) | {} |\n|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
+            let all_experiment = result.finalists.first().map(|(_, e)| &e.values);
+            let mut unmoved = 0;
             for (fold, e) in &result.finalists {
+                // A fold whose best is the all-experiment fit's constants (a warm-started fold
+                // whose new simulations did not beat the shared history) predicts nothing new.
+                let same = fold.is_some() && Some(&e.values) == all_experiment;
+                unmoved += usize::from(same);
                 let _ = writeln!(
                     md,
-                    "| {} | {} | {} |",
+                    "| {}{} | {} | {} |",
                     fold.as_deref().unwrap_or("none"),
+                    if same { " (= all-experiment fit)" } else { "" },
                     e.total(campaign, &fitted)
                         .map_or("-".into(), |t| format!("{t:.4}")),
                     errors_row(campaign, e)
+                );
+            }
+            if unmoved > 0 {
+                let _ = writeln!(
+                    md,
+                    "\n{unmoved} fold(s) kept the all-experiment fit's constants: without the \
+                     left-out experiment the best constants known are still those, so their \
+                     left-out error is not an independent prediction. A larger `fold_budget` \
+                     (or independent folds) tests them harder."
                 );
             }
         }
