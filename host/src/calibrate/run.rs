@@ -454,17 +454,17 @@ impl Runner<'_> {
                 None
             }
         };
-        let warm: Vec<(&Evaluation, Option<f64>)> = match self.fold_budget {
-            Some(_) if !warm.is_empty() => warm
-                .iter()
-                .map(|e| (e, value_of(self.campaign, e)))
-                .collect(),
-            _ => Vec::new(),
-        };
-        let (budget, polish) = match self.fold_budget {
-            Some(fresh) if !warm.is_empty() => (fresh, 0),
-            _ => (self.budget, self.polish),
-        };
+        let (warm, budget, polish): (Vec<(&Evaluation, Option<f64>)>, usize, usize) =
+            match self.fold_budget {
+                Some(fresh) if !warm.is_empty() => (
+                    warm.iter()
+                        .map(|e| (e, value_of(self.campaign, e)))
+                        .collect(),
+                    fresh,
+                    0,
+                ),
+                _ => (Vec::new(), self.budget, self.polish),
+            };
         let mut proposer = (self.factory)(space, warm.len() + budget, self.batch, seed);
         let mut tally = Tally::default();
         if !warm.is_empty() {
@@ -717,11 +717,7 @@ impl Runner<'_> {
         instances: usize,
     ) -> Result<(), CalibrateError> {
         let all: Vec<usize> = (0..self.campaign.experiments.len()).collect();
-        let warm = if fold.is_some() {
-            std::mem::take(&mut run.seen)
-        } else {
-            Vec::new()
-        };
+        let warm: &[Evaluation] = if fold.is_some() { &run.seen } else { &[] };
         let mut seen = Vec::new();
         let mut fold_results = Vec::new();
         for instance in 0..instances {
@@ -730,14 +726,12 @@ impl Runner<'_> {
                 fold.as_deref(),
                 experiments,
                 instance,
-                &warm,
+                warm,
                 &mut seen,
             )?);
         }
         if fold.is_none() {
             run.seen = seen;
-        } else {
-            run.seen = warm;
         }
         // The fold's best, re-scored on every experiment (seed 000's LOO protocol): only
         // the experiments it was not simulated on run again (simulations are deterministic
