@@ -668,6 +668,9 @@ fn runaway_blast_plate_sizes_name_the_file_line_and_field() {
         ("layers = 8", "layers = 8\nend_time = 3.0", "end_time"),
         // 0.15 s of Euler flow (1.5e-4 s meant).
         ("end_time = 1.5e-4", "end_time = 0.15", "euler.end_time"),
+        // Elements 100x shorter radially than thick (4.0 meant): 1.6e5 x 8 elements.
+        ("aspect_ratio = 4.0", "aspect_ratio = 0.04", "aspect_ratio"),
+        ("aspect_ratio = 4.0", "aspect_ratio = nan", "aspect_ratio"),
         // A record every 2.5e-13 s: 6e8 records.
         (
             "output_interval = 2.5e-7",
