@@ -298,6 +298,7 @@ impl BallisticLimitSpec {
             gap: Some(self.gap),
             friction: self.friction,
             keep_eroded_mass: true,
+            self_contact: false,
             rigid_rod: self.projectile_rigid,
             end_time: self.end_time,
             temperature: self.temperature,

@@ -24,7 +24,9 @@
 //!   `gap / velocity` after the start of the run.
 //! - Eroding contact ([`crate::solver::ErodingContact`]) between rod and target with Coulomb
 //!   friction `friction` (default 0: seed 000 does not give its coefficient), eroded mass kept
-//!   as free contact nodes (LS-DYNA ENMASS) unless `keep_eroded_mass = false`.
+//!   as free contact nodes (LS-DYNA ENMASS) unless `keep_eroded_mass = false`; single-surface
+//!   (each part also meets its own surface, the free nodes every surface) with
+//!   `self_contact = true`.
 //! - Erosion and failure come from each material file's `[failure]` table (for example
 //!   `erosion_geometric_strain = 1.5`, seed 001's Autodyn setting). A run without erosion in
 //!   either material stops with an inverted element: the cavity needs erosion.
@@ -125,6 +127,9 @@ fn default_grading_ratio() -> f64 {
 fn default_keep_eroded_mass() -> bool {
     true
 }
+fn default_self_contact() -> bool {
+    false
+}
 
 /// Geometry, materials, loading and discretisation of a long-rod penetration test.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -181,6 +186,12 @@ pub struct PenetrationSpec {
     /// Keep the mass of eroded elements as free contact nodes (LS-DYNA ENMASS).
     #[serde(default = "default_keep_eroded_mass")]
     pub keep_eroded_mass: bool,
+    /// Single-surface contact: each part also meets its own surface (a mushrooming head
+    /// folding onto the shank, a crater lip folding over), and the free mass points meet every
+    /// surface, their own part's included. Default `false`: rod against target only
+    /// (docs/solver.md gives the measured effect of both).
+    #[serde(default = "default_self_contact")]
+    pub self_contact: bool,
     /// Move the rod as a rigid body (LS-DYNA `*MAT_RIGID`): its material gives only its
     /// density; it neither deforms nor erodes, and its elements set no time step.
     #[serde(default)]
@@ -497,6 +508,7 @@ impl PenetrationSpec {
             contacts: Vec::new(),
             eroding_contact: Some(ErodingContact {
                 keep_eroded_mass: self.keep_eroded_mass,
+                self_contact: self.self_contact,
                 ..ErodingContact::new(vec![0, 1], self.friction)
             }),
             rigid_parts: if self.rigid_rod { vec![1] } else { Vec::new() },
@@ -882,6 +894,7 @@ mod tests {
             gap: None,
             friction: 0.0,
             keep_eroded_mass: true,
+            self_contact: false,
             rigid_rod: false,
             end_time: 1.0e-6,
             temperature: 298.0,

@@ -11,8 +11,14 @@
 //! [`super::ContactPair`].
 //!
 //! **Two-way.** Every part is both slave and master: the slave nodes of each part are checked
-//! against the segments of the *other* parts of the contact (a part does not contact itself:
-//! self-contact of a folding crater lip or a mushrooming rod head is not treated).
+//! against the segments of the *other* parts of the contact. By default a part does not
+//! contact itself.
+//!
+//! **Single surface (`self_contact`, LS-DYNA `*CONTACT_ERODING_SINGLE_SURFACE`).** A part's
+//! surface nodes also meet the part's own segments, except those of the elements the node
+//! belongs to (a folding crater lip, a mushrooming head folding onto the shank), and the free
+//! mass points meet every part's segments, their own part's included (a rod's eroded mass
+//! stays in front of the rod's face instead of passing through it).
 //!
 //! **Eroded mass (LS-DYNA ENMASS).** With `keep_eroded_mass` (the default), a node whose
 //! elements have all eroded keeps its mass and momentum and becomes a free mass point that
@@ -76,6 +82,11 @@ pub struct ErodingContact {
     pub penalty_scale: f64,
     /// Keep the mass and momentum of eroded elements on their nodes (LS-DYNA ENMASS).
     pub keep_eroded_mass: bool,
+    /// Single-surface contact: a part's surface nodes also meet the part's own segments
+    /// (except those of the elements they belong to), and the free mass points meet every
+    /// part's surface, their own part's included (LS-DYNA
+    /// `*CONTACT_ERODING_SINGLE_SURFACE`). Off: each part meets only the other parts.
+    pub self_contact: bool,
 }
 
 impl ErodingContact {
@@ -87,6 +98,7 @@ impl ErodingContact {
             friction,
             penalty_scale: DEFAULT_ERODING_PENALTY_SCALE,
             keep_eroded_mass: true,
+            self_contact: false,
         }
     }
 }
@@ -107,6 +119,8 @@ struct Edge {
 struct Segment {
     nodes: [usize; 2],
     part: usize,
+    /// The live element the segment bounds.
+    element: usize,
 }
 
 /// Statistics of a run's eroding contact.
@@ -141,6 +155,10 @@ pub(crate) struct ErodingSurfaces {
     /// `1 / dt0^2`.
     inverse_dt0_squared: f64,
     keep_eroded_mass: bool,
+    self_contact: bool,
+    /// Nodes of each element of the contact's parts (unused corners `NONE`), for the
+    /// single-surface exclusion of a node's own elements.
+    element_nodes: Vec<[usize; 4]>,
     edges: Vec<Edge>,
     /// Part of each node in the contact (`NONE` outside it).
     node_part: Vec<usize>,
@@ -203,13 +221,14 @@ impl ErodingSurfaces {
         let mut node_part = vec![NONE; node_count];
         let mut live_around = vec![0u32; node_count];
         let mut edges: Vec<Edge> = Vec::new();
+        let mut element_nodes = vec![[NONE; 4]; element_count];
         let mut index: HashMap<(usize, usize), usize> = HashMap::new();
         let axis_tolerance = 1e-12
             * reference
                 .iter()
                 .map(|p| p[0].abs().max(p[1].abs()))
                 .fold(0.0, f64::max);
-        for e in 0..element_count {
+        for (e, corners) in element_nodes.iter_mut().enumerate() {
             let (nodes, part) = element(e);
             for &n in nodes {
                 live_around[n] += 1;
@@ -217,6 +236,13 @@ impl ErodingSurfaces {
             if !contact.parts.contains(&part) {
                 continue;
             }
+            if nodes.len() > 4 {
+                return Err(bad(format!(
+                    "element {e} has {} nodes; 2D elements have at most 4",
+                    nodes.len()
+                )));
+            }
+            corners[..nodes.len()].copy_from_slice(nodes);
             for (k, &a) in nodes.iter().enumerate() {
                 let b = nodes[(k + 1) % nodes.len()];
                 node_part[a] = part;
@@ -243,6 +269,8 @@ impl ErodingSurfaces {
             },
             inverse_dt0_squared: 1.0 / (dt0 * dt0),
             keep_eroded_mass: contact.keep_eroded_mass,
+            self_contact: contact.self_contact,
+            element_nodes,
             edges,
             node_part,
             live_around,
@@ -283,14 +311,15 @@ impl ErodingSurfaces {
             if edge.on_axis {
                 continue;
             }
-            let nodes = match (live(edge.owners[0]), live(edge.owners[1])) {
-                (true, false) => edge.nodes,
-                (false, true) => [edge.nodes[1], edge.nodes[0]],
+            let (nodes, element) = match (live(edge.owners[0]), live(edge.owners[1])) {
+                (true, false) => (edge.nodes, edge.owners[0]),
+                (false, true) => ([edge.nodes[1], edge.nodes[0]], edge.owners[1]),
                 _ => continue,
             };
             self.segments.push(Segment {
                 nodes,
                 part: self.node_part[nodes[0]],
+                element,
             });
             self.slaves.extend_from_slice(&nodes);
         }
@@ -438,13 +467,21 @@ impl ErodingSurfaces {
             }
             let c = j as usize * dims[0] + i as usize;
             let own = self.node_part[s];
+            let free = self.live_around[s] == 0;
+            let self_contact = self.self_contact;
+            let element_nodes = &self.element_nodes;
             let segments = &self.segments;
             // The nearest of the segments the node is inside of (not the nearest overall: near
             // a crater's lip the nearest segment may be one the node is outside of).
             let hit: Option<Hit> = penetrating_nearest(
                 self.cell_items[self.cell_start[c]..self.cell_start[c + 1]]
                     .iter()
-                    .filter(|&&k| segments[k].part != own)
+                    .filter(|&&k| {
+                        let segment = &segments[k];
+                        segment.part != own
+                            || (self_contact
+                                && (free || !element_nodes[segment.element].contains(&s)))
+                    })
                     .filter_map(|&k| {
                         let [a, b] = segments[k].nodes;
                         project(&p, &x[a], &x[b], k)
@@ -654,6 +691,65 @@ mod tests {
         let sum: f64 = force.iter().map(|f| f[1]).sum();
         assert!(sum.abs() < 1e-9);
         assert!((contact.statistics().largest_penetration - d).abs() < 1e-9);
+    }
+
+    #[test]
+    fn single_surface_contact_meets_the_own_part_except_the_nodes_own_elements() {
+        // GOAL: with self_contact, a free mass point meets its own part's surface and a surface
+        //       node meets its own part's segments of other elements, never those of its own
+        //       elements; without it, neither.
+        // SETUP: the two blocks; element 3 (top right of part 0) erodes, so node 8 (its only
+        //        element) becomes a free mass point; node 8 is then moved to (1.5, 0.99),
+        //        0.01 inside the exposed top face of element 1 ([5, 4] at z = 1, normal +z), approaching
+        //        at 1 (so the depth is explained, not found on exposure). Node 7 (top of
+        //        element 2, a surface node) sits on its own elements' segments (gap 0): no
+        //        force either way.
+        // REFERENCE: self_contact: node 8 pushed +z by k d with k = s m*/dt0^2, m* = 1/2,
+        //   d = 0.01; the reaction on nodes 4 and 5 (xi 0.5 each); without: no force on 8.
+        let (mut x, elements, parts) = two_blocks();
+        let mut eroded = vec![false; 5];
+        eroded[3] = true;
+        let mass = vec![1.0; x.len()];
+        let mut v = vec![[0.0; 3]; x.len()];
+        x[8] = [1.5, 0.99, 0.0];
+        v[8] = [0.0, -1.0, 0.0];
+        for self_contact in [true, false] {
+            let mut contact = ErodingSurfaces::new(
+                &ErodingContact {
+                    self_contact,
+                    ..ErodingContact::new(vec![0, 1], 0.0)
+                },
+                elements.len(),
+                |e| (&elements[e][..], parts[e]),
+                2,
+                &x,
+                0.1,
+                2,
+            )
+            .unwrap();
+            let mut m = mass.clone();
+            let mut velocity = v.clone();
+            contact.on_erosion(&[3], |e| &elements[e][..], &eroded, &mut m, &mut velocity);
+            let mut force = vec![[0.0; 3]; x.len()];
+            contact.add_forces(&x, &v, &mass, 0.1, &mut force);
+            let k = DEFAULT_ERODING_PENALTY_SCALE * 0.5 / 0.01;
+            if self_contact {
+                assert!((force[8][1] - k * 0.01).abs() < 1e-9, "{:?}", force[8]);
+                assert!(
+                    (force[4][1] + 0.5 * k * 0.01).abs() < 1e-9,
+                    "{:?}",
+                    force[4]
+                );
+                assert!(
+                    (force[5][1] + 0.5 * k * 0.01).abs() < 1e-9,
+                    "{:?}",
+                    force[5]
+                );
+            } else {
+                assert_eq!(force[8], [0.0; 3]);
+            }
+            assert_eq!(force[7], [0.0; 3], "node 7 against its own elements");
+        }
     }
 
     #[test]
