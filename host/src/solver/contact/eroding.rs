@@ -582,8 +582,17 @@ mod tests {
     }
 
     fn surfaces(x: &[Vector], elements: &[[usize; 4]], parts: &[usize]) -> ErodingSurfaces {
+        surfaces_with(&ErodingContact::new(vec![0, 1], 0.0), x, elements, parts)
+    }
+
+    fn surfaces_with(
+        contact: &ErodingContact,
+        x: &[Vector],
+        elements: &[[usize; 4]],
+        parts: &[usize],
+    ) -> ErodingSurfaces {
         ErodingSurfaces::new(
-            &ErodingContact::new(vec![0, 1], 0.0),
+            contact,
             elements.len(),
             |e| (&elements[e][..], parts[e]),
             2,
@@ -635,19 +644,15 @@ mod tests {
         // SETUP: element 3 erodes, node 8 (its only element) moves at (3, 4) with mass 2.
         // REFERENCE: 1/2 2 (9 + 16) = 25; mass and velocity of node 8 set to zero.
         let (x, elements, parts) = two_blocks();
-        let mut contact = ErodingSurfaces::new(
+        let mut contact = surfaces_with(
             &ErodingContact {
                 keep_eroded_mass: false,
                 ..ErodingContact::new(vec![0, 1], 0.0)
             },
-            elements.len(),
-            |e| (&elements[e][..], parts[e]),
-            2,
             &x,
-            0.1,
-            2,
-        )
-        .unwrap();
+            &elements,
+            &parts,
+        );
         let mut eroded = vec![false; 5];
         eroded[3] = true;
         let mut mass = vec![2.0; x.len()];
@@ -714,19 +719,15 @@ mod tests {
         x[8] = [1.5, 0.99, 0.0];
         v[8] = [0.0, -1.0, 0.0];
         for self_contact in [true, false] {
-            let mut contact = ErodingSurfaces::new(
+            let mut contact = surfaces_with(
                 &ErodingContact {
                     self_contact,
                     ..ErodingContact::new(vec![0, 1], 0.0)
                 },
-                elements.len(),
-                |e| (&elements[e][..], parts[e]),
-                2,
                 &x,
-                0.1,
-                2,
-            )
-            .unwrap();
+                &elements,
+                &parts,
+            );
             let mut m = mass.clone();
             let mut velocity = v.clone();
             contact.on_erosion(&[3], |e| &elements[e][..], &eroded, &mut m, &mut velocity);
