@@ -127,9 +127,6 @@ fn default_grading_ratio() -> f64 {
 fn default_keep_eroded_mass() -> bool {
     true
 }
-fn default_self_contact() -> bool {
-    false
-}
 
 /// Geometry, materials, loading and discretisation of a long-rod penetration test.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -190,7 +187,7 @@ pub struct PenetrationSpec {
     /// folding onto the shank, a crater lip folding over), and the free mass points meet every
     /// surface, their own part's included. Default `false`: rod against target only
     /// (docs/solver.md gives the measured effect of both).
-    #[serde(default = "default_self_contact")]
+    #[serde(default)]
     pub self_contact: bool,
     /// Move the rod as a rigid body (LS-DYNA `*MAT_RIGID`): its material gives only its
     /// density; it neither deforms nor erodes, and its elements set no time step.
