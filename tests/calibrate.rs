@@ -43,8 +43,11 @@ fn local(campaign: &Campaign) -> Local {
 fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
     // GOAL: calibration recovers the truth's stress-strain response within the noise.
     // SETUP: fixtures/campaigns/synthetic-flow.toml (four JC flow curves of a known truth,
-    //        1 % noise, one held out), 60 Bayesian + 60 polish simulations, seed 3 (measured:
-    //        worst point 2.0 %; 3.0 % with 40 + 30, 1.8 % with 80 + 80).
+    //        1 % noise, one held out), 60 Bayesian + 120 polish simulations, seed 3. With 60
+    //        polish simulations the run can stop short of the noise floor (a change of the
+    //        kernel's last bits gave reduced chi-square 1.04 and C 2.6 standard errors from
+    //        the truth; 120 reach 0.75 and C within its interval), so the check below would
+    //        test where the polish stopped rather than what the fit recovers.
     // REFERENCE: the truth (fixtures/materials/synthetic-hha-truth.toml, never read by the
     //        tool): the fitted model's predictions of every recorded point within 3 % of the
     //        noise-free truth, held-out curve included; mean chi on the fitted curves < 2;
@@ -56,7 +59,7 @@ fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
     let results = calibrate(
         &campaign,
         &output,
-        &options(60, 60, false),
+        &options(60, 120, false),
         &mut local(&campaign),
         &factory,
         &mut progress,

@@ -45,12 +45,16 @@ impl ComposedStrength {
         temperature: f64,
         theta: f64,
     ) -> FlowStress {
-        let (h, dh) = self.hardening.evaluate(plastic_strain);
-        let (r, dr) = self.rate.evaluate(plastic_strain_rate, temperature);
+        let h = self.hardening.evaluate(plastic_strain);
+        let r = self.rate.evaluate(plastic_strain_rate, temperature);
         FlowStress {
-            value: h * r * theta,
-            d_plastic_strain: dh * r * theta,
-            d_rate: h * dr * theta,
+            value: h.value * r.value * theta,
+            d_plastic_strain: h.slope * r.value * theta,
+            d_rate: h.value * r.slope * theta,
+            d2_plastic_strain: h.curvature * r.value * theta,
+            d2_rate: h.value * r.curvature * theta,
+            d2_plastic_strain_rate: h.slope * r.slope * theta,
+            kink_rate: self.rate.kink_rate(),
         }
     }
 

@@ -4,6 +4,8 @@ use crate::error::{check, ParameterError};
 use crate::math::{exp, pow};
 use crate::parameters;
 
+use super::TermValue;
+
 /// Isotropic strain hardening as a function of equivalent plastic strain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -52,12 +54,13 @@ pub enum Hardening {
     },
 }
 
-/// `B eps^n` and its derivative. At `eps = 0` with `n < 1` the derivative is unbounded; it is
-/// returned as `+inf` and the return mapping falls back to bisection there.
+/// `B eps^n` and its first and second derivatives. At `eps = 0` with `n < 1` the slope is
+/// unbounded; it is returned as `+inf` (the return mapping falls back to bisection there), and
+/// the curvature at `eps = 0` as `+inf` unless the term is linear or constant.
 #[inline]
-fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> (f64, f64) {
+fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> TermValue {
     if modulus == 0.0 {
-        return (0.0, 0.0);
+        return TermValue::CONSTANT_ZERO;
     }
     if plastic_strain <= 0.0 {
         let slope = if exponent == 0.0 {
@@ -70,38 +73,52 @@ fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> (f64, f64) {
             0.0
         };
         let value = if exponent == 0.0 { modulus } else { 0.0 };
-        return (value, slope);
+        let curvature = if exponent == 0.0 || exponent == 1.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        };
+        return TermValue {
+            value,
+            slope,
+            curvature,
+        };
     }
     let powered = pow(plastic_strain, exponent);
-    (
-        modulus * powered,
-        modulus * exponent * powered / plastic_strain,
-    )
+    let slope = modulus * exponent * powered / plastic_strain;
+    TermValue {
+        value: modulus * powered,
+        slope,
+        // B n (n - 1) eps^(n - 2).
+        curvature: slope * (exponent - 1.0) / plastic_strain,
+    }
 }
 
-/// `Q (1 - exp(-c eps))` and its derivative.
+/// `Q (1 - exp(-c eps))` and its first and second derivatives.
 #[inline]
-fn voce_term(saturation: f64, rate: f64, plastic_strain: f64) -> (f64, f64) {
+fn voce_term(saturation: f64, rate: f64, plastic_strain: f64) -> TermValue {
     if saturation == 0.0 {
-        return (0.0, 0.0);
+        return TermValue::CONSTANT_ZERO;
     }
     let decay = exp(-rate * plastic_strain);
-    (saturation * (1.0 - decay), saturation * rate * decay)
+    let slope = saturation * rate * decay;
+    TermValue {
+        value: saturation * (1.0 - decay),
+        slope,
+        curvature: -rate * slope,
+    }
 }
 
 impl Hardening {
-    /// `h(eps_p)` and `dh/deps_p`.
+    /// `h(eps_p)`, `dh/deps_p` and `d2h/deps_p^2`.
     #[inline]
-    pub fn evaluate(&self, plastic_strain: f64) -> (f64, f64) {
+    pub fn evaluate(&self, plastic_strain: f64) -> TermValue {
         match *self {
             Hardening::Power {
                 yield_stress,
                 hardening_modulus,
                 exponent,
-            } => {
-                let (value, slope) = power_term(hardening_modulus, exponent, plastic_strain);
-                (yield_stress + value, slope)
-            }
+            } => power_term(hardening_modulus, exponent, plastic_strain).plus(yield_stress),
             Hardening::Voce2 {
                 yield_stress,
                 saturation_stress_1,
@@ -109,9 +126,9 @@ impl Hardening {
                 saturation_stress_2,
                 saturation_rate_2,
             } => {
-                let (v1, s1) = voce_term(saturation_stress_1, saturation_rate_1, plastic_strain);
-                let (v2, s2) = voce_term(saturation_stress_2, saturation_rate_2, plastic_strain);
-                (yield_stress + v1 + v2, s1 + s2)
+                let first = voce_term(saturation_stress_1, saturation_rate_1, plastic_strain);
+                let second = voce_term(saturation_stress_2, saturation_rate_2, plastic_strain);
+                first.plus(yield_stress).sum(&second)
             }
             Hardening::PowerVoce2 {
                 yield_stress,
@@ -122,10 +139,10 @@ impl Hardening {
                 saturation_stress_2,
                 saturation_rate_2,
             } => {
-                let (vp, sp) = power_term(hardening_modulus, exponent, plastic_strain);
-                let (v1, s1) = voce_term(saturation_stress_1, saturation_rate_1, plastic_strain);
-                let (v2, s2) = voce_term(saturation_stress_2, saturation_rate_2, plastic_strain);
-                (yield_stress + vp + v1 + v2, sp + s1 + s2)
+                let power = power_term(hardening_modulus, exponent, plastic_strain);
+                let first = voce_term(saturation_stress_1, saturation_rate_1, plastic_strain);
+                let second = voce_term(saturation_stress_2, saturation_rate_2, plastic_strain);
+                power.plus(yield_stress).sum(&first).sum(&second)
             }
         }
     }

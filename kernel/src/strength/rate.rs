@@ -4,6 +4,8 @@ use crate::error::{check, ParameterError};
 use crate::math::{ln, pow};
 use crate::parameters;
 
+use super::TermValue;
+
 /// Multiplicative strain-rate factor on the flow stress.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -75,40 +77,55 @@ pub enum RateTerm {
     },
 }
 
-/// `(1 + rate/e0)^beta` and its derivative with respect to `rate`.
+/// `(1 + rate/e0)^beta` and its first and second derivatives with respect to `rate`.
 #[inline]
-fn power_factor(exponent: f64, reference_rate: f64, plastic_strain_rate: f64) -> (f64, f64) {
+fn power_factor(exponent: f64, reference_rate: f64, plastic_strain_rate: f64) -> TermValue {
     if exponent == 0.0 {
-        return (1.0, 0.0);
+        return TermValue::CONSTANT_ONE;
     }
     let base = 1.0 + plastic_strain_rate / reference_rate;
     let value = pow(base, exponent);
-    (value, exponent * value / base / reference_rate)
+    let slope = exponent * value / base / reference_rate;
+    TermValue {
+        value,
+        slope,
+        curvature: slope * (exponent - 1.0) / (base * reference_rate),
+    }
+}
+
+/// `1 + C ln(rate/e0)` above `e0` (1 below) and its first and second derivatives; `sensitivity`
+/// is `C`.
+#[inline]
+fn log_factor(sensitivity: f64, reference_rate: f64, rate: f64) -> TermValue {
+    let ratio = rate / reference_rate;
+    if ratio <= 1.0 {
+        TermValue::CONSTANT_ONE
+    } else {
+        let slope = sensitivity / rate;
+        TermValue {
+            value: 1.0 + sensitivity * ln(ratio),
+            slope,
+            curvature: -slope / rate,
+        }
+    }
 }
 
 impl RateTerm {
-    /// `r(deps_p, T)` and `dr/d deps_p` for a non-negative plastic strain rate (only
-    /// [`RateTerm::LogThermal`] depends on the temperature).
+    /// `r(deps_p, T)`, `dr/d deps_p` and `d2r/d deps_p^2` for a non-negative plastic strain
+    /// rate (only [`RateTerm::LogThermal`] depends on the temperature).
     #[inline]
-    pub fn evaluate(&self, plastic_strain_rate: f64, temperature: f64) -> (f64, f64) {
+    pub fn evaluate(&self, plastic_strain_rate: f64, temperature: f64) -> TermValue {
         let rate = if plastic_strain_rate > 0.0 {
             plastic_strain_rate
         } else {
             0.0
         };
         match *self {
-            RateTerm::None => (1.0, 0.0),
+            RateTerm::None => TermValue::CONSTANT_ONE,
             RateTerm::JohnsonCookLog {
                 rate_sensitivity,
                 reference_rate,
-            } => {
-                let ratio = rate / reference_rate;
-                if ratio <= 1.0 {
-                    (1.0, 0.0)
-                } else {
-                    (1.0 + rate_sensitivity * ln(ratio), rate_sensitivity / rate)
-                }
-            }
+            } => log_factor(rate_sensitivity, reference_rate, rate),
             RateTerm::Power {
                 exponent,
                 reference_rate,
@@ -118,26 +135,21 @@ impl RateTerm {
                 reference_rate_1,
                 exponent_2,
                 reference_rate_2,
-            } => {
-                let (v1, d1) = power_factor(exponent_1, reference_rate_1, rate);
-                let (v2, d2) = power_factor(exponent_2, reference_rate_2, rate);
-                (v1 * v2, d1 * v2 + v1 * d2)
-            }
+            } => power_factor(exponent_1, reference_rate_1, rate).product(&power_factor(
+                exponent_2,
+                reference_rate_2,
+                rate,
+            )),
             RateTerm::LogUpturn {
                 rate_sensitivity,
                 reference_rate,
                 upturn_exponent,
                 upturn_rate,
-            } => {
-                let ratio = rate / reference_rate;
-                let (log_value, log_slope) = if ratio <= 1.0 {
-                    (1.0, 0.0)
-                } else {
-                    (1.0 + rate_sensitivity * ln(ratio), rate_sensitivity / rate)
-                };
-                let (up, d_up) = power_factor(upturn_exponent, upturn_rate, rate);
-                (log_value * up, log_slope * up + log_value * d_up)
-            }
+            } => log_factor(rate_sensitivity, reference_rate, rate).product(&power_factor(
+                upturn_exponent,
+                upturn_rate,
+                rate,
+            )),
             RateTerm::LogThermal {
                 rate_sensitivity,
                 reference_rate,
@@ -145,9 +157,8 @@ impl RateTerm {
                 reference_temperature,
                 melting_temperature,
             } => {
-                let ratio = rate / reference_rate;
-                if ratio <= 1.0 {
-                    (1.0, 0.0)
+                if rate / reference_rate <= 1.0 {
+                    TermValue::CONSTANT_ONE
                 } else {
                     let t_star = super::homologous_temperature(
                         temperature,
@@ -155,7 +166,7 @@ impl RateTerm {
                         melting_temperature,
                     );
                     let sensitivity = rate_sensitivity * (1.0 + coupling * t_star);
-                    (1.0 + sensitivity * ln(ratio), sensitivity / rate)
+                    log_factor(sensitivity, reference_rate, rate)
                 }
             }
             RateTerm::CowperSymonds {
@@ -170,11 +181,35 @@ impl RateTerm {
                     } else {
                         f64::INFINITY
                     };
-                    return (1.0, slope);
+                    return TermValue {
+                        value: 1.0,
+                        slope,
+                        curvature: if exponent == 1.0 { 0.0 } else { f64::INFINITY },
+                    };
                 }
                 let powered = pow(rate / rate_constant, 1.0 / exponent);
-                (1.0 + powered, powered / (exponent * rate))
+                let slope = powered / (exponent * rate);
+                TermValue {
+                    value: 1.0 + powered,
+                    slope,
+                    curvature: slope * (1.0 / exponent - 1.0) / rate,
+                }
             }
+        }
+    }
+
+    /// The plastic strain rate at which the factor changes branch (the logarithmic forms'
+    /// `e0`, below which they are 1); 0 for the forms smooth at every positive rate.
+    #[inline]
+    pub fn kink_rate(&self) -> f64 {
+        match *self {
+            RateTerm::JohnsonCookLog { reference_rate, .. }
+            | RateTerm::LogUpturn { reference_rate, .. }
+            | RateTerm::LogThermal { reference_rate, .. } => reference_rate,
+            RateTerm::None
+            | RateTerm::Power { .. }
+            | RateTerm::TwoPart { .. }
+            | RateTerm::CowperSymonds { .. } => 0.0,
         }
     }
 
@@ -286,9 +321,10 @@ mod tests {
             for temperature in [300.0, 900.0] {
                 let reference = JC.evaluate(rate, temperature);
                 for term in [upturn, thermal] {
-                    let (value, slope) = term.evaluate(rate, temperature);
-                    assert_eq!(value.to_bits(), reference.0.to_bits());
-                    assert_eq!(slope.to_bits(), reference.1.to_bits());
+                    let value = term.evaluate(rate, temperature);
+                    assert_eq!(value.value.to_bits(), reference.value.to_bits());
+                    assert_eq!(value.slope.to_bits(), reference.slope.to_bits());
+                    assert_eq!(value.curvature.to_bits(), reference.curvature.to_bits());
                 }
             }
         }
@@ -315,9 +351,10 @@ mod tests {
         ];
         for term in terms {
             let (rate, h) = (5.0e3, 1.0e-2);
-            let numeric =
-                (term.evaluate(rate + h, 600.0).0 - term.evaluate(rate - h, 600.0).0) / (2.0 * h);
-            let analytic = term.evaluate(rate, 600.0).1;
+            let numeric = (term.evaluate(rate + h, 600.0).value
+                - term.evaluate(rate - h, 600.0).value)
+                / (2.0 * h);
+            let analytic = term.evaluate(rate, 600.0).slope;
             assert!(
                 (numeric / analytic - 1.0).abs() < 1e-6,
                 "{numeric} vs {analytic}"

@@ -70,12 +70,16 @@ impl ZerilliArmstrong {
             (Self::MINIMUM_RATE_RATIO, false)
         };
         let activation = exp(-self.c3 * temperature + self.c4 * temperature * ln(ratio));
-        // d activation / d rate = activation * C4 T / rate (zero on the floor).
-        let d_activation = if ratio_active {
-            activation * self.c4 * temperature / plastic_strain_rate
+        // activation = exp(-C3 T) (rate/e0)^k with k = C4 T: d/d rate = activation k / rate,
+        // d2/d rate^2 = activation k (k - 1) / rate^2 (both zero on the floor).
+        let (d_activation, d2_activation) = if ratio_active {
+            let exponent = self.c4 * temperature;
+            let slope = activation * exponent / plastic_strain_rate;
+            (slope, slope * (exponent - 1.0) / plastic_strain_rate)
         } else {
-            0.0
+            (0.0, 0.0)
         };
+        let kink_rate = Self::MINIMUM_RATE_RATIO * self.reference_rate;
         let eps = if plastic_strain > 0.0 {
             plastic_strain
         } else {
@@ -83,8 +87,8 @@ impl ZerilliArmstrong {
         };
         match self.structure {
             CrystalStructure::Bcc => {
-                let (hardening, slope) = if self.c5 == 0.0 {
-                    (0.0, 0.0)
+                let (hardening, slope, curvature) = if self.c5 == 0.0 {
+                    (0.0, 0.0, 0.0)
                 } else if eps == 0.0 {
                     (
                         0.0,
@@ -93,15 +97,25 @@ impl ZerilliArmstrong {
                         } else {
                             0.0
                         },
+                        f64::INFINITY,
                     )
                 } else {
                     let powered = pow(eps, self.exponent);
-                    (self.c5 * powered, self.c5 * self.exponent * powered / eps)
+                    let slope = self.c5 * self.exponent * powered / eps;
+                    (
+                        self.c5 * powered,
+                        slope,
+                        slope * (self.exponent - 1.0) / eps,
+                    )
                 };
                 FlowStress {
                     value: self.athermal_stress + self.c1 * activation + hardening,
                     d_plastic_strain: slope,
                     d_rate: self.c1 * d_activation,
+                    d2_plastic_strain: curvature,
+                    d2_rate: self.c1 * d2_activation,
+                    d2_plastic_strain_rate: 0.0,
+                    kink_rate,
                 }
             }
             CrystalStructure::Fcc => {
@@ -111,10 +125,22 @@ impl ZerilliArmstrong {
                 } else {
                     0.5 * self.c2 * activation / root
                 };
+                // d2/d eps2 of C2 eps^(1/2) A = -slope / (2 eps); mixed = slope k / rate.
+                let (curvature, mixed) = if self.c2 == 0.0 {
+                    (0.0, 0.0)
+                } else if eps == 0.0 {
+                    (f64::INFINITY, f64::INFINITY)
+                } else {
+                    (-0.5 * slope / eps, 0.5 * self.c2 * d_activation / root)
+                };
                 FlowStress {
                     value: self.athermal_stress + self.c2 * root * activation,
                     d_plastic_strain: if self.c2 == 0.0 { 0.0 } else { slope },
                     d_rate: self.c2 * root * d_activation,
+                    d2_plastic_strain: curvature,
+                    d2_rate: self.c2 * root * d2_activation,
+                    d2_plastic_strain_rate: mixed,
+                    kink_rate,
                 }
             }
         }
