@@ -298,3 +298,60 @@ fn rht_tiny_deviator_gives_finite_output() {
         "{output:?}"
     );
 }
+
+/// The implicit return once accepted a Newton step on the flow stress's curvature alone (the
+/// curvature stop of `update.rs`), whatever the step's size. A one-step return of `dl ~ 2`
+/// through a Voce term (`c ~ 8`) met the test at a point where the Voce curvature was
+/// exponentially small, though not along the step: the state was left 1e-8 outside the yield
+/// surface (the `strength_update_mjc` fuzzer, and `strength_update_tjc` on the same hardening;
+/// reproducers in `fuzz/regressions/strength_update_mjc/`). Fixed by accepting a curvature
+/// stop only for steps below `CURVATURE_STEP_LIMIT` (1e-3) of the multiplier.
+#[test]
+fn fuzz_large_step_through_a_voce_term_stays_on_the_yield_surface() {
+    // GOAL: a one-step plastic return of dl ~ 2 ends on the yield surface.
+    // SETUP: the fuzzer's material (MJC hardening, A 1.5 GPa, B 3 GPa, n 1, Voce Q1 1.275 GPa,
+    //        c1 7.84; no rate term; G 1 GPa, K 1 GPa, isothermal), virgin state at 200 K,
+    //        tensor shear increments 2.55 in xy, yz, zx (q_trial 1.53e10 Pa), dt 1e-9 s,
+    //        relative volume 0.5.
+    // REFERENCE: q <= sigma_y (1 + 1e-9) + 1e-6 Pa at the new state (`assert_on_yield_surface`).
+    let material = Material {
+        density: 1000.0,
+        shear_modulus: 1.0e9,
+        specific_heat: 100.0,
+        strength: Strength::Composed(stoss_kernel::strength::ComposedStrength {
+            hardening: stoss_kernel::strength::Hardening::PowerVoce2 {
+                yield_stress: 1.5e9,
+                hardening_modulus: 3.0e9,
+                exponent: 1.0,
+                saturation_stress_1: 1275251426.3884964,
+                saturation_rate_1: 7.843137256459132,
+                saturation_stress_2: 3.0e9,
+                saturation_rate_2: 0.0,
+            },
+            rate: stoss_kernel::strength::RateTerm::Power {
+                exponent: 0.0,
+                reference_rate: 0.001,
+            },
+            thermal: stoss_kernel::strength::ThermalTerm::HomologousPower {
+                exponent: 0.5,
+                reference_temperature: 250.0,
+                melting_temperature: 800.0,
+            },
+        }),
+        heating: Heating::Isothermal,
+        eos: Eos::Linear(LinearEos {
+            bulk_modulus: 1.0e9,
+        }),
+        ..Material::STEEL_4340
+    };
+    material.validate().unwrap();
+    let mut state = MaterialState::initial(200.0);
+    let volumetric = 0.5_f64.ln() / 3.0;
+    let input = StepInput {
+        strain_increment: [volumetric, volumetric, volumetric, 2.55, 2.55, 2.55],
+        dt: 1.0e-9,
+        relative_volume: 0.5,
+    };
+    let output = run(&material, &mut state, &input);
+    assert!(output.plastic_increment > 1.0, "{output:?}");
+}
