@@ -346,7 +346,7 @@ fn fuzz_large_step_through_a_voce_term_stays_on_the_yield_surface() {
     };
     material.validate().unwrap();
     let mut state = MaterialState::initial(200.0);
-    let volumetric = 0.5_f64.ln() / 3.0;
+    let volumetric = stoss_kernel::math::ln(0.5) / 3.0;
     let input = StepInput {
         strain_increment: [volumetric, volumetric, volumetric, 2.55, 2.55, 2.55],
         dt: 1.0e-9,
