@@ -20,7 +20,7 @@ use crate::error::UpdateError;
 use crate::material::{Material, RateTreatment};
 use crate::math::sqrt;
 use crate::state::{MaterialState, StateFlags};
-use crate::strength::{FlowAtTemperature, FlowStress};
+use crate::strength::{FlowAtTemperature, PathFlow};
 use crate::tensor::{self, Matrix6, Sym};
 
 /// Bound on return-mapping iterations. Geometric then arithmetic bisection reaches any
@@ -33,48 +33,73 @@ pub const MAX_RETURN_ITERATIONS: u32 = 200;
 pub const RETURN_TOLERANCE: f64 = 1e-14;
 
 /// Relative Newton step `|d(dl)| / dl` at which the return mapping stops without evaluating
-/// the flow stress again, whatever the curvature: Newton's residual after a step `s` is second
-/// order, `|g''| s^2 / 2`, so a relative step of 1e-7 leaves a relative residual of order
-/// `1e-14 (dl^2 |g''| / q_trial)` (for JC, `(n(1 - n)/2) B eps^n (dl/eps_p)^2` and
-/// `C sigma_y / 2`: both below [`RETURN_TOLERANCE`] in size). Larger steps stop when the
-/// flow stress's own curvature shows that residual to be below the tolerance
-/// ([`CURVATURE_MARGIN`]). The flow stress at the accepted multiplier is the last
-/// evaluation's, corrected to first order along the step.
+/// the flow stress again, whatever its derivatives: Newton's residual after a step `s` is
+/// second order, `|g''| s^2 / 2`, so a relative step of 1e-7 leaves a relative residual of
+/// order `1e-14 (dl^2 |g''| / q_trial)` (for JC, `(n(1 - n)/2) B eps^n (dl/eps_p)^2` and
+/// `C sigma_y / 2`: both below [`RETURN_TOLERANCE`] in size). The flow stress at the accepted
+/// multiplier is the last evaluation's, corrected to first order along the step.
 pub const RETURN_STEP_TOLERANCE: f64 = 1e-7;
 
-/// Fraction of the return tolerance that the predicted residual after a Newton step,
-/// `|sigma_y''| s^2 / 2` along the return path, may reach for the return to stop there
-/// (the curvature is the last evaluation's; the margin covers its change over the step).
-pub const CURVATURE_MARGIN: f64 = 0.5;
+/// Fraction of the return tolerance that the residual predicted after a corrected step (see
+/// [`final_step`]) may reach for the return to stop there.
+pub const CORRECTION_MARGIN: f64 = 0.5;
 
-/// Largest relative Newton step the curvature test may accept. The second-order estimate
-/// holds while the third-order term, `|sigma_y'''| s^3 / 6`, is small beside it: for the
-/// power and logarithmic laws in strain and rate `|sigma_y''' / sigma_y''| <= 3 / dl`, and a
-/// Voce term `Q exp(-c eps_p)` whose `c s` is not small is exponentially small where the
-/// step starts but not along it; a relative step of 1e-3 keeps the third-order term below
-/// 1e-3 of the estimate for the first and `c s <= 1e-3 c eps_p` for the second. (Without the
-/// cap the fuzzer found one-step returns of `dl ~ 2` through a Voce term, `c ~ 8`, accepted
-/// 1e-8 outside the yield surface.)
-pub const CURVATURE_STEP_LIMIT: f64 = 1e-3;
+/// Largest relative Newton step that [`final_step`] corrects and accepts. Its estimate of
+/// what the corrected step leaves is third order and needs the fourth-order term small beside
+/// it: for the power and logarithmic laws in strain and rate each derivative of the flow
+/// stress brings a factor of at most `4 / dl`, and a Voce term `Q exp(-c eps_p)` with `c s`
+/// not small is exponentially small where the step starts but not along it; a relative step
+/// of 1e-3 keeps the next term below 1e-2 of the estimate for the first and `c s <= 1e-3 c
+/// eps_p` for the second. (Without a cap the fuzzer found a one-step return of `dl ~ 2`
+/// through a Voce term, `c ~ 8`, left 1e-8 outside the yield surface.)
+pub const CORRECTION_STEP_LIMIT: f64 = 1e-3;
 
-/// Whether the Newton step `step` from `dl` to `newton` ends the return: either it is below
-/// [`RETURN_STEP_TOLERANCE`] relative, or it is below [`CURVATURE_STEP_LIMIT`] relative, stays
-/// on the flow stress's smooth branch and the second-order residual it leaves,
-/// `|sigma_y''| step^2 / 2`, is below [`CURVATURE_MARGIN`] times `tolerance`.
+/// The end of the return, if the Newton step `step` from the iterate `dl` (residual `g`,
+/// slope `dg < 0`, flow stress `flow` along the path) to `newton` ends it: the accepted
+/// multiplier and the flow stress there.
+///
+/// - A step below [`RETURN_STEP_TOLERANCE`] of the multiplier is accepted as it is.
+/// - A step below [`CORRECTION_STEP_LIMIT`] is corrected to third order (Chebyshev's step
+///   `s_c = s - g'' s^2 / (2 g')`, `s` the Newton step) and accepted if what it leaves,
+///   `|s|^3 (g''^2 / (2 |g'|) + |g'''| / 6)` to leading order, is below [`CORRECTION_MARGIN`]
+///   times `tolerance`, and the corrected multiplier stays inside the bracket and on the flow
+///   stress's smooth branch. The flow stress there is the last evaluation's, corrected to
+///   second order.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn converged_step(
-    flow: &FlowStress,
+fn final_step(
+    flow: &PathFlow,
+    dg: f64,
+    dl: f64,
     step: f64,
     newton: f64,
-    dl: f64,
+    bracket: (f64, f64),
     dt: f64,
     tolerance: f64,
-) -> bool {
-    let step = step.abs();
-    step <= RETURN_STEP_TOLERANCE * newton
-        || (step <= CURVATURE_STEP_LIMIT * newton
-            && 0.5 * flow.path_curvature(dt) * step * step <= CURVATURE_MARGIN * tolerance
-            && flow.same_branch(dl / dt, newton / dt))
+) -> Option<(f64, f64)> {
+    let size = step.abs();
+    if size <= RETURN_STEP_TOLERANCE * newton {
+        return Some((newton, flow.value + flow.slope * step));
+    }
+    if size > CORRECTION_STEP_LIMIT * newton {
+        return None;
+    }
+    // g'' = -sigma'', g''' = -sigma''' along the path.
+    let corrected = step + 0.5 * flow.curvature / dg * step * step;
+    let accepted = dl + corrected;
+    let leftover = size
+        * size
+        * size
+        * (flow.curvature * flow.curvature / (2.0 * dg.abs()) + flow.third.abs() / 6.0);
+    let (lower, upper) = bracket;
+    (leftover <= CORRECTION_MARGIN * tolerance
+        && accepted > lower
+        && accepted < upper
+        && flow.same_branch(dl / dt, accepted / dt))
+    .then(|| {
+        let value = flow.value + corrected * (flow.slope + 0.5 * flow.curvature * corrected);
+        (accepted, value)
+    })
 }
 
 /// What the host gives for one step.
@@ -208,12 +233,12 @@ fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateErr
 }
 
 /// The residual `g(dl) = q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n)`, its slope and
-/// the flow stress it used.
+/// the flow stress along the path it used.
 #[derive(Clone, Copy)]
 struct Residual {
     value: f64,
     slope: f64,
-    flow: FlowStress,
+    flow: PathFlow,
 }
 
 /// [`Residual`] at `dl`.
@@ -226,10 +251,10 @@ fn residual(
     dl: f64,
     dt: f64,
 ) -> Residual {
-    let flow = flow.flow_stress(plastic_strain + dl, dl / dt);
+    let flow = flow.along_path(plastic_strain, dl, dt);
     Residual {
         value: trial_equivalent - three_g * dl - flow.value,
-        slope: -three_g - flow.d_plastic_strain - flow.d_rate / dt,
+        slope: -three_g - flow.slope,
         flow,
     }
 }
@@ -239,7 +264,7 @@ fn residual(
 ///
 /// `start` is the first iterate and, if the caller has evaluated it, its residual (see
 /// `compute`: the previous step's multiplier, or the perfectly plastic estimate `g(0)/3G`).
-/// Returns `(dl, flow stress at dl, iterations)`.
+/// Returns `(dl, flow stress along the path at dl, iterations)`.
 fn implicit_return(
     flow: &FlowAtTemperature<'_>,
     shear_modulus: f64,
@@ -247,7 +272,7 @@ fn implicit_return(
     plastic_strain: f64,
     start: (f64, Option<Residual>),
     dt: f64,
-) -> Result<(f64, FlowStress, u32), UpdateError> {
+) -> Result<(f64, PathFlow, u32), UpdateError> {
     let three_g = 3.0 * shear_modulus;
     let residual = |dl: f64| residual(flow, three_g, trial_equivalent, plastic_strain, dl, dt);
     let tolerance = RETURN_TOLERANCE * trial_equivalent;
@@ -262,7 +287,7 @@ fn implicit_return(
     // and at least halves the previous step; otherwise the bracket is bisected, geometrically
     // when it spans orders of magnitude (roots near 0 for tiny hardening exponents, steep rate
     // laws), so that ~60 bisections reach any positive double.
-    let mut upper_flow: Option<FlowStress> = None;
+    let mut upper_flow: Option<PathFlow> = None;
     let mut previous_step = upper;
     for iteration in 1..=MAX_RETURN_ITERATIONS {
         let Residual {
@@ -300,14 +325,20 @@ fn implicit_return(
             && newton > lower
             && newton < upper
             && (newton - dl).abs() <= 0.5 * previous_step;
-        if newton_ok && converged_step(&flow, newton - dl, newton, dl, dt, tolerance) {
-            // d sigma_y / d dl = -dg - 3G along the step.
-            let step = newton - dl;
-            let flow = FlowStress {
-                value: flow.value + (-dg - three_g) * step,
-                ..flow
-            };
-            return Ok((newton, flow, iteration));
+        if newton_ok {
+            let end = final_step(
+                &flow,
+                dg,
+                dl,
+                newton - dl,
+                newton,
+                (lower, upper),
+                dt,
+                tolerance,
+            );
+            if let Some((accepted, value)) = end {
+                return Ok((accepted, PathFlow { value, ..flow }, iteration));
+            }
         }
         let next = if newton_ok {
             newton
@@ -422,8 +453,8 @@ fn compute(
                         )?;
                         plastic_increment = dl;
                         iterations = count;
-                        plastic_modulus = flow.d_plastic_strain + flow.d_rate / dt;
-                        Ok(flow)
+                        plastic_modulus = flow.slope;
+                        Ok(flow.value)
                     }
                 }
             }
@@ -432,7 +463,7 @@ fn compute(
                     at_temperature.flow_stress(state.plastic_strain, state.plastic_strain_rate);
                 if trial_equivalent > flow_now.value {
                     plastic_increment = (trial_equivalent - flow_now.value) / three_g;
-                    Ok(flow_now)
+                    Ok(flow_now.value)
                 } else {
                     Err(flow_now.value)
                 }
@@ -445,7 +476,7 @@ fn compute(
             }
             Ok(flow) => {
                 plastic = true;
-                yield_stress = flow.value;
+                yield_stress = flow;
                 return_fraction = three_g * plastic_increment / trial_equivalent;
                 new_deviator = tensor::scale(&trial, 1.0 - return_fraction);
                 next.flags.insert(StateFlags::PLASTIC);

@@ -1,6 +1,6 @@
 //! A flow stress composed of independent terms: `sigma_y = h(eps_p) r(deps_p) theta(T)`.
 
-use super::{FlowStress, Hardening, RateTerm, ThermalTerm};
+use super::{FlowStress, Hardening, PathFlow, RateTerm, ThermalTerm};
 use crate::error::ParameterError;
 use crate::parameters::{Constants, Parameter};
 
@@ -51,11 +51,27 @@ impl ComposedStrength {
             value: h.value * r.value * theta,
             d_plastic_strain: h.slope * r.value * theta,
             d_rate: h.value * r.slope * theta,
-            d2_plastic_strain: h.curvature * r.value * theta,
-            d2_rate: h.value * r.curvature * theta,
-            d2_plastic_strain_rate: h.slope * r.slope * theta,
-            kink_rate: self.rate.kink_rate(),
         }
+    }
+
+    /// The flow stress along a return path, `h(eps_n + dl) r(dl/dt) theta`, and its first
+    /// three derivatives in `dl` (see [`PathFlow`]), with `theta = thermal(temperature)`
+    /// given.
+    #[inline]
+    pub fn along_path_with_thermal(
+        &self,
+        plastic_strain: f64,
+        dl: f64,
+        dt: f64,
+        temperature: f64,
+        theta: f64,
+    ) -> PathFlow {
+        let h = self.hardening.evaluate(plastic_strain + dl);
+        let r = self
+            .rate
+            .evaluate(dl / dt, temperature)
+            .along_rate(1.0 / dt);
+        h.product(&r).scaled(theta).path_flow(self.rate.kink_rate())
     }
 
     /// The names of the three terms, as they prefix their constants' paths.

@@ -54,11 +54,11 @@ pub enum Hardening {
     },
 }
 
-/// `B eps^n` and its first and second derivatives. At `eps = 0` with `n < 1` the slope is
+/// `B eps^n` and its first three derivatives. At `eps = 0` with `n < 1` the slope is
 /// unbounded; it is returned as `+inf` (the return mapping falls back to bisection there), and
-/// the curvature at `eps = 0` as `+inf` unless the term is linear or constant.
+/// the higher derivatives at `eps = 0` as `+inf` unless the term is linear or constant.
 #[inline]
-fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> TermValue {
+pub(crate) fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> TermValue {
     if modulus == 0.0 {
         return TermValue::CONSTANT_ZERO;
     }
@@ -73,7 +73,7 @@ fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> TermValue {
             0.0
         };
         let value = if exponent == 0.0 { modulus } else { 0.0 };
-        let curvature = if exponent == 0.0 || exponent == 1.0 {
+        let higher = if exponent == 0.0 || exponent == 1.0 {
             0.0
         } else {
             f64::INFINITY
@@ -81,20 +81,23 @@ fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> TermValue {
         return TermValue {
             value,
             slope,
-            curvature,
+            curvature: higher,
+            third: higher,
         };
     }
     let powered = pow(plastic_strain, exponent);
     let slope = modulus * exponent * powered / plastic_strain;
+    // B n (n - 1) eps^(n - 2) and B n (n - 1)(n - 2) eps^(n - 3).
+    let curvature = slope * (exponent - 1.0) / plastic_strain;
     TermValue {
         value: modulus * powered,
         slope,
-        // B n (n - 1) eps^(n - 2).
-        curvature: slope * (exponent - 1.0) / plastic_strain,
+        curvature,
+        third: curvature * (exponent - 2.0) / plastic_strain,
     }
 }
 
-/// `Q (1 - exp(-c eps))` and its first and second derivatives.
+/// `Q (1 - exp(-c eps))` and its first three derivatives.
 #[inline]
 fn voce_term(saturation: f64, rate: f64, plastic_strain: f64) -> TermValue {
     if saturation == 0.0 {
@@ -102,15 +105,17 @@ fn voce_term(saturation: f64, rate: f64, plastic_strain: f64) -> TermValue {
     }
     let decay = exp(-rate * plastic_strain);
     let slope = saturation * rate * decay;
+    let curvature = -rate * slope;
     TermValue {
         value: saturation * (1.0 - decay),
         slope,
-        curvature: -rate * slope,
+        curvature,
+        third: -rate * curvature,
     }
 }
 
 impl Hardening {
-    /// `h(eps_p)`, `dh/deps_p` and `d2h/deps_p^2`.
+    /// `h(eps_p)` and its first three derivatives.
     #[inline]
     pub fn evaluate(&self, plastic_strain: f64) -> TermValue {
         match *self {

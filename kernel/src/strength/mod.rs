@@ -28,13 +28,7 @@ pub use zerilli_armstrong::{CrystalStructure, ZerilliArmstrong};
 
 use crate::error::ParameterError;
 
-/// A flow stress and its first and second partial derivatives at fixed temperature.
-///
-/// The second derivatives bound how far a Newton step of the return mapping can be from the
-/// root (the residual after a step `s` is `g'' s^2 / 2` to leading order), so the return can
-/// stop without evaluating the flow stress again. They hold on the smooth branch the point is
-/// on: the flow stress is not twice differentiable at `kink_rate` (e.g. Johnson-Cook's
-/// `1 + C ln e*` switching to 1 at `e* = 1`), and a step across it proves nothing.
+/// A flow stress and its partial derivatives at fixed temperature.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FlowStress {
     /// `sigma_y` (Pa).
@@ -43,28 +37,33 @@ pub struct FlowStress {
     pub d_plastic_strain: f64,
     /// `d sigma_y / d deps_p` (Pa s).
     pub d_rate: f64,
-    /// `d2 sigma_y / d eps_p^2` (Pa); `+inf` where unbounded.
-    pub d2_plastic_strain: f64,
-    /// `d2 sigma_y / d deps_p^2` (Pa s^2); `+inf` where unbounded.
-    pub d2_rate: f64,
-    /// `d2 sigma_y / d eps_p d deps_p` (Pa s).
-    pub d2_plastic_strain_rate: f64,
-    /// Plastic strain rate (1/s) at which the flow stress changes branch (its first or
-    /// second rate derivative jumps); 0 if it has none at positive rates.
+}
+
+/// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt)` at fixed temperature,
+/// and its first three derivatives in the plastic multiplier `dl`.
+///
+/// The return mapping's residual is `q_trial - 3G dl - sigma_y`: these derivatives give its
+/// Newton step, a third-order correction of that step, and the size of what the corrected step
+/// leaves, so that the return can stop without evaluating the flow stress again. They hold on
+/// the smooth branch the point is on: the flow stress is not differentiable at `kink_rate`
+/// (e.g. Johnson-Cook's `1 + C ln e*` switching to 1 at `e* = 1`), and a step across it proves
+/// nothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathFlow {
+    /// `sigma_y` (Pa).
+    pub value: f64,
+    /// `d sigma_y / d dl` (Pa): `d sigma_y / d eps_p + (d sigma_y / d deps_p) / dt`.
+    pub slope: f64,
+    /// `d2 sigma_y / d dl^2` (Pa); `+inf` where unbounded.
+    pub curvature: f64,
+    /// `d3 sigma_y / d dl^3` (Pa); `+inf` where unbounded.
+    pub third: f64,
+    /// Plastic strain rate (1/s) at which the flow stress changes branch; 0 if it has none at
+    /// positive rates.
     pub kink_rate: f64,
 }
 
-impl FlowStress {
-    /// `|d2 sigma_y / d dl^2|` along a return path `eps_p = eps_n + dl`, `deps_p = dl/dt`:
-    /// `sigma_ee + 2 sigma_er / dt + sigma_rr / dt^2` in magnitude.
-    #[inline]
-    pub fn path_curvature(&self, dt: f64) -> f64 {
-        let inverse_dt = 1.0 / dt;
-        (self.d2_plastic_strain
-            + inverse_dt * (2.0 * self.d2_plastic_strain_rate + inverse_dt * self.d2_rate))
-            .abs()
-    }
-
+impl PathFlow {
     /// `true` if the rates `a` and `b` lie on the same smooth branch (no kink between them).
     #[inline]
     pub fn same_branch(&self, a: f64, b: f64) -> bool {
@@ -72,7 +71,7 @@ impl FlowStress {
     }
 }
 
-/// A one-variable factor of a composed flow stress with its first and second derivatives.
+/// A one-variable factor of a flow stress with its first three derivatives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TermValue {
     /// The factor.
@@ -81,6 +80,8 @@ pub struct TermValue {
     pub slope: f64,
     /// Its second derivative (`+inf` where unbounded).
     pub curvature: f64,
+    /// Its third derivative (`+inf` where unbounded).
+    pub third: f64,
 }
 
 impl TermValue {
@@ -89,6 +90,7 @@ impl TermValue {
         value: 0.0,
         slope: 0.0,
         curvature: 0.0,
+        third: 0.0,
     };
 
     /// The constant 1.
@@ -96,6 +98,7 @@ impl TermValue {
         value: 1.0,
         slope: 0.0,
         curvature: 0.0,
+        third: 0.0,
     };
 
     /// `offset + self`.
@@ -114,10 +117,11 @@ impl TermValue {
             value: self.value + other.value,
             slope: self.slope + other.slope,
             curvature: self.curvature + other.curvature,
+            third: self.third + other.third,
         }
     }
 
-    /// `self * other` (product rule, first and second derivatives).
+    /// `self * other` (Leibniz's rule to the third derivative).
     #[inline]
     pub fn product(self, other: &TermValue) -> TermValue {
         TermValue {
@@ -126,6 +130,44 @@ impl TermValue {
             curvature: self.curvature * other.value
                 + 2.0 * self.slope * other.slope
                 + self.value * other.curvature,
+            third: self.third * other.value
+                + 3.0 * (self.curvature * other.slope + self.slope * other.curvature)
+                + self.value * other.third,
+        }
+    }
+
+    /// `self * factor` (a constant factor).
+    #[inline]
+    pub fn scaled(self, factor: f64) -> TermValue {
+        TermValue {
+            value: self.value * factor,
+            slope: self.slope * factor,
+            curvature: self.curvature * factor,
+            third: self.third * factor,
+        }
+    }
+
+    /// A factor of the rate `deps_p = dl/dt` seen as a function of `dl`: its derivatives
+    /// times `1/dt`, `1/dt^2`, `1/dt^3`.
+    #[inline]
+    pub fn along_rate(self, inverse_dt: f64) -> TermValue {
+        TermValue {
+            value: self.value,
+            slope: self.slope * inverse_dt,
+            curvature: self.curvature * inverse_dt * inverse_dt,
+            third: self.third * inverse_dt * inverse_dt * inverse_dt,
+        }
+    }
+
+    /// This factor as a [`PathFlow`] with the given kink rate.
+    #[inline]
+    pub fn path_flow(self, kink_rate: f64) -> PathFlow {
+        PathFlow {
+            value: self.value,
+            slope: self.slope,
+            curvature: self.curvature,
+            third: self.third,
+            kink_rate,
         }
     }
 }
@@ -212,6 +254,27 @@ impl FlowAtTemperature<'_> {
     }
 }
 
+impl FlowAtTemperature<'_> {
+    /// The flow stress along the return path from plastic strain `plastic_strain` at the
+    /// multiplier `dl` over the step `dt`: `sigma_y(eps_n + dl, dl/dt)` and its derivatives in
+    /// `dl`.
+    #[inline]
+    pub fn along_path(&self, plastic_strain: f64, dl: f64, dt: f64) -> PathFlow {
+        match self.strength {
+            Strength::Composed(model) => model.along_path_with_thermal(
+                plastic_strain,
+                dl,
+                dt,
+                self.temperature,
+                self.thermal,
+            ),
+            Strength::ZerilliArmstrong(model) => {
+                model.along_path(plastic_strain, dl, dt, self.temperature)
+            }
+        }
+    }
+}
+
 impl From<ComposedStrength> for Strength {
     fn from(model: ComposedStrength) -> Self {
         Strength::Composed(model)
@@ -293,49 +356,52 @@ mod tests {
     }
 
     #[test]
-    fn second_derivatives_match_central_differences_of_the_first() {
-        // GOAL: the curvatures the return's stopping test relies on are the flow stress's
-        //       second partial derivatives.
-        // SETUP: every form of `models()`, at eps_p 0.05 and 0.4, rates 50 and 2e4 /s, 600 K.
-        // REFERENCE: central differences of the analytic first derivatives, step 1e-5
-        //            relative; agreement to 1e-5 relative (of the largest term for the mixed
-        //            derivative, which is zero for ZA BCC).
+    fn path_derivatives_match_central_differences() {
+        // GOAL: the derivatives along a return path that the return's stopping test and its
+        //       corrected step rely on are those of sigma_y(eps_n + dl, dl/dt).
+        // SETUP: every form of `models()`, eps_n 0.05 and 0.4, dl giving rates 50 and 2e4 /s
+        //        over dt 1e-6 s, 600 K.
+        // REFERENCE: central differences in dl (step 1e-4 of dl) of the value, the slope and
+        //            the curvature; agreement to 1e-5 of the derivative or of the next lower
+        //            one times 1/dl, whichever is larger. The value and slope are those of
+        //            `flow_stress` to round-off.
+        let dt = 1.0e-6;
         for model in models() {
             let at = model.at_temperature(600.0);
             for strain in [0.05, 0.4] {
                 for rate in [50.0, 2.0e4] {
-                    let f = at.flow_stress(strain, rate);
-                    let (he, hr) = (1.0e-5 * strain, 1.0e-5 * rate);
-                    let (ep, em) = (
-                        at.flow_stress(strain + he, rate),
-                        at.flow_stress(strain - he, rate),
+                    let dl = rate * dt;
+                    let f = at.along_path(strain, dl, dt);
+                    let h = 1.0e-4 * dl;
+                    let (p, m) = (
+                        at.along_path(strain, dl + h, dt),
+                        at.along_path(strain, dl - h, dt),
                     );
-                    let (rp, rm) = (
-                        at.flow_stress(strain, rate + hr),
-                        at.flow_stress(strain, rate - hr),
-                    );
-                    let d2e = (ep.d_plastic_strain - em.d_plastic_strain) / (2.0 * he);
-                    let d2r = (rp.d_rate - rm.d_rate) / (2.0 * hr);
-                    let mixed = (ep.d_rate - em.d_rate) / (2.0 * he);
-                    let close = |numeric: f64, analytic: f64, scale: f64| {
-                        (numeric - analytic).abs() <= 1.0e-5 * scale.max(analytic.abs())
+                    let close = |numeric: f64, analytic: f64, lower: f64| {
+                        (numeric - analytic).abs() <= 1.0e-5 * analytic.abs().max(lower.abs() / dl)
                     };
+                    let slope = (p.value - m.value) / (2.0 * h);
+                    let curvature = (p.slope - m.slope) / (2.0 * h);
+                    let third = (p.curvature - m.curvature) / (2.0 * h);
                     assert!(
-                        close(d2e, f.d2_plastic_strain, 0.0),
-                        "{model:?}: {d2e} vs {}",
-                        f.d2_plastic_strain
+                        close(slope, f.slope, f.value),
+                        "{model:?}: {slope} vs {}",
+                        f.slope
                     );
                     assert!(
-                        close(d2r, f.d2_rate, 0.0),
-                        "{model:?}: {d2r} vs {}",
-                        f.d2_rate
+                        close(curvature, f.curvature, f.slope),
+                        "{model:?}: {curvature} vs {}",
+                        f.curvature
                     );
-                    let scale = (f.d_plastic_strain * f.d_rate / f.value).abs();
                     assert!(
-                        close(mixed, f.d2_plastic_strain_rate, scale),
-                        "{model:?}: {mixed} vs {}",
-                        f.d2_plastic_strain_rate
+                        close(third, f.third, f.curvature),
+                        "{model:?}: {third} vs {}",
+                        f.third
                     );
+                    let partials = at.flow_stress(strain + dl, rate);
+                    let path_slope = partials.d_plastic_strain + partials.d_rate / dt;
+                    assert!((partials.value - f.value).abs() <= 1.0e-15 * f.value);
+                    assert!((path_slope - f.slope).abs() <= 1.0e-12 * f.slope.abs());
                 }
             }
         }
@@ -348,11 +414,11 @@ mod tests {
         // SETUP: JC 4340 (e0 1 /s); ZA BCC (floor 1e-6 e0); MJC's power-law rate (smooth).
         // REFERENCE: kink rates e0, 1e-6 e0 and none.
         let [jc, mjc, _, _, _, za, _] = models();
-        let jc = jc.flow_stress(0.1, 10.0, 300.0);
+        let along = |model: &Strength| model.at_temperature(300.0).along_path(0.1, 1.0e-5, 1.0e-6);
+        let jc = along(&jc);
         assert_eq!(jc.kink_rate, 1.0);
         assert!(jc.same_branch(10.0, 2.0) && !jc.same_branch(10.0, 0.5));
-        assert_eq!(za.flow_stress(0.1, 10.0, 300.0).kink_rate, 1.0e-6);
-        let mjc = mjc.flow_stress(0.1, 10.0, 300.0);
-        assert!(mjc.same_branch(10.0, 1.0e-9));
+        assert_eq!(along(&za).kink_rate, 1.0e-6);
+        assert!(along(&mjc).same_branch(10.0, 1.0e-9));
     }
 }

@@ -77,7 +77,7 @@ pub enum RateTerm {
     },
 }
 
-/// `(1 + rate/e0)^beta` and its first and second derivatives with respect to `rate`.
+/// `(1 + rate/e0)^beta` and its first three derivatives with respect to `rate`.
 #[inline]
 fn power_factor(exponent: f64, reference_rate: f64, plastic_strain_rate: f64) -> TermValue {
     if exponent == 0.0 {
@@ -86,15 +86,17 @@ fn power_factor(exponent: f64, reference_rate: f64, plastic_strain_rate: f64) ->
     let base = 1.0 + plastic_strain_rate / reference_rate;
     let value = pow(base, exponent);
     let slope = exponent * value / base / reference_rate;
+    let curvature = slope * (exponent - 1.0) / (base * reference_rate);
     TermValue {
         value,
         slope,
-        curvature: slope * (exponent - 1.0) / (base * reference_rate),
+        curvature,
+        third: curvature * (exponent - 2.0) / (base * reference_rate),
     }
 }
 
-/// `1 + C ln(rate/e0)` above `e0` (1 below) and its first and second derivatives; `sensitivity`
-/// is `C`.
+/// `1 + C ln(rate/e0)` above `e0` (1 below) and its first three derivatives; `sensitivity` is
+/// `C`.
 #[inline]
 fn log_factor(sensitivity: f64, reference_rate: f64, rate: f64) -> TermValue {
     let ratio = rate / reference_rate;
@@ -102,17 +104,19 @@ fn log_factor(sensitivity: f64, reference_rate: f64, rate: f64) -> TermValue {
         TermValue::CONSTANT_ONE
     } else {
         let slope = sensitivity / rate;
+        let curvature = -slope / rate;
         TermValue {
             value: 1.0 + sensitivity * ln(ratio),
             slope,
-            curvature: -slope / rate,
+            curvature,
+            third: -2.0 * curvature / rate,
         }
     }
 }
 
 impl RateTerm {
-    /// `r(deps_p, T)`, `dr/d deps_p` and `d2r/d deps_p^2` for a non-negative plastic strain
-    /// rate (only [`RateTerm::LogThermal`] depends on the temperature).
+    /// `r(deps_p, T)` and its first three derivatives in `deps_p` for a non-negative plastic
+    /// strain rate (only [`RateTerm::LogThermal`] depends on the temperature).
     #[inline]
     pub fn evaluate(&self, plastic_strain_rate: f64, temperature: f64) -> TermValue {
         let rate = if plastic_strain_rate > 0.0 {
@@ -181,18 +185,22 @@ impl RateTerm {
                     } else {
                         f64::INFINITY
                     };
+                    let higher = if exponent == 1.0 { 0.0 } else { f64::INFINITY };
                     return TermValue {
                         value: 1.0,
                         slope,
-                        curvature: if exponent == 1.0 { 0.0 } else { f64::INFINITY },
+                        curvature: higher,
+                        third: higher,
                     };
                 }
                 let powered = pow(rate / rate_constant, 1.0 / exponent);
                 let slope = powered / (exponent * rate);
+                let curvature = slope * (1.0 / exponent - 1.0) / rate;
                 TermValue {
                     value: 1.0 + powered,
                     slope,
-                    curvature: slope * (1.0 / exponent - 1.0) / rate,
+                    curvature,
+                    third: curvature * (1.0 / exponent - 2.0) / rate,
                 }
             }
         }
@@ -325,6 +333,7 @@ mod tests {
                     assert_eq!(value.value.to_bits(), reference.value.to_bits());
                     assert_eq!(value.slope.to_bits(), reference.slope.to_bits());
                     assert_eq!(value.curvature.to_bits(), reference.curvature.to_bits());
+                    assert_eq!(value.third.to_bits(), reference.third.to_bits());
                 }
             }
         }

@@ -8,7 +8,8 @@
 //! [`ZerilliArmstrong::MINIMUM_RATE_RATIO`] the rate ratio is held at that floor, so the
 //! zero-rate (elastic-check) flow stress is finite and continuous.
 
-use super::FlowStress;
+use super::hardening::power_term;
+use super::{FlowStress, PathFlow, TermValue};
 use crate::error::{check, ParameterError};
 use crate::math::{exp, ln, pow, sqrt};
 use crate::parameters;
@@ -70,16 +71,12 @@ impl ZerilliArmstrong {
             (Self::MINIMUM_RATE_RATIO, false)
         };
         let activation = exp(-self.c3 * temperature + self.c4 * temperature * ln(ratio));
-        // activation = exp(-C3 T) (rate/e0)^k with k = C4 T: d/d rate = activation k / rate,
-        // d2/d rate^2 = activation k (k - 1) / rate^2 (both zero on the floor).
-        let (d_activation, d2_activation) = if ratio_active {
-            let exponent = self.c4 * temperature;
-            let slope = activation * exponent / plastic_strain_rate;
-            (slope, slope * (exponent - 1.0) / plastic_strain_rate)
+        // d activation / d rate = activation * C4 T / rate (zero on the floor).
+        let d_activation = if ratio_active {
+            activation * self.c4 * temperature / plastic_strain_rate
         } else {
-            (0.0, 0.0)
+            0.0
         };
-        let kink_rate = Self::MINIMUM_RATE_RATIO * self.reference_rate;
         let eps = if plastic_strain > 0.0 {
             plastic_strain
         } else {
@@ -87,8 +84,8 @@ impl ZerilliArmstrong {
         };
         match self.structure {
             CrystalStructure::Bcc => {
-                let (hardening, slope, curvature) = if self.c5 == 0.0 {
-                    (0.0, 0.0, 0.0)
+                let (hardening, slope) = if self.c5 == 0.0 {
+                    (0.0, 0.0)
                 } else if eps == 0.0 {
                     (
                         0.0,
@@ -97,25 +94,15 @@ impl ZerilliArmstrong {
                         } else {
                             0.0
                         },
-                        f64::INFINITY,
                     )
                 } else {
                     let powered = pow(eps, self.exponent);
-                    let slope = self.c5 * self.exponent * powered / eps;
-                    (
-                        self.c5 * powered,
-                        slope,
-                        slope * (self.exponent - 1.0) / eps,
-                    )
+                    (self.c5 * powered, self.c5 * self.exponent * powered / eps)
                 };
                 FlowStress {
                     value: self.athermal_stress + self.c1 * activation + hardening,
                     d_plastic_strain: slope,
                     d_rate: self.c1 * d_activation,
-                    d2_plastic_strain: curvature,
-                    d2_rate: self.c1 * d2_activation,
-                    d2_plastic_strain_rate: 0.0,
-                    kink_rate,
                 }
             }
             CrystalStructure::Fcc => {
@@ -125,25 +112,79 @@ impl ZerilliArmstrong {
                 } else {
                     0.5 * self.c2 * activation / root
                 };
-                // d2/d eps2 of C2 eps^(1/2) A = -slope / (2 eps); mixed = slope k / rate.
-                let (curvature, mixed) = if self.c2 == 0.0 {
-                    (0.0, 0.0)
-                } else if eps == 0.0 {
-                    (f64::INFINITY, f64::INFINITY)
-                } else {
-                    (-0.5 * slope / eps, 0.5 * self.c2 * d_activation / root)
-                };
                 FlowStress {
                     value: self.athermal_stress + self.c2 * root * activation,
                     d_plastic_strain: if self.c2 == 0.0 { 0.0 } else { slope },
                     d_rate: self.c2 * root * d_activation,
-                    d2_plastic_strain: curvature,
-                    d2_rate: self.c2 * root * d2_activation,
-                    d2_plastic_strain_rate: mixed,
-                    kink_rate,
                 }
             }
         }
+    }
+
+    /// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt, T)`, and its first
+    /// three derivatives in `dl` (see [`PathFlow`]). The thermal-activation factor is
+    /// `exp(-C3 T) (rate/e0)^k` with `k = C4 T`, each rate derivative bringing a factor
+    /// `(k - j)/rate`; it is constant below the rate floor, whose rate is the kink.
+    #[inline]
+    pub fn along_path(&self, plastic_strain: f64, dl: f64, dt: f64, temperature: f64) -> PathFlow {
+        let rate = dl / dt;
+        let raw_ratio = rate / self.reference_rate;
+        let ratio = if raw_ratio > Self::MINIMUM_RATE_RATIO {
+            raw_ratio
+        } else {
+            Self::MINIMUM_RATE_RATIO
+        };
+        let value = exp(-self.c3 * temperature + self.c4 * temperature * ln(ratio));
+        let activation = if raw_ratio > Self::MINIMUM_RATE_RATIO {
+            let k = self.c4 * temperature;
+            let slope = value * k / rate;
+            let curvature = slope * (k - 1.0) / rate;
+            TermValue {
+                value,
+                slope,
+                curvature,
+                third: curvature * (k - 2.0) / rate,
+            }
+        } else {
+            TermValue {
+                value,
+                ..TermValue::CONSTANT_ZERO
+            }
+        }
+        .along_rate(1.0 / dt);
+        let eps = plastic_strain + dl;
+        let eps = if eps > 0.0 { eps } else { 0.0 };
+        let path = match self.structure {
+            CrystalStructure::Bcc => activation
+                .scaled(self.c1)
+                .plus(self.athermal_stress)
+                .sum(&power_term(self.c5, self.exponent, eps)),
+            CrystalStructure::Fcc => {
+                // C2 eps^(1/2) with sqrt, as in `flow_stress`.
+                let root = sqrt(eps);
+                let hardening = if self.c2 == 0.0 {
+                    TermValue::CONSTANT_ZERO
+                } else if eps == 0.0 {
+                    TermValue {
+                        value: 0.0,
+                        slope: f64::INFINITY,
+                        curvature: f64::INFINITY,
+                        third: f64::INFINITY,
+                    }
+                } else {
+                    let slope = 0.5 * self.c2 / root;
+                    let curvature = -0.5 * slope / eps;
+                    TermValue {
+                        value: self.c2 * root,
+                        slope,
+                        curvature,
+                        third: -1.5 * curvature / eps,
+                    }
+                };
+                hardening.product(&activation).plus(self.athermal_stress)
+            }
+        };
+        path.path_flow(Self::MINIMUM_RATE_RATIO * self.reference_rate)
     }
 
     /// Reject non-physical constants: stresses and C3, C4 non-negative, positive yield.
