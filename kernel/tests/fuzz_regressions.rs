@@ -299,13 +299,13 @@ fn rht_tiny_deviator_gives_finite_output() {
     );
 }
 
-/// The implicit return once accepted a Newton step on the flow stress's curvature alone (the
-/// stop of `update.rs` then accepted a Newton step on its curvature), whatever the step's size. A one-step return of `dl ~ 2`
-/// through a Voce term (`c ~ 8`) met the test at a point where the Voce curvature was
-/// exponentially small, though not along the step: the state was left 1e-8 outside the yield
-/// surface (the `strength_update_mjc` fuzzer, and `strength_update_tjc` on the same hardening;
-/// reproducers in `fuzz/regressions/strength_update_mjc/`). Fixed by accepting a curvature
-/// stop only for steps below 1e-3 of the multiplier (now `CORRECTION_STEP_LIMIT` of the corrected stop).
+/// The implicit return once accepted a Newton step on the flow stress's curvature alone,
+/// whatever the step's size. A one-step return of `dl ~ 2` through a Voce term (`c ~ 8`) met
+/// the test at a point where the Voce curvature was exponentially small, though not along the
+/// step: the state was left 1e-8 outside the yield surface (the `strength_update_mjc`
+/// fuzzer, and `strength_update_tjc` on the same hardening; reproducers in
+/// `fuzz/regressions/`). Fixed by stopping without a last evaluation only for steps below
+/// 1e-3 of the multiplier (`update::CORRECTION_STEP_LIMIT`).
 #[test]
 fn fuzz_large_step_through_a_voce_term_stays_on_the_yield_surface() {
     // GOAL: a one-step plastic return of dl ~ 2 ends on the yield surface.
