@@ -85,17 +85,19 @@ fn final_step(
         return None;
     }
     // g'' = -sigma'', g''' = -sigma''' along the path.
-    let corrected = step + 0.5 * flow.curvature / dg * step * step;
+    let inverse_slope = 1.0 / dg;
+    let corrected = step + 0.5 * flow.curvature * inverse_slope * step * step;
     let accepted = dl + corrected;
     let leftover = size
         * size
         * size
-        * (flow.curvature * flow.curvature / (2.0 * dg.abs()) + flow.third.abs() / 6.0);
+        * (0.5 * flow.curvature * flow.curvature * inverse_slope.abs()
+            + flow.third.abs() * (1.0 / 6.0));
     let (lower, upper) = bracket;
     (leftover <= CORRECTION_MARGIN * tolerance
         && accepted > lower
         && accepted < upper
-        && flow.same_branch(dl / dt, accepted / dt))
+        && flow.same_branch(dl, accepted, dt))
     .then(|| {
         let value = flow.value + corrected * (flow.slope + 0.5 * flow.curvature * corrected);
         (accepted, value)

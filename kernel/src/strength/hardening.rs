@@ -86,14 +86,15 @@ pub(crate) fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> Te
         };
     }
     let powered = pow(plastic_strain, exponent);
-    let slope = modulus * exponent * powered / plastic_strain;
+    let inverse = 1.0 / plastic_strain;
+    let slope = modulus * exponent * powered * inverse;
     // B n (n - 1) eps^(n - 2) and B n (n - 1)(n - 2) eps^(n - 3).
-    let curvature = slope * (exponent - 1.0) / plastic_strain;
+    let curvature = slope * (exponent - 1.0) * inverse;
     TermValue {
         value: modulus * powered,
         slope,
         curvature,
-        third: curvature * (exponent - 2.0) / plastic_strain,
+        third: curvature * (exponent - 2.0) * inverse,
     }
 }
 

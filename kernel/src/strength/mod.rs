@@ -64,10 +64,12 @@ pub struct PathFlow {
 }
 
 impl PathFlow {
-    /// `true` if the rates `a` and `b` lie on the same smooth branch (no kink between them).
+    /// `true` if the multipliers `a` and `b` over the step `dt` (rates `a/dt`, `b/dt`) lie on
+    /// the same smooth branch (no kink between them).
     #[inline]
-    pub fn same_branch(&self, a: f64, b: f64) -> bool {
-        self.kink_rate <= 0.0 || (a - self.kink_rate) * (b - self.kink_rate) > 0.0
+    pub fn same_branch(&self, a: f64, b: f64, dt: f64) -> bool {
+        let kink = self.kink_rate * dt;
+        self.kink_rate <= 0.0 || (a - kink) * (b - kink) > 0.0
     }
 }
 
@@ -417,8 +419,8 @@ mod tests {
         let along = |model: &Strength| model.at_temperature(300.0).along_path(0.1, 1.0e-5, 1.0e-6);
         let jc = along(&jc);
         assert_eq!(jc.kink_rate, 1.0);
-        assert!(jc.same_branch(10.0, 2.0) && !jc.same_branch(10.0, 0.5));
+        assert!(jc.same_branch(10.0, 2.0, 1.0) && !jc.same_branch(10.0, 0.5, 1.0));
         assert_eq!(along(&za).kink_rate, 1.0e-6);
-        assert!(along(&mjc).same_branch(10.0, 1.0e-9));
+        assert!(along(&mjc).same_branch(10.0, 1.0e-9, 1.0));
     }
 }

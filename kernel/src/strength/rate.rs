@@ -85,13 +85,14 @@ fn power_factor(exponent: f64, reference_rate: f64, plastic_strain_rate: f64) ->
     }
     let base = 1.0 + plastic_strain_rate / reference_rate;
     let value = pow(base, exponent);
-    let slope = exponent * value / base / reference_rate;
-    let curvature = slope * (exponent - 1.0) / (base * reference_rate);
+    let inverse = 1.0 / (base * reference_rate);
+    let slope = exponent * value * inverse;
+    let curvature = slope * (exponent - 1.0) * inverse;
     TermValue {
         value,
         slope,
         curvature,
-        third: curvature * (exponent - 2.0) / (base * reference_rate),
+        third: curvature * (exponent - 2.0) * inverse,
     }
 }
 
@@ -103,13 +104,14 @@ fn log_factor(sensitivity: f64, reference_rate: f64, rate: f64) -> TermValue {
     if ratio <= 1.0 {
         TermValue::CONSTANT_ONE
     } else {
-        let slope = sensitivity / rate;
-        let curvature = -slope / rate;
+        let inverse = 1.0 / rate;
+        let slope = sensitivity * inverse;
+        let curvature = -slope * inverse;
         TermValue {
             value: 1.0 + sensitivity * ln(ratio),
             slope,
             curvature,
-            third: -2.0 * curvature / rate,
+            third: -2.0 * curvature * inverse,
         }
     }
 }
