@@ -54,9 +54,9 @@ pub const CORRECTION_MARGIN: f64 = 0.5;
 /// through a Voce term, `c ~ 8`, left 1e-8 outside the yield surface.)
 pub const CORRECTION_STEP_LIMIT: f64 = 1e-3;
 
-/// The end of the return, if the Newton step `step` from the iterate `dl` (residual `g`,
-/// slope `dg < 0`, flow stress `flow` along the path) to `newton` ends it: the accepted
-/// multiplier and the flow stress there.
+/// The end of the return, if the Newton step from the iterate `dl` (residual slope `dg < 0`,
+/// flow stress `flow` along the path) to `newton` ends it: the accepted multiplier and the
+/// flow stress there.
 ///
 /// - A step below [`RETURN_STEP_TOLERANCE`] of the multiplier is accepted as it is.
 /// - A step below [`CORRECTION_STEP_LIMIT`] is corrected to third order (Chebyshev's step
@@ -65,18 +65,17 @@ pub const CORRECTION_STEP_LIMIT: f64 = 1e-3;
 ///   times `tolerance`, and the corrected multiplier stays inside the bracket and on the flow
 ///   stress's smooth branch. The flow stress there is the last evaluation's, corrected to
 ///   second order.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn final_step(
     flow: &PathFlow,
     dg: f64,
     dl: f64,
-    step: f64,
     newton: f64,
     bracket: (f64, f64),
     dt: f64,
     tolerance: f64,
 ) -> Option<(f64, f64)> {
+    let step = newton - dl;
     let size = step.abs();
     if size <= RETURN_STEP_TOLERANCE * newton {
         return Some((newton, flow.value + flow.slope * step));
@@ -328,16 +327,7 @@ fn implicit_return(
             && newton < upper
             && (newton - dl).abs() <= 0.5 * previous_step;
         if newton_ok {
-            let end = final_step(
-                &flow,
-                dg,
-                dl,
-                newton - dl,
-                newton,
-                (lower, upper),
-                dt,
-                tolerance,
-            );
+            let end = final_step(&flow, dg, dl, newton, (lower, upper), dt, tolerance);
             if let Some((accepted, value)) = end {
                 return Ok((accepted, PathFlow { value, ..flow }, iteration));
             }

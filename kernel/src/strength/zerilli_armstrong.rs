@@ -11,7 +11,7 @@
 use super::hardening::power_term;
 use super::{FlowStress, PathFlow, TermValue};
 use crate::error::{check, ParameterError};
-use crate::math::{exp, ln, pow, sqrt};
+use crate::math::{exp, ln, sqrt};
 use crate::parameters;
 
 /// Lattice structure selecting the ZA form.
@@ -56,94 +56,27 @@ impl ZerilliArmstrong {
     /// Floor of `e* = deps_p / e0` inside `ln` (quasi-static limit).
     pub const MINIMUM_RATE_RATIO: f64 = 1e-6;
 
-    /// Flow stress and its strain and rate derivatives at fixed temperature.
+    /// The thermal-activation factor `exp(-C3 T + C4 T ln e*)` = `exp(-C3 T) e*^k`, `k = C4 T`,
+    /// and its first three derivatives in the rate (each brings a factor `(k - j)/rate`);
+    /// constant below the rate floor.
     #[inline]
-    pub fn flow_stress(
-        &self,
-        plastic_strain: f64,
-        plastic_strain_rate: f64,
-        temperature: f64,
-    ) -> FlowStress {
+    fn activation(&self, plastic_strain_rate: f64, temperature: f64) -> TermValue {
         let raw_ratio = plastic_strain_rate / self.reference_rate;
-        let (ratio, ratio_active) = if raw_ratio > Self::MINIMUM_RATE_RATIO {
-            (raw_ratio, true)
-        } else {
-            (Self::MINIMUM_RATE_RATIO, false)
-        };
-        let activation = exp(-self.c3 * temperature + self.c4 * temperature * ln(ratio));
-        // d activation / d rate = activation * C4 T / rate (zero on the floor).
-        let d_activation = if ratio_active {
-            activation * self.c4 * temperature / plastic_strain_rate
-        } else {
-            0.0
-        };
-        let eps = if plastic_strain > 0.0 {
-            plastic_strain
-        } else {
-            0.0
-        };
-        match self.structure {
-            CrystalStructure::Bcc => {
-                let (hardening, slope) = if self.c5 == 0.0 {
-                    (0.0, 0.0)
-                } else if eps == 0.0 {
-                    (
-                        0.0,
-                        if self.exponent < 1.0 {
-                            f64::INFINITY
-                        } else {
-                            0.0
-                        },
-                    )
-                } else {
-                    let powered = pow(eps, self.exponent);
-                    (self.c5 * powered, self.c5 * self.exponent * powered / eps)
-                };
-                FlowStress {
-                    value: self.athermal_stress + self.c1 * activation + hardening,
-                    d_plastic_strain: slope,
-                    d_rate: self.c1 * d_activation,
-                }
-            }
-            CrystalStructure::Fcc => {
-                let root = sqrt(eps);
-                let slope = if eps == 0.0 {
-                    f64::INFINITY
-                } else {
-                    0.5 * self.c2 * activation / root
-                };
-                FlowStress {
-                    value: self.athermal_stress + self.c2 * root * activation,
-                    d_plastic_strain: if self.c2 == 0.0 { 0.0 } else { slope },
-                    d_rate: self.c2 * root * d_activation,
-                }
-            }
-        }
-    }
-
-    /// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt, T)`, and its first
-    /// three derivatives in `dl` (see [`PathFlow`]). The thermal-activation factor is
-    /// `exp(-C3 T) (rate/e0)^k` with `k = C4 T`, each rate derivative bringing a factor
-    /// `(k - j)/rate`; it is constant below the rate floor, whose rate is the kink.
-    #[inline]
-    pub fn along_path(&self, plastic_strain: f64, dl: f64, dt: f64, temperature: f64) -> PathFlow {
-        let rate = dl / dt;
-        let raw_ratio = rate / self.reference_rate;
         let ratio = if raw_ratio > Self::MINIMUM_RATE_RATIO {
             raw_ratio
         } else {
             Self::MINIMUM_RATE_RATIO
         };
         let value = exp(-self.c3 * temperature + self.c4 * temperature * ln(ratio));
-        let activation = if raw_ratio > Self::MINIMUM_RATE_RATIO {
+        if raw_ratio > Self::MINIMUM_RATE_RATIO {
             let k = self.c4 * temperature;
-            let slope = value * k / rate;
-            let curvature = slope * (k - 1.0) / rate;
+            let slope = value * k / plastic_strain_rate;
+            let curvature = slope * (k - 1.0) / plastic_strain_rate;
             TermValue {
                 value,
                 slope,
                 curvature,
-                third: curvature * (k - 2.0) / rate,
+                third: curvature * (k - 2.0) / plastic_strain_rate,
             }
         } else {
             TermValue {
@@ -151,18 +84,21 @@ impl ZerilliArmstrong {
                 ..TermValue::CONSTANT_ZERO
             }
         }
-        .along_rate(1.0 / dt);
-        let eps = plastic_strain + dl;
-        let eps = if eps > 0.0 { eps } else { 0.0 };
-        let path = match self.structure {
-            CrystalStructure::Bcc => activation
-                .scaled(self.c1)
-                .plus(self.athermal_stress)
-                .sum(&power_term(self.c5, self.exponent, eps)),
+    }
+
+    /// The strain term and its first three derivatives: `C5 eps^n` (BCC) or `C2 eps^(1/2)`
+    /// (FCC, with `sqrt`), `eps` clamped at 0.
+    #[inline]
+    fn hardening(&self, plastic_strain: f64) -> TermValue {
+        let eps = if plastic_strain > 0.0 {
+            plastic_strain
+        } else {
+            0.0
+        };
+        match self.structure {
+            CrystalStructure::Bcc => power_term(self.c5, self.exponent, eps),
             CrystalStructure::Fcc => {
-                // C2 eps^(1/2) with sqrt, as in `flow_stress`.
-                let root = sqrt(eps);
-                let hardening = if self.c2 == 0.0 {
+                if self.c2 == 0.0 {
                     TermValue::CONSTANT_ZERO
                 } else if eps == 0.0 {
                     TermValue {
@@ -172,6 +108,7 @@ impl ZerilliArmstrong {
                         third: f64::INFINITY,
                     }
                 } else {
+                    let root = sqrt(eps);
                     let slope = 0.5 * self.c2 / root;
                     let curvature = -0.5 * slope / eps;
                     TermValue {
@@ -180,11 +117,55 @@ impl ZerilliArmstrong {
                         curvature,
                         third: -1.5 * curvature / eps,
                     }
-                };
-                hardening.product(&activation).plus(self.athermal_stress)
+                }
             }
+        }
+    }
+
+    /// The flow stress from its activation factor `activation` and strain term `hardening`
+    /// (both as functions of one variable): BCC `sigma_a + C1 a + h`, FCC `sigma_a + h a`.
+    #[inline]
+    fn combine(&self, activation: TermValue, hardening: TermValue) -> TermValue {
+        match self.structure {
+            CrystalStructure::Bcc => activation
+                .scaled(self.c1)
+                .plus(self.athermal_stress)
+                .sum(&hardening),
+            CrystalStructure::Fcc => hardening.product(&activation).plus(self.athermal_stress),
+        }
+    }
+
+    /// Flow stress and its strain and rate derivatives at fixed temperature.
+    #[inline]
+    pub fn flow_stress(
+        &self,
+        plastic_strain: f64,
+        plastic_strain_rate: f64,
+        temperature: f64,
+    ) -> FlowStress {
+        let activation = self.activation(plastic_strain_rate, temperature);
+        let hardening = self.hardening(plastic_strain);
+        let (d_plastic_strain, d_rate) = match self.structure {
+            CrystalStructure::Bcc => (hardening.slope, self.c1 * activation.slope),
+            CrystalStructure::Fcc => (
+                hardening.slope * activation.value,
+                hardening.value * activation.slope,
+            ),
         };
-        path.path_flow(Self::MINIMUM_RATE_RATIO * self.reference_rate)
+        FlowStress {
+            value: self.combine(activation, hardening).value,
+            d_plastic_strain,
+            d_rate,
+        }
+    }
+
+    /// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt, T)`, and its first
+    /// three derivatives in `dl` (see [`PathFlow`]); the rate floor is its kink.
+    #[inline]
+    pub fn along_path(&self, plastic_strain: f64, dl: f64, dt: f64, temperature: f64) -> PathFlow {
+        let activation = self.activation(dl / dt, temperature).along_rate(1.0 / dt);
+        self.combine(activation, self.hardening(plastic_strain + dl))
+            .path_flow(Self::MINIMUM_RATE_RATIO * self.reference_rate)
     }
 
     /// Reject non-physical constants: stresses and C3, C4 non-negative, positive yield.
