@@ -2,8 +2,9 @@
 //! convergence, energy balance, thread-count independence.
 
 use stoss::experiment::TaylorSpec;
-use stoss::mesh::{Grading, QuadMesh};
+use stoss::mesh::{Grading, Part, QuadMesh};
 use stoss::solver::{Amplitude, AxisymmetricModel, SolverSettings, VelocityConstraint};
+use stoss_kernel::eos::{Eos, LinearEos};
 use stoss_kernel::strength::JohnsonCook;
 use stoss_kernel::{Heating, Material};
 
@@ -394,4 +395,176 @@ fn a_rigid_mass_striking_an_elastic_bar_slows_as_the_closed_form() {
     );
     let worst = history.iter().map(|h| h.2.abs()).fold(0.0, f64::max);
     assert!(worst <= 1.0, "energy error {worst} %");
+}
+
+/// A spherical shell `a0 <= rho <= outer` about the origin, meshed in the `(r, z)` half-plane on
+/// a polar grid: `n_phi` sectors from the `+z` to the `-z` axis, ring thicknesses growing by 4 %
+/// from `h0`. Returns the mesh, the node index function `(ring, sector)` and the ring count.
+fn spherical_shell(
+    a0: f64,
+    outer: f64,
+    h0: f64,
+    n_phi: usize,
+) -> (QuadMesh, impl Fn(usize, usize) -> usize, usize) {
+    let mut radii = vec![a0];
+    let mut h = h0;
+    while *radii.last().unwrap() < outer {
+        radii.push(radii.last().unwrap() + h);
+        h *= 1.04;
+    }
+    let n_rho = radii.len() - 1;
+    let mut mesh = QuadMesh::default();
+    for &rho in &radii {
+        for (sin, cos) in polar_directions(n_phi) {
+            mesh.nodes.push([rho * sin, rho * cos]);
+        }
+    }
+    let node = move |i: usize, j: usize| i * (n_phi + 1) + j;
+    for i in 0..n_rho {
+        for j in 0..n_phi {
+            // Counter-clockwise in (r, z): out along the ray, back along the next one.
+            mesh.elements.push([
+                node(i, j),
+                node(i, j + 1),
+                node(i + 1, j + 1),
+                node(i + 1, j),
+            ]);
+            mesh.element_part.push(0);
+        }
+    }
+    mesh.parts.push(Part {
+        name: "solid".into(),
+        material: 0,
+    });
+    (mesh, node, n_rho)
+}
+
+/// `(sin phi, cos phi)` of the `n_phi + 1` rays from the `+z` axis (`phi = 0`) to the `-z`
+/// axis, exact on the axis.
+fn polar_directions(n_phi: usize) -> Vec<(f64, f64)> {
+    (0..=n_phi)
+        .map(|j| match j {
+            0 => (0.0, 1.0),
+            j if j == n_phi => (0.0, -1.0),
+            j => {
+                let phi = std::f64::consts::PI * j as f64 / n_phi as f64;
+                (phi.sin(), phi.cos())
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn spherical_cavity_expansion_reaches_hills_pressure() {
+    // GOAL: the resistance of the axisymmetric element to the deformation a penetrator forces on
+    //       a target. A spherical cavity expanded slowly in an elastic-perfectly plastic solid
+    //       needs Hill's pressure, which depends on the hoop terms, the shear and the
+    //       elastic-plastic field together; a weak element formulation (hoop rate, force
+    //       weighting, hourglass control) shows as a lower pressure.
+    // SETUP: cavity a0 = 1 mm in a sphere of 4340-like steel (G 77.8 GPa, nu 0.30, linear EoS),
+    //        yield Y = 1.5 GPa, no hardening, isothermal; 30 sectors over the half-plane, rings
+    //        from 0.1 mm growing 4 %, outer radius beyond the elastic wave. The cavity nodes are
+    //        driven radially at V = 100 m/s (2 % ramp) until a = 2.2 a0. The pressure is the
+    //        constraints' radial reaction over the cavity area 4 pi a^2.
+    // REFERENCE: Hill, The Mathematical Theory of Plasticity (1950), ch. V, for a cavity
+    //        expanded from a0 (elastic zone small-strain, plastic zone large-strain):
+    //        p/Y = 2/3 [1 + ln(E/(3 (1 - nu) Y) (1 - a0^3/a^3))]. At V = 100 m/s inertia adds
+    //        at most 1.5 rho V^2 (the incompressible dynamic term of Forrestal & Luk, J. Appl.
+    //        Mech. 55 (1988) 275), 2.3 % of p here. The FE must lie between 0.99 x Hill and
+    //        Hill + 1.5 rho V^2 + 1 % over a/a0 in [1.6, 2.2]. Measured: 1.024 x Hill at every
+    //        mesh from this one to 4x finer, 1.007 at 30 m/s (inertia -> 0), unchanged with
+    //        hourglass 0.01-0.3 (docs/solver.md).
+    let (yield_stress, shear, poisson, density): (f64, f64, f64, f64) =
+        (1.5e9, 77.8e9, 0.30, 7850.0);
+    let bulk = 2.0 * shear * (1.0 + poisson) / (3.0 * (1.0 - 2.0 * poisson));
+    let young = 9.0 * bulk * shear / (3.0 * bulk + shear);
+    let (a0, speed, n_phi) = (1.0e-3, 100.0, 30);
+    let end_time = 1.2 * a0 / speed;
+    let wave_speed = ((bulk + 4.0 * shear / 3.0) / density).sqrt();
+    let (mesh, node, n_rho) = spherical_shell(a0, a0 + 1.3 * wave_speed * end_time, 0.1e-3, n_phi);
+    let mut strength = JohnsonCook::STEEL_4340;
+    strength.yield_stress = yield_stress;
+    strength.hardening_modulus = 0.0;
+    strength.rate_sensitivity = 0.0;
+    let mut material = Material::STEEL_4340.with_strength(strength);
+    material.heating = Heating::Isothermal;
+    material.density = density;
+    material.shear_modulus = shear;
+    material.eos = Eos::Linear(LinearEos { bulk_modulus: bulk });
+    let mut constraints = vec![VelocityConstraint {
+        nodes: (0..=n_rho)
+            .flat_map(|i| [node(i, 0), node(i, n_phi)])
+            .collect(),
+        dof: 0,
+        velocity: Amplitude::constant(0.0),
+    }];
+    let ramp = 0.02 * end_time;
+    // (constraint, direction cosine of its degree of freedom) of the cavity's nodes.
+    let mut cavity = Vec::new();
+    for (j, (sin, cos)) in polar_directions(n_phi).into_iter().enumerate() {
+        for (dof, direction) in [(0, sin), (1, cos)] {
+            if dof == 0 && (j == 0 || j == n_phi) {
+                continue; // on the axis: r fixed above
+            }
+            constraints.push(VelocityConstraint {
+                nodes: vec![node(0, j)],
+                dof,
+                velocity: Amplitude {
+                    points: vec![(0.0, 0.0), (ramp, speed * direction)],
+                },
+            });
+            cavity.push((constraints.len() - 1, direction));
+        }
+    }
+    let model = AxisymmetricModel {
+        mesh,
+        materials: vec![material],
+        initial_temperature: 298.0,
+        initial_velocity: Vec::new(),
+        constraints,
+        walls: Vec::new(),
+        contacts: Vec::new(),
+        eroding_contact: None,
+        rigid_parts: Vec::new(),
+        pressure_loads: Vec::new(),
+        settings: SolverSettings {
+            end_time,
+            ..SolverSettings::default()
+        },
+        tracked_elements: Vec::new(),
+    };
+    let run = model.run(&mut |_, _| {}).unwrap();
+    let inertia = 1.5 * density * speed * speed / yield_stress;
+    let steps = run.constraint_forces[cavity[0].0].len();
+    let mut checked = 0;
+    for k in (0..steps).step_by(steps / 40) {
+        let time = run.constraint_forces[cavity[0].0][k].0;
+        let a = a0 + speed * (time - 0.5 * ramp);
+        if a < 1.6 * a0 {
+            continue;
+        }
+        let force: f64 = cavity
+            .iter()
+            .map(|&(c, direction)| run.constraint_forces[c][k].1 * direction)
+            .sum();
+        let pressure = force / (4.0 * std::f64::consts::PI * a * a) / yield_stress;
+        let hill = 2.0 / 3.0
+            * (1.0
+                + (young / (3.0 * (1.0 - poisson) * yield_stress) * (1.0 - (a0 / a).powi(3))).ln());
+        println!(
+            "a/a0 {:.3}: p/Y {pressure:.4}, Hill {hill:.4}, ratio {:.4}",
+            a / a0,
+            pressure / hill
+        );
+        assert!(
+            pressure >= 0.99 * hill && pressure <= 1.01 * hill + inertia,
+            "a/a0 {:.3}: p/Y {pressure:.4} outside [{:.4}, {:.4}]",
+            a / a0,
+            0.99 * hill,
+            1.01 * hill + inertia
+        );
+        checked += 1;
+    }
+    assert!(checked >= 10, "{checked} samples");
+    assert!(run.energy().error_percent().abs() < 0.5);
 }
