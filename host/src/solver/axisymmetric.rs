@@ -11,7 +11,9 @@
 //!
 //! Kernel Voigt mapping: `[rr, zz, tt, rz, 0, 0]` (x = r, y = z, z = theta).
 
-use super::explicit::{Discretisation, ElementStep, ExplicitModel, ExplicitRun, Vector, MAX_NODES};
+use super::explicit::{
+    Discretisation, ElementStep, ExplicitModel, ExplicitRun, HourglassStress, Vector, MAX_NODES,
+};
 use super::{SolverError, SolverSettings};
 use crate::mesh::QuadMesh;
 use std::f64::consts::PI;
@@ -160,6 +162,7 @@ impl Discretisation for QuadMesh {
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
+        _hourglass: &HourglassStress,
         material: &P,
         reference_volume: f64,
         dt: f64,
@@ -255,6 +258,7 @@ impl Discretisation for QuadMesh {
         }
         Ok(ElementStep {
             state: next,
+            hourglass: [0.0; 12],
             forces,
             hourglass_power: kappa * (q_r * q_r + q_z * q_z),
             viscous_work,

@@ -27,11 +27,18 @@ pub const MAXIMUM_THREADS: usize = 256;
 /// Largest number of nodes per element.
 pub const MAX_NODES: usize = 8;
 
+/// Flanagan-Belytschko generalised hourglass forces of an element, per mode and direction
+/// (a quad: one mode in `r` and `z`, the first two entries; a hexahedron: four modes in `x`,
+/// `y`, `z`), carried from step to step by the stiffness form of the hourglass control.
+pub type HourglassStress = [f64; 12];
+
 /// Per-element result of one step.
 #[derive(Clone, Copy, Debug)]
 pub struct ElementStep {
     /// Updated material state.
     pub state: MaterialState,
+    /// Updated hourglass forces (stiffness form; zero for the viscous form).
+    pub hourglass: HourglassStress,
     /// Nodal forces (first `nodes` entries used), in the model's integration measure.
     pub forces: [Vector; MAX_NODES],
     /// Hourglass dissipation rate.
@@ -54,6 +61,8 @@ struct ElementSlot {
     forces: [Vector; MAX_NODES],
     /// The forces enter the assembly (stepped, not rigid, not eroded).
     assembles: bool,
+    /// Hourglass forces carried by the stiffness form.
+    hourglass: HourglassStress,
     /// Hourglass energy dissipated so far, in the integration measure.
     hourglass_energy: f64,
     /// Bulk-viscosity work so far, in the integration measure.
@@ -232,7 +241,7 @@ pub trait Discretisation: Sync {
     fn element_time_step(&self, e: usize, x: &[Vector], wave_speed: f64) -> f64;
     /// Kinematics, the kernel update, bulk viscosity, internal and hourglass forces of element
     /// `e` over a step from `x` to `x_new` with velocities `v`, with the element's own point
-    /// model.
+    /// model and its hourglass forces of the previous step.
     #[allow(clippy::too_many_arguments)]
     fn element_step<P: PointModel>(
         &self,
@@ -241,6 +250,7 @@ pub trait Discretisation: Sync {
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
+        hourglass: &HourglassStress,
         material: &P,
         reference_volume: f64,
         dt: f64,
@@ -834,6 +844,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         &x_new,
                         &v,
                         state,
+                        &slot.hourglass,
                         material,
                         reference_volume[e],
                         dt,
@@ -856,6 +867,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     slot.hourglass_energy += step.hourglass_power * dt;
                     slot.viscous_energy += step.viscous_work;
                     *state = step.state;
+                    slot.hourglass = step.hourglass;
                     if step.state.flags.contains(StateFlags::ERODE) {
                         summary.eroding = true;
                         continue;

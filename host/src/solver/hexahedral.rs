@@ -12,7 +12,9 @@
 //! Node order: bottom face counter-clockwise seen from +z (xi, eta, zeta signs
 //! (-,-,-) (+,-,-) (+,+,-) (-,+,-)), then the top face in the same order.
 
-use super::explicit::{Discretisation, ElementStep, ExplicitModel, ExplicitRun, Vector, MAX_NODES};
+use super::explicit::{
+    Discretisation, ElementStep, ExplicitModel, ExplicitRun, HourglassStress, Vector, MAX_NODES,
+};
 use super::{SolverError, SolverSettings};
 use crate::mesh::HexMesh;
 use stoss_kernel::{MaterialState, PointModel, StepInput};
@@ -174,6 +176,7 @@ impl Discretisation for HexMesh {
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
+        _hourglass: &HourglassStress,
         material: &P,
         reference_volume: f64,
         dt: f64,
@@ -287,6 +290,7 @@ impl Discretisation for HexMesh {
         let characteristic = new.volume / largest_face_area(&nodes_new);
         Ok(ElementStep {
             state: next,
+            hourglass: [0.0; 12],
             forces,
             hourglass_power,
             viscous_work,
