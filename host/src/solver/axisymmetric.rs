@@ -14,7 +14,7 @@
 use super::explicit::{
     Discretisation, ElementStep, ExplicitModel, ExplicitRun, HourglassStress, Vector, MAX_NODES,
 };
-use super::{SolverError, SolverSettings};
+use super::{HourglassControl, SolverError, SolverSettings};
 use crate::mesh::QuadMesh;
 use std::f64::consts::PI;
 use stoss_kernel::{MaterialState, PointModel, StepInput};
@@ -162,7 +162,7 @@ impl Discretisation for QuadMesh {
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
-        _hourglass: &HourglassStress,
+        hourglass: &HourglassStress,
         material: &P,
         reference_volume: f64,
         dt: f64,
@@ -239,28 +239,58 @@ impl Discretisation for QuadMesh {
             force[0] = -(s_rr * new.b_r[k] + s_rz * new.b_z[k]) * volume - s_tt * new.area * 0.25;
             force[1] = -(s_rz * new.b_r[k] + s_zz * new.b_z[k]) * volume;
         }
-        // Flanagan-Belytschko viscous hourglass control.
+        // Flanagan-Belytschko hourglass control.
         let h = [1.0, -1.0, 1.0, -1.0];
         let hr: f64 = (0..4).map(|k| h[k] * nodes_new[k][0]).sum();
         let hz: f64 = (0..4).map(|k| h[k] * nodes_new[k][1]).sum();
         let gamma: [f64; 4] = core::array::from_fn(|k| h[k] - hr * new.b_r[k] - hz * new.b_z[k]);
         let q_r: f64 = (0..4).map(|k| gamma[k] * vel[k][0]).sum();
         let q_z: f64 = (0..4).map(|k| gamma[k] * vel[k][1]).sum();
-        let kappa = 0.25
-            * settings.hourglass_coefficient
-            * density
-            * output.wave_speed
-            * new.area.sqrt()
-            * new.mean_radius;
+        let mut carried = [0.0; 12];
+        let (hourglass_r, hourglass_z, hourglass_power) = match settings.hourglass {
+            HourglassControl::Viscous => {
+                let kappa = 0.25
+                    * settings.hourglass_coefficient
+                    * density
+                    * output.wave_speed
+                    * new.area.sqrt()
+                    * new.mean_radius;
+                (kappa * q_r, kappa * q_z, kappa * (q_r * q_r + q_z * q_z))
+            }
+            HourglassControl::Stiffness => {
+                let gradients: f64 = (0..4)
+                    .map(|k| new.b_r[k] * new.b_r[k] + new.b_z[k] * new.b_z[k])
+                    .sum();
+                let stiffness = settings.hourglass_coefficient
+                    * density
+                    * output.wave_speed
+                    * output.wave_speed
+                    * volume
+                    * gradients;
+                // Turned with the element (Q' = W Q dt), then incremented.
+                let wdt = spin * dt;
+                let (old_r, old_z) = (hourglass[0], hourglass[1]);
+                carried[0] = old_r + wdt * old_z + stiffness * q_r * dt;
+                carried[1] = old_z - wdt * old_r + stiffness * q_z * dt;
+                // Work over the step at the mean of the old (turned) and new forces: the
+                // trapezoidal rule, as the kernel books the stress work.
+                let half = 0.5 * stiffness * dt;
+                (
+                    carried[0],
+                    carried[1],
+                    (carried[0] - half * q_r) * q_r + (carried[1] - half * q_z) * q_z,
+                )
+            }
+        };
         for (k, force) in forces.iter_mut().take(4).enumerate() {
-            force[0] -= kappa * q_r * gamma[k];
-            force[1] -= kappa * q_z * gamma[k];
+            force[0] -= hourglass_r * gamma[k];
+            force[1] -= hourglass_z * gamma[k];
         }
         Ok(ElementStep {
             state: next,
-            hourglass: [0.0; 12],
+            hourglass: carried,
             forces,
-            hourglass_power: kappa * (q_r * q_r + q_z * q_z),
+            hourglass_power,
             viscous_work,
             stable_dt: settings.stable_time_step(
                 new.area / new.longest_diagonal,

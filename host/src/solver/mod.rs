@@ -20,6 +20,7 @@ pub mod hexahedral;
 pub mod loads;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
+pub use explicit::HourglassStress;
 pub use contact::{ContactPair, ContactStatistics, ErodingContact};
 pub use energy::EnergyBalance;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun, Snapshot};
@@ -37,6 +38,24 @@ pub const DEFAULT_TIME_STEP_SAFETY: f64 = 0.9;
 /// penalty bound counts on it: see [`contact::DEFAULT_ERODING_PENALTY_SCALE`].
 pub const ERODING_CONTACT_TIME_STEP_SAFETY: f64 = 0.67;
 
+/// Flanagan-Belytschko hourglass control of the one-point elements (Int. J. Numer. Meth. Eng.
+/// 17 (1981) 679-706), with `gamma` the hourglass shape vectors orthogonal to the linear
+/// field and `q = sum_k gamma_k v_k` the hourglass velocity of a mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum HourglassControl {
+    /// Viscous form (LS-DYNA `IHQ = 1`): `f_k = -kappa q gamma_k`, `kappa = QH rho c l^2 / 4`
+    /// (per radian: `l^2 = A r_bar / sqrt(A)`). Resists the hourglass *rate* only: a mode
+    /// excited slowly, as under a punch, accumulates without a restoring force.
+    #[default]
+    Viscous,
+    /// Stiffness form (LS-DYNA `IHQ = 4`): each mode carries a force `Q`, incremented by
+    /// `dQ = QH rho c^2 V sum_k |b_k|^2 q dt` (a fraction `QH` of the element's elastic
+    /// stiffness on that mode) and turned with the element's spin; `f_k = -Q gamma_k`. Its work
+    /// is stored, not dissipated. For eroding impact, where hourglass deformation accumulates
+    /// in the material ahead of a penetrator.
+    Stiffness,
+}
+
 /// Numerical settings of a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverSettings {
@@ -50,8 +69,10 @@ pub struct SolverSettings {
     pub linear_viscosity: f64,
     /// Quadratic bulk-viscosity coefficient (LS-DYNA Q1, default 1.5).
     pub quadratic_viscosity: f64,
-    /// Viscous hourglass coefficient (LS-DYNA QH, default 0.1).
+    /// Hourglass coefficient (LS-DYNA QH, default 0.1), of the form `hourglass`.
     pub hourglass_coefficient: f64,
+    /// Form of the hourglass control (default viscous).
+    pub hourglass: HourglassControl,
     /// Optional nodal damping to reach a final shape.
     pub damping: Option<NodalDamping>,
     /// Worker threads (`None`: rayon's default). Results do not depend on it.
@@ -172,6 +193,7 @@ impl Default for SolverSettings {
             linear_viscosity: 0.06,
             quadratic_viscosity: 1.5,
             hourglass_coefficient: 0.1,
+            hourglass: HourglassControl::Viscous,
             damping: None,
             threads: None,
             output_interval: 1e-6,
