@@ -34,7 +34,9 @@
 //! still undetermined it is reported as such ("in plate", residual velocity NaN) and enters
 //! neither the bracket nor the fits.
 
-use super::penetration::{ConnectedBody, Nose, PenetrationResult, PenetrationSpec, Rim};
+use super::penetration::{
+    default_hourglass, ConnectedBody, Nose, PenetrationResult, PenetrationSpec, Rim,
+};
 use super::{
     check_positive, default_temperature, Check, ExperimentReport, FieldOutput, Outcome,
     SimulationError,
@@ -44,7 +46,7 @@ use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::mesh::QuadMesh;
 use crate::report::plots::{Series, Style};
-use crate::solver::{EnergyBalance, Snapshot, SolverError, SolverSettings};
+use crate::solver::{EnergyBalance, HourglassControl, Snapshot, SolverError, SolverSettings};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -140,6 +142,10 @@ pub struct BallisticLimitSpec {
     /// gives only its density).
     #[serde(default)]
     pub projectile_rigid: bool,
+    /// Hourglass control of the one-point quads (as the penetration kind's; default
+    /// `"stiffness"`).
+    #[serde(default = "default_hourglass")]
+    pub hourglass: HourglassControl,
     /// Impact velocities of the sweep (m/s, increasing); needed only when the recording asks
     /// for the `ballistic_limit` (shots recorded at fixed velocities are fired at those).
     #[serde(default)]
@@ -300,6 +306,7 @@ impl BallisticLimitSpec {
             keep_eroded_mass: true,
             self_contact: false,
             rigid_rod: self.projectile_rigid,
+            hourglass: self.hourglass,
             end_time: self.end_time,
             temperature: self.temperature,
             rod: self.projectile.clone(),

@@ -47,8 +47,8 @@ use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory};
 use crate::mesh::QuadMesh;
 use crate::solver::{
-    Amplitude, ErodingContact, ExplicitModel, ExplicitRun, Snapshot, SolverError, SolverSettings,
-    VelocityConstraint,
+    Amplitude, ErodingContact, ExplicitModel, ExplicitRun, HourglassControl, Snapshot, SolverError,
+    SolverSettings, VelocityConstraint,
 };
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -127,6 +127,11 @@ fn default_grading_ratio() -> f64 {
 fn default_keep_eroded_mass() -> bool {
     true
 }
+/// Penetration-type runs use the stiffness form: under a penetrator the viscous form lets
+/// hourglass deformation accumulate in the target (docs/solver.md, "Hourglass control").
+pub(crate) fn default_hourglass() -> HourglassControl {
+    HourglassControl::Stiffness
+}
 
 /// Geometry, materials, loading and discretisation of a long-rod penetration test.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -193,6 +198,10 @@ pub struct PenetrationSpec {
     /// density; it neither deforms nor erodes, and its elements set no time step.
     #[serde(default)]
     pub rigid_rod: bool,
+    /// Hourglass control of the one-point quads: `"stiffness"` (the default; LS-DYNA `IHQ = 4`)
+    /// or `"viscous"` (`IHQ = 1`), with the solver's coefficient 0.1.
+    #[serde(default = "default_hourglass")]
+    pub hourglass: HourglassControl,
     /// End of the simulated time after impact (s).
     pub end_time: f64,
     /// Initial temperature (K).
@@ -512,6 +521,7 @@ impl PenetrationSpec {
             pressure_loads: Vec::new(),
             settings: SolverSettings {
                 end_time,
+                hourglass: self.hourglass,
                 damping: None,
                 output_interval: SAMPLING,
                 ..settings.clone()
@@ -893,6 +903,7 @@ mod tests {
             keep_eroded_mass: true,
             self_contact: false,
             rigid_rod: false,
+            hourglass: HourglassControl::Stiffness,
             end_time: 1.0e-6,
             temperature: 298.0,
             rod: None,

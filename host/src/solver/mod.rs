@@ -20,9 +20,9 @@ pub mod hexahedral;
 pub mod loads;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
-pub use explicit::HourglassStress;
 pub use contact::{ContactPair, ContactStatistics, ErodingContact};
 pub use energy::EnergyBalance;
+pub use explicit::HourglassStress;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun, Snapshot};
 pub use hexahedral::{HexModel, HexRun};
 pub use loads::{
@@ -41,7 +41,8 @@ pub const ERODING_CONTACT_TIME_STEP_SAFETY: f64 = 0.67;
 /// Flanagan-Belytschko hourglass control of the one-point elements (Int. J. Numer. Meth. Eng.
 /// 17 (1981) 679-706), with `gamma` the hourglass shape vectors orthogonal to the linear
 /// field and `q = sum_k gamma_k v_k` the hourglass velocity of a mode.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum HourglassControl {
     /// Viscous form (LS-DYNA `IHQ = 1`): `f_k = -kappa q gamma_k`, `kappa = QH rho c l^2 / 4`
     /// (per radian: `l^2 = A r_bar / sqrt(A)`). Resists the hourglass *rate* only: a mode
