@@ -143,7 +143,7 @@ pub struct BallisticLimitSpec {
     #[serde(default)]
     pub projectile_rigid: bool,
     /// Hourglass control of the one-point quads (as the penetration kind's; default
-    /// `"stiffness"`).
+    /// `"viscous"`).
     #[serde(default = "default_hourglass")]
     pub hourglass: HourglassControl,
     /// Impact velocities of the sweep (m/s, increasing); needed only when the recording asks

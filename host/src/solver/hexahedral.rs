@@ -15,7 +15,7 @@
 use super::explicit::{
     Discretisation, ElementStep, ExplicitModel, ExplicitRun, HourglassStress, Vector, MAX_NODES,
 };
-use super::{HourglassControl, SolverError, SolverSettings};
+use super::{SolverError, SolverSettings};
 use crate::mesh::HexMesh;
 use stoss_kernel::{MaterialState, PointModel, StepInput};
 
@@ -176,7 +176,7 @@ impl Discretisation for HexMesh {
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
-        hourglass: &HourglassStress,
+        _hourglass: &HourglassStress,
         material: &P,
         reference_volume: f64,
         dt: f64,
@@ -267,64 +267,30 @@ impl Discretisation for HexMesh {
                 force[i] = -new.volume * (0..3).map(|j| stress[i][j] * new.b[a][j]).sum::<f64>();
             }
         }
-        // Flanagan-Belytschko hourglass control, four modes.
-        let kappa = match settings.hourglass {
-            HourglassControl::Viscous => {
-                0.25 * settings.hourglass_coefficient
-                    * density
-                    * output.wave_speed
-                    * libm::pow(new.volume, 2.0 / 3.0)
-            }
-            HourglassControl::Stiffness => {
-                let gradients: f64 = new.b.iter().flatten().map(|b| b * b).sum();
-                settings.hourglass_coefficient
-                    * density
-                    * output.wave_speed
-                    * output.wave_speed
-                    * new.volume
-                    * gradients
-            }
-        };
-        let mut carried = [0.0; 12];
+        // Flanagan-Belytschko viscous hourglass control.
+        let kappa = 0.25
+            * settings.hourglass_coefficient
+            * density
+            * output.wave_speed
+            * libm::pow(new.volume, 2.0 / 3.0);
         let mut hourglass_power = 0.0;
-        for (m, h) in HOURGLASS.iter().enumerate() {
+        for h in &HOURGLASS {
             let hx: [f64; 3] =
                 core::array::from_fn(|i| (0..8).map(|a| h[a] * nodes_new[a][i]).sum());
             let gamma: [f64; 8] =
                 core::array::from_fn(|a| h[a] - (0..3).map(|i| hx[i] * new.b[a][i]).sum::<f64>());
             let q: [f64; 3] = core::array::from_fn(|i| (0..8).map(|a| gamma[a] * vel[a][i]).sum());
-            match settings.hourglass {
-                HourglassControl::Viscous => {
-                    for (a, force) in forces.iter_mut().enumerate() {
-                        for i in 0..3 {
-                            force[i] -= kappa * q[i] * gamma[a];
-                        }
-                    }
-                    hourglass_power += kappa * (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-                }
-                HourglassControl::Stiffness => {
-                    // Turned with the element (Q' = W Q dt), then incremented.
-                    let old = &hourglass[3 * m..3 * m + 3];
-                    for i in 0..3 {
-                        let turned: f64 = (0..3).map(|j| w(i, j) * old[j]).sum();
-                        carried[3 * m + i] = old[i] + turned * dt + kappa * q[i] * dt;
-                    }
-                    let mode = &carried[3 * m..3 * m + 3];
-                    for (a, force) in forces.iter_mut().enumerate() {
-                        for i in 0..3 {
-                            force[i] -= mode[i] * gamma[a];
-                        }
-                    }
-                    // Work at the mean of the old (turned) and new forces (trapezoidal rule).
-                    let half = 0.5 * kappa * dt;
-                    hourglass_power += (0..3).map(|i| (mode[i] - half * q[i]) * q[i]).sum::<f64>();
+            for (a, force) in forces.iter_mut().enumerate() {
+                for i in 0..3 {
+                    force[i] -= kappa * q[i] * gamma[a];
                 }
             }
+            hourglass_power += kappa * (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
         }
         let characteristic = new.volume / largest_face_area(&nodes_new);
         Ok(ElementStep {
             state: next,
-            hourglass: carried,
+            hourglass: [0.0; 12],
             forces,
             hourglass_power,
             viscous_work,
