@@ -246,7 +246,7 @@ impl Discretisation for QuadMesh {
         let gamma: [f64; 4] = core::array::from_fn(|k| h[k] - hr * new.b_r[k] - hz * new.b_z[k]);
         let q_r: f64 = (0..4).map(|k| gamma[k] * vel[k][0]).sum();
         let q_z: f64 = (0..4).map(|k| gamma[k] * vel[k][1]).sum();
-        let mut carried = [0.0; 12];
+        let mut carried = [0.0; 2];
         let (hourglass_r, hourglass_z, hourglass_power) = match settings.hourglass {
             HourglassControl::Viscous => {
                 let kappa = 0.25

@@ -27,10 +27,9 @@ pub const MAXIMUM_THREADS: usize = 256;
 /// Largest number of nodes per element.
 pub const MAX_NODES: usize = 8;
 
-/// Flanagan-Belytschko generalised hourglass forces of an element, per mode and direction
-/// (a quad: one mode in `r` and `z`, the first two entries; a hexahedron: four modes in `x`,
-/// `y`, `z`), carried from step to step by the stiffness form of the hourglass control.
-pub type HourglassStress = [f64; 12];
+/// Flanagan-Belytschko generalised hourglass force of a quad's one mode, in `r` and `z`,
+/// carried from step to step by the stiffness form of the hourglass control (2D only).
+pub type HourglassStress = [f64; 2];
 
 /// Per-element result of one step.
 #[derive(Clone, Copy, Debug)]

@@ -290,7 +290,7 @@ impl Discretisation for HexMesh {
         let characteristic = new.volume / largest_face_area(&nodes_new);
         Ok(ElementStep {
             state: next,
-            hourglass: [0.0; 12],
+            hourglass: [0.0; 2],
             forces,
             hourglass_power,
             viscous_work,

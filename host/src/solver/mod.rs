@@ -49,11 +49,12 @@ pub enum HourglassControl {
     /// excited slowly, as under a punch, accumulates without a restoring force.
     #[default]
     Viscous,
-    /// Stiffness form (LS-DYNA `IHQ = 4`; 2D quads only): each mode carries a force `Q`, incremented by
-    /// `dQ = QH rho c^2 V sum_k |b_k|^2 q dt` (a fraction `QH` of the element's elastic
-    /// stiffness on that mode) and turned with the element's spin; `f_k = -Q gamma_k`. Its work
-    /// is stored, not dissipated. For eroding impact, where hourglass deformation accumulates
-    /// in the material ahead of a penetrator.
+    /// Stiffness form (LS-DYNA `IHQ = 4`; 2D quads only): each mode carries a force `Q`,
+    /// incremented by `dQ = QH rho c^2 V sum_k |b_k|^2 q dt` (a fraction `QH` of the element's
+    /// elastic stiffness on that mode) and turned with the element's spin; `f_k = -Q gamma_k`.
+    /// Its work is stored, not dissipated. It keeps the target out of a blunt penetrator whose
+    /// contact the viscous form loses, but, being elastic, it adds strength to plastic flow in
+    /// proportion to `QH` (docs/solver.md, "Hourglass control under a penetrator").
     Stiffness,
 }
 
