@@ -140,6 +140,11 @@ step "compile tests/ffi/fortran/umat_driver.f90 (gfortran)"
 gfortran -std=f2018 -O2 -Wall -Wextra -Wno-compare-reals -Werror -ffp-contract=off \
     -fimplicit-none -J "$work/mod" tests/ffi/fortran/umat_driver.f90 \
     -L "$stage/lib" -lstoss_kernel "${native_args[@]}" -o "$work/bin/umat_driver"
+step "compile the Fortran peer benchmark (kernel/ffi/benches/fortran_peer; built, not timed)"
+gfortran -std=f2018 -O2 -Wall -Wextra -Wno-compare-reals -Werror -fimplicit-none \
+    -J "$work/mod" kernel/ffi/benches/fortran_peer/jc_vumat_peer.f90 \
+    kernel/ffi/benches/fortran_peer/peer_bench.f90 \
+    -L "$stage/lib" -lstoss_kernel "${native_args[@]}" -o "$work/bin/peer_bench"
 
 step "reference histories from the kernel's drivers (Rust, no ABI)"
 cargo run --quiet --release -p stoss-kernel-ffi --example reference_histories -- "$work/rust"

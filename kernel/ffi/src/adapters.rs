@@ -69,7 +69,9 @@ pub fn state_from_history(
         });
     }
     let flags = history[STOSS_HISTORY_FLAGS];
-    if !(flags >= 0.0 && flags <= f64::from(u32::MAX) && flags == flags.trunc()) {
+    // In range, the cast truncates exactly, so equality after the round trip is integrality
+    // (without `f64::trunc`, a library call on targets without SSE4.1).
+    if !(flags >= 0.0 && flags <= f64::from(u32::MAX) && f64::from(flags as u32) == flags) {
         return Err(UpdateError::NonFiniteState);
     }
     Ok(MaterialState {
@@ -276,12 +278,36 @@ pub(crate) fn run_vumat<M: AbiModel>(
 ) -> Option<(usize, UpdateError)> {
     let nblock = arrays.nblock;
     let components = 3 + arrays.nshr;
+    let nstatev = arrays.nstatev;
+    let values = nblock * components;
+    let states = nblock * nstatev;
+    // One check per call instead of one per access: the per-point accesses below are
+    // unchecked. (A checked store reloads every array's length after each write through an
+    // array that may alias it.)
+    assert!(
+        components <= 6
+            && nstatev >= STOSS_HISTORY_COUNT
+            && arrays.strain_inc.covers(values)
+            && arrays.stress_old.covers(values)
+            && arrays.stress_new.covers(values)
+            && arrays.state_old.covers(states)
+            && arrays.state_new.covers(states)
+            && arrays.ener_intern_old.covers(nblock)
+            && arrays.ener_intern_new.covers(nblock)
+            && arrays.wave_speed.as_ref().is_none_or(|a| a.covers(nblock))
+            && arrays.status.as_ref().is_none_or(|a| a.covers(nblock)),
+        "VUMAT arrays shorter than their nblock x components / nstatev"
+    );
     let mut first_failure = None;
     for i in 0..nblock {
+        // SAFETY (every unchecked access in this loop): `i < nblock`, `k < components` and
+        // `j < nstatev`, so `i + nblock k < values` and `i + nblock j < states`, which the
+        // arrays cover (asserted above).
         let read = |array: &ArrayIn<'_, f64>| -> Sym {
             core::array::from_fn(|k| {
                 if k < components {
-                    array.get(i + nblock * k)
+                    // SAFETY: see the loop's comment.
+                    unsafe { array.get_unchecked(i + nblock * k) }
                 } else {
                     0.0
                 }
@@ -289,8 +315,11 @@ pub(crate) fn run_vumat<M: AbiModel>(
         };
         let strain = read(&arrays.strain_inc);
         let stress_old = read(&arrays.stress_old);
-        let state_old: History = core::array::from_fn(|j| arrays.state_old.get(i + nblock * j));
-        let energy_old = arrays.ener_intern_old.get(i);
+        // SAFETY: see the loop's comment.
+        let state_old: History =
+            core::array::from_fn(|j| unsafe { arrays.state_old.get_unchecked(i + nblock * j) });
+        // SAFETY: see the loop's comment.
+        let energy_old = unsafe { arrays.ener_intern_old.get_unchecked(i) };
         let input = VumatInput {
             dt,
             data_check,
@@ -301,39 +330,55 @@ pub(crate) fn run_vumat<M: AbiModel>(
         };
         let result = vumat_point(material, initial, &input);
         // Extra state variables (the host's own) are carried over unchanged.
-        for j in STOSS_HISTORY_COUNT..arrays.nstatev {
-            let value = arrays.state_old.get(i + nblock * j);
-            arrays.state_new.set(i + nblock * j, value);
+        for j in STOSS_HISTORY_COUNT..nstatev {
+            // SAFETY: see the loop's comment.
+            unsafe {
+                let value = arrays.state_old.get_unchecked(i + nblock * j);
+                arrays.state_new.set_unchecked(i + nblock * j, value);
+            }
         }
-        match result {
+        let (stress, history, energy, wave_speed, status) = match result {
             Ok(point) => {
-                for (k, value) in point.stress.iter().enumerate().take(components) {
-                    arrays.stress_new.set(i + nblock * k, *value);
-                }
-                for (j, value) in point.history.iter().enumerate() {
-                    arrays.state_new.set(i + nblock * j, *value);
-                }
-                arrays
-                    .ener_intern_new
-                    .set(i, point.internal_energy_per_mass);
                 let wave_speed = match point.output {
                     Some(output) => output.wave_speed,
                     None => elastic_wave_speed(material),
                 };
-                set_optional(&mut arrays.wave_speed, i, wave_speed);
-                set_optional(&mut arrays.status, i, StossStatus::Ok as i32);
+                (
+                    point.stress,
+                    point.history,
+                    point.internal_energy_per_mass,
+                    wave_speed,
+                    StossStatus::Ok,
+                )
             }
             Err(error) => {
                 // The point keeps its old state: new = old.
-                for (k, value) in stress_old.iter().enumerate().take(components) {
-                    arrays.stress_new.set(i + nblock * k, *value);
-                }
-                for (j, value) in state_old.iter().enumerate() {
-                    arrays.state_new.set(i + nblock * j, *value);
-                }
-                arrays.ener_intern_new.set(i, energy_old);
-                set_optional(&mut arrays.status, i, StossStatus::from(error) as i32);
                 first_failure.get_or_insert((i, error));
+                (
+                    stress_old,
+                    state_old,
+                    energy_old,
+                    0.0,
+                    StossStatus::from(error),
+                )
+            }
+        };
+        // SAFETY: see the loop's comment.
+        unsafe {
+            for (k, value) in stress.iter().enumerate().take(components) {
+                arrays.stress_new.set_unchecked(i + nblock * k, *value);
+            }
+            for (j, value) in history.iter().enumerate() {
+                arrays.state_new.set_unchecked(i + nblock * j, *value);
+            }
+            arrays.ener_intern_new.set_unchecked(i, energy);
+            if status == StossStatus::Ok {
+                if let Some(array) = &mut arrays.wave_speed {
+                    array.set_unchecked(i, wave_speed);
+                }
+            }
+            if let Some(array) = &mut arrays.status {
+                array.set_unchecked(i, status as i32);
             }
         }
     }
