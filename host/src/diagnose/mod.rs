@@ -189,7 +189,10 @@ pub fn selected<'r>(
 }
 
 /// Row ranges of each fitted experiment in the concatenated residual vector.
-fn row_ranges(campaign: &Campaign, experiments: &[usize]) -> Vec<std::ops::Range<usize>> {
+pub(super) fn row_ranges(
+    campaign: &Campaign,
+    experiments: &[usize],
+) -> Vec<std::ops::Range<usize>> {
     let mut start = 0;
     experiments
         .iter()

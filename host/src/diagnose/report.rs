@@ -248,23 +248,24 @@ pub fn write(
     let _ = writeln!(md, "\n## Candidate physics, ranked by the score test\n");
     let _ = writeln!(
         md,
-        "Lagrange-multiplier (score) test of each nested term at its null, the fitted constants re-tuned to first order (see `docs/diagnosis.md`). p is Bonferroni-corrected over the {} terms; *share* is the part of the misfit the term removes to first order; *estimate* is the first-order value of its constant.\n",
+        "Lagrange-multiplier (score) test of each nested term at its null, the fitted constants re-tuned to first order (see `docs/diagnosis.md`). p is Bonferroni-corrected over the {} terms; the statistic's variance comes from a noise model per recording (first-order autoregression) fitted to what the term leaves, so a term is credited only as far as its residuals look like independent noise; *rho left* is the largest lag-1 correlation it leaves in a recording; *share* is the part of the misfit the term removes to first order; *estimate* is the first-order value of its constant.\n",
         diagnosis.tests.len()
     );
     let _ = writeln!(
         md,
-        "| rank | term | physics | constant | statistic | p | share | estimate | significant | note |\n|---|---|---|---|---|---|---|---|---|---|"
+        "| rank | term | physics | constant | statistic | p | rho left | share | estimate | significant | note |\n|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for (rank, t) in diagnosis.tests.iter().enumerate() {
         let _ = writeln!(
             md,
-            "| {} | `{}` | {} | `{}` | {:.2} | {:.2e} | {:.0} % | {:.4e} | {} | {} |",
+            "| {} | `{}` | {} | `{}` | {:.2} | {:.2e} | {:.2} | {:.0} % | {:.4e} | {} | {} |",
             rank + 1,
             t.name,
             t.physics,
             t.parameter,
             t.statistic,
             t.p_value,
+            t.residual_correlation,
             100.0 * t.share,
             t.estimate,
             if t.significant { "**yes**" } else { "no" },

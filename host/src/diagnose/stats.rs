@@ -126,6 +126,66 @@ pub fn lag1_autocorrelation(residuals: &[f64]) -> f64 {
     residuals.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / energy
 }
 
+/// The noise model of one recording's whitened residuals, estimated from what a fit leaves:
+/// a first-order autoregression `e_i = rho e_(i-1) + u_i` with stationary variance `variance`
+/// (in units of the recorded uncertainty squared).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ar1 {
+    /// Stationary variance, at least 1 (the recorded uncertainty is a floor).
+    pub variance: f64,
+    /// Lag-1 correlation, in `[0, MAX_CORRELATION]`.
+    pub correlation: f64,
+}
+
+/// Largest lag-1 correlation an [`Ar1`] estimate takes (at 0.98 the variance of a smooth
+/// sum is inflated by `(1 + rho)/(1 - rho)` ~ 99; beyond, one recording would stand for one
+/// number whatever its length).
+pub const MAX_CORRELATION: f64 = 0.98;
+
+impl Ar1 {
+    /// Moment estimate from the residuals `e` of one recording, in recording order:
+    /// `variance = max(1, inflation sum e^2 / n)` (`inflation = n_total / (n_total - k)` for
+    /// the `k` constants fitted over all recordings), `rho` = lag-1 autocorrelation clamped
+    /// to `[0, MAX_CORRELATION]`. A negative estimate is taken as 0: alternating residuals
+    /// would otherwise shrink the variance of a smooth sum and make a test more liberal.
+    /// Fewer than three residuals give `rho = 0`.
+    pub fn estimate(residuals: &[f64], inflation: f64) -> Self {
+        let n = residuals.len();
+        if n == 0 {
+            return Self {
+                variance: 1.0,
+                correlation: 0.0,
+            };
+        }
+        let energy: f64 = residuals.iter().map(|e| e * e).sum();
+        let variance = (inflation * energy / n as f64).max(1.0);
+        let correlation = if n < 3 {
+            0.0
+        } else {
+            lag1_autocorrelation(residuals).clamp(0.0, MAX_CORRELATION)
+        };
+        Self {
+            variance,
+            correlation,
+        }
+    }
+
+    /// `Var(z' e) = variance sum_ij z_i z_j rho^|i-j|` for weights `z` on this recording's
+    /// residuals, in O(n) (`a_i = z_i + rho a_(i-1)`, the sum is `2 z'a - z'z`).
+    pub fn variance_of_sum(&self, weights: &[f64]) -> f64 {
+        let rho = self.correlation;
+        let mut carried = 0.0;
+        let mut cross = 0.0;
+        let mut square = 0.0;
+        for z in weights {
+            carried = z + rho * carried;
+            cross += z * carried;
+            square += z * z;
+        }
+        self.variance * (2.0 * cross - square).max(0.0)
+    }
+}
+
 /// A column-major dense matrix: `columns[j][i]` is row `i` of column `j`.
 pub type Columns = [Vec<f64>];
 
@@ -246,6 +306,60 @@ mod tests {
             .collect();
         assert!(runs_test(&alternating).p_value > 0.99);
         assert!((lag1_autocorrelation(&alternating) + 0.95).abs() < 1e-12);
+    }
+
+    #[test]
+    fn an_ar1_variance_keeps_a_test_on_correlated_noise_at_its_level() {
+        // GOAL: the score test's variance for residuals correlated within a recording (issue
+        //       15: lag-1 autocorrelation ~0.9 made unrelated terms look significant).
+        // SETUP: 2000 recordings of 200 points of AR(1) noise, rho 0.9, stationary standard
+        //        deviation 3 (three times the recorded uncertainty, so that the variance
+        //        floor of 1 does not make the test conservative); a smooth unrelated column z
+        //        (a ramp); the statistic
+        //        (z'e)^2 / Var(z'e) with the variance of Ar1::estimate from e itself, against
+        //        the independent-residual statistic (z'e)^2 / (s^2 z'z).
+        // REFERENCE: under the null, P(chi2(1) > 3.841) = 5 %: the AR(1) test rejects 2-8 % (3.1 % measured);
+        //            the independent one far more (its variance is ~19 times too small).
+        let mut rng = crate::random::SplitMix64::new(15);
+        let (n, trials, rho) = (200, 2000, 0.9_f64);
+        let ramp: Vec<f64> = (0..n).map(|i| i as f64 / n as f64 - 0.5).collect();
+        let (mut ar1_rejections, mut independent_rejections) = (0, 0);
+        for _ in 0..trials {
+            let mut e = Vec::with_capacity(n);
+            let mut previous = rng.normal();
+            for _ in 0..n {
+                e.push(3.0 * previous);
+                previous = rho * previous + libm::sqrt(1.0 - rho * rho) * rng.normal();
+            }
+            let projection = dot(&ramp, &e);
+            let model = Ar1::estimate(&e, 1.0);
+            if projection * projection / model.variance_of_sum(&ramp) > 3.841_459 {
+                ar1_rejections += 1;
+            }
+            if projection * projection / (model.variance * dot(&ramp, &ramp)) > 3.841_459 {
+                independent_rejections += 1;
+            }
+        }
+        let ar1 = f64::from(ar1_rejections) / trials as f64;
+        let independent = f64::from(independent_rejections) / trials as f64;
+        assert!((0.02..=0.08).contains(&ar1), "AR(1) test rejects {ar1}");
+        assert!(independent > 0.4, "independent test rejects {independent}");
+    }
+
+    #[test]
+    fn an_ar1_variance_of_white_residuals_is_the_independent_one() {
+        // GOAL: with uncorrelated residuals the AR(1) variance reduces to s^2 z'z.
+        // SETUP: alternating residuals (negative lag-1 correlation, clamped to 0), z arbitrary.
+        // REFERENCE: variance_of_sum = s^2 z'z with s^2 = max(1, mean e^2).
+        let e: Vec<f64> = (0..10)
+            .map(|i| if i % 2 == 0 { 2.0 } else { -2.0 })
+            .collect();
+        let model = Ar1::estimate(&e, 1.0);
+        assert_eq!(model.correlation, 0.0);
+        assert!((model.variance - 4.0).abs() < 1e-12);
+        let z = [0.3, -1.0, 2.0, 0.5, 0.0, 1.5, -0.7, 0.2, 0.9, -2.0];
+        let expected = 4.0 * dot(&z, &z);
+        assert!((model.variance_of_sum(&z) - expected).abs() < 1e-12 * expected);
     }
 
     #[test]
