@@ -2,7 +2,8 @@
 //! fixtures/diagnosis/ over noise seeds and levels: for each case, the truth's noise-free
 //! predictions are perturbed by Gaussian noise of 1, 3 and 5 % (seeds recorded below), the
 //! Johnson-Cook model is calibrated (short Bayesian run plus polish, as in tests/diagnose.rs)
-//! and diagnosed; a case is identified when the accepted term is the concealed one, and the
+//! and diagnosed; a case is identified when the accepted term (or, for `za-bcc`, the family
+//! that replaces the model) is the concealed one, and the
 //! control raises a false alarm when any term is accepted. A case also counts the diagnoses that
 //! accept another term of the same physics (the two heating terms, which the case's recordings
 //! barely tell apart) and those that accept an unrelated term (a false alarm). Also reports the
@@ -22,13 +23,14 @@ use stoss::input::material;
 use stoss::random::SplitMix64;
 use stoss::solver::SolverSettings;
 
-const CASES: [(&str, Option<&str>); 6] = [
+const CASES: [(&str, Option<&str>); 7] = [
     ("control", None),
     ("heating", Some("adiabatic-heating")),
     ("upturn", Some("high-rate-upturn")),
     ("saturation", Some("voce-saturation")),
     ("coupling", Some("rate-temperature-coupling")),
     ("friction", Some("anvil-friction")),
+    ("za-bcc", Some("zerilli-armstrong-bcc")),
 ];
 
 /// The physics a term belongs to (the two heating terms are one physics).
@@ -79,7 +81,7 @@ fn main() {
         .unwrap_or(10);
     let cases = env_list(
         "CASES",
-        "control,heating,upturn,saturation,coupling,friction",
+        "control,heating,upturn,saturation,coupling,friction,za-bcc",
     );
     let noises: Vec<f64> = env_list("NOISE", "0.01,0.03,0.05")
         .iter()

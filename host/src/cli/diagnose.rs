@@ -197,6 +197,24 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
             refit.reason
         );
     }
+    for alternative in &diagnosis.alternatives {
+        println!(
+            "family {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",
+            alternative.candidate,
+            alternative.assessment.fit_error,
+            alternative
+                .assessment
+                .held_out_error
+                .map_or("-".into(), |h| format!("{h:.4}")),
+            alternative.assessment.bic,
+            if diagnosis.replacement.as_ref() == Some(&alternative.candidate) {
+                "replaces the model"
+            } else {
+                "rejected"
+            },
+            alternative.reason
+        );
+    }
     println!("\nverdict: {}", diagnosis.verdict);
     println!(
         "accepted: {}",

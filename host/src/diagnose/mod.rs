@@ -22,6 +22,7 @@
 
 pub mod candidates;
 pub mod engine;
+pub mod families;
 pub mod fit;
 pub mod hypothesis;
 pub mod locate;
@@ -156,8 +157,16 @@ pub struct Diagnosis {
     pub refits: Vec<Refit>,
     /// The accepted refit's misfit, per experiment.
     pub misfit_after: Option<Vec<ExperimentMisfit>>,
-    /// The accepted term (`None`: no missing physics found).
+    /// The accepted change: a library term, or an alternative family when [`Self::replacement`]
+    /// is set (`None`: no missing physics found).
     pub accepted: Option<String>,
+    /// Non-nested alternatives tried (other strength families, fitted in full), when the
+    /// misfit left after the library's terms is still structured.
+    #[serde(default)]
+    pub alternatives: Vec<Refit>,
+    /// The alternative family that replaces the calibrated model's strength, if one won.
+    #[serde(default)]
+    pub replacement: Option<String>,
     /// The plain-language verdict.
     pub verdict: String,
     /// Simulation cost.
@@ -316,6 +325,38 @@ fn assess(
         bic: log_likelihood_term + k * libm::log(n),
     };
     Ok((assessment, predictions))
+}
+
+/// Whether a refit `after` earns its constants against `before`: the Bayesian information
+/// criterion drops and so does the held-out error (when there is one). `what` names the
+/// change in the reason ("term", "family").
+fn judge(before: &Assessment, after: &Assessment, what: &str) -> (bool, String) {
+    let bic_drop = before.bic - after.bic;
+    let held_out_better = match (before.held_out_error, after.held_out_error) {
+        (Some(b), Some(a)) => Some(a < b),
+        _ => None,
+    };
+    match (bic_drop > 0.0, held_out_better) {
+        (true, Some(true)) => (
+            true,
+            format!("BIC drops by {bic_drop:.1} and the held-out error drops"),
+        ),
+        (true, None) => (
+            true,
+            format!("BIC drops by {bic_drop:.1} (no experiment can be held out)"),
+        ),
+        (false, _) => (
+            false,
+            format!(
+                "BIC does not drop ({:+.1}): the {what} does not earn its constants",
+                -bic_drop
+            ),
+        ),
+        (true, Some(false)) => (
+            false,
+            format!("the held-out error does not drop: the {what} overfits"),
+        ),
+    }
 }
 
 /// Largest plastic strain in the outcomes' tracked states.
@@ -503,32 +544,7 @@ pub fn diagnose(
             mark,
             &mut cost,
         );
-        let bic_drop = before.bic - assessment.bic;
-        let held_out_better = match (before.held_out_error, assessment.held_out_error) {
-            (Some(b), Some(a)) => Some(a < b),
-            _ => None,
-        };
-        let (ok, reason) = match (bic_drop > 0.0, held_out_better) {
-            (true, Some(true)) => (
-                true,
-                format!("BIC drops by {bic_drop:.1} and the held-out error drops"),
-            ),
-            (true, None) => (
-                true,
-                format!("BIC drops by {bic_drop:.1} (no experiment can be held out)"),
-            ),
-            (false, _) => (
-                false,
-                format!(
-                    "BIC does not drop ({:+.1}): the term does not earn its constant",
-                    -bic_drop
-                ),
-            ),
-            (true, Some(false)) => (
-                false,
-                "the held-out error does not drop: the term overfits".into(),
-            ),
-        };
+        let (ok, reason) = judge(&before, &assessment, "term");
         refits.push(Refit {
             candidate: candidate.name.clone(),
             assessment,
@@ -542,7 +558,7 @@ pub fn diagnose(
         }
     }
 
-    let (misfit_after, predictions_after, accepted_name) = match &accepted {
+    let (mut misfit_after, mut predictions_after, mut accepted_name) = match &accepted {
         Some((index, predictions)) => {
             let refit = &refits[*index];
             let outcomes = simulate_outcomes(&engine, &refit.hypothesis)?;
@@ -560,6 +576,110 @@ pub fn diagnose(
         }
         None => (None, None, None),
     };
+
+    // Non-nested alternatives, when what is left is still structured.
+    let left_structured = misfit_after
+        .as_ref()
+        .unwrap_or(&misfit_before)
+        .iter()
+        .any(|m| m.structured);
+    let mut alternatives = Vec::new();
+    let mut replacement = None;
+    if left_structured {
+        let incumbent = match &accepted {
+            Some((index, _)) => refits[*index].assessment.clone(),
+            None => before.clone(),
+        };
+        let states = families::plastic_states(&outcomes);
+        let mut winner: Option<(usize, Vec<Vec<f64>>)> = None;
+        for alternative in families::alternatives(&base, &states) {
+            let stage_name = format!("alternative family {}", alternative.name);
+            engine.stage(&stage_name);
+            let mark = engine.points;
+            let fit = levenberg_marquardt(
+                &mut engine,
+                &alternative.hypothesis,
+                &alternative.start,
+                &fitted,
+                options.iterations,
+            );
+            let refit = match fit {
+                Ok(fit) => fit,
+                Err(error) => {
+                    stage(&engine, &stage_name, mark, &mut cost);
+                    alternatives.push(Refit {
+                        candidate: alternative.name.clone(),
+                        assessment: before.clone(),
+                        hypothesis: alternative.hypothesis,
+                        accepted: false,
+                        reason: format!("the fit failed: {error}"),
+                    });
+                    continue;
+                }
+            };
+            let mut hypothesis = alternative
+                .hypothesis
+                .with_values(&refit.values)
+                .map_err(DiagnoseError::Calibration)?;
+            hypothesis.label = alternative.name.clone();
+            let (assessment, predictions) = assess(&mut engine, &hypothesis, &refit, &fitted)?;
+            stage(&engine, &stage_name, mark, &mut cost);
+            let (ok, reason) = judge(&before, &assessment, "family");
+            let beats_incumbent = assessment.bic < incumbent.bic
+                && match (incumbent.held_out_error, assessment.held_out_error) {
+                    (Some(i), Some(a)) => a < i,
+                    _ => true,
+                };
+            let best_so_far = winner
+                .as_ref()
+                .is_none_or(|(w, _)| assessment.bic < alternatives[*w].assessment.bic);
+            let wins = ok && beats_incumbent && best_so_far;
+            let reason = if ok && beats_incumbent && !best_so_far {
+                format!("{reason}, but another family fits better")
+            } else if ok && !beats_incumbent {
+                format!(
+                    "{reason}, but it does not beat {} (BIC {:.1} against {:.1})",
+                    accepted_name.as_deref().unwrap_or("the calibrated model"),
+                    assessment.bic,
+                    incumbent.bic
+                )
+            } else {
+                reason
+            };
+            alternatives.push(Refit {
+                candidate: alternative.name.clone(),
+                assessment,
+                hypothesis,
+                accepted: wins,
+                reason,
+            });
+            if wins {
+                winner = Some((alternatives.len() - 1, predictions));
+            }
+        }
+        if let Some((index, predictions)) = winner {
+            // Earlier winners lose to this one.
+            let chosen_name = alternatives[index].candidate.clone();
+            for (i, other) in alternatives.iter_mut().enumerate() {
+                if i != index && other.accepted {
+                    other.accepted = false;
+                    other.reason = format!("{}, but {chosen_name} fits better", other.reason);
+                }
+            }
+            let chosen = &alternatives[index];
+            let outcomes = simulate_outcomes(&engine, &chosen.hypothesis)?;
+            misfit_after = Some(locate_all(
+                &engine,
+                &predictions,
+                &outcomes,
+                &fitted,
+                options.alpha,
+            ));
+            predictions_after = Some(predictions);
+            accepted_name = Some(chosen.candidate.clone());
+            replacement = Some(chosen.candidate.clone());
+        }
+    }
     cost.simulated = engine.simulated;
     cost.replayed = engine.replayed;
     let mut diagnosis = Diagnosis {
@@ -573,6 +693,8 @@ pub fn diagnose(
         refits,
         misfit_after,
         accepted: accepted_name,
+        alternatives,
+        replacement,
         verdict: String::new(),
         cost,
     };

@@ -92,6 +92,33 @@ fn headline(campaign: &Campaign, misfits: &[ExperimentMisfit]) -> Option<String>
 pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
     let where_ = headline(campaign, &diagnosis.misfit_before);
     let top = diagnosis.tests.first();
+    if let Some(name) = &diagnosis.replacement {
+        if let Some(refit) = diagnosis.alternatives.iter().find(|r| &r.candidate == name) {
+            let held_out = match (
+                diagnosis.before.held_out_error,
+                refit.assessment.held_out_error,
+            ) {
+                (Some(b), Some(a)) => format!(" and the held-out error from {b:.3} to {a:.3}"),
+                _ => String::new(),
+            };
+            let sentence = format!(
+                "the form of {} cannot follow the recordings: replace it by {} ({}). With its {} constants refitted it cuts the total error from {:.3} to {:.3}{} (BIC {:.1} -> {:.1}).",
+                diagnosis.model,
+                name,
+                super::families::describe(name).unwrap_or("another strength family"),
+                refit.assessment.constants_fitted,
+                diagnosis.before.fit_error,
+                refit.assessment.fit_error,
+                held_out,
+                diagnosis.before.bic,
+                refit.assessment.bic
+            );
+            return match where_ {
+                Some(w) => format!("{w}; {sentence}"),
+                None => capitalise_if(&sentence, true),
+            };
+        }
+    }
     if let Some(name) = &diagnosis.accepted {
         let refit = diagnosis.refits.iter().find(|r| &r.candidate == name);
         let test = diagnosis.tests.iter().find(|t| &t.name == name);
@@ -327,10 +354,53 @@ pub fn write(
         }
     }
 
-    let after = diagnosis
-        .accepted
-        .as_ref()
-        .and_then(|name| diagnosis.refits.iter().find(|r| &r.candidate == name));
+    if !diagnosis.alternatives.is_empty() {
+        let _ = writeln!(md, "\n## Alternative families\n");
+        let _ = writeln!(
+            md,
+            "The misfit left after the library's terms was still structured, so the strength was also replaced by the kernel's other families, each started from its closest match to the current flow stress at the states the experiments visit and fitted in full. An alternative replaces the model when the BIC and the held-out error both drop, against the calibrated model and against an accepted term.\n"
+        );
+        let _ = writeln!(
+            md,
+            "| family | constants | chi-square | fit error | held-out error | BIC | replaces | why |\n|---|---|---|---|---|---|---|---|"
+        );
+        for r in &diagnosis.alternatives {
+            let a = &r.assessment;
+            let _ = writeln!(
+                md,
+                "| `{}` | {} | {:.1} | {:.4} | {} | {:.1} | {} | {} |",
+                r.candidate,
+                a.constants_fitted,
+                a.chi_square,
+                a.fit_error,
+                fmt_error(a.held_out_error),
+                a.bic,
+                if diagnosis.replacement.as_ref() == Some(&r.candidate) {
+                    "**yes**"
+                } else {
+                    "no"
+                },
+                r.reason
+            );
+        }
+        let _ = writeln!(md, "\nConstants of each family:\n");
+        for r in &diagnosis.alternatives {
+            let _ = writeln!(
+                md,
+                "- `{}`: {}",
+                r.candidate,
+                constants_text(&r.assessment.constants)
+            );
+        }
+    }
+
+    let after = diagnosis.accepted.as_ref().and_then(|name| {
+        diagnosis
+            .refits
+            .iter()
+            .chain(&diagnosis.alternatives)
+            .find(|r| &r.candidate == name)
+    });
     let _ = writeln!(
         md,
         "\n## Errors per experiment (seed 000 min-max RMSE; chi = uncertainty-weighted RMS)\n"
