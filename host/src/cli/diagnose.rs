@@ -197,6 +197,14 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
             refit.reason
         );
     }
+    if let Some(m) = diagnosis.state_misfit.first() {
+        println!(
+            "misfit in state space: organised most by {} ({:.0} % of it): {}",
+            m.variable,
+            100.0 * m.share,
+            m.describe().unwrap_or_else(|| "within the noise".into())
+        );
+    }
     for alternative in &diagnosis.alternatives {
         println!(
             "family {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",

@@ -205,7 +205,7 @@ pub fn locate(
 
 /// The state ranges over the region of the specimen that drives points `start..=end` of
 /// `quantity`.
-fn conditions(
+pub(super) fn conditions(
     experiment: &Experiment,
     outcome: &Outcome,
     quantity: &str,

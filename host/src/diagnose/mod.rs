@@ -28,6 +28,7 @@ pub mod hypothesis;
 pub mod locate;
 pub mod report;
 pub mod score;
+pub mod state_space;
 pub mod stats;
 
 use crate::calibrate::run::ModelResult;
@@ -149,6 +150,10 @@ pub struct Diagnosis {
     pub before: Assessment,
     /// Its misfit, per experiment.
     pub misfit_before: Vec<ExperimentMisfit>,
+    /// Its misfit over all fitted recordings, binned by the material state behind each
+    /// point; the variable that organises most of it first.
+    #[serde(default)]
+    pub state_misfit: Vec<state_space::StateMisfit>,
     /// Score tests, ranked.
     pub tests: Vec<ScoreTest>,
     /// Library terms that do not apply.
@@ -474,6 +479,8 @@ pub fn diagnose(
         options.alpha,
     );
 
+    let state_misfit = state_space::bin_by_state(&campaign.experiments, &misfit_before, &outcomes);
+
     engine.stage("score tests");
     let mark = engine.points;
     let (library, not_applicable) =
@@ -688,6 +695,7 @@ pub fn diagnose(
         options: options.clone(),
         before,
         misfit_before,
+        state_misfit,
         tests,
         not_applicable,
         refits,
