@@ -207,21 +207,25 @@ pub fn constants_at_bounds(space: &ModelSpace, values: &[f64]) -> Vec<String> {
         .iter()
         .zip(values)
         .zip(space.lower.iter().zip(&space.upper))
-        .filter_map(|((name, value), (lower, upper))| {
-            let margin = AT_BOUND * (upper - lower);
-            if *value <= lower + margin {
-                Some(format!(
-                    "{name} = {value:.4e} at its lower bound {lower:.4e}"
-                ))
-            } else if *value >= upper - margin {
-                Some(format!(
-                    "{name} = {value:.4e} at its upper bound {upper:.4e}"
-                ))
-            } else {
-                None
-            }
-        })
+        .filter_map(|((name, value), (lower, upper))| at_bound(name, *value, *lower, *upper))
         .collect()
+}
+
+/// `name = value` described if it lies within [`AT_BOUND`] of the range `[lower, upper]` of a
+/// bound (`n = 1.000e0 at its upper bound 1.000e0`), else `None`.
+pub fn at_bound(name: &str, value: f64, lower: f64, upper: f64) -> Option<String> {
+    let margin = AT_BOUND * (upper - lower);
+    if value <= lower + margin {
+        Some(format!(
+            "{name} = {value:.4e} at its lower bound {lower:.4e}"
+        ))
+    } else if value >= upper - margin {
+        Some(format!(
+            "{name} = {value:.4e} at its upper bound {upper:.4e}"
+        ))
+    } else {
+        None
+    }
 }
 
 /// A fitted constant by name (as the campaign names it), with its SI unit.

@@ -223,6 +223,21 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
             alternative.reason
         );
     }
+    let flagged = std::iter::once(("before", &diagnosis.before)).chain(
+        diagnosis
+            .refits
+            .iter()
+            .chain(&diagnosis.alternatives)
+            .map(|r| (r.candidate.as_str(), &r.assessment)),
+    );
+    for (label, assessment) in flagged {
+        if !assessment.at_bounds.is_empty() {
+            println!(
+                "warning: {label}: constants at a bound of their range: {}",
+                assessment.at_bounds.join(", ")
+            );
+        }
+    }
     println!("\nverdict: {}", diagnosis.verdict);
     println!(
         "accepted: {}",

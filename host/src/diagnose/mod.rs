@@ -109,6 +109,9 @@ pub struct Assessment {
     pub aic: f64,
     /// Bayesian information criterion `n ln(RSS/n) + k ln n`.
     pub bic: f64,
+    /// Fitted constants that ended at a bound of their range, described.
+    #[serde(default)]
+    pub at_bounds: Vec<String>,
 }
 
 /// A refit with a candidate term.
@@ -328,6 +331,12 @@ fn assess(
         held_out_error: held_out,
         aic: log_likelihood_term + 2.0 * k,
         bic: log_likelihood_term + k * libm::log(n),
+        at_bounds: hypothesis
+            .parameters
+            .iter()
+            .zip(&fit.values)
+            .filter_map(|(p, v)| crate::calibrate::run::at_bound(&p.name, *v, p.lower, p.upper))
+            .collect(),
     };
     Ok((assessment, predictions))
 }

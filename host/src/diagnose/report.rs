@@ -4,7 +4,7 @@
 //! file of the model the diagnosis ends with).
 
 use super::locate::{Band, ExperimentMisfit};
-use super::Diagnosis;
+use super::{Assessment, Diagnosis};
 use crate::calibrate::Campaign;
 use crate::experiment::Setup;
 use crate::report::calibration::{experiment_name, slug};
@@ -419,13 +419,13 @@ pub fn write(
             );
         }
         let _ = writeln!(md, "\nConstants of each model:\n");
-        let _ = writeln!(md, "- before: {}", constants_text(&b.constants));
+        let _ = writeln!(md, "- before: {}", constants_text(b));
         for r in &diagnosis.refits {
             let _ = writeln!(
                 md,
                 "- + `{}`: {}",
                 r.candidate,
-                constants_text(&r.assessment.constants)
+                constants_text(&r.assessment)
             );
         }
     }
@@ -461,12 +461,7 @@ pub fn write(
         }
         let _ = writeln!(md, "\nConstants of each family:\n");
         for r in &diagnosis.alternatives {
-            let _ = writeln!(
-                md,
-                "- `{}`: {}",
-                r.candidate,
-                constants_text(&r.assessment.constants)
-            );
+            let _ = writeln!(md, "- `{}`: {}", r.candidate, constants_text(&r.assessment));
         }
     }
 
@@ -617,18 +612,28 @@ pub fn write(
     std::fs::write(directory.join("diagnosis.json"), json).map_err(|e| e.to_string())
 }
 
-fn constants_text(constants: &[(String, f64)]) -> String {
-    constants
+/// The constants of an assessment, with those that ended at a bound flagged.
+fn constants_text(assessment: &Assessment) -> String {
+    let listed = assessment
+        .constants
         .iter()
         .map(|(n, v)| format!("`{n}` = {v:.4e}"))
         .collect::<Vec<_>>()
-        .join(", ")
+        .join(", ");
+    if assessment.at_bounds.is_empty() {
+        listed
+    } else {
+        format!(
+            "{listed}; **at a bound**: {}",
+            assessment.at_bounds.join(", ")
+        )
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diagnose::{Assessment, Cost, Options};
+    use crate::diagnose::{Cost, Options};
 
     fn diagnosis(chi_square: f64) -> Diagnosis {
         Diagnosis {
@@ -646,6 +651,7 @@ mod tests {
                 held_out_error: None,
                 aic: 0.0,
                 bic: 0.0,
+                at_bounds: Vec::new(),
             },
             misfit_before: Vec::new(),
             state_misfit: Vec::new(),
