@@ -2,8 +2,9 @@
 //! kernel (Johnson-Cook, Zerilli-Armstrong BCC and FCC, modified Johnson-Cook). A term of the
 //! library extends the current model and can be scored at its null; a family switch cannot
 //! (Zerilli-Armstrong's coupled rate and temperature is no value of a Johnson-Cook constant),
-//! so each alternative is fitted in full and compared with the current model by the same
-//! criteria as a refit: the Bayesian information criterion and the held-out error.
+//! so each alternative is fitted in full and compared with the current model by the criteria
+//! of a refit, the Bayesian information criterion and the held-out error, with the BIC drop
+//! required to be strong evidence ([`STRONG_EVIDENCE`]).
 //!
 //! Each alternative starts from its closest match to the current model: the family's
 //! constants that reproduce the current fitted flow stress, by least squares on relative
@@ -27,6 +28,11 @@ use stoss_kernel::parameters::Parameter as Described;
 use stoss_kernel::strength::{
     CrystalStructure, JohnsonCook, ModifiedJohnsonCook, Strength, ZerilliArmstrong,
 };
+
+/// Drop of the Bayesian information criterion an alternative needs to replace the model:
+/// "strong" evidence on Kass & Raftery's (1995) scale (2-6 positive, 6-10 strong). A family
+/// switch is a larger claim than one more term, whose refit needs only a drop.
+pub const STRONG_EVIDENCE: f64 = 6.0;
 
 /// A material state at which flow stresses are compared.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -641,6 +641,21 @@ pub fn diagnose(
             let (assessment, predictions) = assess(&mut engine, &hypothesis, &refit, &fitted)?;
             stage(&engine, &stage_name, mark, &mut cost);
             let (ok, reason) = judge(&before, &assessment, "family");
+            // A different family is a larger claim than one more term: it needs strong
+            // evidence on the BIC scale.
+            let bic_drop = before.bic - assessment.bic;
+            let (ok, reason) = if ok && bic_drop < families::STRONG_EVIDENCE {
+                (
+                    false,
+                    format!(
+                        "BIC drops by {bic_drop:.1}, less than the {} a family switch needs \
+                         (strong evidence, Kass & Raftery 1995)",
+                        families::STRONG_EVIDENCE
+                    ),
+                )
+            } else {
+                (ok, reason)
+            };
             let beats_incumbent = assessment.bic < incumbent.bic
                 && match (incumbent.held_out_error, assessment.held_out_error) {
                     (Some(i), Some(a)) => a < i,

@@ -101,8 +101,16 @@ pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
                 (Some(b), Some(a)) => format!(" and the held-out error from {b:.3} to {a:.3}"),
                 _ => String::new(),
             };
+            let bounded = if refit.assessment.at_bounds.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    " Its fit ends with {}: the family's optimum may lie beyond the range searched.",
+                    refit.assessment.at_bounds.join(", ")
+                )
+            };
             let sentence = format!(
-                "the form of {} cannot follow the recordings: replace it by {} ({}). With its {} constants refitted it cuts the total error from {:.3} to {:.3}{} (BIC {:.1} -> {:.1}).",
+                "the form of {} cannot follow the recordings: replace it by {} ({}). With its {} constants refitted it cuts the total error from {:.3} to {:.3}{} (BIC {:.1} -> {:.1}).{bounded}",
                 diagnosis.model,
                 name,
                 super::families::describe(name).unwrap_or("another strength family"),

@@ -71,14 +71,18 @@ impl StateMisfit {
             .iter()
             .filter(|b| b.mean_whitened.abs() > 2.0 / (b.points as f64).sqrt())
             .map(|b| {
+                let unit = if self.unit == "-" {
+                    String::new()
+                } else {
+                    format!(" {}", self.unit)
+                };
                 format!(
-                    "{:.1} % too {} at {} {} to {} {}",
+                    "{:.1} % too {} at {} {} to {}{unit}",
                     100.0 * b.mean_relative.abs(),
                     if b.mean_whitened > 0.0 { "high" } else { "low" },
                     self.variable,
                     number(b.low),
                     number(b.high),
-                    self.unit
                 )
             })
             .collect();
