@@ -23,7 +23,7 @@ use stoss::input::material;
 use stoss::random::SplitMix64;
 use stoss::solver::SolverSettings;
 
-const CASES: [(&str, Option<&str>); 7] = [
+const CASES: [(&str, Option<&str>); 8] = [
     ("control", None),
     ("heating", Some("adiabatic-heating")),
     ("upturn", Some("high-rate-upturn")),
@@ -31,12 +31,14 @@ const CASES: [(&str, Option<&str>); 7] = [
     ("coupling", Some("rate-temperature-coupling")),
     ("friction", Some("anvil-friction")),
     ("za-bcc", Some("zerilli-armstrong-bcc")),
+    ("heating-window", Some("heating-transition-1-100")),
 ];
 
 /// The physics a term belongs to (the two heating terms are one physics).
 fn physics(term: &str) -> &str {
     match term {
-        "adiabatic-heating" | "heating-transition" => "heating",
+        "adiabatic-heating" => "heating",
+        t if t.starts_with("heating-transition") => "heating",
         other => other,
     }
 }
@@ -81,7 +83,7 @@ fn main() {
         .unwrap_or(10);
     let cases = env_list(
         "CASES",
-        "control,heating,upturn,saturation,coupling,friction,za-bcc",
+        "control,heating,upturn,saturation,coupling,friction,za-bcc,heating-window",
     );
     let noises: Vec<f64> = env_list("NOISE", "0.01,0.03,0.05")
         .iter()

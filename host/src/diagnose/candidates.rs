@@ -6,7 +6,7 @@
 //! | term | extension | gamma (null) |
 //! |---|---|---|
 //! | `adiabatic-heating` | isothermal -> `dT = chi sigma deps_p / (rho c_p)` | `chi` (0) |
-//! | `heating-transition` | isothermal -> isothermal below 0.01 /s, adiabatic above 10 /s | `chi` (0) |
+//! | `heating-transition-a-b` | isothermal -> isothermal below `a`, adiabatic above `b = 100 a` (`a` = 1e-3 ... 10 /s: one term over a grid of windows) | `chi` (0) |
 //! | `high-rate-upturn` | JC rate `1 + C ln e*` -> `(1 + C ln e*)(1 + deps_p/1000)^beta` | `beta` (0) |
 //! | `voce-saturation` | `A + B eps^n` -> `+ Q1 (1 - exp(-20 eps))` | `Q1` (0) |
 //! | `thermal-softening` | JC `1 - T*^m` with `m` fixed -> `m` fitted | `m` (its value) |
@@ -16,9 +16,10 @@
 //! | `eos-nonlinearity` | linear `K mu` -> `K mu + A2 mu^2` (Grüneisen-like stiffening) | `A2` (0) |
 //! | `lagged-rate` | predictions `(1 - lambda) P + lambda P(lagged rate, seed 001 eq. 3.7)` | `lambda` (0) |
 //!
-//! Fixed shape constants (the upturn rate 1000 /s, the Voce rate 20, the transition rates) are
-//! the nuisance constants that a score test must fix (they are not identified at the null);
-//! the values are typical of armour steels and are named in the report.
+//! Fixed shape constants (the upturn rate 1000 /s, the Voce rate 20) are the nuisance
+//! constants that a score test must fix (they are not identified at the null); the values are
+//! typical of armour steels and are named in the report. The heating transition's window is
+//! not fixed: its variants over a grid are tested as one term (see [`Candidate::group`]).
 
 use super::hypothesis::{
     other_rate_treatment, Hypothesis, Parameter, ANVIL_FRICTION, EROSION_INTENSITY, LAGGED_MIXTURE,
@@ -35,8 +36,28 @@ use stoss_kernel::{Heating, RateTreatment};
 pub const UPTURN_RATE: f64 = 1.0e3;
 /// Saturation rate of the Voce term (-).
 pub const VOCE_RATE: f64 = 20.0;
-/// Rates of the heating transition (1/s).
-pub const TRANSITION_RATES: (f64, f64) = (1.0e-2, 1.0e1);
+/// Isothermal ends of the heating-transition windows tried (1/s); each window is adiabatic
+/// above [`TRANSITION_WIDTH`] times its isothermal end. Where a material turns adiabatic is a
+/// nuisance constant of the term that the recordings, not the library, should choose: the
+/// windows are one term over a grid (the best counts, its p-value multiplied by the grid's
+/// size).
+pub const TRANSITION_STARTS: [f64; 5] = [1.0e-3, 1.0e-2, 1.0e-1, 1.0, 1.0e1];
+/// Ratio of the adiabatic to the isothermal end of a heating-transition window (two decades).
+pub const TRANSITION_WIDTH: f64 = 100.0;
+
+/// The name of the heating-transition window starting at `isothermal_rate`, e.g.
+/// `heating-transition-0.01-1`.
+pub fn transition_name(isothermal_rate: f64) -> String {
+    let rate = |r: f64| {
+        let text = format!("{r}");
+        text.trim_end_matches(".0").to_string()
+    };
+    format!(
+        "heating-transition-{}-{}",
+        rate(isothermal_rate),
+        rate(isothermal_rate * TRANSITION_WIDTH)
+    )
+}
 
 /// A candidate term, ready to test.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -58,6 +79,11 @@ pub struct Candidate {
     /// The refit switches the rate treatment instead of fitting the term's constant (the
     /// lagged-rate term: its mixture weight exists only for the score test).
     pub switches_rate_treatment: bool,
+    /// The term this candidate is one variant of, over a grid of a fixed shape constant
+    /// (`heating-transition` for its windows); its own name otherwise. The score tests keep
+    /// the best variant of a group and multiply its p-value by the group's size.
+    #[serde(default)]
+    pub group: String,
 }
 
 /// A term of the library that does not apply to this model, and why.
@@ -91,6 +117,7 @@ fn extend(
         step,
         extended,
         switches_rate_treatment: false,
+        group: name.into(),
     }
 }
 
@@ -136,21 +163,28 @@ pub fn library(
                 }
             },
         ));
-        candidates.push(extend(
-            current,
-            "heating-transition",
-            "a rate-dependent isothermal-to-adiabatic transition (isothermal below 0.01 /s, adiabatic above 10 /s)",
-            chi,
-            0.0,
-            0.3,
-            |h| {
-                h.material.heating = Heating::Transition {
-                    taylor_quinney: 0.0,
-                    isothermal_rate: TRANSITION_RATES.0,
-                    adiabatic_rate: TRANSITION_RATES.1,
-                }
-            },
-        ));
+        for isothermal_rate in TRANSITION_STARTS {
+            let adiabatic_rate = isothermal_rate * TRANSITION_WIDTH;
+            let mut candidate = extend(
+                current,
+                &transition_name(isothermal_rate),
+                &format!(
+                    "a rate-dependent isothermal-to-adiabatic transition (isothermal below {isothermal_rate} /s, adiabatic above {adiabatic_rate} /s)"
+                ),
+                chi.clone(),
+                0.0,
+                0.3,
+                |h| {
+                    h.material.heating = Heating::Transition {
+                        taylor_quinney: 0.0,
+                        isothermal_rate,
+                        adiabatic_rate,
+                    }
+                },
+            );
+            candidate.group = "heating-transition".into();
+            candidates.push(candidate);
+        }
     } else {
         let reason = "the model already converts plastic work into heat".to_string();
         skip("adiabatic-heating", reason.clone());

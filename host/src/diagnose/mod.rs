@@ -10,15 +10,21 @@
 //! 3. **Attribute** ([`candidates`], [`score`]): a Lagrange-multiplier (score) test for every
 //!    nested term of the library, from the Jacobian of the fitted residuals with respect to
 //!    the calibrated constants (shared, `p` simulations) and one simulation per term at a
-//!    finite step from its null. Ranked by p-value (Bonferroni over the library; one-sided
-//!    chi-bar-square for terms bounded at their null).
-//! 4. **Refit** ([`fit`]): the significant terms in rank order, each with every constant
-//!    refitted; a term is accepted only if it earns its constant: the Bayesian information
+//!    finite step from its null, its variance from an AR(1) noise model per recording. Ranked
+//!    by p-value (Bonferroni over the library; one-sided chi-bar-square for terms bounded at
+//!    their null).
+//! 4. **Refit** ([`fit`]): the significant terms in rank order (at most `max_refits`), each
+//!    with every constant refitted; a term earns its constant when the Bayesian information
 //!    criterion drops and so does the held-out error (approximate leave-one-out over the
-//!    fitted experiments plus the campaign's held-out experiments). Otherwise: "no missing
-//!    physics found".
-//! 5. **Report** ([`report`]): errors per experiment before and after, overlays, residual
-//!    figures with the significant bands, and a plain-language verdict.
+//!    fitted experiments plus the campaign's held-out experiments); of those that do, the one
+//!    with the lowest BIC is accepted (a later-ranked term needs a BIC lower by
+//!    [`POSITIVE_EVIDENCE`]).
+//! 5. **Alternative families** ([`families`]): when the misfit left is still structured, the
+//!    strength is replaced by the kernel's other families, each fitted in full; one replaces
+//!    the model on strong BIC evidence and a lower held-out error.
+//! 6. **Report** ([`report`]): errors per experiment before and after, the misfit binned in
+//!    state space ([`state_space`]), overlays, residual figures with the significant bands,
+//!    and a plain-language verdict that says when the model still misses.
 
 pub mod candidates;
 pub mod engine;
@@ -42,6 +48,10 @@ use locate::ExperimentMisfit;
 use score::ScoreTest;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+
+/// BIC drop by which a later-ranked term that earns its constant displaces an accepted one:
+/// "positive" evidence on Kass & Raftery's (1995) scale.
+pub const POSITIVE_EVIDENCE: f64 = 2.0;
 
 /// Why a diagnosis stopped.
 #[derive(Debug, thiserror::Error)]
@@ -373,6 +383,119 @@ fn judge(before: &Assessment, after: &Assessment, what: &str) -> (bool, String) 
     }
 }
 
+/// The families tried and the winner's index in them with its predictions.
+type Alternatives = (Vec<Refit>, Option<(usize, Vec<Vec<f64>>)>);
+
+/// Fit each alternative family ([`families`]) in full and judge it against `before` and the
+/// `incumbent` (the accepted term's assessment and name, or `before` and the calibrated
+/// model): it wins when its BIC drops by at least [`families::STRONG_EVIDENCE`] and its
+/// held-out error drops against both, the lowest BIC among the winners taking it. Returns
+/// every family tried and the winner's index with its predictions.
+#[allow(clippy::too_many_arguments)]
+fn try_alternatives(
+    engine: &mut Engine,
+    base: &Hypothesis,
+    states: &[families::FlowState],
+    fitted: &[usize],
+    options: &Options,
+    before: &Assessment,
+    incumbent: (&Assessment, &str),
+    cost: &mut Cost,
+) -> Result<Alternatives, DiagnoseError> {
+    let (incumbent, incumbent_name) = incumbent;
+    let mut alternatives: Vec<Refit> = Vec::new();
+    let mut winner: Option<(usize, Vec<Vec<f64>>)> = None;
+    for alternative in families::alternatives(base, states) {
+        let stage_name = format!("alternative family {}", alternative.name);
+        engine.stage(&stage_name);
+        let mark = engine.points;
+        let fit = levenberg_marquardt(
+            engine,
+            &alternative.hypothesis,
+            &alternative.start,
+            fitted,
+            options.iterations,
+        );
+        let refit = match fit {
+            Ok(fit) => fit,
+            Err(error) => {
+                cost.stages.push((stage_name, engine.points - mark));
+                alternatives.push(Refit {
+                    candidate: alternative.name.clone(),
+                    assessment: before.clone(),
+                    hypothesis: alternative.hypothesis,
+                    accepted: false,
+                    reason: format!("the fit failed: {error}"),
+                });
+                continue;
+            }
+        };
+        let mut hypothesis = alternative
+            .hypothesis
+            .with_values(&refit.values)
+            .map_err(DiagnoseError::Calibration)?;
+        hypothesis.label = alternative.name.clone();
+        let (assessment, predictions) = assess(engine, &hypothesis, &refit, fitted)?;
+        cost.stages.push((stage_name, engine.points - mark));
+        let (ok, reason) = judge(before, &assessment, "family");
+        // A different family is a larger claim than one more term: it needs strong evidence
+        // on the BIC scale.
+        let bic_drop = before.bic - assessment.bic;
+        let (ok, reason) = if ok && bic_drop < families::STRONG_EVIDENCE {
+            (
+                false,
+                format!(
+                    "BIC drops by {bic_drop:.1}, less than the {} a family switch needs \
+                     (strong evidence, Kass & Raftery 1995)",
+                    families::STRONG_EVIDENCE
+                ),
+            )
+        } else {
+            (ok, reason)
+        };
+        let beats_incumbent = assessment.bic < incumbent.bic
+            && match (incumbent.held_out_error, assessment.held_out_error) {
+                (Some(i), Some(a)) => a < i,
+                _ => true,
+            };
+        let best_so_far = winner
+            .as_ref()
+            .is_none_or(|(w, _)| assessment.bic < alternatives[*w].assessment.bic);
+        let wins = ok && beats_incumbent && best_so_far;
+        let reason = if ok && beats_incumbent && !best_so_far {
+            format!("{reason}, but another family fits better")
+        } else if ok && !beats_incumbent {
+            format!(
+                "{reason}, but it does not beat {incumbent_name} (BIC {:.1} against {:.1})",
+                assessment.bic, incumbent.bic
+            )
+        } else {
+            reason
+        };
+        alternatives.push(Refit {
+            candidate: alternative.name.clone(),
+            assessment,
+            hypothesis,
+            accepted: wins,
+            reason,
+        });
+        if wins {
+            winner = Some((alternatives.len() - 1, predictions));
+        }
+    }
+    if let Some((index, _)) = &winner {
+        // Earlier winners lose to the last (lowest-BIC) one.
+        let chosen = alternatives[*index].candidate.clone();
+        for (i, other) in alternatives.iter_mut().enumerate() {
+            if i != *index && other.accepted {
+                other.accepted = false;
+                other.reason = format!("{}, but {chosen} fits better", other.reason);
+            }
+        }
+    }
+    Ok((alternatives, winner))
+}
+
 /// Largest plastic strain in the outcomes' tracked states.
 fn max_plastic_strain(outcomes: &[Option<crate::experiment::Outcome>]) -> f64 {
     outcomes
@@ -568,9 +691,34 @@ pub fn diagnose(
             accepted: ok,
             reason,
         });
-        if ok {
+        // Of the terms that earn their constant, the lowest BIC is kept (terms of one physics,
+        // e.g. adiabatic heating and a heating transition, compete here); a later-ranked term
+        // displaces an accepted one only on positive evidence (a BIC lower by at least 2, Kass &
+        // Raftery 1995), so near-equivalent terms keep the rank order.
+        let better = accepted.as_ref().is_none_or(|(index, _)| {
+            refits[*index].assessment.bic - refits[refits.len() - 1].assessment.bic
+                >= POSITIVE_EVIDENCE
+        });
+        if ok && better {
+            if let Some((index, _)) = &accepted {
+                let winner = refits[refits.len() - 1].candidate.clone();
+                let loser = &mut refits[*index];
+                loser.accepted = false;
+                loser.reason = format!("{}, but {winner} fits better", loser.reason);
+            }
             accepted = Some((refits.len() - 1, predictions));
-            break;
+        } else if ok {
+            let winner = accepted
+                .as_ref()
+                .map(|(index, _)| refits[*index].candidate.clone())
+                .unwrap_or_default();
+            let last = refits.len() - 1;
+            refits[last].accepted = false;
+            refits[last].reason = format!(
+                "{}, but not by the {POSITIVE_EVIDENCE} BIC below {winner} that displacing it \
+                 needs",
+                refits[last].reason
+            );
         }
     }
 
@@ -606,97 +754,22 @@ pub fn diagnose(
             Some((index, _)) => refits[*index].assessment.clone(),
             None => before.clone(),
         };
+        let incumbent_name = accepted_name
+            .clone()
+            .unwrap_or_else(|| "the calibrated model".into());
         let states = families::plastic_states(&outcomes);
-        let mut winner: Option<(usize, Vec<Vec<f64>>)> = None;
-        for alternative in families::alternatives(&base, &states) {
-            let stage_name = format!("alternative family {}", alternative.name);
-            engine.stage(&stage_name);
-            let mark = engine.points;
-            let fit = levenberg_marquardt(
-                &mut engine,
-                &alternative.hypothesis,
-                &alternative.start,
-                &fitted,
-                options.iterations,
-            );
-            let refit = match fit {
-                Ok(fit) => fit,
-                Err(error) => {
-                    stage(&engine, &stage_name, mark, &mut cost);
-                    alternatives.push(Refit {
-                        candidate: alternative.name.clone(),
-                        assessment: before.clone(),
-                        hypothesis: alternative.hypothesis,
-                        accepted: false,
-                        reason: format!("the fit failed: {error}"),
-                    });
-                    continue;
-                }
-            };
-            let mut hypothesis = alternative
-                .hypothesis
-                .with_values(&refit.values)
-                .map_err(DiagnoseError::Calibration)?;
-            hypothesis.label = alternative.name.clone();
-            let (assessment, predictions) = assess(&mut engine, &hypothesis, &refit, &fitted)?;
-            stage(&engine, &stage_name, mark, &mut cost);
-            let (ok, reason) = judge(&before, &assessment, "family");
-            // A different family is a larger claim than one more term: it needs strong
-            // evidence on the BIC scale.
-            let bic_drop = before.bic - assessment.bic;
-            let (ok, reason) = if ok && bic_drop < families::STRONG_EVIDENCE {
-                (
-                    false,
-                    format!(
-                        "BIC drops by {bic_drop:.1}, less than the {} a family switch needs \
-                         (strong evidence, Kass & Raftery 1995)",
-                        families::STRONG_EVIDENCE
-                    ),
-                )
-            } else {
-                (ok, reason)
-            };
-            let beats_incumbent = assessment.bic < incumbent.bic
-                && match (incumbent.held_out_error, assessment.held_out_error) {
-                    (Some(i), Some(a)) => a < i,
-                    _ => true,
-                };
-            let best_so_far = winner
-                .as_ref()
-                .is_none_or(|(w, _)| assessment.bic < alternatives[*w].assessment.bic);
-            let wins = ok && beats_incumbent && best_so_far;
-            let reason = if ok && beats_incumbent && !best_so_far {
-                format!("{reason}, but another family fits better")
-            } else if ok && !beats_incumbent {
-                format!(
-                    "{reason}, but it does not beat {} (BIC {:.1} against {:.1})",
-                    accepted_name.as_deref().unwrap_or("the calibrated model"),
-                    assessment.bic,
-                    incumbent.bic
-                )
-            } else {
-                reason
-            };
-            alternatives.push(Refit {
-                candidate: alternative.name.clone(),
-                assessment,
-                hypothesis,
-                accepted: wins,
-                reason,
-            });
-            if wins {
-                winner = Some((alternatives.len() - 1, predictions));
-            }
-        }
+        let (tried, winner) = try_alternatives(
+            &mut engine,
+            &base,
+            &states,
+            &fitted,
+            options,
+            &before,
+            (&incumbent, &incumbent_name),
+            &mut cost,
+        )?;
+        alternatives = tried;
         if let Some((index, predictions)) = winner {
-            // Earlier winners lose to this one.
-            let chosen_name = alternatives[index].candidate.clone();
-            for (i, other) in alternatives.iter_mut().enumerate() {
-                if i != index && other.accepted {
-                    other.accepted = false;
-                    other.reason = format!("{}, but {chosen_name} fits better", other.reason);
-                }
-            }
             let chosen = &alternatives[index];
             let outcomes = simulate_outcomes(&engine, &chosen.hypothesis)?;
             misfit_after = Some(locate_all(

@@ -32,8 +32,10 @@
 //! in recorded uncertainties) is reported "not identifiable here" and not ranked. For a term
 //! bounded at its null (heating, upturn, saturation, friction...) the statistic counts only if
 //! the first-order estimate `gamma* = -(j'Mr)/(j'Mj)` lies on the physical side, and the
-//! p-value is the chi-bar-square `P(chi2(1) > S)/2` (Self & Liang 1987). p-values are
-//! Bonferroni-corrected over the library.
+//! p-value is the chi-bar-square `P(chi2(1) > S)/2` (Self & Liang 1987). A term tried over a
+//! grid of a shape constant (the heating transition's window) keeps its best variant, whose
+//! p-value is multiplied by the grid's size; p-values are then Bonferroni-corrected over the
+//! terms.
 
 use super::candidates::Candidate;
 use super::engine::Engine;
@@ -90,7 +92,13 @@ pub fn score_tests(
     let inflation = if dof > 0.0 { n as f64 / dof } else { 1.0 };
     let projected_residuals = project_out(&fit.jacobian, &fit.residuals);
     let residual_misfit = dot(&projected_residuals, &projected_residuals);
-    let count = library.len().max(1) as f64;
+    let mut groups: Vec<&str> = Vec::new();
+    for candidate in library {
+        if !groups.contains(&candidate.group.as_str()) {
+            groups.push(&candidate.group);
+        }
+    }
+    let count = groups.len().max(1) as f64;
     let mut tests = Vec::with_capacity(library.len());
     for candidate in library {
         let range = candidate.parameter.upper - candidate.parameter.lower;
@@ -187,8 +195,6 @@ pub fn score_tests(
         test.raw_statistic = raw;
         test.scale = scale;
         test.single_p_value = single;
-        test.p_value = (single * count).min(1.0);
-        test.significant = test.p_value < alpha;
         test.share = if residual_misfit > 0.0 {
             (raw / residual_misfit).min(1.0)
         } else {
@@ -197,5 +203,40 @@ pub fn score_tests(
         test.estimate = candidate.parameter.from_unit(null_unit + estimate_unit);
         tests.push(test);
     }
-    Ok(tests)
+    // One test per term: of a group of variants over a grid of a shape constant, the one with
+    // the largest statistic, its p-value multiplied by the group's size (Bonferroni over the
+    // grid); then Bonferroni over the terms.
+    let mut kept = Vec::with_capacity(groups.len());
+    for group in &groups {
+        let members: Vec<usize> = library
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.group == *group)
+            .map(|(i, _)| i)
+            .collect();
+        let best = members
+            .iter()
+            .copied()
+            .reduce(|a, b| {
+                if tests[b].statistic > tests[a].statistic {
+                    b
+                } else {
+                    a
+                }
+            })
+            .unwrap_or(members[0]);
+        let mut test = tests[best].clone();
+        if members.len() > 1 {
+            test.single_p_value = (test.single_p_value * members.len() as f64).min(1.0);
+            let grid = format!("the best of {} variants of {group}", members.len());
+            test.note = Some(match test.note {
+                Some(note) => format!("{grid}; {note}"),
+                None => grid,
+            });
+        }
+        test.p_value = (test.single_p_value * count).min(1.0);
+        test.significant = test.p_value < alpha;
+        kept.push(test);
+    }
+    Ok(kept)
 }
