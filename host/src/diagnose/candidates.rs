@@ -79,6 +79,11 @@ pub struct Candidate {
     /// The refit switches the rate treatment instead of fitting the term's constant (the
     /// lagged-rate term: its mixture weight exists only for the score test).
     pub switches_rate_treatment: bool,
+    /// What the term adds when the recordings ask for its constant below the null, if that
+    /// reads differently from [`Self::physics`] (a two-sided term: the coupling of rate and
+    /// temperature with a negative constant is a rate sensitivity *falling* with temperature).
+    #[serde(default)]
+    pub physics_below: Option<String>,
     /// The term this candidate is one variant of, over a grid of a fixed shape constant
     /// (`heating-transition` for its windows); its own name otherwise. The score tests keep
     /// the best variant of a group and multiply its p-value by the group's size.
@@ -117,6 +122,7 @@ fn extend(
         step,
         extended,
         switches_rate_treatment: false,
+        physics_below: None,
         group: name.into(),
     }
 }
@@ -248,7 +254,7 @@ pub fn library(
                     ));
                     let (reference_temperature, melting_temperature) =
                         thermal_limits.unwrap_or((298.0, 1793.0));
-                    candidates.push(extend(
+                    let mut coupling = extend(
                         current,
                         "rate-temperature-coupling",
                         "rate-temperature coupling (rate sensitivity growing with temperature, as in Zerilli-Armstrong)",
@@ -270,7 +276,12 @@ pub fn library(
                                 };
                             }
                         },
-                    ));
+                    );
+                    coupling.physics_below = Some(
+                        "rate-temperature coupling (rate sensitivity falling with temperature)"
+                            .into(),
+                    );
+                    candidates.push(coupling);
                 }
                 _ => {
                     let reason = "the rate term is not Johnson-Cook's logarithm".to_string();
@@ -317,10 +328,10 @@ pub fn library(
                 ThermalTerm::HomologousPower { exponent, .. }
                     if !fitted("strength.thermal.exponent") =>
                 {
-                    candidates.push(extend(
+                    let mut softening = extend(
                         current,
                         "thermal-softening",
-                        "a different thermal-softening shape (the exponent m of 1 - T*^m, fixed so far)",
+                        "a different thermal-softening shape (a larger exponent m of 1 - T*^m: softening delayed to higher temperatures)",
                         Parameter {
                             name: "strength.thermal.exponent".into(),
                             lower: 0.5,
@@ -329,7 +340,12 @@ pub fn library(
                         exponent,
                         if exponent + 0.1 <= 1.5 { 0.1 } else { -0.1 },
                         |_| {},
-                    ));
+                    );
+                    softening.physics_below = Some(
+                        "a different thermal-softening shape (a smaller exponent m of 1 - T*^m: softening from lower temperatures on)"
+                            .into(),
+                    );
+                    candidates.push(softening);
                 }
                 ThermalTerm::HomologousPower { .. } => skip(
                     "thermal-softening",

@@ -201,6 +201,12 @@ pub fn score_tests(
             0.0
         };
         test.estimate = candidate.parameter.from_unit(null_unit + estimate_unit);
+        // The label follows the side of the null the recordings ask for.
+        if let Some(below) = &candidate.physics_below {
+            if estimate_unit < 0.0 {
+                test.physics = below.clone();
+            }
+        }
         tests.push(test);
     }
     // One test per term: of a group of variants over a grid of a shape constant, the one with
