@@ -155,9 +155,21 @@ fn main() {
                 let d = &outcome.diagnosis;
                 points += d.cost.stages.iter().map(|s| s.1).sum::<usize>();
                 simulations += d.cost.simulated;
+                let top = d
+                    .tests
+                    .first()
+                    .map(|t| format!("{} p {:.1e}", t.name, t.p_value))
+                    .unwrap_or_default();
+                let refits: Vec<String> = d
+                    .refits
+                    .iter()
+                    .chain(&d.alternatives)
+                    .map(|r| format!("{}: {}", r.candidate, r.reason))
+                    .collect();
                 eprintln!(
-                    "{case} noise {noise} seed {noise_seed}: accepted {}",
-                    d.accepted.as_deref().unwrap_or("none")
+                    "{case} noise {noise} seed {noise_seed}: accepted {} (top test {top}; refits: {})",
+                    d.accepted.as_deref().unwrap_or("none"),
+                    refits.join("; ")
                 );
                 match (expected, &d.accepted) {
                     (None, Some(_)) => alarms += 1,
