@@ -352,14 +352,29 @@ fn assess(
 }
 
 /// Whether a refit `after` earns its constants against `before`: the Bayesian information
-/// criterion drops and so does the held-out error (when there is one). `what` names the
-/// change in the reason ("term", "family").
-fn judge(before: &Assessment, after: &Assessment, what: &str) -> (bool, String) {
+/// criterion drops (by at least `required_drop` when that is positive: a family switch needs
+/// [`families::STRONG_EVIDENCE`]) and so does the held-out error (when there is one). `what`
+/// names the change in the reason ("term", "family").
+fn judge(
+    before: &Assessment,
+    after: &Assessment,
+    what: &str,
+    required_drop: f64,
+) -> (bool, String) {
     let bic_drop = before.bic - after.bic;
     let held_out_better = match (before.held_out_error, after.held_out_error) {
         (Some(b), Some(a)) => Some(a < b),
         _ => None,
     };
+    if bic_drop > 0.0 && bic_drop < required_drop && held_out_better != Some(false) {
+        return (
+            false,
+            format!(
+                "BIC drops by {bic_drop:.1}, less than the {required_drop} a {what} switch needs \
+                 (strong evidence, Kass & Raftery 1995)"
+            ),
+        );
+    }
     match (bic_drop > 0.0, held_out_better) {
         (true, Some(true)) => (
             true,
@@ -437,22 +452,9 @@ fn try_alternatives(
         hypothesis.label = alternative.name.clone();
         let (assessment, predictions) = assess(engine, &hypothesis, &refit, fitted)?;
         cost.stages.push((stage_name, engine.points - mark));
-        let (ok, reason) = judge(before, &assessment, "family");
         // A different family is a larger claim than one more term: it needs strong evidence
         // on the BIC scale.
-        let bic_drop = before.bic - assessment.bic;
-        let (ok, reason) = if ok && bic_drop < families::STRONG_EVIDENCE {
-            (
-                false,
-                format!(
-                    "BIC drops by {bic_drop:.1}, less than the {} a family switch needs \
-                     (strong evidence, Kass & Raftery 1995)",
-                    families::STRONG_EVIDENCE
-                ),
-            )
-        } else {
-            (ok, reason)
-        };
+        let (ok, reason) = judge(before, &assessment, "family", families::STRONG_EVIDENCE);
         let beats_incumbent = assessment.bic < incumbent.bic
             && match (incumbent.held_out_error, assessment.held_out_error) {
                 (Some(i), Some(a)) => a < i,
@@ -683,7 +685,7 @@ pub fn diagnose(
             mark,
             &mut cost,
         );
-        let (ok, reason) = judge(&before, &assessment, "term");
+        let (ok, reason) = judge(&before, &assessment, "term", 0.0);
         refits.push(Refit {
             candidate: candidate.name.clone(),
             assessment,
