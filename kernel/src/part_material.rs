@@ -90,10 +90,10 @@ impl PointModel for PartMaterial {
         }
     }
 
-    fn has_kinematic_criteria(&self) -> bool {
+    fn kinematic_strain_bound(&self) -> Option<f64> {
         match self {
-            PartMaterial::J2(m) => m.has_kinematic_criteria(),
-            PartMaterial::Rht(m) => m.has_kinematic_criteria(),
+            PartMaterial::J2(m) => m.kinematic_strain_bound(),
+            PartMaterial::Rht(m) => m.kinematic_strain_bound(),
         }
     }
 

@@ -234,6 +234,19 @@ pub trait Discretisation: Sync {
     ) -> Option<[f64; 3]> {
         None
     }
+    /// Whether every principal stretch of element `e` between `reference` and `x` lies inside
+    /// `window`, so that no kinematic criterion can be met and the logarithms of
+    /// [`Self::element_principal_strains`] are not needed; `false` when the formulation
+    /// cannot tell.
+    fn element_stretches_within(
+        &self,
+        _e: usize,
+        _reference: &[Vector],
+        _x: &[Vector],
+        _window: &StretchWindow,
+    ) -> bool {
+        false
+    }
     /// Volume of element `e` in the integration measure at positions `x` (<= 0: inverted).
     fn element_volume(&self, e: usize, x: &[Vector]) -> f64;
     /// Stable time step of element `e` at positions `x` for a wave speed, at rest.
@@ -256,6 +269,29 @@ pub trait Discretisation: Sync {
         settings: &SolverSettings,
         time: f64,
     ) -> Result<ElementStep, SolverError>;
+}
+
+/// The principal stretches `lambda` with `|ln lambda|` below a material's kinematic strain
+/// bound ([`PointModel::kinematic_strain_bound`]), narrowed by a relative 1e-9 so that the
+/// logarithms, rounded, stay below it too: inside, no erosion or failure criterion on the
+/// total strain can be met.
+#[derive(Clone, Copy, Debug)]
+pub struct StretchWindow {
+    /// Open interval of `lambda`.
+    pub stretch: (f64, f64),
+    /// Open interval of `lambda^2`.
+    pub stretch_squared: (f64, f64),
+}
+
+impl StretchWindow {
+    /// The window of the strain bound `bound` (> 0).
+    pub fn new(bound: f64) -> Self {
+        let narrowed = bound * (1.0 - 1e-9);
+        Self {
+            stretch: (libm::exp(-narrowed), libm::exp(narrowed)),
+            stretch_squared: (libm::exp(-2.0 * narrowed), libm::exp(2.0 * narrowed)),
+        }
+    }
 }
 
 /// A complete explicit model over a discretisation `M`, its parts' materials being kernel point
@@ -523,7 +559,12 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             )?),
             None => None,
         };
-        let kinematic_criteria = self.materials.iter().any(|m| m.has_kinematic_criteria());
+        let stretch_windows: Vec<Option<StretchWindow>> = self
+            .materials
+            .iter()
+            .map(|m| m.kinematic_strain_bound().map(StretchWindow::new))
+            .collect();
+        let kinematic_criteria = stretch_windows.iter().any(Option::is_some);
         let reference = x.clone();
         if kinematic_criteria
             && (element_count > 0 && mesh.element_principal_strains(0, &x, &x).is_none())
@@ -865,10 +906,13 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                             return;
                         }
                     };
-                    if material.has_kinematic_criteria() {
-                        if let Some(strains) = mesh.element_principal_strains(e, &reference, &x_new)
-                        {
-                            step.state.flags.insert(material.kinematic_flags(strains).0);
+                    if let Some(window) = &stretch_windows[material_of[e]] {
+                        if !mesh.element_stretches_within(e, &reference, &x_new, window) {
+                            if let Some(strains) =
+                                mesh.element_principal_strains(e, &reference, &x_new)
+                            {
+                                step.state.flags.insert(material.kinematic_flags(strains).0);
+                            }
                         }
                     }
                     summary.cycles += 1;

@@ -52,9 +52,19 @@ impl Failure {
         pressure_cutoff: None,
     };
 
-    /// Whether a criterion needs the element's total strain (host-evaluated).
-    pub fn has_kinematic_criteria(&self) -> bool {
-        self.erosion_geometric_strain.is_some() || self.failure_principal_strain.is_some()
+    /// The smallest magnitude of a principal logarithmic strain at which a kinematic
+    /// criterion can be met, `None` without one: the failure strain itself, and
+    /// `limit / sqrt 2` for the geometric strain (`sqrt(2/3 e:e) <= sqrt 2 max |e_i|`). An
+    /// element whose principal strains all stay below it needs no evaluation.
+    pub fn kinematic_strain_bound(&self) -> Option<f64> {
+        let failure = self.failure_principal_strain;
+        let erosion = self
+            .erosion_geometric_strain
+            .map(|limit| limit * core::f64::consts::FRAC_1_SQRT_2);
+        match (failure, erosion) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
     /// Autodyn's effective geometric strain from the principal logarithmic strains `e_i` of
@@ -140,11 +150,14 @@ mod tests {
             failure_principal_strain: Some(1.2),
             ..Failure::NONE
         };
-        assert!(failure.has_kinematic_criteria());
+        assert_eq!(
+            failure.kinematic_strain_bound(),
+            Some(1.5 * core::f64::consts::FRAC_1_SQRT_2)
+        );
         let flags = failure.kinematic_flags(stretch);
         assert!(flags.contains(StateFlags::ERODE) && flags.contains(StateFlags::FAILED));
         assert_eq!(failure.kinematic_flags(squeeze), StateFlags(0));
-        assert!(!Failure::NONE.has_kinematic_criteria());
+        assert_eq!(Failure::NONE.kinematic_strain_bound(), None);
         let bad = Failure {
             erosion_geometric_strain: Some(0.0),
             ..Failure::NONE

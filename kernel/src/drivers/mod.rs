@@ -44,10 +44,12 @@ pub trait PointModel {
     /// A fresh, stress-free state at `temperature` (K), with the EoS history seeded (P-alpha
     /// starts at its initial distension).
     fn initial_state(&self, temperature: f64) -> MaterialState;
-    /// Whether a criterion needs the element's total strain, which only the host knows
-    /// (Autodyn's geometric erosion strain, a principal-strain failure).
-    fn has_kinematic_criteria(&self) -> bool {
-        false
+    /// For a criterion that needs the element's total strain, which only the host knows
+    /// (Autodyn's geometric erosion strain, a principal-strain failure): the smallest
+    /// magnitude of a principal logarithmic strain at which one can be met (see
+    /// [`crate::damage::Failure::kinematic_strain_bound`]); `None` without such a criterion.
+    fn kinematic_strain_bound(&self) -> Option<f64> {
+        None
     }
     /// The flags those criteria set for an element with principal logarithmic strains
     /// `principal_strains` (see [`crate::damage::Failure::kinematic_flags`]).
@@ -88,8 +90,8 @@ impl PointModel for Material {
         state
     }
 
-    fn has_kinematic_criteria(&self) -> bool {
-        self.failure.has_kinematic_criteria()
+    fn kinematic_strain_bound(&self) -> Option<f64> {
+        self.failure.kinematic_strain_bound()
     }
 
     fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {
@@ -131,8 +133,8 @@ impl<T: PointModel + ?Sized> PointModel for &T {
         (**self).initial_state(temperature)
     }
 
-    fn has_kinematic_criteria(&self) -> bool {
-        (**self).has_kinematic_criteria()
+    fn kinematic_strain_bound(&self) -> Option<f64> {
+        (**self).kinematic_strain_bound()
     }
 
     fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {

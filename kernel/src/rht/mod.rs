@@ -227,6 +227,17 @@ impl RhtMaterial {
     }
 }
 
+impl RhtMaterial {
+    /// RHT's only kinematic criterion, the geometric erosion strain, as the metals' failure
+    /// settings evaluate it.
+    fn kinematic_failure(&self) -> Failure {
+        Failure {
+            erosion_geometric_strain: self.erosion_geometric_strain,
+            ..Failure::NONE
+        }
+    }
+}
+
 impl PointModel for RhtMaterial {
     fn validate(&self) -> Result<(), ParameterError> {
         RhtMaterial::validate(self)
@@ -244,17 +255,12 @@ impl PointModel for RhtMaterial {
         RhtMaterial::initial_state(self, temperature)
     }
 
-    fn has_kinematic_criteria(&self) -> bool {
-        self.erosion_geometric_strain.is_some()
+    fn kinematic_strain_bound(&self) -> Option<f64> {
+        self.kinematic_failure().kinematic_strain_bound()
     }
 
     fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {
-        // The metals' criterion, with RHT's only kinematic one.
-        Failure {
-            erosion_geometric_strain: self.erosion_geometric_strain,
-            ..Failure::NONE
-        }
-        .kinematic_flags(principal_strains)
+        self.kinematic_failure().kinematic_flags(principal_strains)
     }
 
     fn update(
