@@ -35,7 +35,8 @@ struct Geometry {
     longest_diagonal: f64,
 }
 
-fn geometry(p: [Vector; 4]) -> Geometry {
+/// Area, mean radius and gradient operators of a quad, without its diagonals.
+fn gradients(p: [Vector; 4]) -> (f64, f64, [f64; 4], [f64; 4]) {
     let [p0, p1, p2, p3] = p;
     let area = 0.5 * ((p2[0] - p0[0]) * (p3[1] - p1[1]) - (p3[0] - p1[0]) * (p2[1] - p0[1]));
     let inv = 0.5 / area;
@@ -51,11 +52,17 @@ fn geometry(p: [Vector; 4]) -> Geometry {
         inv * (p1[0] - p3[0]),
         inv * (p2[0] - p0[0]),
     ];
+    (area, 0.25 * (p0[0] + p1[0] + p2[0] + p3[0]), b_r, b_z)
+}
+
+fn geometry(p: [Vector; 4]) -> Geometry {
+    let [p0, p1, p2, p3] = p;
+    let (area, mean_radius, b_r, b_z) = gradients(p);
     let d1 = ((p2[0] - p0[0]).powi(2) + (p2[1] - p0[1]).powi(2)).sqrt();
     let d2 = ((p3[0] - p1[0]).powi(2) + (p3[1] - p1[1]).powi(2)).sqrt();
     Geometry {
         area,
-        mean_radius: 0.25 * (p0[0] + p1[0] + p2[0] + p3[0]),
+        mean_radius,
         b_r,
         b_z,
         longest_diagonal: d1.max(d2),
@@ -92,14 +99,14 @@ impl QuadMesh {
         reference: &[Vector],
         x: &[Vector],
     ) -> PrincipalStretches {
-        let initial = geometry(self.corners(e, reference));
+        let (_, initial_radius, b_r, b_z) = gradients(self.corners(e, reference));
         let current = self.corners(e, x);
         let mut f = [[0.0; 2]; 2];
         for (k, p) in current.iter().enumerate() {
-            f[0][0] += p[0] * initial.b_r[k];
-            f[0][1] += p[0] * initial.b_z[k];
-            f[1][0] += p[1] * initial.b_r[k];
-            f[1][1] += p[1] * initial.b_z[k];
+            f[0][0] += p[0] * b_r[k];
+            f[0][1] += p[0] * b_z[k];
+            f[1][0] += p[1] * b_r[k];
+            f[1][1] += p[1] * b_z[k];
         }
         let c11 = f[0][0] * f[0][0] + f[1][0] * f[1][0];
         let c22 = f[0][1] * f[0][1] + f[1][1] * f[1][1];
@@ -109,13 +116,14 @@ impl QuadMesh {
         PrincipalStretches {
             in_plane_squared: [mean + radius, (mean - radius).max(f64::MIN_POSITIVE)],
             hoop: 0.25 * (current[0][0] + current[1][0] + current[2][0] + current[3][0])
-                / initial.mean_radius,
+                / initial_radius,
         }
     }
 }
 
 impl Discretisation for QuadMesh {
     const DIMENSION: usize = 2;
+    const NODES: usize = 4;
     const MEASURE: f64 = 2.0 * PI;
     const AXIAL_COMPONENT: usize = 1;
 
@@ -206,6 +214,7 @@ impl Discretisation for QuadMesh {
         dt: f64,
         settings: &SolverSettings,
         time: f64,
+        forces: &mut [Vector; MAX_NODES],
     ) -> Result<ElementStep, SolverError> {
         let element = self.elements[e];
         let nodes_new = self.corners(e, x_new);
@@ -272,7 +281,6 @@ impl Discretisation for QuadMesh {
             s[3],
         );
         let volume = new.area * new.mean_radius;
-        let mut forces = [[0.0; 3]; MAX_NODES];
         for (k, force) in forces.iter_mut().take(4).enumerate() {
             force[0] = -(s_rr * new.b_r[k] + s_rz * new.b_z[k]) * volume - s_tt * new.area * 0.25;
             force[1] = -(s_rz * new.b_r[k] + s_zz * new.b_z[k]) * volume;
@@ -327,7 +335,6 @@ impl Discretisation for QuadMesh {
         Ok(ElementStep {
             state: next,
             hourglass: carried,
-            forces,
             hourglass_power,
             viscous_work,
             stable_dt: settings.stable_time_step(

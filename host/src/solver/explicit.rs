@@ -38,8 +38,6 @@ pub struct ElementStep {
     pub state: MaterialState,
     /// Updated hourglass forces (stiffness form; zero for the viscous form).
     pub hourglass: HourglassStress,
-    /// Nodal forces (first `nodes` entries used), in the model's integration measure.
-    pub forces: [Vector; MAX_NODES],
     /// Hourglass dissipation rate.
     pub hourglass_power: f64,
     /// Bulk-viscosity work of the step.
@@ -206,6 +204,8 @@ impl Default for ChunkSummary {
 pub trait Discretisation: Sync {
     /// Spatial dimension of the nodal vectors (2 or 3).
     const DIMENSION: usize;
+    /// Nodes per element (at most [`MAX_NODES`]).
+    const NODES: usize;
     /// Factor from the integration measure to physical quantities (2 pi for axisymmetric
     /// models, which integrate per radian; 1 in 3D).
     const MEASURE: f64;
@@ -253,7 +253,9 @@ pub trait Discretisation: Sync {
     fn element_time_step(&self, e: usize, x: &[Vector], wave_speed: f64) -> f64;
     /// Kinematics, the kernel update, bulk viscosity, internal and hourglass forces of element
     /// `e` over a step from `x` to `x_new` with velocities `v`, with the element's own point
-    /// model and its hourglass forces of the previous step.
+    /// model and its hourglass forces of the previous step. The nodal forces, in the model's
+    /// integration measure, are written into the first [`Self::NODES`] entries of `forces`
+    /// (in place: the element's slot, not a copy).
     #[allow(clippy::too_many_arguments)]
     fn element_step<P: PointModel>(
         &self,
@@ -268,6 +270,7 @@ pub trait Discretisation: Sync {
         dt: f64,
         settings: &SolverSettings,
         time: f64,
+        forces: &mut [Vector; MAX_NODES],
     ) -> Result<ElementStep, SolverError>;
 }
 
@@ -899,6 +902,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         dt,
                         settings,
                         time,
+                        &mut slot.forces,
                     ) {
                         Ok(step) => step,
                         Err(error) => {
@@ -924,7 +928,6 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         summary.eroding = true;
                         continue;
                     }
-                    slot.forces = step.forces;
                     slot.assembles = true;
                     summary.stable_dt = summary.stable_dt.min(step.stable_dt);
                 }

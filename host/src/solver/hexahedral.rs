@@ -132,6 +132,7 @@ impl HexMesh {
 
 impl Discretisation for HexMesh {
     const DIMENSION: usize = 3;
+    const NODES: usize = 8;
     const MEASURE: f64 = 1.0;
     const AXIAL_COMPONENT: usize = 2;
 
@@ -182,6 +183,7 @@ impl Discretisation for HexMesh {
         dt: f64,
         settings: &SolverSettings,
         time: f64,
+        forces: &mut [Vector; MAX_NODES],
     ) -> Result<ElementStep, SolverError> {
         let element = self.elements[e];
         let nodes_new = self.corners(e, x_new);
@@ -261,7 +263,6 @@ impl Discretisation for HexMesh {
         for (i, row) in stress.iter_mut().enumerate() {
             row[i] -= viscous_pressure;
         }
-        let mut forces = [[0.0; 3]; MAX_NODES];
         for (a, force) in forces.iter_mut().enumerate() {
             for i in 0..3 {
                 force[i] = -new.volume * (0..3).map(|j| stress[i][j] * new.b[a][j]).sum::<f64>();
@@ -291,7 +292,6 @@ impl Discretisation for HexMesh {
         Ok(ElementStep {
             state: next,
             hourglass: [0.0; 2],
-            forces,
             hourglass_power,
             viscous_work,
             stable_dt: settings.stable_time_step(
