@@ -301,7 +301,18 @@ impl Discretisation for QuadMesh {
                     * output.wave_speed
                     * new.area.sqrt()
                     * new.mean_radius;
-                (kappa * q_r, kappa * q_z, kappa * (q_r * q_r + q_z * q_z))
+                // The generalised force is carried to the next step only for its work: booked
+                // over the step at the mean of the previous and the new force, the
+                // trapezoidal rule the kernel uses for the stress work. (Booked at the new
+                // force alone, `kappa q^2`, a node's one-step kick is counted twice over:
+                // its force acts over the next step's velocity change, not this one's.)
+                carried = [kappa * q_r, kappa * q_z];
+                let (old_r, old_z) = (hourglass[0], hourglass[1]);
+                (
+                    carried[0],
+                    carried[1],
+                    0.5 * ((old_r + carried[0]) * q_r + (old_z + carried[1]) * q_z),
+                )
             }
             HourglassControl::Stiffness => {
                 let gradients: f64 = (0..4)

@@ -28,7 +28,8 @@ pub const MAXIMUM_THREADS: usize = 256;
 pub const MAX_NODES: usize = 8;
 
 /// Flanagan-Belytschko generalised hourglass force of a quad's one mode, in `r` and `z`,
-/// carried from step to step by the stiffness form of the hourglass control (2D only).
+/// carried from step to step (2D only): integrated by the stiffness form; for the viscous
+/// form the last step's force, whose mean with the new one books the hourglass work.
 pub type HourglassStress = [f64; 2];
 
 /// Per-element result of one step.
@@ -36,7 +37,7 @@ pub type HourglassStress = [f64; 2];
 pub struct ElementStep {
     /// Updated material state.
     pub state: MaterialState,
-    /// Updated hourglass forces (stiffness form; zero for the viscous form).
+    /// Updated generalised hourglass forces (2D; zero in 3D).
     pub hourglass: HourglassStress,
     /// Hourglass dissipation rate.
     pub hourglass_power: f64,
