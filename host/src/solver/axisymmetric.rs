@@ -186,12 +186,11 @@ impl Discretisation for QuadMesh {
         window: &StretchWindow,
     ) -> bool {
         let stretches = self.principal_stretches(e, reference, x);
-        let (low, high) = window.stretch_squared;
         let inside = |value: f64, (low, high): (f64, f64)| value > low && value < high;
         stretches
             .in_plane_squared
             .iter()
-            .all(|&value| inside(value, (low, high)))
+            .all(|&value| inside(value, window.stretch_squared))
             && inside(stretches.hoop, window.stretch)
     }
 
