@@ -35,7 +35,8 @@ pub struct DiagnoseArgs {
     /// Levenberg-Marquardt iterations per refit.
     #[arg(long, default_value_t = 8)]
     pub iterations: usize,
-    /// Significant terms refitted at most.
+    /// Terms refitted at most, in rank order: the significant ones; when none of them is
+    /// accepted, as many of the others, judged by their likelihood ratio.
     #[arg(long, default_value_t = 3)]
     pub max_refits: usize,
     /// No progress lines (stages and simulation counts).

@@ -18,7 +18,10 @@
 //!    criterion drops and so does the held-out error (approximate leave-one-out over the
 //!    fitted experiments plus the campaign's held-out experiments); of those that do, the one
 //!    with the lowest BIC is accepted (a later-ranked term needs a BIC lower by
-//!    [`POSITIVE_EVIDENCE`]).
+//!    [`POSITIVE_EVIDENCE`]). When none is, the best-ranked terms the score test did not
+//!    find significant are refitted as well and need, besides, a significant likelihood
+//!    ratio ([`likelihood_ratio`]): the score test is first-order and under-rates terms the
+//!    fitted constants re-shape around nonlinearly.
 //! 5. **Alternative families** ([`families`]): when the misfit left is still structured, the
 //!    strength is replaced by the kernel's other families, each fitted in full; one replaces
 //!    the model on strong BIC evidence and a lower held-out error.
@@ -31,6 +34,7 @@ pub mod engine;
 pub mod families;
 pub mod fit;
 pub mod hypothesis;
+pub mod likelihood_ratio;
 pub mod locate;
 pub mod report;
 pub mod score;
@@ -79,7 +83,8 @@ pub struct Options {
     pub parallel: usize,
     /// Levenberg-Marquardt iterations per refit.
     pub iterations: usize,
-    /// Significant terms refitted at most, in rank order.
+    /// Terms refitted at most, in rank order: the significant ones; when none of them is
+    /// accepted, as many of the others, judged by their likelihood ratio as well.
     pub max_refits: usize,
 }
 
@@ -570,6 +575,106 @@ pub struct Outcome {
 
 /// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations are logged
 /// in `log` (a rerun replays them).
+/// A refitted term's predictions of every experiment and its fit.
+type FittedTerm = (Vec<Vec<f64>>, Fit);
+
+/// Refit the calibrated model with `candidate` (every constant plus the term's, from the
+/// calibrated values and the term at its null), assess it and judge it against `before`.
+/// Returns the refit's record and, unless the Levenberg-Marquardt fit failed, its predictions
+/// and fit.
+#[allow(clippy::too_many_arguments)]
+fn refit_candidate(
+    engine: &mut Engine,
+    candidate: &Candidate,
+    base_fit: &Fit,
+    fitted: &[usize],
+    options: &Options,
+    before: &Assessment,
+    cost: &mut Cost,
+) -> Result<(Refit, Option<FittedTerm>), DiagnoseError> {
+    let stage_name = format!("refit with {}", candidate.name);
+    engine.stage(&stage_name);
+    let mark = engine.points;
+    let (hypothesis, start) = candidate.refit(&base_fit.values);
+    let refit = match levenberg_marquardt(engine, &hypothesis, &start, fitted, options.iterations) {
+        Ok(fit) => fit,
+        Err(error) => {
+            cost.stages.push((stage_name, engine.points - mark));
+            return Ok((
+                Refit {
+                    candidate: candidate.name.clone(),
+                    assessment: before.clone(),
+                    hypothesis,
+                    accepted: false,
+                    reason: format!("the refit failed: {error}"),
+                },
+                None,
+            ));
+        }
+    };
+    let mut hypothesis = hypothesis
+        .with_values(&refit.values)
+        .map_err(DiagnoseError::Calibration)?;
+    hypothesis.label = candidate.name.clone();
+    let (mut assessment, predictions) = assess(engine, &hypothesis, &refit, fitted)?;
+    if candidate.switches_rate_treatment {
+        // The switch is a constant of the model too.
+        let n = assessment.residuals as f64;
+        assessment.constants_fitted += 1;
+        assessment.aic += 2.0;
+        assessment.bic += libm::log(n);
+    }
+    cost.stages.push((stage_name, engine.points - mark));
+    let (ok, reason) = judge(before, &assessment, "term", 0.0);
+    Ok((
+        Refit {
+            candidate: candidate.name.clone(),
+            assessment,
+            hypothesis,
+            accepted: ok,
+            reason,
+        },
+        Some((predictions, refit)),
+    ))
+}
+
+/// Of the terms that earn their constant, the lowest BIC is kept (terms of one physics, e.g.
+/// adiabatic heating and a heating transition, compete here); the refit just pushed on
+/// `refits` displaces the `accepted` one only on positive evidence (a BIC lower by at least
+/// [`POSITIVE_EVIDENCE`], Kass & Raftery 1995), so near-equivalent terms keep the rank order.
+fn keep_best(
+    refits: &mut [Refit],
+    accepted: &mut Option<(usize, Vec<Vec<f64>>)>,
+    predictions: Vec<Vec<f64>>,
+) {
+    let last = refits.len() - 1;
+    if !refits[last].accepted {
+        return;
+    }
+    let better = accepted.as_ref().is_none_or(|(index, _)| {
+        refits[*index].assessment.bic - refits[last].assessment.bic >= POSITIVE_EVIDENCE
+    });
+    if better {
+        if let Some((index, _)) = accepted.as_ref() {
+            let winner = refits[last].candidate.clone();
+            let loser = &mut refits[*index];
+            loser.accepted = false;
+            loser.reason = format!("{}, but {winner} fits better", loser.reason);
+        }
+        *accepted = Some((last, predictions));
+    } else {
+        let winner = accepted
+            .as_ref()
+            .map(|(index, _)| refits[*index].candidate.clone())
+            .unwrap_or_default();
+        refits[last].accepted = false;
+        refits[last].reason = format!(
+            "{}, but not by the {POSITIVE_EVIDENCE} BIC below {winner} that displacing it needs",
+            refits[last].reason
+        );
+    }
+}
+
 pub fn diagnose(
     campaign: &Campaign,
     model: &ModelResult,
@@ -629,98 +734,90 @@ pub fn diagnose(
 
     let mut refits = Vec::new();
     let mut accepted: Option<(usize, Vec<Vec<f64>>)> = None;
-    for test in tests
+    let significant: Vec<&ScoreTest> = tests
         .iter()
         .filter(|t| t.significant)
         .take(options.max_refits)
-    {
-        let Some(candidate): Option<&Candidate> = library.iter().find(|c| c.name == test.name)
-        else {
+        .collect();
+    for test in significant {
+        let Some(candidate) = library.iter().find(|c| c.name == test.name) else {
             continue;
         };
-        engine.stage(&format!("refit with {}", candidate.name));
-        let mark = engine.points;
-        let (hypothesis, start) = candidate.refit(&base_fit.values);
-        let refit = levenberg_marquardt(
+        let (refit, fitted_term) = refit_candidate(
             &mut engine,
-            &hypothesis,
-            &start,
+            candidate,
+            &base_fit,
             &fitted,
-            options.iterations,
-        );
-        let refit = match refit {
-            Ok(f) => f,
-            Err(error) => {
-                stage(
-                    &engine,
-                    &format!("refit with {}", candidate.name),
-                    mark,
-                    &mut cost,
-                );
-                refits.push(Refit {
-                    candidate: candidate.name.clone(),
-                    assessment: before.clone(),
-                    hypothesis,
-                    accepted: false,
-                    reason: format!("the refit failed: {error}"),
-                });
-                continue;
-            }
-        };
-        let mut hypothesis = hypothesis
-            .with_values(&refit.values)
-            .map_err(DiagnoseError::Calibration)?;
-        hypothesis.label = candidate.name.clone();
-        let (mut assessment, predictions) = assess(&mut engine, &hypothesis, &refit, &fitted)?;
-        if candidate.switches_rate_treatment {
-            // The switch is a constant of the model too.
-            let n = assessment.residuals as f64;
-            assessment.constants_fitted += 1;
-            assessment.aic += 2.0;
-            assessment.bic += libm::log(n);
-        }
-        stage(
-            &engine,
-            &format!("refit with {}", candidate.name),
-            mark,
+            options,
+            &before,
             &mut cost,
-        );
-        let (ok, reason) = judge(&before, &assessment, "term", 0.0);
-        refits.push(Refit {
-            candidate: candidate.name.clone(),
-            assessment,
-            hypothesis,
-            accepted: ok,
-            reason,
-        });
-        // Of the terms that earn their constant, the lowest BIC is kept (terms of one physics,
-        // e.g. adiabatic heating and a heating transition, compete here); a later-ranked term
-        // displaces an accepted one only on positive evidence (a BIC lower by at least 2, Kass &
-        // Raftery 1995), so near-equivalent terms keep the rank order.
-        let better = accepted.as_ref().is_none_or(|(index, _)| {
-            refits[*index].assessment.bic - refits[refits.len() - 1].assessment.bic
-                >= POSITIVE_EVIDENCE
-        });
-        if ok && better {
-            if let Some((index, _)) = &accepted {
-                let winner = refits[refits.len() - 1].candidate.clone();
-                let loser = &mut refits[*index];
-                loser.accepted = false;
-                loser.reason = format!("{}, but {winner} fits better", loser.reason);
-            }
-            accepted = Some((refits.len() - 1, predictions));
-        } else if ok {
-            let winner = accepted
-                .as_ref()
-                .map(|(index, _)| refits[*index].candidate.clone())
-                .unwrap_or_default();
-            let last = refits.len() - 1;
-            refits[last].accepted = false;
-            refits[last].reason = format!(
-                "{}, but not by the {POSITIVE_EVIDENCE} BIC below {winner} that displacing it \
-                 needs",
-                refits[last].reason
+        )?;
+        refits.push(refit);
+        if let Some((predictions, _)) = fitted_term {
+            keep_best(&mut refits, &mut accepted, predictions);
+        }
+    }
+
+    // Terms the score test under-rates: when no significant term was accepted, the
+    // best-ranked admissible terms are refitted and judged by the drop their refit achieves
+    // (a likelihood-ratio test at the same level, `likelihood_ratio`).
+    if accepted.is_none() {
+        let ranges = row_ranges(campaign, &fitted);
+        let terms = tests.len().max(1) as f64;
+        let untried: Vec<&ScoreTest> = tests
+            .iter()
+            .filter(|t| !t.significant && t.statistic > 0.0)
+            .take(options.max_refits)
+            .collect();
+        for test in untried {
+            let Some(candidate) = library.iter().find(|c| c.name == test.name) else {
+                continue;
+            };
+            let (mut refit, fitted_term) = refit_candidate(
+                &mut engine,
+                candidate,
+                &base_fit,
+                &fitted,
+                options,
+                &before,
+                &mut cost,
+            )?;
+            let Some((predictions, fit)) = fitted_term else {
+                refits.push(refit);
+                continue;
+            };
+            let ratio = likelihood_ratio::likelihood_ratio(
+                &base_fit.residuals,
+                &fit.residuals,
+                &ranges,
+                fit.values.len(),
+                candidate.one_sided,
             );
+            // The variant of a term tried over a grid of a shape constant was chosen by its
+            // score on the same data: Bonferroni over the grid too, as for the score test.
+            let variants = library
+                .iter()
+                .filter(|c| c.group == candidate.group)
+                .count()
+                .max(1) as f64;
+            let p_value = (ratio.single_p_value * variants * terms).min(1.0);
+            let score_p = test.p_value;
+            if p_value < options.alpha {
+                refit.reason = format!(
+                    "score test p {score_p:.1e}, but its refit's likelihood ratio is \
+                     significant (drop {:.1}, T {:.1}, p {p_value:.1e}); {}",
+                    ratio.drop, ratio.statistic, refit.reason
+                );
+            } else {
+                refit.reason = format!(
+                    "score test p {score_p:.1e} and its refit's likelihood ratio p \
+                     {p_value:.1e} (drop {:.1}, T {:.1}): not significant at {}; {}",
+                    ratio.drop, ratio.statistic, options.alpha, refit.reason
+                );
+                refit.accepted = false;
+            }
+            refits.push(refit);
+            keep_best(&mut refits, &mut accepted, predictions);
         }
     }
 
