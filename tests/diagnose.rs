@@ -255,6 +255,53 @@ fn heating_that_turns_on_at_high_rate_is_found_with_its_window_and_taylor_quinne
 }
 
 #[test]
+fn a_second_thermal_softening_stage_is_found_and_located_by_temperature() {
+    // GOAL: name a strength drop that JC's 1 - T*^m cannot follow, with m fitted, and place
+    //       the misfit by temperature (issue: a real 4340 set with a sharp drop near 1000 K
+    //       was "outside the library" while m was fitted).
+    // SETUP: fixtures/diagnosis/thermal-drop (truth: JC times a 25 % drop over 840-960 K;
+    //        slow curves at 298-1073 K and fast ones at 298 and 673 K, 1 % noise); JC with
+    //        A, B, n, C, m fitted.
+    // REFERENCE: TRUTH.toml: a `thermal-drop-*` variant accepted (the grid's centres are
+    //        placed from the temperatures reached, none is the truth's 900 K); its refitted
+    //        drop within 0.15-0.35 of the truth's 0.25; the state-space reading organised
+    //        most by temperature; the reduced chi-square cut at least tenfold (the fixed
+    //        drop span of the grid is not the truth's, so not to 1).
+    let (diagnosis, work) = diagnose_case("thermal-drop", "check", "16", "16");
+    let accepted = diagnosis["accepted"].as_str().unwrap_or("none");
+    assert!(
+        accepted.starts_with("thermal-drop-"),
+        "accepted {accepted}: verdict {}",
+        diagnosis["verdict"]
+    );
+    assert_eq!(diagnosis["state_misfit"][0]["variable"], "temperature");
+    let refit = diagnosis["refits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["candidate"] == accepted)
+        .unwrap();
+    let drop = refit["assessment"]["constants"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c[0] == "strength.thermal.drop")
+        .unwrap()[1]
+        .as_f64()
+        .unwrap();
+    assert!((0.15..=0.35).contains(&drop), "drop {drop}");
+    let reduced = |a: &serde_json::Value| {
+        a["chi_square"].as_f64().unwrap() / a["residuals"].as_f64().unwrap()
+    };
+    let (before, after) = (reduced(&diagnosis["before"]), reduced(&refit["assessment"]));
+    assert!(
+        after < 0.1 * before,
+        "reduced chi-square {before} -> {after}"
+    );
+    let _ = std::fs::remove_dir_all(work);
+}
+
+#[test]
 fn a_zerilli_armstrong_material_fitted_with_johnson_cook_is_a_family_switch() {
     // GOAL: a misfit no term of the library explains, because the model's form is wrong, is
     //       named as the family to switch to (issue 15 item 1: "JC's separable form cannot
@@ -282,7 +329,7 @@ fn every_library_term_gives_back_the_current_model_at_its_null() {
     //        erosion act); every applicable term of the library at its null.
     // REFERENCE: the base model's predictions, bit for bit, for every experiment.
     use stoss::calibrate::Campaign;
-    use stoss::diagnose::candidates::library;
+    use stoss::diagnose::candidates::{library, Visited};
     use stoss::diagnose::hypothesis::Hypothesis;
     use stoss::solver::SolverSettings;
     let settings = SolverSettings {
@@ -307,7 +354,12 @@ fn every_library_term_gives_back_the_current_model_at_its_null() {
             .iter()
             .map(|e| realised.predict(e, &settings).unwrap())
             .collect();
-        let (candidates, _) = library(&base, &campaign, 0.5);
+        // Plastic flow from 298 to 773 K: the thermal drop's grid lies inside it.
+        let visited = Visited {
+            max_plastic_strain: 0.5,
+            temperatures: Some((298.0, 773.0)),
+        };
+        let (candidates, _) = library(&base, &campaign, &visited);
         for candidate in &candidates {
             let mut at_null = values.clone();
             at_null.push(candidate.null);
@@ -327,9 +379,10 @@ fn every_library_term_gives_back_the_current_model_at_its_null() {
             tested.insert(candidate.group.clone());
         }
     }
-    // Every term of the library (each heating-transition window included above) applies to
-    // one of the two cases (the friction case fixes m, so `thermal-softening` applies there).
-    assert_eq!(tested.len(), 10, "{tested:?}");
+    // Every term of the library (each heating-transition window and thermal-drop centre
+    // included above) applies to one of the two cases (the friction case fixes m, so
+    // `thermal-softening` applies there).
+    assert_eq!(tested.len(), 11, "{tested:?}");
 }
 
 #[test]

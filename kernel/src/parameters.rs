@@ -159,6 +159,8 @@ pub const SATURATION_RATE: Option<(f64, f64)> = Some((0.0, 2000.0));
 pub const RATE_SENSITIVITY: Option<(f64, f64)> = Some((0.0, 0.1));
 /// Search range of the thermal-softening exponent: `[0.5, 1.5]` (seed 000 section 4.1).
 pub const THERMAL_EXPONENT: Option<(f64, f64)> = Some((0.5, 1.5));
+/// Search range of a thermal drop's strength fraction: `[0, 0.9]`.
+pub const THERMAL_DROP: Option<(f64, f64)> = Some((0.0, 0.9));
 /// A constant held by convention (no default search range).
 pub const FIXED: Option<(f64, f64)> = None;
 

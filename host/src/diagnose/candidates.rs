@@ -10,6 +10,7 @@
 //! | `high-rate-upturn` | JC rate `1 + C ln e*` -> `(1 + C ln e*)(1 + deps_p/1000)^beta` | `beta` (0) |
 //! | `voce-saturation` | `A + B eps^n` -> `+ Q1 (1 - exp(-20 eps))` | `Q1` (0) |
 //! | `thermal-softening` | JC `1 - T*^m` with `m` fixed -> `m` fitted | `m` (its value) |
+//! | `thermal-drop-<Td>` | `1 - T*^m` -> `(1 - T*^m)(1 - d S(T))`, `S` a smooth step over `Td +- wd/2`: a second softening stage (`Td` over a grid inside the temperatures the experiments reach: one term) | `d` (0) |
 //! | `rate-temperature-coupling` | `C` -> `C (1 + kappa T*)` (ZA-like) | `kappa` (0) |
 //! | `anvil-friction` | Taylor anvil friction `mu` fitted | `mu` (its value, 0) |
 //! | `erosion` | elements erode at `eps_f = 1/gamma` | `gamma` (0) |
@@ -19,7 +20,9 @@
 //! Fixed shape constants (the upturn rate 1000 /s, the Voce rate 20) are the nuisance
 //! constants that a score test must fix (they are not identified at the null); the values are
 //! typical of armour steels and are named in the report. The heating transition's window is
-//! not fixed: its variants over a grid are tested as one term (see [`Candidate::group`]).
+//! not fixed: its variants over a grid are tested as one term (see [`Candidate::group`]); so is
+//! the thermal drop's centre, over [`DROP_CENTRES`] points spread inside the temperatures the
+//! experiments reach, each drop [`DROP_WIDTH_SPACINGS`] grid spacings wide.
 
 use super::hypothesis::{
     other_rate_treatment, Hypothesis, Parameter, ANVIL_FRICTION, EROSION_INTENSITY, LAGGED_MIXTURE,
@@ -57,6 +60,53 @@ pub fn transition_name(isothermal_rate: f64) -> String {
         rate(isothermal_rate),
         rate(isothermal_rate * TRANSITION_WIDTH)
     )
+}
+
+/// Centres of the thermal-drop variants: evenly inside the temperature range the experiments
+/// reach (at their plastic samples), `(k + 1/2) / DROP_CENTRES` of the way across.
+pub const DROP_CENTRES: usize = 5;
+/// Width of a thermal drop in grid spacings (adjacent variants overlap, so a drop between two
+/// centres is seen by both).
+pub const DROP_WIDTH_SPACINGS: f64 = 2.0;
+/// Smallest temperature range (K) over which a thermal drop is tried: below it the
+/// experiments cannot tell a drop from the softening exponent.
+pub const DROP_MINIMUM_RANGE: f64 = 100.0;
+
+/// What the current model's simulations reach, which places some terms' steps and grids.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Visited {
+    /// Largest plastic strain reached.
+    pub max_plastic_strain: f64,
+    /// Lowest and highest temperature at a plastically flowing sample (K), if any flowed.
+    pub temperatures: Option<(f64, f64)>,
+}
+
+impl Visited {
+    /// From the tracked states of the current model's outcomes.
+    pub fn from_outcomes(outcomes: &[Option<crate::experiment::Outcome>]) -> Self {
+        let samples = outcomes
+            .iter()
+            .flatten()
+            .flat_map(|o| o.states.iter())
+            .flat_map(|h| h.samples.iter());
+        let mut visited = Visited::default();
+        for sample in samples {
+            visited.max_plastic_strain = visited.max_plastic_strain.max(sample.plastic_strain);
+            if sample.plastic_strain > 0.0 && sample.temperature.is_finite() {
+                let t = sample.temperature;
+                visited.temperatures = Some(match visited.temperatures {
+                    None => (t, t),
+                    Some((low, high)) => (low.min(t), high.max(t)),
+                });
+            }
+        }
+        visited
+    }
+}
+
+/// The name of the thermal-drop variant centred at `temperature` (K), e.g. `thermal-drop-950K`.
+pub fn drop_name(temperature: f64) -> String {
+    format!("thermal-drop-{temperature:.0}K")
 }
 
 /// A candidate term, ready to test.
@@ -128,13 +178,15 @@ fn extend(
 }
 
 /// The library for `current` (the calibrated model with its fitted values written in).
-/// `max_plastic_strain` is the largest plastic strain the current model reaches in the
-/// experiments (it places the erosion term's finite-difference step).
+/// `visited` is what the current model reaches in the experiments (the largest plastic strain
+/// places the erosion term's finite-difference step, the temperature range the thermal drop's
+/// grid).
 pub fn library(
     current: &Hypothesis,
     campaign: &Campaign,
-    max_plastic_strain: f64,
+    visited: &Visited,
 ) -> (Vec<Candidate>, Vec<NotApplicable>) {
+    let max_plastic_strain = visited.max_plastic_strain;
     let mut candidates = Vec::new();
     let mut skipped = Vec::new();
     let mut skip = |name: &str, reason: String| {
@@ -204,6 +256,7 @@ pub fn library(
                 "high-rate-upturn",
                 "voce-saturation",
                 "thermal-softening",
+                "thermal-drop",
                 "rate-temperature-coupling",
             ] {
                 skip(
@@ -213,18 +266,7 @@ pub fn library(
             }
         }
         Some(strength) => {
-            let thermal_limits = match strength.thermal {
-                ThermalTerm::HomologousPower {
-                    reference_temperature,
-                    melting_temperature,
-                    ..
-                }
-                | ThermalTerm::Linear {
-                    reference_temperature,
-                    melting_temperature,
-                } => Some((reference_temperature, melting_temperature)),
-                ThermalTerm::None => None,
-            };
+            let thermal_limits = strength.thermal.temperature_limits();
             match strength.rate {
                 RateTerm::JohnsonCookLog {
                     rate_sensitivity,
@@ -355,6 +397,59 @@ pub fn library(
                     "thermal-softening",
                     "the thermal term is not 1 - T*^m".into(),
                 ),
+            }
+            match (strength.thermal, visited.temperatures) {
+                (
+                    ThermalTerm::HomologousPower {
+                        exponent,
+                        reference_temperature,
+                        melting_temperature,
+                    },
+                    Some((low, high)),
+                ) if high - low >= DROP_MINIMUM_RANGE => {
+                    let spacing = (high - low) / DROP_CENTRES as f64;
+                    for k in 0..DROP_CENTRES {
+                        let drop_temperature = low + (k as f64 + 0.5) * spacing;
+                        let drop_width = DROP_WIDTH_SPACINGS * spacing;
+                        let mut candidate = extend(
+                            current,
+                            &drop_name(drop_temperature),
+                            &format!(
+                                "a second thermal-softening stage (a strength drop around {drop_temperature:.0} K, over {:.0}-{:.0} K)",
+                                drop_temperature - 0.5 * drop_width,
+                                drop_temperature + 0.5 * drop_width
+                            ),
+                            Parameter {
+                                name: "strength.thermal.drop".into(),
+                                lower: 0.0,
+                                upper: 0.9,
+                            },
+                            0.0,
+                            0.1,
+                            |h| {
+                                if let StrengthSpec::Composed(c) = &mut h.material.strength {
+                                    c.thermal = ThermalTerm::HomologousPowerDrop {
+                                        exponent,
+                                        reference_temperature,
+                                        melting_temperature,
+                                        drop: 0.0,
+                                        drop_start_temperature: drop_temperature
+                                            - 0.5 * drop_width,
+                                        drop_end_temperature: drop_temperature
+                                            + 0.5 * drop_width,
+                                    };
+                                }
+                            },
+                        );
+                        candidate.group = "thermal-drop".into();
+                        candidates.push(candidate);
+                    }
+                }
+                (ThermalTerm::HomologousPower { .. }, _) => skip(
+                    "thermal-drop",
+                    format!("the experiments' plastic flow spans less than {DROP_MINIMUM_RANGE} K"),
+                ),
+                _ => skip("thermal-drop", "the thermal term is not 1 - T*^m".into()),
             }
         }
     }

@@ -504,16 +504,6 @@ fn try_alternatives(
 }
 
 /// Largest plastic strain in the outcomes' tracked states.
-fn max_plastic_strain(outcomes: &[Option<crate::experiment::Outcome>]) -> f64 {
-    outcomes
-        .iter()
-        .flatten()
-        .flat_map(|o| o.states.iter())
-        .flat_map(|h| h.samples.iter())
-        .map(|s| s.plastic_strain)
-        .fold(0.0, f64::max)
-}
-
 /// Full outcomes (tracked states, fields) of every experiment with `hypothesis` at its current
 /// values, for the locate step; `None` where a simulation fails.
 fn simulate_outcomes(
@@ -722,8 +712,11 @@ pub fn diagnose(
 
     engine.stage("score tests");
     let mark = engine.points;
-    let (library, not_applicable) =
-        candidates::library(&base, campaign, max_plastic_strain(&outcomes));
+    let (library, not_applicable) = candidates::library(
+        &base,
+        campaign,
+        &candidates::Visited::from_outcomes(&outcomes),
+    );
     let mut tests = score::score_tests(&mut engine, &library, &base_fit, &fitted, options.alpha)?;
     tests.sort_by(|a, b| {
         a.p_value

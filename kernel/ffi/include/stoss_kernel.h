@@ -66,7 +66,11 @@
 // card (it cannot hold the new codes), a version-1 block is not (its size differs).
 // Version 3 added RHT concrete ([`StossStrengthModel::Rht`], [`StossRht`] at the end of
 // [`StossStrength`]); version-1 and -2 cards are valid version-3 cards.
-#define STOSS_LAYOUT_VERSION 3
+// Version 4 added the thermal term with a second softening stage the diagnosis adds
+// ([`StossThermalModel::HomologousPowerDrop`]) and its three fields at the end of
+// [`StossThermalTerm`]; cards of versions 1 to 3 are valid version-4 cards (a card cannot hold
+// the new term).
+#define STOSS_LAYOUT_VERSION 4
 
 // Points of the tabulated-compaction EoS table in the block (the kernel's
 // `MAX_COMPACTION_POINTS`).
@@ -250,6 +254,10 @@ enum StossThermalModel
   STOSS_THERMAL_MODEL_HOMOLOGOUS_POWER = 2,
   // `1 - T*`.
   STOSS_THERMAL_MODEL_LINEAR = 3,
+  // `(1 - T*^m)(1 - d S(T))`: Johnson-Cook with a second softening stage (the fields
+  // `drop`, `drop_start_temperature`, `drop_end_temperature`; layout 4). Block only: a
+  // card has no slots for it.
+  STOSS_THERMAL_MODEL_HOMOLOGOUS_POWER_DROP = 4,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -490,6 +498,12 @@ typedef struct StossThermalTerm {
   double reference_temperature;
   // `Tm` (K).
   double melting_temperature;
+  // Strength fraction `d` lost in the drop (-), homologous power with drop.
+  double drop;
+  // Temperature `Ts` where the drop starts (K).
+  double drop_start_temperature;
+  // Temperature `Te` where the drop ends (K).
+  double drop_end_temperature;
 } StossThermalTerm;
 
 // A composed flow stress `hardening(eps_p) * rate(deps_p) * thermal(T)`.

@@ -30,7 +30,11 @@ use crate::status::{FfiError, StossStatus};
 /// card (it cannot hold the new codes), a version-1 block is not (its size differs).
 /// Version 3 added RHT concrete ([`StossStrengthModel::Rht`], [`StossRht`] at the end of
 /// [`StossStrength`]); version-1 and -2 cards are valid version-3 cards.
-pub const STOSS_LAYOUT_VERSION: u32 = 3;
+/// Version 4 added the thermal term with a second softening stage the diagnosis adds
+/// ([`StossThermalModel::HomologousPowerDrop`]) and its three fields at the end of
+/// [`StossThermalTerm`]; cards of versions 1 to 3 are valid version-4 cards (a card cannot hold
+/// the new term).
+pub const STOSS_LAYOUT_VERSION: u32 = 4;
 
 /// Points of the tabulated-compaction EoS table in the block (the kernel's
 /// `MAX_COMPACTION_POINTS`).
@@ -140,6 +144,10 @@ pub enum StossThermalModel {
     HomologousPower = 2,
     /// `1 - T*`.
     Linear = 3,
+    /// `(1 - T*^m)(1 - d S(T))`: Johnson-Cook with a second softening stage (the fields
+    /// `drop`, `drop_start_temperature`, `drop_end_temperature`; layout 4). Block only: a
+    /// card has no slots for it.
+    HomologousPowerDrop = 4,
 }
 
 /// Plastic-work heating (`StossMaterialBlock::heating_model`).
@@ -362,6 +370,12 @@ pub struct StossThermalTerm {
     pub reference_temperature: f64,
     /// `Tm` (K).
     pub melting_temperature: f64,
+    /// Strength fraction `d` lost in the drop (-), homologous power with drop.
+    pub drop: f64,
+    /// Temperature `Ts` where the drop starts (K).
+    pub drop_start_temperature: f64,
+    /// Temperature `Te` where the drop ends (K).
+    pub drop_end_temperature: f64,
 }
 
 /// A composed flow stress `hardening(eps_p) * rate(deps_p) * thermal(T)`.
@@ -739,7 +753,7 @@ code_enum!(
 code_enum!(
     StossThermalModel,
     "strength.composed.thermal_model",
-    [None, HomologousPower, Linear]
+    [None, HomologousPower, Linear, HomologousPowerDrop]
 );
 code_enum!(
     StossHeatingModel,
@@ -846,6 +860,14 @@ impl StossComposed {
             StossThermalModel::Linear => ThermalTerm::Linear {
                 reference_temperature: t.reference_temperature,
                 melting_temperature: t.melting_temperature,
+            },
+            StossThermalModel::HomologousPowerDrop => ThermalTerm::HomologousPowerDrop {
+                exponent: t.exponent,
+                reference_temperature: t.reference_temperature,
+                melting_temperature: t.melting_temperature,
+                drop: t.drop,
+                drop_start_temperature: t.drop_start_temperature,
+                drop_end_temperature: t.drop_end_temperature,
             },
         };
         Ok(ComposedStrength {
@@ -1502,6 +1524,7 @@ mod tests {
                 exponent: 1.03,
                 reference_temperature: 298.0,
                 melting_temperature: 1793.0,
+                ..StossThermalTerm::default()
             },
         };
         assert_eq!(block.to_material().unwrap().strength, expected);

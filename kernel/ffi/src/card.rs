@@ -6,7 +6,7 @@
 //!
 //! | P | meaning |
 //! |---|---|
-//! | 1 | card layout version (`STOSS_LAYOUT_VERSION` = 2; version-1 cards are read too) |
+//! | 1 | card layout version (`STOSS_LAYOUT_VERSION` = 4; cards of versions 1 to 3 are read too) |
 //! | 2 | reference density `rho0` (kg/m^3) |
 //! | 3 | shear modulus `G` (Pa) — LS-DYNA `IG = 3` |
 //! | 4 | bulk modulus `K` (Pa) — LS-DYNA `IBULK = 4`; the linear EoS's `K`, otherwise the initial EoS slope (informative, must be > 0) |
@@ -308,6 +308,15 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
                         r.coupling_melting_temperature,
                     ] = [s[15], s[16]];
                 }
+            }
+            if StossThermalModel::from_code(p.thermal_model)?
+                == StossThermalModel::HomologousPowerDrop
+            {
+                return Err(slot_error(
+                    STRENGTH + 2,
+                    "composed thermal model",
+                    "the thermal drop's three constants have no card slots (use the block)",
+                ));
             }
             let t = &mut p.thermal;
             [t.exponent, t.reference_temperature, t.melting_temperature] = [s[14], s[15], s[16]];
@@ -627,6 +636,13 @@ pub fn card_from_block(
                 StossThermalModel::Linear => {
                     s[15..17].copy_from_slice(&[t.reference_temperature, t.melting_temperature]);
                 }
+                StossThermalModel::HomologousPowerDrop => {
+                    return Err(slot_error(
+                        STRENGTH + 2,
+                        "composed thermal model",
+                        "the thermal drop's three constants have no card slots (use the block)",
+                    ));
+                }
             }
             // The log-thermal rate term's T* shares the thermal term's slots P40, P41.
             if StossRateModel::from_code(p.rate_model)? == StossRateModel::LogThermal {
@@ -768,6 +784,7 @@ mod tests {
                 exponent: jc.thermal_exponent,
                 reference_temperature: jc.reference_temperature,
                 melting_temperature: jc.melting_temperature,
+                ..StossThermalTerm::default()
             },
         };
         block.strength.composed = composed(
@@ -805,10 +822,73 @@ mod tests {
         card[0] = 1.0;
         let parsed = block_from_card(&card[..length]).unwrap();
         assert_eq!(parsed.to_material().unwrap(), Material::STEEL_4340);
-        card[0] = 4.0;
+        card[0] = f64::from(STOSS_LAYOUT_VERSION + 1);
         assert_eq!(
             block_from_card(&card[..length]).unwrap_err().status,
             StossStatus::BadLayoutVersion
+        );
+    }
+
+    #[test]
+    fn the_thermal_drop_goes_through_the_block_and_a_card_refuses_it() {
+        // GOAL: the thermal term with a second softening stage that the diagnosis adds
+        //       (layout 4) reaches a foreign code through the block; a card, which has no
+        //       slots for its three constants, refuses it by name instead of dropping them.
+        // SETUP: 4340's JC as composed terms with a 25 % drop over 840-960 K.
+        // REFERENCE: the kernel material, through block -> material -> block; the card's
+        //            error names P27 (the composed thermal model) in both directions.
+        let jc = stoss_kernel::strength::JohnsonCook::STEEL_4340;
+        let mut block = StossMaterialBlock::steel_4340();
+        block.strength_model = StossStrengthModel::Composed as i32;
+        block.strength.composed = StossComposed {
+            hardening_model: StossHardeningModel::Power as i32,
+            rate_model: StossRateModel::JohnsonCookLog as i32,
+            thermal_model: StossThermalModel::HomologousPowerDrop as i32,
+            reserved: 0,
+            hardening: StossHardening {
+                yield_stress: jc.yield_stress,
+                hardening_modulus: jc.hardening_modulus,
+                exponent: jc.hardening_exponent,
+                ..StossHardening::default()
+            },
+            rate: StossRateTerm {
+                rate_sensitivity: jc.rate_sensitivity,
+                reference_rate: jc.reference_rate,
+                ..StossRateTerm::default()
+            },
+            thermal: StossThermalTerm {
+                exponent: jc.thermal_exponent,
+                reference_temperature: jc.reference_temperature,
+                melting_temperature: jc.melting_temperature,
+                drop: 0.25,
+                drop_start_temperature: 840.0,
+                drop_end_temperature: 960.0,
+            },
+        };
+        let material = block.to_material().unwrap();
+        let (exported, _) =
+            crate::export::from_material(&material, block.initial_temperature).unwrap();
+        assert_eq!(exported.to_material().unwrap(), material);
+        assert_eq!(exported.strength.composed, block.strength.composed);
+        let error = card_from_block(&block).unwrap_err();
+        assert!(
+            error
+                .message
+                .starts_with("card P27 (composed thermal model)"),
+            "{}",
+            error.message
+        );
+        let mut plain = block;
+        plain.strength.composed.thermal_model = StossThermalModel::HomologousPower as i32;
+        let (mut card, length) = card_from_block(&plain).unwrap();
+        card[STRENGTH + 2] = f64::from(StossThermalModel::HomologousPowerDrop as i32);
+        let error = block_from_card(&card[..length]).unwrap_err();
+        assert!(
+            error
+                .message
+                .starts_with("card P27 (composed thermal model)"),
+            "{}",
+            error.message
         );
     }
 
@@ -844,6 +924,7 @@ mod tests {
                 exponent: 0.0,
                 reference_temperature: 293.0,
                 melting_temperature: 1800.0,
+                ..StossThermalTerm::default()
             },
         };
         round_trip(&block);
@@ -910,7 +991,7 @@ mod tests {
         assert!(short.message.contains("at least 41"), "{}", short.message);
 
         let mut bad = card;
-        bad[0] = 4.0;
+        bad[0] = f64::from(STOSS_LAYOUT_VERSION + 1);
         assert_eq!(
             block_from_card(&bad[..length]).unwrap_err().status,
             StossStatus::BadLayoutVersion

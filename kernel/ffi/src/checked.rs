@@ -903,7 +903,7 @@ mod tests {
         );
         assert_eq!(call.hsv, before);
         let mut call = umat(2);
-        call.card[0] = 4.0;
+        call.card[0] = f64::from(crate::block::STOSS_LAYOUT_VERSION + 1);
         assert_eq!(update_umat(&mut call).status, StossStatus::BadLayoutVersion);
         let mut call = umat(2);
         call.nhv = 7;

@@ -351,8 +351,27 @@ fn composed_block(composed: &ComposedStrength) -> StossComposed {
                 exponent,
                 reference_temperature,
                 melting_temperature,
+                ..StossThermalTerm::default()
             };
             StossThermalModel::HomologousPower
+        }
+        ThermalTerm::HomologousPowerDrop {
+            exponent,
+            reference_temperature,
+            melting_temperature,
+            drop,
+            drop_start_temperature,
+            drop_end_temperature,
+        } => {
+            c.thermal = StossThermalTerm {
+                exponent,
+                reference_temperature,
+                melting_temperature,
+                drop,
+                drop_start_temperature,
+                drop_end_temperature,
+            };
+            StossThermalModel::HomologousPowerDrop
         }
         ThermalTerm::Linear {
             reference_temperature,
@@ -362,6 +381,7 @@ fn composed_block(composed: &ComposedStrength) -> StossComposed {
                 exponent: 0.0,
                 reference_temperature,
                 melting_temperature,
+                ..StossThermalTerm::default()
             };
             StossThermalModel::Linear
         }

@@ -276,7 +276,10 @@ fn layout_version_and_size_are_checked_before_the_block_is_read() {
     block.layout_version = 1;
     let (status, message) = validate(&block);
     assert_eq!(status, StossStatus::BadLayoutVersion);
-    assert!(message.contains("expects 3"), "{message}");
+    assert!(
+        message.contains(&format!("expects {STOSS_LAYOUT_VERSION}")),
+        "{message}"
+    );
 
     let mut block = defaults();
     block.struct_size = 16;
@@ -753,7 +756,7 @@ fn rht_concrete_runs_through_the_batch_bit_for_bit_and_round_trips_its_card() {
 
     let (card, length) = write_card(&block);
     assert_eq!(length, 41 + 11, "P1..P41 and the P-alpha section");
-    assert_eq!(card[0], 3.0);
+    assert_eq!(card[0], f64::from(STOSS_LAYOUT_VERSION));
     assert_eq!(card[6], 7.0, "strength code RHT");
     assert_eq!(card[20], 92.0e6, "f'c at P21");
     let parsed = read_card(&card[..length]);

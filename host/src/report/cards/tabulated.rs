@@ -29,7 +29,7 @@ use super::{bulk_modulus, field, line, young_and_poisson};
 use crate::input::material::MaterialFile;
 use std::fmt::Write as _;
 use stoss_kernel::parameters::ConstantPaths;
-use stoss_kernel::strength::{Strength, ThermalTerm};
+use stoss_kernel::strength::Strength;
 use stoss_kernel::Heating;
 
 /// Flow stress on a grid of plastic strain, `ln(rate)` and temperature.
@@ -73,20 +73,27 @@ const LARGEST_PLASTIC_STRAIN: f64 = 5.0;
 /// The reference and melting temperature of the model's thermal term, if it has them.
 fn temperature_range(strength: &Strength) -> (f64, f64) {
     match strength {
-        Strength::Composed(model) => match model.thermal {
-            ThermalTerm::HomologousPower {
-                reference_temperature,
-                melting_temperature,
-                ..
-            }
-            | ThermalTerm::Linear {
-                reference_temperature,
-                melting_temperature,
-            } => (reference_temperature, melting_temperature),
-            ThermalTerm::None => DEFAULT_TEMPERATURES,
-        },
+        Strength::Composed(model) => model
+            .thermal
+            .temperature_limits()
+            .unwrap_or(DEFAULT_TEMPERATURES),
         Strength::ZerilliArmstrong(_) => DEFAULT_TEMPERATURES,
     }
+}
+
+/// The temperatures the table samples: the homologous fractions [`HOMOLOGOUS`] of the model's
+/// range, and a thermal drop's knots inside it, in increasing order.
+fn sampled_temperatures(strength: &Strength) -> Vec<f64> {
+    let (cold, hot) = temperature_range(strength);
+    let mut temperatures: Vec<f64> = HOMOLOGOUS.iter().map(|h| cold + h * (hot - cold)).collect();
+    if let Strength::Composed(model) = strength {
+        if let Some(knots) = model.thermal.knots() {
+            temperatures.extend(knots.iter().filter(|t| **t > cold && **t < hot));
+            temperatures.sort_by(f64::total_cmp);
+            temperatures.dedup();
+        }
+    }
+    temperatures
 }
 
 /// The reference rates among the model's constants (unit 1/s), which a rate term has a kink
@@ -103,7 +110,8 @@ fn reference_rates(file: &MaterialFile) -> Vec<f64> {
 impl FlowTable {
     /// Sample `strength` on stoss's grid: plastic strain 0 and `1e-6 * 2^(k/2)` up to 5;
     /// rates two per decade from 1e-4 to 1e5 /s with `extra_rates` inserted; temperatures at
-    /// the homologous fractions [`HOMOLOGOUS`] of the model's range.
+    /// the homologous fractions [`HOMOLOGOUS`] of the model's range and a thermal drop's
+    /// knots.
     pub fn sample(strength: &Strength, extra_rates: &[f64]) -> Self {
         let mut plastic_strains = vec![0.0];
         let mut k = 0;
@@ -127,8 +135,7 @@ impl FlowTable {
         }
         ln_rates.sort_by(f64::total_cmp);
         ln_rates.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-        let (cold, hot) = temperature_range(strength);
-        let temperatures: Vec<f64> = HOMOLOGOUS.iter().map(|h| cold + h * (hot - cold)).collect();
+        let temperatures = sampled_temperatures(strength);
         let values = temperatures
             .iter()
             .map(|&t| {
@@ -684,7 +691,7 @@ mod tests {
                 rate_constant: 4.0e4,
                 exponent: 5.0,
             },
-            thermal: ThermalTerm::Linear {
+            thermal: stoss_kernel::strength::ThermalTerm::Linear {
                 reference_temperature: 298.0,
                 melting_temperature: 1793.0,
             },
@@ -747,6 +754,20 @@ mod tests {
                 StrengthSpec::Composed(coupled),
             ),
             ("voce-cowper-symonds-linear", StrengthSpec::Composed(voce)),
+            (
+                "jc-thermal-drop",
+                StrengthSpec::Composed(ComposedStrength {
+                    thermal: stoss_kernel::strength::ThermalTerm::HomologousPowerDrop {
+                        exponent: 1.03,
+                        reference_temperature: 298.0,
+                        melting_temperature: 1793.0,
+                        drop: 0.25,
+                        drop_start_temperature: 840.0,
+                        drop_end_temperature: 960.0,
+                    },
+                    ..upturn
+                }),
+            ),
         ];
         specs
             .into_iter()
