@@ -176,6 +176,51 @@ fn control_case_raises_no_false_alarm() {
 }
 
 #[test]
+fn a_control_fitted_with_another_reference_rate_raises_no_false_alarm() {
+    // GOAL: a tester's control, fitted by JC with the reference rate 1e-3 /s instead of the
+    //       truth's 1 /s, made the diagnosis accept a high-rate upturn (a false alarm). JC's
+    //       rate term is flat below its reference rate, so the two are different models, and
+    //       the 1e-3 /s one cannot follow a truth whose rate sensitivity starts at 1 /s: the
+    //       diagnosis may say the model misses, but must not name a physics term for it.
+    // SETUP: fixtures/diagnosis/control with `reference_rate = 1.0e-3` in start.toml;
+    //        calibrated (16 + 16) and diagnosed as the other cases.
+    // REFERENCE: no term and no family accepted.
+    let work = temporary("control-reference-rate");
+    let copy = work.join("case");
+    copy_without_truth(&fixtures().join("control"), &copy);
+    let start = std::fs::read_to_string(copy.join("start.toml")).unwrap();
+    assert!(start.contains("reference_rate = 1.0\n"));
+    std::fs::write(
+        copy.join("start.toml"),
+        start.replace("reference_rate = 1.0\n", "reference_rate = 1.0e-3\n"),
+    )
+    .unwrap();
+    let calibration = work.join("calibration");
+    stoss(&[
+        "calibrate",
+        copy.join("campaign.toml").to_str().unwrap(),
+        "--output",
+        calibration.to_str().unwrap(),
+        "--budget",
+        "16",
+        "--polish",
+        "16",
+        "--instances",
+        "1",
+    ]);
+    stoss(&["diagnose", calibration.to_str().unwrap()]);
+    let json = std::fs::read_to_string(calibration.join("diagnosis/diagnosis.json")).unwrap();
+    let diagnosis: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(
+        diagnosis["accepted"].is_null(),
+        "accepted {}: {}",
+        diagnosis["accepted"],
+        diagnosis["verdict"]
+    );
+    let _ = std::fs::remove_dir_all(work);
+}
+
+#[test]
 fn concealed_adiabatic_heating_is_found() {
     // GOAL: name adiabatic heating when the starting model is isothermal.
     // SETUP: fixtures/diagnosis/heating (truth: JC with adiabatic heating chi 0.9; start:

@@ -1,9 +1,10 @@
 //! Simulations to reach a target error on the synthetic flow-curve campaign
 //! (fixtures/campaigns/synthetic-flow.toml: JC, 5 constants, known truth), for the Bayesian
 //! optimiser, random Latin hypercube sampling and CMA-ES, over 10 seeds; median and
-//! quartiles. The target is 1.5 x the error of the truth itself (0.235, the noise floor).
-//! Run: `cargo bench -p stoss --bench calibration`. The optimisers see ln(error), as in
-//! `stoss calibrate`.
+//! quartiles. The target is 1.5 x the error of the truth itself (0.235, the noise floor), or
+//! `TARGET_FACTOR` x it (issue 15 asks for 1.1).
+//! Run: `cargo bench -p stoss --bench calibration` (`TARGET_FACTOR=1.1 cargo bench ...`). The
+//! optimisers see ln(error), as in `stoss calibrate`.
 
 use std::path::Path;
 use stoss::calibrate::{evaluate, Campaign};
@@ -76,7 +77,12 @@ fn main() {
     };
     let objective =
         |x: &[f64]| evaluate(&campaign, &space, x, &fitted, &settings).total(&campaign, &fitted);
-    let target = 1.5 * 0.2352;
+    let factor: f64 = std::env::var("TARGET_FACTOR")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .filter(|f: &f64| *f > 1.0)
+        .unwrap_or(1.5);
+    let target = factor * 0.2352;
     let pairs: Vec<(f64, f64)> = space
         .lower
         .iter()
