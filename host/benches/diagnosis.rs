@@ -135,6 +135,7 @@ fn main() {
                         instances: Some(1),
                         leave_one_out: Some(stoss::calibrate::campaign::LeaveOneOut::Off),
                         polish: Some(polish),
+                        least_squares: None,
                     },
                     &mut Local::new(campaign.file.optimiser.parallel).expect("thread pool"),
                     &factory,

@@ -162,6 +162,11 @@ pub struct OptimiserEntry {
     /// the Bayesian budget; 0 disables).
     #[serde(default)]
     pub polish: Option<usize>,
+    /// Levenberg-Marquardt iterations of the least-squares finish from each instance's best
+    /// point (the diagnosis' bounded fit on the whitened residuals), after the polish; 0 (the
+    /// default) disables it. Not in warm-started leave-one-out folds. J2 metals only.
+    #[serde(default)]
+    pub least_squares: Option<usize>,
     /// Points of the initial Latin hypercube (default `3 x` the number of fitted constants,
     /// seed 000 sec. 4.1; at most the budget).
     #[serde(default)]
@@ -249,6 +254,7 @@ impl Default for OptimiserEntry {
             parallel: default_parallel(),
             leave_one_out: LeaveOneOut::Off,
             polish: None,
+            least_squares: None,
             design: None,
             fold_budget: None,
             uncertainty: UncertaintyFor::Every,

@@ -10,7 +10,7 @@ use super::log::{Entry, Key, LogError, SimulationLog};
 use super::objective::{Evaluation, Status};
 use super::polish::NelderMead;
 use serde::{Deserialize, Serialize};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// An ask/tell optimiser over a model's box of constants (physical units).
 pub trait Proposer {
@@ -287,6 +287,9 @@ pub enum CalibrateError {
     /// The executor (Slurm) could not run the simulations.
     #[error("executor: {0}")]
     Executor(String),
+    /// The least-squares finish could not start (its log or thread pool).
+    #[error("least-squares finish: {0}")]
+    LeastSquares(String),
 }
 
 /// The tail of [`CalibrateError::NoFeasibleCandidate`]'s message: why the first candidate
@@ -312,6 +315,8 @@ pub struct RunOptions {
     pub leave_one_out: Option<LeaveOneOut>,
     /// Override of the polish budget.
     pub polish: Option<usize>,
+    /// Override of the least-squares finish's iterations.
+    pub least_squares: Option<usize>,
 }
 
 /// The running record of one instance: the best candidate, the convergence history and the
@@ -372,7 +377,10 @@ struct Runner<'a> {
     budget: usize,
     batch: usize,
     polish: usize,
+    least_squares: usize,
     fold_budget: Option<usize>,
+    /// Where the least-squares finishes log their simulations (for resume).
+    output: PathBuf,
 }
 
 impl Runner<'_> {
@@ -431,6 +439,47 @@ impl Runner<'_> {
         Ok(results.into_iter().flatten().collect())
     }
 
+    /// The constants (in the model space's order) that `iterations` of the bounded
+    /// Levenberg-Marquardt fit reach from `start` on the whitened residuals of `experiments`
+    /// ([`crate::diagnose::fit::levenberg_marquardt`]), its simulations logged to
+    /// `least-squares-<model>-<fold>-<instance>.jsonl` in the output folder (a resumed run
+    /// replays them). `None` when the model is not a J2 metal or the fit fails: the finish is
+    /// then skipped, not the calibration.
+    fn least_squares_finish(
+        &mut self,
+        space: &ModelSpace,
+        fold: Option<&str>,
+        instance: usize,
+        experiments: &[usize],
+        start: &[f64],
+        iterations: usize,
+    ) -> Result<Option<Vec<f64>>, CalibrateError> {
+        use crate::diagnose::{engine::Engine, fit::levenberg_marquardt, hypothesis::Hypothesis};
+        let Ok(hypothesis) = Hypothesis::base(self.campaign, space, start) else {
+            return Ok(None);
+        };
+        let Ok(values) = hypothesis.values() else {
+            return Ok(None);
+        };
+        let fold_name: String = fold
+            .unwrap_or("all")
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+            .collect();
+        let log = self.output.join(format!(
+            "least-squares-{}-{fold_name}-{instance}.jsonl",
+            space.name
+        ));
+        let mut quiet = |_: crate::diagnose::Progress<'_>| {};
+        let mut engine = Engine::new(self.campaign, self.batch.max(1), Some(&log), &mut quiet)
+            .map_err(|e| CalibrateError::LeastSquares(e.to_string()))?;
+        Ok(
+            levenberg_marquardt(&mut engine, &hypothesis, &values, experiments, iterations)
+                .ok()
+                .map(|fit| fit.values),
+        )
+    }
+
     /// One optimisation instance on `experiments`. `warm` are earlier simulations of the same
     /// model (every fitted experiment scored): when given, the instance starts from them
     /// (told to the proposer, offered as its best) and runs `fold_budget` new simulations
@@ -458,17 +507,19 @@ impl Runner<'_> {
                 None
             }
         };
-        let (warm, budget, polish): (Vec<(&Evaluation, Option<f64>)>, usize, usize) =
-            match self.fold_budget {
-                Some(fresh) if !warm.is_empty() => (
-                    warm.iter()
-                        .map(|e| (e, value_of(self.campaign, e)))
-                        .collect(),
-                    fresh,
-                    0,
-                ),
-                _ => (Vec::new(), self.budget, self.polish),
-            };
+        // A warm-started fold runs its fresh simulations only: no polish, no finish.
+        let warm_fold = self.fold_budget.is_some() && !warm.is_empty();
+        let warm: Vec<(&Evaluation, Option<f64>)> = if warm_fold {
+            warm.iter()
+                .map(|e| (e, value_of(self.campaign, e)))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let (budget, polish, least_squares) = match self.fold_budget {
+            Some(fresh) if warm_fold => (fresh, 0, 0),
+            _ => (self.budget, self.polish, self.least_squares),
+        };
         let mut proposer = (self.factory)(space, warm.len() + budget, self.batch, seed);
         let mut tally = Tally::default();
         if !warm.is_empty() {
@@ -487,7 +538,7 @@ impl Runner<'_> {
         let mut index = 0;
         // The total counts the polish from the start, so a bar never runs past it; the
         // instance is announced before its initial design runs.
-        let total = budget + polish;
+        let total = budget + polish + usize::from(least_squares > 0);
         (self.progress)(&space.name, fold, instance, 0, total, None);
         while index < budget {
             let mut points = proposer.ask();
@@ -588,6 +639,50 @@ impl Runner<'_> {
                 );
             }
         }
+        // Least-squares finish from the best point: the diagnosis' bounded Levenberg-Marquardt
+        // on the whitened residuals (its simulations logged beside the calibration's), its
+        // result then scored as a candidate like any other.
+        if let (Some(start), true) = (
+            tally.best.as_ref().map(|(e, _)| e.values.clone()),
+            least_squares > 0,
+        ) {
+            if let Some(finished) = self.least_squares_finish(
+                space,
+                fold,
+                instance,
+                experiments,
+                &start,
+                least_squares,
+            )? {
+                let key = Key {
+                    model: space.name.clone(),
+                    fold: fold.map(str::to_string),
+                    instance,
+                    index,
+                };
+                let evaluation = self
+                    .evaluate_batch(
+                        &[key],
+                        std::slice::from_ref(&finished),
+                        space,
+                        experiments,
+                        seed,
+                    )?
+                    .remove(0);
+                let value = value_of(self.campaign, &evaluation);
+                seen.push(evaluation.clone());
+                tally.record(evaluation, value);
+                index += 1;
+                (self.progress)(
+                    &space.name,
+                    fold,
+                    instance,
+                    index,
+                    total,
+                    tally.best_value(),
+                );
+            }
+        }
         let Tally {
             best,
             history,
@@ -647,7 +742,12 @@ pub fn calibrate<'a>(
             .polish
             .or(optimiser.polish)
             .unwrap_or(options.budget.unwrap_or(optimiser.budget) / 2),
+        least_squares: options
+            .least_squares
+            .or(optimiser.least_squares)
+            .unwrap_or(0),
         fold_budget: optimiser.fold_budget,
+        output: output.to_path_buf(),
     };
     let instances = options.instances.unwrap_or(optimiser.instances);
     let leave_one_out = options.leave_one_out.unwrap_or(optimiser.leave_one_out);

@@ -39,6 +39,10 @@ pub struct CalibrateArgs {
     /// Override the campaign's Nelder-Mead polish budget.
     #[arg(long)]
     pub polish: Option<usize>,
+    /// Levenberg-Marquardt iterations of a least-squares finish from each instance's best
+    /// point (overrides the campaign's `least_squares`; 0 disables).
+    #[arg(long)]
+    pub least_squares: Option<usize>,
     /// No progress output (the bar on a terminal, the progress lines otherwise).
     #[arg(long)]
     pub quiet: bool,
@@ -169,6 +173,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             .leave_one_out
             .then_some(crate::calibrate::campaign::LeaveOneOut::Every),
         polish: args.polish,
+        least_squares: args.least_squares,
     };
     println!(
         "campaign: {} ({} experiments, {} fitted; {} model(s))",
