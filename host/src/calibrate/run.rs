@@ -319,6 +319,17 @@ pub struct RunOptions {
     pub least_squares: Option<usize>,
 }
 
+/// Where an instance's candidates go: its model space, fold, number, experiments, seed and
+/// the progress bar's total.
+struct Place<'p> {
+    space: &'p ModelSpace,
+    fold: Option<&'p str>,
+    instance: usize,
+    experiments: &'p [usize],
+    seed: u64,
+    total: usize,
+}
+
 /// The running record of one instance: the best candidate, the convergence history and the
 /// counts of simulated and failed candidates.
 #[derive(Default)]
@@ -437,6 +448,51 @@ impl Runner<'_> {
             results[i] = Some(evaluation);
         }
         Ok(results.into_iter().flatten().collect())
+    }
+
+    /// Simulate one candidate `point` of the instance at `place` as its `index`-th (logged,
+    /// reused on resume), record it in `tally` and `seen`, advance `index` and report
+    /// progress. Returns its objective value (`None`: failed or infeasible).
+    fn score_one(
+        &mut self,
+        place: &Place<'_>,
+        index: &mut usize,
+        point: &[f64],
+        tally: &mut Tally,
+        seen: &mut Vec<Evaluation>,
+    ) -> Result<Option<f64>, CalibrateError> {
+        let key = Key {
+            model: place.space.name.clone(),
+            fold: place.fold.map(str::to_string),
+            instance: place.instance,
+            index: *index,
+        };
+        let evaluation = self
+            .evaluate_batch(
+                &[key],
+                &[point.to_vec()],
+                place.space,
+                place.experiments,
+                place.seed,
+            )?
+            .remove(0);
+        let value = if evaluation.status == Status::Ok {
+            evaluation.total(self.campaign, place.experiments)
+        } else {
+            None
+        };
+        seen.push(evaluation.clone());
+        tally.record(evaluation, value);
+        *index += 1;
+        (self.progress)(
+            &place.space.name,
+            place.fold,
+            place.instance,
+            *index,
+            place.total,
+            tally.best_value(),
+        );
+        Ok(value)
     }
 
     /// The constants (in the model space's order) that `iterations` of the bounded
@@ -583,6 +639,14 @@ impl Runner<'_> {
                 tally.best_value(),
             );
         }
+        let place = Place {
+            space,
+            fold,
+            instance,
+            experiments,
+            seed,
+            total,
+        };
         // Nelder-Mead polish from the best point, one candidate at a time.
         if let (Some((start, start_value)), true) = (
             tally.best.as_ref().map(|(e, v)| (e.values.clone(), *v)),
@@ -609,34 +673,8 @@ impl Runner<'_> {
                     .zip(&span)
                     .map(|((u, l), s)| l + u * s)
                     .collect();
-                let key = Key {
-                    model: space.name.clone(),
-                    fold: fold.map(str::to_string),
-                    instance,
-                    index,
-                };
-                let evaluation = self
-                    .evaluate_batch(
-                        &[key],
-                        std::slice::from_ref(&point),
-                        space,
-                        experiments,
-                        seed,
-                    )?
-                    .remove(0);
-                let value = value_of(self.campaign, &evaluation);
-                seen.push(evaluation.clone());
-                tally.record(evaluation, value);
+                let value = self.score_one(&place, &mut index, &point, &mut tally, seen)?;
                 simplex.tell(value);
-                index += 1;
-                (self.progress)(
-                    &space.name,
-                    fold,
-                    instance,
-                    index,
-                    total,
-                    tally.best_value(),
-                );
             }
         }
         // Least-squares finish from the best point: the diagnosis' bounded Levenberg-Marquardt
@@ -654,33 +692,7 @@ impl Runner<'_> {
                 &start,
                 least_squares,
             )? {
-                let key = Key {
-                    model: space.name.clone(),
-                    fold: fold.map(str::to_string),
-                    instance,
-                    index,
-                };
-                let evaluation = self
-                    .evaluate_batch(
-                        &[key],
-                        std::slice::from_ref(&finished),
-                        space,
-                        experiments,
-                        seed,
-                    )?
-                    .remove(0);
-                let value = value_of(self.campaign, &evaluation);
-                seen.push(evaluation.clone());
-                tally.record(evaluation, value);
-                index += 1;
-                (self.progress)(
-                    &space.name,
-                    fold,
-                    instance,
-                    index,
-                    total,
-                    tally.best_value(),
-                );
+                self.score_one(&place, &mut index, &finished, &mut tally, seen)?;
             }
         }
         let Tally {
