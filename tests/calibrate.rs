@@ -104,6 +104,47 @@ fn a_least_squares_finish_reaches_the_noise_floor_after_ten_bayesian_simulations
 }
 
 #[test]
+fn the_noise_floor_stop_rule_ends_an_instance_once_its_fit_is_within_the_noise() {
+    // GOAL: with `stop_at_noise_floor`, an instance stops spending simulations once its best
+    //       candidate fits the recordings as well as their noise allows.
+    // SETUP: fixtures/campaigns/synthetic-flow.toml, 60 Bayesian + 120 polish simulations,
+    //        the rule on and off.
+    // REFERENCE: the rule's own bound, chi-square <= nu + 2 sqrt(2 nu) (nu = points less the
+    //        five constants), met by the selected candidate; fewer simulations than the
+    //        180 the same run spends without the rule.
+    let mut campaign = Campaign::load(&fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
+    campaign.file.optimiser.stop_at_noise_floor = true;
+    let output = temporary("noise-floor");
+    let factory = bayesian_factory(None);
+    let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
+    let result = calibrate(
+        &campaign,
+        &output,
+        &options(60, 120, false),
+        &mut local(&campaign),
+        &factory,
+        &mut progress,
+    )
+    .unwrap()
+    .remove(0);
+    let fitted = campaign.fitted();
+    let (chi_square, points) = fitted.iter().fold((0.0, 0usize), |(c, n), &i| {
+        let score = result.selected.scores[i].unwrap();
+        let count = campaign.experiments[i].recording.len();
+        (c + score.chi * score.chi * count as f64, n + count)
+    });
+    let nu = (points - 5) as f64;
+    assert!(
+        chi_square <= nu + 2.0 * (2.0 * nu).sqrt(),
+        "chi-square {chi_square} over {nu} degrees of freedom"
+    );
+    let simulated = result.instances[0].simulated;
+    println!("stopped after {simulated} simulations, chi-square {chi_square:.1} (nu {nu})");
+    assert!(simulated < 180, "{simulated} simulations");
+    std::fs::remove_dir_all(&output).unwrap();
+}
+
+#[test]
 fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
     // GOAL: calibration recovers the truth's stress-strain response within the noise.
     // SETUP: fixtures/campaigns/synthetic-flow.toml (four JC flow curves of a known truth,

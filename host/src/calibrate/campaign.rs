@@ -167,6 +167,12 @@ pub struct OptimiserEntry {
     /// default) disables it. Not in warm-started leave-one-out folds. J2 metals only.
     #[serde(default)]
     pub least_squares: Option<usize>,
+    /// End an instance's Bayesian phase and polish as soon as its best candidate fits the
+    /// fitted experiments within their recorded noise: a chi-square of the whitened residuals
+    /// at most `nu + 2 sqrt(2 nu)` for `nu = points - constants` (two standard deviations above
+    /// the noise's own expectation). Default `false`.
+    #[serde(default)]
+    pub stop_at_noise_floor: bool,
     /// Points of the initial Latin hypercube (default `3 x` the number of fitted constants,
     /// seed 000 sec. 4.1; at most the budget).
     #[serde(default)]
@@ -255,6 +261,7 @@ impl Default for OptimiserEntry {
             leave_one_out: LeaveOneOut::Off,
             polish: None,
             least_squares: None,
+            stop_at_noise_floor: false,
             design: None,
             fold_budget: None,
             uncertainty: UncertaintyFor::Every,

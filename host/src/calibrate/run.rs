@@ -389,6 +389,7 @@ struct Runner<'a> {
     batch: usize,
     polish: usize,
     least_squares: usize,
+    stop_at_noise_floor: bool,
     fold_budget: Option<usize>,
     /// Where the least-squares finishes log their simulations (for resume).
     output: PathBuf,
@@ -448,6 +449,28 @@ impl Runner<'_> {
             results[i] = Some(evaluation);
         }
         Ok(results.into_iter().flatten().collect())
+    }
+
+    /// Whether `tally`'s best candidate fits `experiments` within their recorded noise (the
+    /// stop rule `stop_at_noise_floor`): the chi-square of its whitened residuals, from each
+    /// experiment's RMS `chi` and point count, at most `nu + 2 sqrt(2 nu)` with `nu` the
+    /// points less the `constants` fitted.
+    fn at_noise_floor(&self, tally: &Tally, experiments: &[usize], constants: usize) -> bool {
+        let Some((best, _)) = tally.best.as_ref() else {
+            return false;
+        };
+        let mut chi_square = 0.0;
+        let mut points = 0usize;
+        for &i in experiments {
+            let Some(Some(score)) = best.scores.get(i) else {
+                return false;
+            };
+            let n = self.campaign.experiments[i].recording.len();
+            chi_square += score.chi * score.chi * n as f64;
+            points += n;
+        }
+        let nu = points.saturating_sub(constants).max(1) as f64;
+        chi_square <= nu + 2.0 * libm::sqrt(2.0 * nu)
     }
 
     /// Simulate one candidate `point` of the instance at `place` as its `index`-th (logged,
@@ -638,6 +661,11 @@ impl Runner<'_> {
                 total,
                 tally.best_value(),
             );
+            if self.stop_at_noise_floor
+                && self.at_noise_floor(&tally, experiments, space.dimension())
+            {
+                break;
+            }
         }
         let place = Place {
             space,
@@ -666,6 +694,11 @@ impl Runner<'_> {
                 .collect();
             let mut simplex = NelderMead::new(&unit, start_value, 0.05);
             for _ in 0..polish {
+                if self.stop_at_noise_floor
+                    && self.at_noise_floor(&tally, experiments, space.dimension())
+                {
+                    break;
+                }
                 let point: Vec<f64> = simplex
                     .ask()
                     .iter()
@@ -758,6 +791,7 @@ pub fn calibrate<'a>(
             .least_squares
             .or(optimiser.least_squares)
             .unwrap_or(0),
+        stop_at_noise_floor: optimiser.stop_at_noise_floor,
         fold_budget: optimiser.fold_budget,
         output: output.to_path_buf(),
     };
