@@ -503,7 +503,6 @@ fn try_alternatives(
     Ok((alternatives, winner))
 }
 
-/// Largest plastic strain in the outcomes' tracked states.
 /// Full outcomes (tracked states, fields) of every experiment with `hypothesis` at its current
 /// values, for the locate step; `None` where a simulation fails.
 fn simulate_outcomes(
@@ -563,8 +562,6 @@ pub struct Outcome {
     pub after: Option<Vec<Vec<f64>>>,
 }
 
-/// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations are logged
-/// in `log` (a rerun replays them).
 /// A refitted term's predictions of every experiment and its fit.
 type FittedTerm = (Vec<Vec<f64>>, Fit);
 
@@ -665,6 +662,8 @@ fn keep_best(
     }
 }
 
+/// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations are logged
+/// in `log` (a rerun replays them).
 pub fn diagnose(
     campaign: &Campaign,
     model: &ModelResult,
