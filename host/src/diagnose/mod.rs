@@ -726,42 +726,27 @@ pub fn diagnose(
 
     let mut refits = Vec::new();
     let mut accepted: Option<(usize, Vec<Vec<f64>>)> = None;
-    let significant: Vec<&ScoreTest> = tests
-        .iter()
-        .filter(|t| t.significant)
-        .take(options.max_refits)
-        .collect();
-    for test in significant {
-        let Some(candidate) = library.iter().find(|c| c.name == test.name) else {
-            continue;
-        };
-        let (refit, fitted_term) = refit_candidate(
-            &mut engine,
-            candidate,
-            &base_fit,
-            &fitted,
-            options,
-            &before,
-            &mut cost,
-        )?;
-        refits.push(refit);
-        if let Some((predictions, _)) = fitted_term {
-            keep_best(&mut refits, &mut accepted, predictions);
+    // Two stages: the significant terms in rank order; then, if none was accepted, the
+    // best-ranked admissible terms the score test under-rates, each also judged by the drop
+    // its refit achieves (a likelihood-ratio test at the same level, `likelihood_ratio`).
+    let ranges = row_ranges(campaign, &fitted);
+    let terms = tests.len().max(1) as f64;
+    for by_ratio in [false, true] {
+        if by_ratio && accepted.is_some() {
+            break;
         }
-    }
-
-    // Terms the score test under-rates: when no significant term was accepted, the
-    // best-ranked admissible terms are refitted and judged by the drop their refit achieves
-    // (a likelihood-ratio test at the same level, `likelihood_ratio`).
-    if accepted.is_none() {
-        let ranges = row_ranges(campaign, &fitted);
-        let terms = tests.len().max(1) as f64;
-        let untried: Vec<&ScoreTest> = tests
+        let stage: Vec<&ScoreTest> = tests
             .iter()
-            .filter(|t| !t.significant && t.statistic > 0.0)
+            .filter(|t| {
+                if by_ratio {
+                    !t.significant && t.statistic > 0.0
+                } else {
+                    t.significant
+                }
+            })
             .take(options.max_refits)
             .collect();
-        for test in untried {
+        for test in stage {
             let Some(candidate) = library.iter().find(|c| c.name == test.name) else {
                 continue;
             };
@@ -778,35 +763,38 @@ pub fn diagnose(
                 refits.push(refit);
                 continue;
             };
-            let ratio = likelihood_ratio::likelihood_ratio(
-                &base_fit.residuals,
-                &fit.residuals,
-                &ranges,
-                fit.values.len(),
-                candidate.one_sided,
-            );
-            // The variant of a term tried over a grid of a shape constant was chosen by its
-            // score on the same data: Bonferroni over the grid too, as for the score test.
-            let variants = library
-                .iter()
-                .filter(|c| c.group == candidate.group)
-                .count()
-                .max(1) as f64;
-            let p_value = (ratio.single_p_value * variants * terms).min(1.0);
-            let score_p = test.p_value;
-            if p_value < options.alpha {
-                refit.reason = format!(
-                    "score test p {score_p:.1e}, but its refit's likelihood ratio is \
-                     significant (drop {:.1}, T {:.1}, p {p_value:.1e}); {}",
-                    ratio.drop, ratio.statistic, refit.reason
+            if by_ratio {
+                let ratio = likelihood_ratio::likelihood_ratio(
+                    &base_fit.residuals,
+                    &fit.residuals,
+                    &ranges,
+                    fit.values.len(),
+                    candidate.one_sided,
                 );
-            } else {
-                refit.reason = format!(
-                    "score test p {score_p:.1e} and its refit's likelihood ratio p \
-                     {p_value:.1e} (drop {:.1}, T {:.1}): not significant at {}; {}",
-                    ratio.drop, ratio.statistic, options.alpha, refit.reason
-                );
-                refit.accepted = false;
+                // The variant of a term tried over a grid of a shape constant was chosen by
+                // its score on the same data: Bonferroni over the grid too, as for the score
+                // test.
+                let variants = library
+                    .iter()
+                    .filter(|c| c.group == candidate.group)
+                    .count()
+                    .max(1) as f64;
+                let p_value = (ratio.single_p_value * variants * terms).min(1.0);
+                let score_p = test.p_value;
+                if p_value < options.alpha {
+                    refit.reason = format!(
+                        "score test p {score_p:.1e}, but its refit's likelihood ratio is \
+                         significant (drop {:.1}, T {:.1}, p {p_value:.1e}); {}",
+                        ratio.drop, ratio.statistic, refit.reason
+                    );
+                } else {
+                    refit.reason = format!(
+                        "score test p {score_p:.1e} and its refit's likelihood ratio p \
+                         {p_value:.1e} (drop {:.1}, T {:.1}): not significant at {}; {}",
+                        ratio.drop, ratio.statistic, options.alpha, refit.reason
+                    );
+                    refit.accepted = false;
+                }
             }
             refits.push(refit);
             keep_best(&mut refits, &mut accepted, predictions);

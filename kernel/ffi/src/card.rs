@@ -737,6 +737,31 @@ mod tests {
     use stoss_kernel::eos::TabulatedCompaction;
     use stoss_kernel::Material;
 
+    /// 4340's Johnson-Cook as composed terms (power hardening, `1 - T*^m`) with the rate
+    /// term `rate` of kind `rate_model`.
+    fn jc_4340_composed(rate_model: StossRateModel, rate: StossRateTerm) -> StossComposed {
+        let jc = stoss_kernel::strength::JohnsonCook::STEEL_4340;
+        StossComposed {
+            hardening_model: StossHardeningModel::Power as i32,
+            rate_model: rate_model as i32,
+            thermal_model: StossThermalModel::HomologousPower as i32,
+            reserved: 0,
+            hardening: StossHardening {
+                yield_stress: jc.yield_stress,
+                hardening_modulus: jc.hardening_modulus,
+                exponent: jc.hardening_exponent,
+                ..StossHardening::default()
+            },
+            rate,
+            thermal: StossThermalTerm {
+                exponent: jc.thermal_exponent,
+                reference_temperature: jc.reference_temperature,
+                melting_temperature: jc.melting_temperature,
+                ..StossThermalTerm::default()
+            },
+        }
+    }
+
     fn round_trip(block: &StossMaterialBlock) -> Material {
         let material = block.to_material().unwrap();
         let (card, length) = card_from_block(block).unwrap();
@@ -768,25 +793,7 @@ mod tests {
         let jc = stoss_kernel::strength::JohnsonCook::STEEL_4340;
         let mut block = StossMaterialBlock::steel_4340();
         block.strength_model = StossStrengthModel::Composed as i32;
-        let composed = |rate_model: StossRateModel, rate: StossRateTerm| StossComposed {
-            hardening_model: StossHardeningModel::Power as i32,
-            rate_model: rate_model as i32,
-            thermal_model: StossThermalModel::HomologousPower as i32,
-            reserved: 0,
-            hardening: StossHardening {
-                yield_stress: jc.yield_stress,
-                hardening_modulus: jc.hardening_modulus,
-                exponent: jc.hardening_exponent,
-                ..StossHardening::default()
-            },
-            rate,
-            thermal: StossThermalTerm {
-                exponent: jc.thermal_exponent,
-                reference_temperature: jc.reference_temperature,
-                melting_temperature: jc.melting_temperature,
-                ..StossThermalTerm::default()
-            },
-        };
+        let composed = jc_4340_composed;
         block.strength.composed = composed(
             StossRateModel::LogUpturn,
             StossRateTerm {
@@ -840,31 +847,19 @@ mod tests {
         let jc = stoss_kernel::strength::JohnsonCook::STEEL_4340;
         let mut block = StossMaterialBlock::steel_4340();
         block.strength_model = StossStrengthModel::Composed as i32;
-        block.strength.composed = StossComposed {
-            hardening_model: StossHardeningModel::Power as i32,
-            rate_model: StossRateModel::JohnsonCookLog as i32,
-            thermal_model: StossThermalModel::HomologousPowerDrop as i32,
-            reserved: 0,
-            hardening: StossHardening {
-                yield_stress: jc.yield_stress,
-                hardening_modulus: jc.hardening_modulus,
-                exponent: jc.hardening_exponent,
-                ..StossHardening::default()
-            },
-            rate: StossRateTerm {
+        let mut composed = jc_4340_composed(
+            StossRateModel::JohnsonCookLog,
+            StossRateTerm {
                 rate_sensitivity: jc.rate_sensitivity,
                 reference_rate: jc.reference_rate,
                 ..StossRateTerm::default()
             },
-            thermal: StossThermalTerm {
-                exponent: jc.thermal_exponent,
-                reference_temperature: jc.reference_temperature,
-                melting_temperature: jc.melting_temperature,
-                drop: 0.25,
-                drop_start_temperature: 840.0,
-                drop_end_temperature: 960.0,
-            },
-        };
+        );
+        composed.thermal_model = StossThermalModel::HomologousPowerDrop as i32;
+        composed.thermal.drop = 0.25;
+        composed.thermal.drop_start_temperature = 840.0;
+        composed.thermal.drop_end_temperature = 960.0;
+        block.strength.composed = composed;
         let material = block.to_material().unwrap();
         let (exported, _) =
             crate::export::from_material(&material, block.initial_temperature).unwrap();

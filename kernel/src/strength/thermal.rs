@@ -16,6 +16,22 @@ pub fn homologous_temperature(
     crate::math::clamp(ratio, 0.0, 1.0)
 }
 
+/// Johnson-Cook's `1 - T*^m` (exactly 1 at or below `Tr`, where `pow` is not called).
+#[inline]
+fn homologous_power(
+    temperature: f64,
+    exponent: f64,
+    reference_temperature: f64,
+    melting_temperature: f64,
+) -> f64 {
+    let t_star = homologous_temperature(temperature, reference_temperature, melting_temperature);
+    if t_star == 0.0 {
+        1.0
+    } else {
+        1.0 - pow(t_star, exponent)
+    }
+}
+
 /// Multiplicative thermal-softening factor on the flow stress.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -70,15 +86,12 @@ impl ThermalTerm {
                 exponent,
                 reference_temperature,
                 melting_temperature,
-            } => {
-                let t_star =
-                    homologous_temperature(temperature, reference_temperature, melting_temperature);
-                if t_star == 0.0 {
-                    1.0
-                } else {
-                    1.0 - pow(t_star, exponent)
-                }
-            }
+            } => homologous_power(
+                temperature,
+                exponent,
+                reference_temperature,
+                melting_temperature,
+            ),
             ThermalTerm::HomologousPowerDrop {
                 exponent,
                 reference_temperature,
@@ -87,13 +100,12 @@ impl ThermalTerm {
                 drop_start_temperature,
                 drop_end_temperature,
             } => {
-                let t_star =
-                    homologous_temperature(temperature, reference_temperature, melting_temperature);
-                let power = if t_star == 0.0 {
-                    1.0
-                } else {
-                    1.0 - pow(t_star, exponent)
-                };
+                let power = homologous_power(
+                    temperature,
+                    exponent,
+                    reference_temperature,
+                    melting_temperature,
+                );
                 let x = crate::math::clamp(
                     (temperature - drop_start_temperature)
                         / (drop_end_temperature - drop_start_temperature),
