@@ -11,6 +11,11 @@
 //!   rate-lag defect), so half of them are returns (asserted).
 //! - `plastic_return`: [`BLOCK`] updates, each from the same state whose next step yields, so
 //!   every update is a plastic return for both treatments.
+//! - `block`: [`POINTS`] independent points advanced together, [`BLOCK_STEPS`] steps per
+//!   iteration, each point at its own axial rate (1e3 /s to 1.5e3 /s) from its own developed
+//!   flow; every update is a plastic return (asserted). This is how a host calls the kernel (a
+//!   VUMAT's block, a solver's element loop): the points do not wait on one another, so it
+//!   measures throughput, where `path` measures one point's chain of dependent updates.
 //! - `elastic`: [`BLOCK`] consecutive updates of `deps_xx = 1e-9` from the virgin state, far
 //!   below yield (asserted): predictor and yield check only.
 //!
@@ -276,6 +281,83 @@ mod plastic_return {
     #[divan::bench(args = TREATMENTS)]
     fn tjc(bencher: Bencher, treatment: RateTreatment) {
         bench_return(bencher, super::tjc(), treatment);
+    }
+}
+
+/// Points in a [`block`] benchmark: an Abaqus/Explicit VUMAT block.
+const POINTS: usize = 128;
+
+/// Steps per iteration of a [`block`] benchmark.
+const BLOCK_STEPS: u32 = 8;
+
+/// The axial increment of block point `point`: 1e3 /s to 1.5e3 /s.
+fn block_axial(point: usize) -> f64 {
+    PLASTIC_AXIAL * (1.0 + 0.5 * point as f64 / POINTS as f64)
+}
+
+fn bench_block(bencher: Bencher, material: Material, treatment: RateTreatment) {
+    let material = with_treatment(material, treatment);
+    let start: Vec<MaterialState> = (0..POINTS)
+        .map(|point| {
+            let mut state = MaterialState::initial(ROOM_TEMPERATURE);
+            let mut plastic = 0;
+            while plastic < PRELOAD_PLASTIC_STEPS {
+                let input = uniaxial_step(block_axial(point), PLASTIC_DT, state.relative_volume);
+                let output = update(&material, &mut state, &input).expect("update failed");
+                plastic += u32::from(output.plastic_increment > 0.0);
+            }
+            state
+        })
+        .collect();
+    let advance = |states: &mut [MaterialState]| -> u32 {
+        let mut plastic = 0;
+        for _ in 0..BLOCK_STEPS {
+            for (point, state) in states.iter_mut().enumerate() {
+                let input = uniaxial_step(block_axial(point), PLASTIC_DT, state.relative_volume);
+                let output =
+                    update(black_box(&material), state, black_box(&input)).expect("update failed");
+                plastic += u32::from(output.plastic_increment > 0.0);
+            }
+        }
+        plastic
+    };
+    if treatment == RateTreatment::Implicit {
+        let plastic = advance(&mut start.clone());
+        assert_eq!(
+            plastic,
+            BLOCK_STEPS * POINTS as u32,
+            "elastic step in a block"
+        );
+    }
+    bencher
+        .counter(ItemsCount::new(BLOCK_STEPS as usize * POINTS))
+        .with_inputs(|| start.clone())
+        .bench_local_refs(|states| advance(states));
+}
+
+/// [`POINTS`] independent points advanced together along uniaxial strain, [`BLOCK_STEPS`]
+/// steps per iteration, from developed plastic flow: the throughput of a host's block.
+mod block {
+    use super::*;
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn jc_4340(bencher: Bencher, treatment: RateTreatment) {
+        bench_block(bencher, jc(), treatment);
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn za_bcc(bencher: Bencher, treatment: RateTreatment) {
+        bench_block(bencher, super::za_bcc(), treatment);
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn mjc(bencher: Bencher, treatment: RateTreatment) {
+        bench_block(bencher, super::mjc(), treatment);
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn tjc(bencher: Bencher, treatment: RateTreatment) {
+        bench_block(bencher, super::tjc(), treatment);
     }
 }
 

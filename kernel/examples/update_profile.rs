@@ -1,41 +1,73 @@
-//! Runs a path of implicit Johnson-Cook 4340 plastic updates (uniaxial strain, 1e-5 per
-//! 1e-8 s, the benchmark's `path` case) for profiling under callgrind:
-//! `valgrind --tool=callgrind target/release/examples/update_profile [updates]`.
+//! Runs implicit Johnson-Cook 4340 updates in uniaxial strain (1e-5 per 1e-8 s, the
+//! benchmark's `path` case; with `points > 1`, the `block` case: point `i` at
+//! `1 + 0.5 i / points` times that rate, all points advanced together) for profiling under
+//! callgrind or perf:
+//! `valgrind --tool=callgrind target/release/examples/update_profile [steps] [skipped] [points]`.
+//! The first `skipped` steps are run but not counted. Prints the mean return iterations and a
+//! hash of the final states' bits (equal hashes: bit-identical paths).
 
 use stoss_kernel::math::exp;
 use stoss_kernel::strength::JohnsonCook;
 use stoss_kernel::{update, Material, MaterialState, StepInput};
 
+fn argument(position: usize, default: u32) -> u32 {
+    std::env::args()
+        .nth(position)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(default)
+}
+
 fn main() {
-    let updates: u32 = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(20_000);
+    let steps = argument(1, 20_000);
+    let skip = argument(2, 0);
+    let points = argument(3, 1).max(1) as usize;
     let material = Material::STEEL_4340.with_strength(JohnsonCook::STEEL_4340);
-    let mut state = MaterialState::initial(298.0);
-    let skip: u32 = std::env::args()
-        .nth(2)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(0);
+    let mut states = vec![MaterialState::initial(298.0); points];
     let mut iterations = 0u64;
-    let mut plastic = 0u32;
-    for step in 0..updates + skip {
-        let axial = -1.0e-5;
-        let input = StepInput {
-            strain_increment: [axial, 0.0, 0.0, 0.0, 0.0, 0.0],
-            dt: 1.0e-8,
-            relative_volume: state.relative_volume * exp(axial),
-        };
-        let output = update(&material, &mut state, std::hint::black_box(&input)).expect("update");
-        if step < skip {
-            continue;
+    let mut plastic = 0u64;
+    for step in 0..steps + skip {
+        for (point, state) in states.iter_mut().enumerate() {
+            let axial = -1.0e-5 * (1.0 + 0.5 * point as f64 / points as f64);
+            let input = StepInput {
+                strain_increment: [axial, 0.0, 0.0, 0.0, 0.0, 0.0],
+                dt: 1.0e-8,
+                relative_volume: state.relative_volume * exp(axial),
+            };
+            let output = update(&material, state, std::hint::black_box(&input)).expect("update");
+            if step >= skip {
+                iterations += u64::from(output.iterations);
+                plastic += u64::from(output.plastic_increment > 0.0);
+            }
         }
-        iterations += u64::from(output.iterations);
-        plastic += u32::from(output.plastic_increment > 0.0);
     }
+    // FNV-1a over the final states' bits: a change in any update's last bit carries into the
+    // state of the steps after it, so equal hashes mean bit-identical paths.
+    let hash = states
+        .iter()
+        .flat_map(|state| {
+            let s = state.stress;
+            [
+                s[0],
+                s[1],
+                s[2],
+                s[3],
+                s[4],
+                s[5],
+                state.plastic_strain,
+                state.plastic_strain_rate,
+                state.temperature,
+                state.internal_energy,
+                state.relative_volume,
+            ]
+        })
+        .fold(0xcbf2_9ce4_8422_2325_u64, |hash, value| {
+            (hash ^ value.to_bits()).wrapping_mul(0x0100_0000_01b3)
+        });
     println!(
-        "{updates} updates, {plastic} plastic, {:.3} iterations per plastic update, eps_p {:.4}",
-        iterations as f64 / f64::from(plastic.max(1)),
-        state.plastic_strain
+        "{} updates, {plastic} plastic, {:.3} iterations per plastic update, eps_p {:.4}, \
+         state hash {hash:016x}",
+        u64::from(steps) * points as u64,
+        iterations as f64 / plastic.max(1) as f64,
+        states[0].plastic_strain
     );
 }

@@ -168,22 +168,30 @@ impl MaterialState {
         tensor::von_mises(&tensor::deviator(&self.stress))
     }
 
-    /// `true` if every stored value is finite: `v * 0` is `0` for a finite `v` and NaN for an
-    /// infinite or NaN one, and NaN survives the sum (one branch instead of thirteen).
+    /// The thirteen stored values (stress, then the scalars in declaration order).
+    #[inline(always)]
+    pub fn values(&self) -> [f64; 13] {
+        let s = &self.stress;
+        [
+            s[0],
+            s[1],
+            s[2],
+            s[3],
+            s[4],
+            s[5],
+            self.plastic_strain,
+            self.plastic_strain_rate,
+            self.temperature,
+            self.damage,
+            self.relative_volume,
+            self.internal_energy,
+            self.eos_history,
+        ]
+    }
+
+    /// `true` if every stored value is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
-        let s = &self.stress;
-        let zeros = [
-            s[0] * 0.0 + s[1] * 0.0,
-            s[2] * 0.0 + s[3] * 0.0,
-            s[4] * 0.0 + s[5] * 0.0,
-            self.plastic_strain * 0.0 + self.plastic_strain_rate * 0.0,
-            self.temperature * 0.0 + self.damage * 0.0,
-            self.relative_volume * 0.0 + self.internal_energy * 0.0,
-            self.eos_history * 0.0,
-        ];
-        let sum =
-            (zeros[0] + zeros[1]) + (zeros[2] + zeros[3]) + ((zeros[4] + zeros[5]) + zeros[6]);
-        sum == 0.0
+        crate::math::all_finite(&self.values())
     }
 }

@@ -211,7 +211,56 @@ impl Step {
     }
 }
 
+/// `Ok` if the step's input and the state are valid: everything finite, `dt > 0`, both
+/// relative volumes `> 0`, and the state's variables in their ranges
+/// ([`MaterialState::CHECKED_VARIABLES`]). One combined test; only a failure is classified.
+#[inline(always)]
 fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
+    let e = &input.strain_increment;
+    let v = state.values();
+    let finite = crate::math::all_finite(&[
+        e[0],
+        e[1],
+        e[2],
+        e[3],
+        e[4],
+        e[5],
+        input.dt,
+        input.relative_volume,
+        v[0],
+        v[1],
+        v[2],
+        v[3],
+        v[4],
+        v[5],
+        v[6],
+        v[7],
+        v[8],
+        v[9],
+        v[10],
+        v[11],
+        v[12],
+    ]);
+    // With every value finite these are the ranges of `classify_input`, one by one.
+    let in_range = (input.dt > 0.0)
+        & (input.relative_volume > 0.0)
+        & (state.relative_volume > 0.0)
+        & (state.plastic_strain >= 0.0)
+        & (state.plastic_strain_rate >= 0.0)
+        & (state.temperature > 0.0)
+        & (state.damage >= 0.0)
+        & (state.damage <= 1.0);
+    if finite & in_range {
+        Ok(())
+    } else {
+        classify_input(state, input)
+    }
+}
+
+/// The first reason, in a fixed order, why [`check_input`] refused a step.
+#[cold]
+#[inline(never)]
+fn classify_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
     if !tensor::all_finite(&input.strain_increment)
         || !input.dt.is_finite()
         || !input.relative_volume.is_finite()
@@ -266,6 +315,7 @@ fn residual(
 /// `start` is the first iterate and, if the caller has evaluated it, its residual (see
 /// `compute`: the previous step's multiplier, or the perfectly plastic estimate `g(0)/3G`).
 /// Returns `(dl, flow stress along the path at dl, iterations)`.
+#[inline(always)]
 fn implicit_return(
     flow: &FlowAtTemperature<'_>,
     shear_modulus: f64,
@@ -561,11 +611,25 @@ fn compute(
         shear,
     );
 
-    if !next.is_finite()
-        || !wave_speed.is_finite()
-        || !yield_stress.is_finite()
-        || !plastic_increment.is_finite()
-    {
+    let v = next.values();
+    if !crate::math::all_finite(&[
+        v[0],
+        v[1],
+        v[2],
+        v[3],
+        v[4],
+        v[5],
+        v[6],
+        v[7],
+        v[8],
+        v[9],
+        v[10],
+        v[11],
+        v[12],
+        wave_speed,
+        yield_stress,
+        plastic_increment,
+    ]) {
         return Err(UpdateError::NonFiniteResult);
     }
     Ok(Step {

@@ -35,6 +35,20 @@ pub fn clamp(x: f64, lo: f64, hi: f64) -> f64 {
     }
 }
 
+/// `true` if every value is finite: `v * 0` is `0` for a finite `v` and NaN for an infinite or
+/// NaN one, and NaN survives the sums. Two interleaved sums (even and odd positions) are
+/// independent, so the compiler can run them as one two-lane vector sum; one branch in all.
+#[inline(always)]
+pub fn all_finite<const N: usize>(values: &[f64; N]) -> bool {
+    let mut lanes = [0.0_f64; 2];
+    for pair in values.chunks(2) {
+        for (lane, value) in lanes.iter_mut().zip(pair) {
+            *lane += *value * 0.0;
+        }
+    }
+    lanes[0] + lanes[1] == 0.0
+}
+
 /// `true` if `x` is finite (neither NaN nor infinite).
 #[inline]
 pub fn finite(x: f64) -> bool {
