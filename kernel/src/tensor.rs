@@ -17,11 +17,26 @@ pub fn trace(a: &Sym) -> f64 {
     a[0] + a[1] + a[2]
 }
 
+/// Mean of the normal components `tr(a)/3`.
+#[inline]
+pub fn mean(a: &Sym) -> f64 {
+    trace(a) / 3.0
+}
+
 /// Deviatoric part `a - tr(a)/3 I`.
 #[inline]
 pub fn deviator(a: &Sym) -> Sym {
-    let mean = trace(a) / 3.0;
-    [a[0] - mean, a[1] - mean, a[2] - mean, a[3], a[4], a[5]]
+    deviator_and_mean(a).0
+}
+
+/// Deviatoric part `a - tr(a)/3 I` and the mean `tr(a)/3`, with one division.
+#[inline]
+pub fn deviator_and_mean(a: &Sym) -> (Sym, f64) {
+    let mean = mean(a);
+    (
+        [a[0] - mean, a[1] - mean, a[2] - mean, a[3], a[4], a[5]],
+        mean,
+    )
 }
 
 /// Double contraction `a : b` (shear terms counted twice).
@@ -68,10 +83,11 @@ pub fn from_deviator_and_pressure(deviator: &Sym, pressure: f64) -> Sym {
     ]
 }
 
-/// Pressure `p = -tr(sigma)/3` (positive in compression).
+/// Pressure `p = -tr(sigma)/3` (positive in compression; IEEE division is odd in its
+/// dividend, so this is `-mean` to the bit).
 #[inline]
 pub fn pressure(stress: &Sym) -> f64 {
-    -trace(stress) / 3.0
+    -mean(stress)
 }
 
 /// `true` if every component is finite.

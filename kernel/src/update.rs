@@ -419,7 +419,7 @@ fn compute(
 
     // 1-2. Deviatoric predictor and return.
     let deviatoric_increment = tensor::deviator(&input.strain_increment);
-    let old_deviator = tensor::deviator(&state.stress);
+    let (old_deviator, old_mean_stress) = tensor::deviator_and_mean(&state.stress);
     let trial = tensor::add(
         &old_deviator,
         &tensor::scale(&deviatoric_increment, 2.0 * shear),
@@ -530,8 +530,8 @@ fn compute(
     next.plastic_strain_rate = plastic_strain_rate;
 
     // 3. Heating, with the current density rho = rho0 / V1.
+    let density = material.density / input.relative_volume;
     if plastic_increment > 0.0 {
-        let density = material.density / input.relative_volume;
         let heat_fraction = material.heating.heat_fraction(plastic_strain_rate);
         next.temperature = state.temperature
             + heat_fraction * yield_stress * plastic_increment / (density * material.specific_heat);
@@ -542,13 +542,17 @@ fn compute(
     let mid_volume = 0.5 * (input.relative_volume + state.relative_volume);
     let mu = 1.0 / input.relative_volume - 1.0;
     let (terms, eos_history) = material.eos.evaluate(mu, state.eos_history);
-    let old_pressure = state.pressure();
+    let old_pressure = -old_mean_stress;
     let mean_deviator = tensor::scale(&tensor::add(&old_deviator, &new_deviator), 0.5);
     let deviatoric_work = tensor::contract(&mean_deviator, &deviatoric_increment) * mid_volume;
     let energy_before_pressure_work = state.internal_energy + deviatoric_work;
-    let mut energy = (energy_before_pressure_work
-        - 0.5 * (old_pressure + terms.base) * volume_change)
-        / (1.0 + 0.5 * terms.energy_coefficient * volume_change);
+    let mut energy =
+        energy_before_pressure_work - 0.5 * (old_pressure + terms.base) * volume_change;
+    let energy_denominator = 1.0 + 0.5 * terms.energy_coefficient * volume_change;
+    // Exactly 1 for a pressure independent of the energy (a division by 1 changes nothing).
+    if energy_denominator != 1.0 {
+        energy /= energy_denominator;
+    }
     let mut pressure = terms.pressure(energy);
     let mut bulk_tangent = (1.0 + mu) * terms.d_pressure_d_mu(energy)
         + terms.energy_coefficient * pressure * input.relative_volume;
@@ -602,14 +606,8 @@ fn compute(
     next.eos_history = eos_history;
 
     // 6. Wave speed.
-    let wave_speed = crate::eos::longitudinal_wave_speed(
-        &terms,
-        mu,
-        energy,
-        material.density,
-        input.relative_volume,
-        shear,
-    );
+    let wave_speed =
+        crate::eos::longitudinal_wave_speed(&terms, mu, energy, material.density, density, shear);
 
     let v = next.values();
     if !crate::math::all_finite(&[

@@ -142,23 +142,28 @@ impl Eos {
         pressure: f64,
         reference_density: f64,
     ) -> f64 {
+        let at_constant_energy = terms.d_pressure_d_mu(energy) / reference_density;
+        // Without energy dependence the second term is zero (skipped: two divisions).
+        if terms.energy_coefficient == 0.0 {
+            return at_constant_energy;
+        }
         let density = reference_density * (1.0 + mu);
-        terms.d_pressure_d_mu(energy) / reference_density
+        at_constant_energy
             + terms.energy_coefficient * pressure * reference_density / (density * density)
     }
 }
 
 /// Longitudinal wave speed for the host's time step: `sqrt(c_bulk^2 + 4G/(3 rho))`, with
-/// `c_bulk^2` from [`Eos::sound_speed_squared`] (clamped at 0) and `rho = rho0 / V`.
+/// `c_bulk^2` from [`Eos::sound_speed_squared`] (clamped at 0) and the current density
+/// `density = rho0 / V`.
 pub fn longitudinal_wave_speed(
     terms: &EnergyLinearPressure,
     mu: f64,
     energy: f64,
     reference_density: f64,
-    relative_volume: f64,
+    density: f64,
     shear_modulus: f64,
 ) -> f64 {
-    let density = reference_density / relative_volume;
     let bulk_sound_squared =
         Eos::sound_speed_squared(terms, mu, energy, terms.pressure(energy), reference_density);
     let bulk_sound_squared = if bulk_sound_squared > 0.0 {

@@ -353,7 +353,7 @@ fn compute(
         mu,
         energy,
         material.density,
-        input.relative_volume,
+        material.density / input.relative_volume,
         params.shear_modulus,
     );
 
