@@ -13,7 +13,8 @@
 //!   every update is a plastic return for both treatments.
 //! - `block`: [`POINTS`] independent points advanced together, [`BLOCK_STEPS`] steps per
 //!   iteration, each point at its own axial rate (1e3 /s to 1.5e3 /s) from its own developed
-//!   flow; every update is a plastic return (asserted). This is how a host calls the kernel (a
+//!   flow (first yield plus [`BLOCK_PRELOAD_PLASTIC_STEPS`] steps, the middle of the `path`
+//!   case's strains); every update is a plastic return (asserted). This is how a host calls the kernel (a
 //!   VUMAT's block, a solver's element loop): the points do not wait on one another, so it
 //!   measures throughput, where `path` measures one point's chain of dependent updates.
 //! - `elastic`: [`BLOCK`] consecutive updates of `deps_xx = 1e-9` from the virgin state, far
@@ -290,6 +291,10 @@ const POINTS: usize = 128;
 /// Steps per iteration of a [`block`] benchmark.
 const BLOCK_STEPS: u32 = 8;
 
+/// Plastic steps before a [`block`] benchmark's steps: the middle of the strains the `path`
+/// benchmark spans ([`PRELOAD_PLASTIC_STEPS`] to [`PRELOAD_PLASTIC_STEPS`] + [`BLOCK`]).
+const BLOCK_PRELOAD_PLASTIC_STEPS: u32 = PRELOAD_PLASTIC_STEPS + BLOCK / 2;
+
 /// The axial increment of block point `point`: 1e3 /s to 1.5e3 /s.
 fn block_axial(point: usize) -> f64 {
     PLASTIC_AXIAL * (1.0 + 0.5 * point as f64 / POINTS as f64)
@@ -301,7 +306,7 @@ fn bench_block(bencher: Bencher, material: Material, treatment: RateTreatment) {
         .map(|point| {
             let mut state = MaterialState::initial(ROOM_TEMPERATURE);
             let mut plastic = 0;
-            while plastic < PRELOAD_PLASTIC_STEPS {
+            while plastic < BLOCK_PRELOAD_PLASTIC_STEPS {
                 let input = uniaxial_step(block_axial(point), PLASTIC_DT, state.relative_volume);
                 let output = update(&material, &mut state, &input).expect("update failed");
                 plastic += u32::from(output.plastic_increment > 0.0);

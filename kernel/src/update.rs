@@ -54,8 +54,8 @@ pub const CORRECTION_MARGIN: f64 = 0.5;
 /// through a Voce term, `c ~ 8`, left 1e-8 outside the yield surface.)
 pub const CORRECTION_STEP_LIMIT: f64 = 1e-3;
 
-/// The end of the return, if the Newton step from the iterate `dl` (residual slope `dg < 0`,
-/// flow stress `flow` along the path) to `newton` ends it: the accepted multiplier and the
+/// The end of the return, if the Newton step from the iterate `dl` (residual slope `g' < 0`
+/// given as `inverse_slope = 1/g'`, flow stress `flow` along the path) to `newton` ends it: the accepted multiplier and the
 /// flow stress there.
 ///
 /// - A step below [`RETURN_STEP_TOLERANCE`] of the multiplier is accepted as it is.
@@ -68,7 +68,7 @@ pub const CORRECTION_STEP_LIMIT: f64 = 1e-3;
 #[inline(always)]
 fn final_step(
     flow: &PathFlow,
-    dg: f64,
+    inverse_slope: f64,
     dl: f64,
     newton: f64,
     bracket: (f64, f64),
@@ -84,7 +84,6 @@ fn final_step(
         return None;
     }
     // g'' = -sigma'', g''' = -sigma''' along the path.
-    let inverse_slope = 1.0 / dg;
     let corrected = step + 0.5 * flow.curvature * inverse_slope * step * step;
     let accepted = dl + corrected;
     let leftover = size
@@ -135,7 +134,7 @@ pub fn update(
     state: &mut MaterialState,
     input: &StepInput,
 ) -> Result<StepOutput, UpdateError> {
-    let step = compute(material, state, input)?;
+    let step = checked_compute(material, state, input)?;
     *state = step.state;
     Ok(step.output)
 }
@@ -149,7 +148,7 @@ pub fn update_with_tangent(
     input: &StepInput,
     tangent: &mut Matrix6,
 ) -> Result<StepOutput, UpdateError> {
-    let step = compute(material, state, input)?;
+    let step = checked_compute(material, state, input)?;
     *tangent = step.tangent(material);
     *state = step.state;
     Ok(step.output)
@@ -211,56 +210,49 @@ impl Step {
     }
 }
 
-/// `Ok` if the step's input and the state are valid: everything finite, `dt > 0`, both
-/// relative volumes `> 0`, and the state's variables in their ranges
-/// ([`MaterialState::CHECKED_VARIABLES`]). One combined test; only a failure is classified.
+/// `compute`, with a refused step's error attributed to its input where the input is at
+/// fault: [`input_error`] is evaluated only when the step failed.
 #[inline(always)]
-fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
-    let e = &input.strain_increment;
-    let v = state.values();
-    let finite = crate::math::all_finite(&[
-        e[0],
-        e[1],
-        e[2],
-        e[3],
-        e[4],
-        e[5],
-        input.dt,
-        input.relative_volume,
-        v[0],
-        v[1],
-        v[2],
-        v[3],
-        v[4],
-        v[5],
-        v[6],
-        v[7],
-        v[8],
-        v[9],
-        v[10],
-        v[11],
-        v[12],
-    ]);
-    // With every value finite these are the ranges of `classify_input`, one by one.
-    let in_range = (input.dt > 0.0)
+fn checked_compute(
+    material: &Material,
+    state: &MaterialState,
+    input: &StepInput,
+) -> Result<Step, UpdateError> {
+    compute(material, state, input).map_err(|error| match input_error(state, input) {
+        Err(input_error) => input_error,
+        Ok(()) => error,
+    })
+}
+
+/// `false` if a value of the step's input or of the state is outside its range, the part of
+/// [`input_error`]'s test that a step could pass: `dt` and `V1` finite and positive, the
+/// state's `V > 0`, its checked variables ([`MaterialState::CHECKED_VARIABLES`]) in range
+/// and its rate and EoS history finite (every comparison fails on NaN). Any other non-finite
+/// value (strain increment, stress, plastic strain, temperature, relative volume, energy)
+/// reaches the step's result through the deviatoric work, the energy or the copied state, so
+/// the result's finiteness test refuses that step and [`checked_compute`] names the input.
+#[inline(always)]
+fn admissible(state: &MaterialState, input: &StepInput) -> bool {
+    (input.dt > 0.0)
+        & (input.dt < f64::INFINITY)
         & (input.relative_volume > 0.0)
+        & (input.relative_volume < f64::INFINITY)
         & (state.relative_volume > 0.0)
         & (state.plastic_strain >= 0.0)
         & (state.plastic_strain_rate >= 0.0)
+        & (state.plastic_strain_rate < f64::INFINITY)
         & (state.temperature > 0.0)
         & (state.damage >= 0.0)
-        & (state.damage <= 1.0);
-    if finite & in_range {
-        Ok(())
-    } else {
-        classify_input(state, input)
-    }
+        & (state.damage <= 1.0)
+        & state.eos_history.is_finite()
 }
 
-/// The first reason, in a fixed order, why [`check_input`] refused a step.
+/// The first reason, in a fixed order, why the step's input or the state is invalid:
+/// non-finite input, `dt <= 0`, `V1 <= 0`, a non-finite state or `V <= 0`, a checked
+/// variable out of range.
 #[cold]
 #[inline(never)]
-fn classify_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
+fn input_error(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
     if !tensor::all_finite(&input.strain_increment)
         || !input.dt.is_finite()
         || !input.relative_volume.is_finite()
@@ -299,9 +291,9 @@ fn residual(
     trial_equivalent: f64,
     plastic_strain: f64,
     dl: f64,
-    dt: f64,
+    inverse_dt: f64,
 ) -> Residual {
-    let flow = flow.along_path(plastic_strain, dl, dt);
+    let flow = flow.along_path(plastic_strain, dl, inverse_dt);
     Residual {
         value: trial_equivalent - three_g * dl - flow.value,
         slope: -three_g - flow.slope,
@@ -323,9 +315,19 @@ fn implicit_return(
     plastic_strain: f64,
     start: (f64, Option<Residual>),
     dt: f64,
+    inverse_dt: f64,
 ) -> Result<(f64, PathFlow, u32), UpdateError> {
     let three_g = 3.0 * shear_modulus;
-    let residual = |dl: f64| residual(flow, three_g, trial_equivalent, plastic_strain, dl, dt);
+    let residual = |dl: f64| {
+        residual(
+            flow,
+            three_g,
+            trial_equivalent,
+            plastic_strain,
+            dl,
+            inverse_dt,
+        )
+    };
     let tolerance = RETURN_TOLERANCE * trial_equivalent;
     let mut lower = 0.0_f64;
     let mut upper = trial_equivalent / three_g;
@@ -370,14 +372,23 @@ fn implicit_return(
             };
             return Ok((upper, flow, iteration));
         }
-        let newton = dl - g / dg;
+        let inverse_slope = 1.0 / dg;
+        let newton = dl - g * inverse_slope;
         let newton_ok = dg.is_finite()
             && dg < 0.0
             && newton > lower
             && newton < upper
             && (newton - dl).abs() <= 0.5 * previous_step;
         if newton_ok {
-            let end = final_step(&flow, dg, dl, newton, (lower, upper), dt, tolerance);
+            let end = final_step(
+                &flow,
+                inverse_slope,
+                dl,
+                newton,
+                (lower, upper),
+                dt,
+                tolerance,
+            );
             if let Some((accepted, value)) = end {
                 return Ok((accepted, PathFlow { value, ..flow }, iteration));
             }
@@ -409,9 +420,14 @@ fn compute(
     state: &MaterialState,
     input: &StepInput,
 ) -> Result<Step, UpdateError> {
-    check_input(state, input)?;
+    if !admissible(state, input) {
+        // Named by `checked_compute`.
+        return Err(UpdateError::NonFiniteInput);
+    }
     let shear = material.shear_modulus;
     let dt = input.dt;
+    // Rates are multipliers times this reciprocal: one division per step.
+    let inverse_dt = 1.0 / dt;
     let mut next = *state;
     next.flags
         .remove(StateFlags::PLASTIC | StateFlags::PRESSURE_CUTOFF);
@@ -455,7 +471,7 @@ fn compute(
                         trial_equivalent,
                         state.plastic_strain,
                         warm_dl,
-                        dt,
+                        inverse_dt,
                     );
                     Some((warm_dl, evaluated))
                 } else {
@@ -492,6 +508,7 @@ fn compute(
                             state.plastic_strain,
                             start,
                             dt,
+                            inverse_dt,
                         )?;
                         plastic_increment = dl;
                         iterations = count;
@@ -525,16 +542,16 @@ fn compute(
             }
         }
     }
-    let plastic_strain_rate = plastic_increment / dt;
+    let plastic_strain_rate = plastic_increment * inverse_dt;
     next.plastic_strain = state.plastic_strain + plastic_increment;
     next.plastic_strain_rate = plastic_strain_rate;
 
-    // 3. Heating, with the current density rho = rho0 / V1.
-    let density = material.density / input.relative_volume;
+    // 3. Heating, with the current density rho = rho0 / V1: dT = chi sigma_y dl V1 / (rho0 c).
     if plastic_increment > 0.0 {
         let heat_fraction = material.heating.heat_fraction(plastic_strain_rate);
         next.temperature = state.temperature
-            + heat_fraction * yield_stress * plastic_increment / (density * material.specific_heat);
+            + heat_fraction * yield_stress * plastic_increment * input.relative_volume
+                / (material.density * material.specific_heat);
     }
 
     // 4. EoS and energy.
@@ -606,8 +623,13 @@ fn compute(
     next.eos_history = eos_history;
 
     // 6. Wave speed.
-    let wave_speed =
-        crate::eos::longitudinal_wave_speed(&terms, mu, energy, material.density, density, shear);
+    let wave_speed = crate::eos::longitudinal_wave_speed(
+        &terms,
+        energy,
+        material.density,
+        input.relative_volume,
+        shear,
+    );
 
     let v = next.values();
     if !crate::math::all_finite(&[

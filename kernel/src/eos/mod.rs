@@ -142,36 +142,43 @@ impl Eos {
         pressure: f64,
         reference_density: f64,
     ) -> f64 {
-        let at_constant_energy = terms.d_pressure_d_mu(energy) / reference_density;
-        // Without energy dependence the second term is zero (skipped: two divisions).
-        if terms.energy_coefficient == 0.0 {
-            return at_constant_energy;
-        }
-        let density = reference_density * (1.0 + mu);
-        at_constant_energy
-            + terms.energy_coefficient * pressure * reference_density / (density * density)
+        isentropic_stiffness(terms, energy, pressure, 1.0 / (1.0 + mu)) / reference_density
     }
 }
 
+/// `rho0 c^2 = dp/dmu + (dp/dE) p V^2`: the bulk sound speed squared of
+/// [`Eos::sound_speed_squared`] times the reference density, at relative volume
+/// `V = rho0/rho = 1/(1 + mu)` (`rho0 / rho^2 = V^2 / rho0`). No division.
+#[inline]
+fn isentropic_stiffness(
+    terms: &EnergyLinearPressure,
+    energy: f64,
+    pressure: f64,
+    relative_volume: f64,
+) -> f64 {
+    let at_constant_energy = terms.d_pressure_d_mu(energy);
+    // Without energy dependence the second term is zero.
+    if terms.energy_coefficient == 0.0 {
+        return at_constant_energy;
+    }
+    at_constant_energy + terms.energy_coefficient * pressure * (relative_volume * relative_volume)
+}
+
 /// Longitudinal wave speed for the host's time step: `sqrt(c_bulk^2 + 4G/(3 rho))`, with
-/// `c_bulk^2` from [`Eos::sound_speed_squared`] (clamped at 0) and the current density
-/// `density = rho0 / V`.
+/// `c_bulk^2` from [`Eos::sound_speed_squared`] (clamped at 0) and `rho = rho0 / V` at the
+/// relative volume `V`: `sqrt((rho0 c_bulk^2 + 4/3 G V) / rho0)`, one division.
 pub fn longitudinal_wave_speed(
     terms: &EnergyLinearPressure,
-    mu: f64,
     energy: f64,
     reference_density: f64,
-    density: f64,
+    relative_volume: f64,
     shear_modulus: f64,
 ) -> f64 {
-    let bulk_sound_squared =
-        Eos::sound_speed_squared(terms, mu, energy, terms.pressure(energy), reference_density);
-    let bulk_sound_squared = if bulk_sound_squared > 0.0 {
-        bulk_sound_squared
-    } else {
-        0.0
-    };
-    crate::math::sqrt(bulk_sound_squared + 4.0 * shear_modulus / (3.0 * density))
+    let stiffness = isentropic_stiffness(terms, energy, terms.pressure(energy), relative_volume);
+    let stiffness = if stiffness > 0.0 { stiffness } else { 0.0 };
+    crate::math::sqrt(
+        (stiffness + (4.0 / 3.0) * shear_modulus * relative_volume) / reference_density,
+    )
 }
 
 impl From<LinearEos> for Eos {

@@ -350,10 +350,9 @@ fn compute(
     // Wave speed with the undamaged shear modulus (the fastest wave, for the CFL step).
     let wave_speed = crate::eos::longitudinal_wave_speed(
         &terms,
-        mu,
         energy,
         material.density,
-        material.density / input.relative_volume,
+        input.relative_volume,
         params.shear_modulus,
     );
 

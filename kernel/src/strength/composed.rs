@@ -56,21 +56,21 @@ impl ComposedStrength {
 
     /// The flow stress along a return path, `h(eps_n + dl) r(dl/dt) theta`, and its first
     /// three derivatives in `dl` (see [`PathFlow`]), with `theta = thermal(temperature)`
-    /// given.
+    /// given and the step's `inverse_dt = 1/dt`.
     #[inline]
     pub fn along_path_with_thermal(
         &self,
         plastic_strain: f64,
         dl: f64,
-        dt: f64,
+        inverse_dt: f64,
         temperature: f64,
         theta: f64,
     ) -> PathFlow {
         let h = self.hardening.evaluate(plastic_strain + dl);
         let r = self
             .rate
-            .evaluate(dl / dt, temperature)
-            .along_rate(1.0 / dt);
+            .evaluate(dl * inverse_dt, temperature)
+            .along_rate(inverse_dt);
         h.product(&r).scaled(theta).path_flow(self.rate.kink_rate())
     }
 

@@ -258,20 +258,21 @@ impl FlowAtTemperature<'_> {
 
 impl FlowAtTemperature<'_> {
     /// The flow stress along the return path from plastic strain `plastic_strain` at the
-    /// multiplier `dl` over the step `dt`: `sigma_y(eps_n + dl, dl/dt)` and its derivatives in
-    /// `dl`.
+    /// multiplier `dl` over a step of `1/inverse_dt`: `sigma_y(eps_n + dl, dl/dt)` and its
+    /// derivatives in `dl`. The rate is `dl * inverse_dt`: the return's reciprocal of the step
+    /// is computed once.
     #[inline]
-    pub fn along_path(&self, plastic_strain: f64, dl: f64, dt: f64) -> PathFlow {
+    pub fn along_path(&self, plastic_strain: f64, dl: f64, inverse_dt: f64) -> PathFlow {
         match self.strength {
             Strength::Composed(model) => model.along_path_with_thermal(
                 plastic_strain,
                 dl,
-                dt,
+                inverse_dt,
                 self.temperature,
                 self.thermal,
             ),
             Strength::ZerilliArmstrong(model) => {
-                model.along_path(plastic_strain, dl, dt, self.temperature)
+                model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
             }
         }
     }
@@ -373,11 +374,11 @@ mod tests {
             for strain in [0.05, 0.4] {
                 for rate in [50.0, 2.0e4] {
                     let dl = rate * dt;
-                    let f = at.along_path(strain, dl, dt);
+                    let f = at.along_path(strain, dl, 1.0 / dt);
                     let h = 1.0e-4 * dl;
                     let (p, m) = (
-                        at.along_path(strain, dl + h, dt),
-                        at.along_path(strain, dl - h, dt),
+                        at.along_path(strain, dl + h, 1.0 / dt),
+                        at.along_path(strain, dl - h, 1.0 / dt),
                     );
                     let close = |numeric: f64, analytic: f64, lower: f64| {
                         (numeric - analytic).abs() <= 1.0e-5 * analytic.abs().max(lower.abs() / dl)
@@ -416,7 +417,7 @@ mod tests {
         // SETUP: JC 4340 (e0 1 /s); ZA BCC (floor 1e-6 e0); MJC's power-law rate (smooth).
         // REFERENCE: kink rates e0, 1e-6 e0 and none.
         let [jc, mjc, _, _, _, za, _] = models();
-        let along = |model: &Strength| model.at_temperature(300.0).along_path(0.1, 1.0e-5, 1.0e-6);
+        let along = |model: &Strength| model.at_temperature(300.0).along_path(0.1, 1.0e-5, 1.0e6);
         let jc = along(&jc);
         assert_eq!(jc.kink_rate, 1.0);
         assert!(jc.same_branch(10.0, 2.0, 1.0) && !jc.same_branch(10.0, 0.5, 1.0));

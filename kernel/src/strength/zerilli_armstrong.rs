@@ -160,10 +160,19 @@ impl ZerilliArmstrong {
     }
 
     /// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt, T)`, and its first
-    /// three derivatives in `dl` (see [`PathFlow`]); the rate floor is its kink.
+    /// three derivatives in `dl` (see [`PathFlow`]), with the step's `inverse_dt = 1/dt`; the
+    /// rate floor is its kink.
     #[inline]
-    pub fn along_path(&self, plastic_strain: f64, dl: f64, dt: f64, temperature: f64) -> PathFlow {
-        let activation = self.activation(dl / dt, temperature).along_rate(1.0 / dt);
+    pub fn along_path(
+        &self,
+        plastic_strain: f64,
+        dl: f64,
+        inverse_dt: f64,
+        temperature: f64,
+    ) -> PathFlow {
+        let activation = self
+            .activation(dl * inverse_dt, temperature)
+            .along_rate(inverse_dt);
         self.combine(activation, self.hardening(plastic_strain + dl))
             .path_flow(Self::MINIMUM_RATE_RATIO * self.reference_rate)
     }
