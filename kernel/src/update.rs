@@ -129,6 +129,7 @@ pub struct StepOutput {
 }
 
 /// Update `state` over one step. On error, `state` is unchanged.
+#[inline]
 pub fn update(
     material: &Material,
     state: &mut MaterialState,

@@ -57,6 +57,7 @@ pub type History = [f64; STOSS_HISTORY_COUNT];
 /// The state of a point from its stress and history; a zero relative volume means "not yet
 /// initialised" and gives `initial` with `stress`. A flags value that is not an exact
 /// integer in `u32` range is an invalid state.
+#[inline(always)]
 pub fn state_from_history(
     stress: &Sym,
     history: &History,
@@ -88,6 +89,7 @@ pub fn state_from_history(
 }
 
 /// The history values of a state.
+#[inline(always)]
 pub fn history_from_state(state: &MaterialState) -> History {
     let mut history = [0.0; STOSS_HISTORY_COUNT];
     history[STOSS_HISTORY_PLASTIC_STRAIN] = state.plastic_strain;
@@ -104,6 +106,7 @@ pub fn history_from_state(state: &MaterialState) -> History {
 /// LS-DYNA umat convention for one point: strain increments with **engineering** shear
 /// (`gamma = 2 eps`) in Voigt order `xx yy zz xy yz zx`, the full Cauchy stress `sig`
 /// (updated in place) and the history `hsv` (updated in place). On error nothing is changed.
+#[inline(always)]
 pub fn lsdyna_umat_point<M: AbiModel>(
     material: &M,
     initial: &MaterialState,
@@ -163,6 +166,7 @@ pub struct VumatPoint {
 /// fictitious strain increment: it returns the elastic response
 /// `stressOld + K tr(deps) 1 + 2G dev(deps)` (`K` the initial EoS bulk modulus) and the
 /// (initialised) old history, and does not call the kernel.
+#[inline(always)]
 pub fn vumat_point<M: AbiModel>(
     material: &M,
     initial: &MaterialState,

@@ -98,6 +98,7 @@ impl PointModel for Material {
         self.failure.kinematic_flags(principal_strains)
     }
 
+    #[inline]
     fn update(
         &self,
         state: &mut MaterialState,
