@@ -28,6 +28,7 @@ use stoss_kernel::strength::{
 };
 use stoss_kernel::{
     Heating, Material, MaterialState, ParameterError, RateTreatment, StateFlags, StepInput,
+    YieldCheck,
 };
 
 /// The strength family of a target.
@@ -233,6 +234,7 @@ pub fn state(src: &mut Source) -> MaterialState {
         } else {
             0
         }),
+        yield_check: YieldCheck::NONE,
     }
 }
 

@@ -45,5 +45,5 @@ pub use drivers::PointModel;
 pub use error::{ParameterError, UpdateError};
 pub use material::{Heating, Material, RateTreatment};
 pub use part_material::PartMaterial;
-pub use state::{MaterialState, StateFlags};
+pub use state::{MaterialState, StateFlags, YieldCheck};
 pub use update::{update, update_with_tangent, StepInput, StepOutput};

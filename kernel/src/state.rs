@@ -36,8 +36,43 @@ impl StateFlags {
     }
 }
 
-/// State of one integration point.
+/// The yield check's flow stress `sigma_y(eps_p, 0, T)` (Pa), kept with the plastic strain
+/// and temperature it was evaluated at. A step from a state with exactly that plastic strain
+/// and temperature (every step after an elastic one, until the point yields or the host
+/// changes either) checks yield against it without evaluating the strength model: the elastic
+/// step of a JC point after flow calls no `pow`. It is the value the step would compute, so
+/// results do not depend on whether it is present; a state without it ([`YieldCheck::NONE`],
+/// e.g. read through the C ABI's batch entry, which does not carry it) evaluates the check.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct YieldCheck {
+    /// `sigma_y(eps_p, 0, T)` (Pa).
+    pub flow_stress: f64,
+    /// The plastic strain it was evaluated at (-).
+    pub plastic_strain: f64,
+    /// The temperature it was evaluated at (K).
+    pub temperature: f64,
+}
+
+impl YieldCheck {
+    /// No stored check: its keys (-1) match no admissible state.
+    pub const NONE: YieldCheck = YieldCheck {
+        flow_stress: 0.0,
+        plastic_strain: -1.0,
+        temperature: -1.0,
+    };
+
+    /// The stored flow stress if it was evaluated at exactly this plastic strain and
+    /// temperature.
+    #[inline(always)]
+    pub fn at(&self, plastic_strain: f64, temperature: f64) -> Option<f64> {
+        ((self.plastic_strain == plastic_strain) & (self.temperature == temperature))
+            .then_some(self.flow_stress)
+    }
+}
+
+/// State of one integration point.
+#[derive(Clone, Copy, Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct MaterialState {
     /// Cauchy stress (Pa), Voigt `xx yy zz xy yz zx`, tension positive.
@@ -58,6 +93,25 @@ pub struct MaterialState {
     pub eos_history: f64,
     /// Condition flags, see [`StateFlags`].
     pub flags: StateFlags,
+    /// The last yield check evaluated, see [`YieldCheck`] (not a state variable: excluded from
+    /// equality, finiteness and range checks).
+    pub yield_check: YieldCheck,
+}
+
+/// Equal stored state variables and flags ([`MaterialState::yield_check`], a stored
+/// evaluation, is not compared).
+impl PartialEq for MaterialState {
+    fn eq(&self, other: &Self) -> bool {
+        self.stress == other.stress
+            && self.plastic_strain == other.plastic_strain
+            && self.plastic_strain_rate == other.plastic_strain_rate
+            && self.temperature == other.temperature
+            && self.damage == other.damage
+            && self.relative_volume == other.relative_volume
+            && self.internal_energy == other.internal_energy
+            && self.eos_history == other.eos_history
+            && self.flags == other.flags
+    }
 }
 
 /// Description of a state variable a host carries between steps: its name (as in
@@ -153,6 +207,7 @@ impl MaterialState {
             internal_energy: 0.0,
             eos_history: 0.0,
             flags: StateFlags(0),
+            yield_check: YieldCheck::NONE,
         }
     }
 

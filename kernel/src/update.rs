@@ -19,7 +19,7 @@
 use crate::error::UpdateError;
 use crate::material::{Material, RateTreatment};
 use crate::math::sqrt;
-use crate::state::{MaterialState, StateFlags};
+use crate::state::{MaterialState, StateFlags, YieldCheck};
 use crate::strength::{FlowAtTemperature, PathFlow};
 use crate::tensor::{self, Matrix6, Sym};
 
@@ -456,8 +456,15 @@ fn compute(
         new_deviator = tensor::ZERO;
     } else {
         // The temperature is T_n throughout the check and the return.
-        let at_temperature = material.strength.at_temperature(state.temperature);
         let three_g = 3.0 * shear;
+        // sigma_y(eps_n, 0, T_n) if a previous step stored it for exactly this state.
+        let stored_check = || {
+            state
+                .yield_check
+                .at(state.plastic_strain, state.temperature)
+        };
+        // Ok(flow stress of a plastic step) or Err((yield check of an elastic step, whether
+        // it is the static check sigma_y(eps_n, 0, T_n), which is then stored)).
         let flow = match material.rate_treatment {
             RateTreatment::Implicit => {
                 // Every strength model's sigma_y is non-decreasing in eps_p and in the rate
@@ -465,74 +472,99 @@ fn compute(
                 // the previous step's multiplier proves g(0) > 0, and that evaluation is the
                 // return's first iterate. Only otherwise is the yield check evaluated.
                 let warm_dl = state.plastic_strain_rate * dt;
-                let warm = if warm_dl > 0.0 && warm_dl < trial_equivalent / three_g {
-                    let evaluated = residual(
-                        &at_temperature,
-                        three_g,
-                        trial_equivalent,
-                        state.plastic_strain,
-                        warm_dl,
-                        inverse_dt,
-                    );
-                    Some((warm_dl, evaluated))
-                } else {
-                    None
-                };
-                // The first iterate: the previous step's multiplier (exact in steady flow)
-                // if g(warm) > 0 or if it is below the perfectly plastic estimate g(0)/3G;
-                // otherwise that estimate, an upper bound of the root for non-softening
-                // models. g(0) needs the yield check, evaluated only when g(warm) > 0 does
-                // not already prove the step plastic.
-                let (check, start) = match warm {
-                    Some((warm_dl, evaluated)) if evaluated.value > 0.0 => {
-                        (None, (warm_dl, Some(evaluated)))
-                    }
+                let warm_applies = warm_dl > 0.0 && warm_dl < trial_equivalent / three_g;
+                // Without a warm start, a stored check decides an elastic step without
+                // evaluating the strength model.
+                let stored = if warm_applies { None } else { stored_check() };
+                match stored {
+                    Some(check) if trial_equivalent <= check => Err((check, true)),
                     _ => {
-                        let check = at_temperature.flow_stress(state.plastic_strain, 0.0).value;
-                        let estimate = (trial_equivalent - check) / three_g;
-                        let start = match warm {
-                            Some((warm_dl, evaluated)) if warm_dl < estimate => {
-                                (warm_dl, Some(evaluated))
+                        let at_temperature = material.strength.at_temperature(state.temperature);
+                        let warm = warm_applies.then(|| {
+                            let evaluated = residual(
+                                &at_temperature,
+                                three_g,
+                                trial_equivalent,
+                                state.plastic_strain,
+                                warm_dl,
+                                inverse_dt,
+                            );
+                            (warm_dl, evaluated)
+                        });
+                        // The first iterate: the previous step's multiplier (exact in steady
+                        // flow) if g(warm) > 0 or if it is below the perfectly plastic estimate
+                        // g(0)/3G; otherwise that estimate, an upper bound of the root for
+                        // non-softening models. g(0) needs the yield check, evaluated only when
+                        // g(warm) > 0 does not already prove the step plastic.
+                        let (check, start) = match warm {
+                            Some((warm_dl, evaluated)) if evaluated.value > 0.0 => {
+                                (None, (warm_dl, Some(evaluated)))
                             }
-                            _ => (estimate, None),
+                            _ => {
+                                let check = stored.unwrap_or_else(|| {
+                                    at_temperature.flow_stress(state.plastic_strain, 0.0).value
+                                });
+                                let estimate = (trial_equivalent - check) / three_g;
+                                let start = match warm {
+                                    Some((warm_dl, evaluated)) if warm_dl < estimate => {
+                                        (warm_dl, Some(evaluated))
+                                    }
+                                    _ => (estimate, None),
+                                };
+                                (Some(check), start)
+                            }
                         };
-                        (Some(check), start)
-                    }
-                };
-                match check {
-                    Some(check) if trial_equivalent <= check => Err(check),
-                    _ => {
-                        let (dl, flow, count) = implicit_return(
-                            &at_temperature,
-                            shear,
-                            trial_equivalent,
-                            state.plastic_strain,
-                            start,
-                            dt,
-                            inverse_dt,
-                        )?;
-                        plastic_increment = dl;
-                        iterations = count;
-                        plastic_modulus = flow.slope;
-                        Ok(flow.value)
+                        match check {
+                            Some(check) if trial_equivalent <= check => Err((check, true)),
+                            _ => {
+                                let (dl, flow, count) = implicit_return(
+                                    &at_temperature,
+                                    shear,
+                                    trial_equivalent,
+                                    state.plastic_strain,
+                                    start,
+                                    dt,
+                                    inverse_dt,
+                                )?;
+                                plastic_increment = dl;
+                                iterations = count;
+                                plastic_modulus = flow.slope;
+                                Ok(flow.value)
+                            }
+                        }
                     }
                 }
             }
             RateTreatment::Lagged => {
-                let flow_now =
-                    at_temperature.flow_stress(state.plastic_strain, state.plastic_strain_rate);
-                if trial_equivalent > flow_now.value {
-                    plastic_increment = (trial_equivalent - flow_now.value) / three_g;
-                    Ok(flow_now.value)
+                // After an elastic step (rate 0) eq. 3.7's check is the static one.
+                let rate = state.plastic_strain_rate;
+                let stored = if rate == 0.0 { stored_check() } else { None };
+                let flow_now = stored.unwrap_or_else(|| {
+                    material
+                        .strength
+                        .at_temperature(state.temperature)
+                        .flow_stress(state.plastic_strain, rate)
+                        .value
+                });
+                if trial_equivalent > flow_now {
+                    plastic_increment = (trial_equivalent - flow_now) / three_g;
+                    Ok(flow_now)
                 } else {
-                    Err(flow_now.value)
+                    Err((flow_now, rate == 0.0))
                 }
             }
         };
         match flow {
-            Err(check) => {
+            Err((check, is_static)) => {
                 yield_stress = check;
                 new_deviator = trial;
+                if is_static {
+                    next.yield_check = YieldCheck {
+                        flow_stress: check,
+                        plastic_strain: state.plastic_strain,
+                        temperature: state.temperature,
+                    };
+                }
             }
             Ok(flow) => {
                 plastic = true;
@@ -728,5 +760,82 @@ mod tests {
         }
         let mean = f64::from(evaluations) / f64::from(returns);
         assert!(mean < 1.1, "{mean} evaluations per return");
+    }
+}
+
+#[cfg(test)]
+mod yield_check_tests {
+    use super::*;
+    use crate::strength::{CrystalStructure, JohnsonCook, ZerilliArmstrong};
+
+    #[test]
+    fn a_stored_yield_check_changes_no_result() {
+        // GOAL: the yield check stored by an elastic step is exactly what the next steps
+        //       would evaluate, so a host that carries it and one that does not (the C ABI's
+        //       batch entry) get the same bits; and it is found by the elastic steps after the
+        //       first.
+        // SETUP: JC 4340 (implicit and lagged) and ZA BCC; 800 compressive steps (yield at ~500),
+        //        one unloading step, 400 elastic reloading steps, then loading to yield again
+        //        (200 steps); run once carrying the state and once with the stored check
+        //        removed before every step.
+        // REFERENCE: bit-identical states and outputs at every step; the stored check's keys
+        //            equal the state's plastic strain and temperature on the reloading steps
+        //            (all of them after an implicit unloading step, which checks the static
+        //            flow stress; all but the first after a lagged one, which checks at the
+        //            last step's rate).
+        let za = ZerilliArmstrong {
+            structure: CrystalStructure::Bcc,
+            athermal_stress: 65e6,
+            c1: 1033e6,
+            c2: 0.0,
+            c3: 0.0070,
+            c4: 0.000415,
+            c5: 266e6,
+            exponent: 0.289,
+            reference_rate: 1.0,
+        };
+        let jc = Material::STEEL_4340.with_strength(JohnsonCook::STEEL_4340);
+        let materials = [
+            jc,
+            Material {
+                rate_treatment: RateTreatment::Lagged,
+                ..jc
+            },
+            jc.with_strength(za),
+        ];
+        for material in materials {
+            let increments = core::iter::repeat_n(-1.0e-5, 800)
+                .chain([2.0e-3])
+                .chain(core::iter::repeat_n(-5.0e-7, 400))
+                .chain(core::iter::repeat_n(-1.0e-5, 200));
+            let mut carried = MaterialState::initial(298.0);
+            let mut stripped = carried;
+            let (mut elastic, mut found) = (0, 0);
+            for (step, axial) in increments.enumerate() {
+                let input = StepInput {
+                    strain_increment: [axial, 0.0, 0.0, 0.0, 0.0, 0.0],
+                    dt: 1.0e-8,
+                    relative_volume: carried.relative_volume * crate::math::exp(axial),
+                };
+                let stored = carried
+                    .yield_check
+                    .at(carried.plastic_strain, carried.temperature);
+                stripped.yield_check = YieldCheck::NONE;
+                let a = update(&material, &mut carried, &input).unwrap();
+                let b = update(&material, &mut stripped, &input).unwrap();
+                assert_eq!(a, b);
+                assert_eq!(
+                    carried.values().map(f64::to_bits),
+                    stripped.values().map(f64::to_bits)
+                );
+                if (801..1201).contains(&step) {
+                    assert_eq!(a.plastic_increment, 0.0, "step {step}");
+                    elastic += 1;
+                    found += u32::from(stored.is_some());
+                }
+            }
+            assert_eq!(elastic, 400);
+            assert!(found >= 399, "{found} of 400: {material:?}");
+        }
     }
 }

@@ -205,6 +205,7 @@ fn fuzz_za_bcc_steep_rate_return_mapping_converges() {
         internal_energy: -539550781.2500019,
         eos_history: 0.0,
         flags: StateFlags(0),
+        yield_check: stoss_kernel::YieldCheck::NONE,
     };
     let input = StepInput {
         strain_increment: [
@@ -265,6 +266,7 @@ fn fuzz_jc_small_exponent_return_mapping_converges() {
         internal_energy: 14679533718.537924,
         eos_history: 0.0,
         flags: StateFlags(0),
+        yield_check: stoss_kernel::YieldCheck::NONE,
     };
     let input = StepInput {
         strain_increment: [-0.05; 6],

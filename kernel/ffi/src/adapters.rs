@@ -25,7 +25,7 @@
 //! logarithmic strain, so this is the host's volume to the accuracy of its integration).
 
 use stoss_kernel::tensor::{self, Sym};
-use stoss_kernel::{MaterialState, StateFlags, StepOutput, UpdateError};
+use stoss_kernel::{MaterialState, StateFlags, StepOutput, UpdateError, YieldCheck};
 
 use crate::batch::{failure_code, step_point, AbiModel};
 use crate::block::initial_bulk_modulus;
@@ -85,6 +85,7 @@ pub fn state_from_history(
         internal_energy: history[STOSS_HISTORY_INTERNAL_ENERGY],
         eos_history: history[STOSS_HISTORY_EOS_HISTORY],
         flags: StateFlags(flags as u32),
+        yield_check: YieldCheck::NONE,
     })
 }
 

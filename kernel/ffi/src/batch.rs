@@ -11,7 +11,7 @@ use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::tensor::{self, Matrix6, Sym};
 use stoss_kernel::PartMaterial;
 use stoss_kernel::{
-    Material, MaterialState, PointModel, StateFlags, StepInput, StepOutput, UpdateError,
+    Material, MaterialState, PointModel, StateFlags, StepInput, StepOutput, UpdateError, YieldCheck,
 };
 
 use crate::boundary::{ArrayIn, ArrayOut};
@@ -328,6 +328,7 @@ impl<'a> StateViews<'a> {
                 internal_energy: self.internal_energy.get_unchecked(i),
                 eos_history: self.eos_history.get_unchecked(i),
                 flags: StateFlags(self.flags.get_unchecked(i)),
+                yield_check: YieldCheck::NONE,
             }
         }
     }

@@ -26,7 +26,7 @@
 use std::ffi::c_char;
 use std::ptr::{null, null_mut};
 
-use stoss_kernel::{MaterialState, StateFlags};
+use stoss_kernel::{MaterialState, StateFlags, YieldCheck};
 
 use crate::abi::{stoss_lsdyna_umat, stoss_update_batch};
 use crate::batch::{StossBatchInput, StossBatchOutput, StossBatchState};
@@ -201,6 +201,7 @@ impl BatchStateData {
             internal_energy: self.internal_energy[i],
             eos_history: self.eos_history[i],
             flags: StateFlags(self.flags[i]),
+            yield_check: YieldCheck::NONE,
         })
     }
 

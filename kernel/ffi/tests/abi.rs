@@ -94,6 +94,7 @@ impl Points {
             internal_energy: self.scalars[5][i],
             eos_history: self.scalars[6][i],
             flags: stoss_kernel::StateFlags(self.flags[i]),
+            yield_check: stoss_kernel::YieldCheck::NONE,
         }
     }
 
