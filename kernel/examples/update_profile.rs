@@ -44,22 +44,7 @@ fn main() {
     // state of the steps after it, so equal hashes mean bit-identical paths.
     let hash = states
         .iter()
-        .flat_map(|state| {
-            let s = state.stress;
-            [
-                s[0],
-                s[1],
-                s[2],
-                s[3],
-                s[4],
-                s[5],
-                state.plastic_strain,
-                state.plastic_strain_rate,
-                state.temperature,
-                state.internal_energy,
-                state.relative_volume,
-            ]
-        })
+        .flat_map(|state| state.values())
         .fold(0xcbf2_9ce4_8422_2325_u64, |hash, value| {
             (hash ^ value.to_bits()).wrapping_mul(0x0100_0000_01b3)
         });
