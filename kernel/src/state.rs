@@ -43,6 +43,9 @@ impl StateFlags {
 /// step of a JC point after flow calls no `pow`. It is the value the step would compute, so
 /// results do not depend on whether it is present; a state without it ([`YieldCheck::NONE`],
 /// e.g. read through the C ABI's batch entry, which does not carry it) evaluates the check.
+/// A host never needs to write it: a state it assembles itself (rather than keeping one the
+/// kernel returned) carries [`YieldCheck::NONE`], as [`MaterialState::initial`] does; a stored
+/// value with matching keys is trusted, not re-evaluated.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct YieldCheck {
