@@ -182,25 +182,47 @@ pub fn vumat_point<M: AbiModel>(
         energy_per_mass_old,
     } = input;
     let (strain_increment, stress_old) = (&strain_increment, &stress_old);
-    let mut state = state_from_history(stress_old, state_old, initial)?;
-    if *data_check {
-        let bulk = initial_bulk_modulus(material.eos());
-        let shear = material.shear_modulus();
-        let volumetric = tensor::trace(strain_increment);
-        let deviator = tensor::deviator(strain_increment);
-        let stress: Sym = core::array::from_fn(|k| {
-            let spherical = if k < 3 { bulk * volumetric } else { 0.0 };
-            stress_old[k] + spherical + 2.0 * shear * deviator[k]
-        });
-        return Ok(VumatPoint {
-            stress,
-            history: history_from_state(&state),
-            internal_energy_per_mass: *energy_per_mass_old,
-            output: None,
-            state,
-        });
+    if !*data_check {
+        return vumat_step(
+            material,
+            initial,
+            *dt,
+            strain_increment,
+            stress_old,
+            state_old,
+        );
     }
-    let output = step_point(material, &mut state, strain_increment, *dt, None, None)?;
+    let state = state_from_history(stress_old, state_old, initial)?;
+    let bulk = initial_bulk_modulus(material.eos());
+    let shear = material.shear_modulus();
+    let volumetric = tensor::trace(strain_increment);
+    let deviator = tensor::deviator(strain_increment);
+    let stress: Sym = core::array::from_fn(|k| {
+        let spherical = if k < 3 { bulk * volumetric } else { 0.0 };
+        stress_old[k] + spherical + 2.0 * shear * deviator[k]
+    });
+    Ok(VumatPoint {
+        stress,
+        history: history_from_state(&state),
+        internal_energy_per_mass: *energy_per_mass_old,
+        output: None,
+        state,
+    })
+}
+
+/// The VUMAT step proper (not the data-check call): the kernel update from the old stress and
+/// history, with the energy per unit mass.
+#[inline(always)]
+fn vumat_step<M: AbiModel>(
+    material: &M,
+    initial: &MaterialState,
+    dt: f64,
+    strain_increment: &Sym,
+    stress_old: &Sym,
+    state_old: &History,
+) -> Result<VumatPoint, UpdateError> {
+    let mut state = state_from_history(stress_old, state_old, initial)?;
+    let output = step_point(material, &mut state, strain_increment, dt, None, None)?;
     Ok(VumatPoint {
         stress: state.stress,
         history: history_from_state(&state),
@@ -325,15 +347,19 @@ pub(crate) fn run_vumat<M: AbiModel>(
             core::array::from_fn(|j| unsafe { arrays.state_old.get_unchecked(i + nblock * j) });
         // SAFETY: see the loop's comment.
         let energy_old = unsafe { arrays.ener_intern_old.get_unchecked(i) };
-        let input = VumatInput {
-            dt,
-            data_check,
-            strain_increment: strain,
-            stress_old,
-            state_old,
-            energy_per_mass_old: energy_old,
+        let result = if data_check {
+            let input = VumatInput {
+                dt,
+                data_check,
+                strain_increment: strain,
+                stress_old,
+                state_old,
+                energy_per_mass_old: energy_old,
+            };
+            vumat_point(material, initial, &input)
+        } else {
+            vumat_step(material, initial, dt, &strain, &stress_old, &state_old)
         };
-        let result = vumat_point(material, initial, &input);
         // Extra state variables (the host's own) are carried over unchanged.
         for j in STOSS_HISTORY_COUNT..nstatev {
             // SAFETY: see the loop's comment.
