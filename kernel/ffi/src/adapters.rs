@@ -29,7 +29,7 @@ use stoss_kernel::{MaterialState, StateFlags, StepOutput, UpdateError, YieldChec
 
 use crate::batch::{failure_code, step_point, AbiModel};
 use crate::block::initial_bulk_modulus;
-use crate::boundary::{set_optional, ArrayIn, ArrayOut};
+use crate::boundary::{ArrayIn, ArrayOut};
 use crate::status::StossStatus;
 
 /// History values per point used by the adapters (LS-DYNA `NHV`, Abaqus `*DEPVAR`, at least).
@@ -252,30 +252,71 @@ pub(crate) fn run_lsdyna<M: AbiModel>(
     arrays: &mut LsDynaArrays<'_>,
 ) -> Option<(usize, UpdateError)> {
     let nlq = arrays.nlq;
+    let values = nlq * 6;
+    let histories = nlq * STOSS_HISTORY_COUNT;
+    // One check per call instead of one per access (as in `run_vumat`): the per-point
+    // accesses below are unchecked.
+    assert!(
+        arrays.nhv >= STOSS_HISTORY_COUNT
+            && arrays.eps.covers(values)
+            && arrays.sig.covers(values)
+            && arrays.hsv.covers(histories)
+            && arrays.failel.as_ref().is_none_or(|a| a.covers(nlq))
+            && arrays.wave_speed.as_ref().is_none_or(|a| a.covers(nlq))
+            && arrays.status.as_ref().is_none_or(|a| a.covers(nlq)),
+        "LS-DYNA arrays shorter than their nlq x 6 / nlq x {STOSS_HISTORY_COUNT}"
+    );
     let mut first_failure = None;
     for i in 0..nlq {
-        let eps: Sym = core::array::from_fn(|k| arrays.eps.get(i + nlq * k));
-        let mut sig: Sym = core::array::from_fn(|k| arrays.sig.get(i + nlq * k));
-        let mut hsv: History = core::array::from_fn(|j| arrays.hsv.get(i + nlq * j));
-        match lsdyna_umat_point(material, initial, dt, &eps, &mut sig, &mut hsv) {
-            Ok((output, state)) => {
-                for (k, value) in sig.iter().enumerate() {
-                    arrays.sig.set(i + nlq * k, *value);
+        // SAFETY (every unchecked access in this loop): `i < nlq`, `k < 6` and
+        // `j < STOSS_HISTORY_COUNT`, so `i + nlq k < values` and `i + nlq j < histories`,
+        // which the arrays cover (asserted above).
+        let eps: Sym = core::array::from_fn(|k| {
+            // SAFETY: see the loop's comment.
+            unsafe { arrays.eps.get_unchecked(i + nlq * k) }
+        });
+        let mut sig: Sym = core::array::from_fn(|k| {
+            // SAFETY: see the loop's comment.
+            unsafe { arrays.sig.get_unchecked(i + nlq * k) }
+        });
+        let mut hsv: History = core::array::from_fn(|j| {
+            // SAFETY: see the loop's comment.
+            unsafe { arrays.hsv.get_unchecked(i + nlq * j) }
+        });
+        let (status, failure) =
+            match lsdyna_umat_point(material, initial, dt, &eps, &mut sig, &mut hsv) {
+                Ok((output, state)) => {
+                    // SAFETY: see the loop's comment.
+                    unsafe {
+                        for (k, value) in sig.iter().enumerate() {
+                            arrays.sig.set_unchecked(i + nlq * k, *value);
+                        }
+                        for (j, value) in hsv.iter().enumerate() {
+                            arrays.hsv.set_unchecked(i + nlq * j, *value);
+                        }
+                        if let Some(array) = &mut arrays.wave_speed {
+                            array.set_unchecked(i, output.wave_speed);
+                        }
+                    }
+                    (StossStatus::Ok, failure_code(&state))
                 }
-                for (j, value) in hsv.iter().enumerate() {
-                    arrays.hsv.set(i + nlq * j, *value);
+                Err(error) => {
+                    first_failure.get_or_insert((i, error));
+                    (StossStatus::from(error), 0)
                 }
-                set_optional(&mut arrays.failel, i, failure_code(&state));
-                set_optional(&mut arrays.wave_speed, i, output.wave_speed);
-                set_optional(&mut arrays.status, i, StossStatus::Ok as i32);
+            };
+        // SAFETY: see the loop's comment.
+        unsafe {
+            if status == StossStatus::Ok {
+                if let Some(array) = &mut arrays.failel {
+                    array.set_unchecked(i, failure);
+                }
             }
-            Err(error) => {
-                set_optional(&mut arrays.status, i, StossStatus::from(error) as i32);
-                first_failure.get_or_insert((i, error));
+            if let Some(array) = &mut arrays.status {
+                array.set_unchecked(i, status as i32);
             }
         }
     }
-    debug_assert!(arrays.nhv >= STOSS_HISTORY_COUNT);
     first_failure
 }
 

@@ -271,14 +271,6 @@ impl<'a, T: Copy> ArrayOut<'a, T> {
         unsafe { Self::new(pointer, len, field) }.map(Some)
     }
 
-    /// Element `index`; panics (caught at the boundary) if `index >= len`.
-    #[inline]
-    pub(crate) fn get(&self, index: usize) -> T {
-        assert!(index < self.len, "array index {index} out of {}", self.len);
-        // SAFETY: `index < len`; the constructor's contract makes the element readable.
-        unsafe { self.pointer.add(index).read() }
-    }
-
     /// Store `value` at `index`; panics (caught at the boundary) if `index >= len`.
     #[inline]
     pub(crate) fn set(&mut self, index: usize, value: T) {
@@ -313,14 +305,6 @@ impl<'a, T: Copy> ArrayOut<'a, T> {
         debug_assert!(index < self.len);
         // SAFETY: `index < len` (caller) and the constructor's contract.
         unsafe { self.pointer.add(index).write(value) }
-    }
-}
-
-/// Write into an optional output array (does nothing if absent).
-#[inline]
-pub(crate) fn set_optional<T: Copy>(array: &mut Option<ArrayOut<'_, T>>, index: usize, value: T) {
-    if let Some(array) = array {
-        array.set(index, value);
     }
 }
 
