@@ -3,7 +3,9 @@
 //! Order of operations (per step, given the strain increment `deps`, `dt` and the new relative
 //! volume `V1` from the host):
 //! 1. elastic predictor on the deviator, `s_trial = s_n + 2G dev(deps)`;
-//! 2. if `q_trial > sigma_y(eps_p, 0, T_n)`, J2 radial return. The plastic multiplier `dl`
+//! 2. if `q_trial > sigma_y(eps_p, 0, T_n)` (the value an earlier elastic step stored for
+//!    exactly this `eps_p` and `T_n`, [`crate::state::YieldCheck`], or evaluated), J2 radial
+//!    return. The plastic multiplier `dl`
 //!    solves, **implicitly in strain and rate** (seed 001 eq. 3.8, Westerling 2001),
 //!    `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n) = 0` by safeguarded Newton (bracket
 //!    `[0, q_trial/3G]`, bisection fallback, at most [`MAX_RETURN_ITERATIONS`]). The
