@@ -14,7 +14,7 @@
 //! - [`damage`]: Johnson-Cook failure and the erosion flags shared by every model.
 //! - [`parameters`]: one description (name, symbol, unit, search range) per model constant.
 //! - [`material`]: a complete material (elasticity, strength, heating, EoS, damage).
-//! - [`update`]: the stress update: EoS, elastic predictor, implicit (or lagged) radial
+//! - [`update`](mod@update): the stress update: EoS, elastic predictor, implicit (or lagged) radial
 //!   return, heating, damage, failure, the consistent tangent and the wave speed.
 //! - [`drivers`]: single-element drivers writing into caller-provided buffers.
 //!

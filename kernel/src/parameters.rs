@@ -3,10 +3,11 @@
 //! material file keys (the name is the struct field and TOML key), a calibration's search
 //! space and its default bounds, the diagnosis' fitted constants, the reports and cards.
 //!
-//! A model implements [`Constants`] with [`struct_constants!`] (a parameter struct) or
-//! [`enum_constants!`] (a term enum, whose constants depend on its variant). Both macros
-//! take the field list once and derive the names from the field identifiers, so a
-//! description and the value it reads cannot drift apart.
+//! A model implements [`Constants`] with [`struct_constants!`](crate::struct_constants) (a
+//! parameter struct) or [`enum_constants!`](crate::enum_constants) (a term enum, whose
+//! constants depend on its variant). Both macros take the field list once and derive the
+//! names from the field identifiers, so a description and the value it reads cannot drift
+//! apart.
 
 /// Description of one model constant.
 #[derive(Clone, Copy, Debug, PartialEq)]

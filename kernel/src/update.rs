@@ -43,10 +43,10 @@ pub const RETURN_TOLERANCE: f64 = 1e-14;
 pub const RETURN_STEP_TOLERANCE: f64 = 1e-7;
 
 /// Fraction of the return tolerance that the residual predicted after a corrected step (see
-/// [`final_step`]) may reach for the return to stop there.
+/// `final_step`) may reach for the return to stop there.
 pub const CORRECTION_MARGIN: f64 = 0.5;
 
-/// Largest relative Newton step that [`final_step`] corrects and accepts. Its estimate of
+/// Largest relative Newton step that `final_step` corrects and accepts. Its estimate of
 /// what the corrected step leaves is third order and needs the fourth-order term small beside
 /// it: for the power and logarithmic laws in strain and rate each derivative of the flow
 /// stress brings a factor of at most `4 / dl`, and a Voce term `Q exp(-c eps_p)` with `c s`
