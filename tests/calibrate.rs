@@ -6,7 +6,7 @@ use std::process::Command;
 use stoss::calibrate::campaign::LeaveOneOut;
 use stoss::calibrate::executor::{Batch, Executor, Local, Origin, Record};
 use stoss::calibrate::proposer::bayesian_factory;
-use stoss::calibrate::run::{calibrate, CalibrateError, RunOptions};
+use stoss::calibrate::run::{calibrate, CalibrateError, ModelResult, RunOptions};
 use stoss::calibrate::{evaluate, Campaign, Evaluation};
 use stoss::input::material;
 use stoss::solver::SolverSettings;
@@ -40,6 +40,22 @@ fn local(campaign: &Campaign) -> Local {
     Local::new(campaign.file.optimiser.parallel).unwrap()
 }
 
+/// `calibrate` on the local executor, with the campaign's own initial design and no progress
+/// output.
+fn calibrate_quietly(campaign: &Campaign, output: &Path, options: &RunOptions) -> Vec<ModelResult> {
+    let factory = bayesian_factory(campaign.file.optimiser.design);
+    let mut quiet = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
+    calibrate(
+        campaign,
+        output,
+        options,
+        &mut local(campaign),
+        &factory,
+        &mut quiet,
+    )
+    .unwrap()
+}
+
 #[test]
 fn a_least_squares_finish_reaches_the_noise_floor_after_ten_bayesian_simulations_and_resumes() {
     // GOAL: issue 15's calibration that converges: ten Bayesian simulations, then the
@@ -53,25 +69,12 @@ fn a_least_squares_finish_reaches_the_noise_floor_after_ten_bayesian_simulations
     //        calibration bench's reference), and its constants C 0.012, m 1.05.
     let campaign = Campaign::load(&fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
     let output = temporary("least-squares");
-    let factory = bayesian_factory(None);
-    let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
     let options = RunOptions {
         least_squares: Some(4),
         ..options(10, 0, false)
     };
-    let run = |progress: &mut stoss::calibrate::run::Progress| {
-        calibrate(
-            &campaign,
-            &output,
-            &options,
-            &mut local(&campaign),
-            &factory,
-            progress,
-        )
-        .unwrap()
-        .remove(0)
-    };
-    let result = run(&mut progress);
+    let run = || calibrate_quietly(&campaign, &output, &options).remove(0);
+    let result = run();
     assert!(
         result.fit_error <= 1.1 * 0.2352,
         "fit error {}",
@@ -96,8 +99,7 @@ fn a_least_squares_finish_reaches_the_noise_floor_after_ten_bayesian_simulations
         })
         .count();
     assert_eq!(logs, 1);
-    let mut quiet = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
-    let again = run(&mut quiet);
+    let again = run();
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&again.selected.values), bits(&result.selected.values));
     std::fs::remove_dir_all(&output).unwrap();
@@ -115,18 +117,7 @@ fn the_noise_floor_stop_rule_ends_an_instance_once_its_fit_is_within_the_noise()
     let mut campaign = Campaign::load(&fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
     campaign.file.optimiser.stop_at_noise_floor = true;
     let output = temporary("noise-floor");
-    let factory = bayesian_factory(None);
-    let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
-    let result = calibrate(
-        &campaign,
-        &output,
-        &options(60, 120, false),
-        &mut local(&campaign),
-        &factory,
-        &mut progress,
-    )
-    .unwrap()
-    .remove(0);
+    let result = calibrate_quietly(&campaign, &output, &options(60, 120, false)).remove(0);
     let fitted = campaign.fitted();
     let (chi_square, points) = fitted.iter().fold((0.0, 0usize), |(c, n), &i| {
         let score = result.selected.scores[i].unwrap();
@@ -159,17 +150,7 @@ fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
     //        the starting constants (not the truth) score worse, fitted and held out.
     let campaign = Campaign::load(&fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
     let output = temporary("recover");
-    let factory = bayesian_factory(None);
-    let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
-    let results = calibrate(
-        &campaign,
-        &output,
-        &options(60, 120, false),
-        &mut local(&campaign),
-        &factory,
-        &mut progress,
-    )
-    .unwrap();
+    let results = calibrate_quietly(&campaign, &output, &options(60, 120, false));
     let result = &results[0];
     let chi = result.selected.mean_chi(&campaign.fitted()).unwrap();
     assert!(chi < 2.0, "mean chi {chi}");
@@ -246,17 +227,7 @@ fn leave_one_out_scores_every_fold_on_all_experiments() {
     // REFERENCE: 4 finalists, each with a score for all 4 experiments.
     let campaign = Campaign::load(&fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
     let output = temporary("loo");
-    let factory = bayesian_factory(None);
-    let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
-    let results = calibrate(
-        &campaign,
-        &output,
-        &options(12, 0, true),
-        &mut local(&campaign),
-        &factory,
-        &mut progress,
-    )
-    .unwrap();
+    let results = calibrate_quietly(&campaign, &output, &options(12, 0, true));
     let finalists = &results[0].finalists;
     assert_eq!(finalists.len(), 4);
     assert!(finalists
@@ -298,8 +269,6 @@ fn warm_started_leave_one_out_runs_for_the_selected_model_only() {
     let campaign = Campaign::load(&path).unwrap();
     let output = dir.join("out");
     std::fs::create_dir_all(&output).unwrap();
-    let factory = bayesian_factory(campaign.file.optimiser.design);
-    let mut progress = |_: &str, _: Option<&str>, _: usize, _: usize, _: usize, _: Option<f64>| {};
     let run = RunOptions {
         budget: Some(10),
         instances: Some(1),
@@ -307,15 +276,7 @@ fn warm_started_leave_one_out_runs_for_the_selected_model_only() {
         polish: Some(0),
         least_squares: None,
     };
-    let results = calibrate(
-        &campaign,
-        &output,
-        &run,
-        &mut local(&campaign),
-        &factory,
-        &mut progress,
-    )
-    .unwrap();
+    let results = calibrate_quietly(&campaign, &output, &run);
     let jc = results.iter().find(|r| r.model == "jc").unwrap();
     let soft = results.iter().find(|r| r.model == "jc-soft").unwrap();
     assert!(
