@@ -44,7 +44,7 @@ use stoss_kernel::eos::{Eos, Jwl, LinearEos, MieGruneisen, Polynomial, Tabulated
 use stoss_kernel::math::{exp, ln};
 use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, TwoRateJohnsonCook, ZerilliArmstrong,
+    JohnsonCook, ModifiedJohnsonCook, TwoRateJohnsonCook, ZerilliArmstrong,
 };
 use stoss_kernel::{update, Material, MaterialState, RateTreatment, StateFlags, StepInput};
 
@@ -71,17 +71,7 @@ fn jc() -> Material {
 /// contribution for Armco iron; elasticity, density, EoS and heating are those of
 /// `Material::STEEL_4340`. The constants only set how far the return has to go, not its cost.
 fn za_bcc() -> Material {
-    Material::STEEL_4340.with_strength(ZerilliArmstrong {
-        structure: CrystalStructure::Bcc,
-        athermal_stress: 65.0e6,
-        c1: 1033.0e6,
-        c2: 0.0,
-        c3: 0.00698,
-        c4: 0.000415,
-        c5: 266.0e6,
-        exponent: 0.289,
-        reference_rate: 1.0,
-    })
+    Material::STEEL_4340.with_strength(ZerilliArmstrong::ARMCO_IRON)
 }
 
 /// Modified Johnson-Cook: 4340 JC power hardening plus two Voce terms (Q1 100 MPa, c1 10;

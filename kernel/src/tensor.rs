@@ -90,12 +90,6 @@ pub fn pressure(stress: &Sym) -> f64 {
     -mean(stress)
 }
 
-/// `true` if every component is finite.
-#[inline]
-pub fn all_finite(a: &Sym) -> bool {
-    a.iter().all(|x| x.is_finite())
-}
-
 /// Solve the 2x2 linear system `m x = r` by Cramer's rule; `None` if singular.
 pub fn solve2(m: [[f64; 2]; 2], r: [f64; 2]) -> Option<[f64; 2]> {
     let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];

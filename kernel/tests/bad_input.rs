@@ -253,17 +253,7 @@ fn materials_for_bad_values() -> Vec<Material> {
             rate_treatment: RateTreatment::Lagged,
             ..base
         },
-        base.with_strength(ZerilliArmstrong {
-            structure: CrystalStructure::Bcc,
-            athermal_stress: 65e6,
-            c1: 1033e6,
-            c2: 0.0,
-            c3: 0.0070,
-            c4: 0.000415,
-            c5: 266e6,
-            exponent: 0.289,
-            reference_rate: 1.0,
-        }),
+        base.with_strength(ZerilliArmstrong::ARMCO_IRON),
         Material {
             eos: Eos::TabulatedCompaction(TabulatedCompaction::CONCRETE_FOI_TABLE_5_2),
             ..base

@@ -20,17 +20,7 @@ pub struct ReferenceMaterial {
 
 /// Zerilli & Armstrong (1987) BCC constants for Armco iron: C1 1033 MPa, C3 0.00698 /K,
 /// C4 0.000415 /K, C5 266 MPa, n 0.289; athermal stress 65 MPa (grain-size term, typical).
-pub const ZA_ARMCO_IRON: ZerilliArmstrong = ZerilliArmstrong {
-    structure: CrystalStructure::Bcc,
-    athermal_stress: 65.0e6,
-    c1: 1033.0e6,
-    c2: 0.0,
-    c3: 0.00698,
-    c4: 0.000415,
-    c5: 266.0e6,
-    exponent: 0.289,
-    reference_rate: 1.0,
-};
+pub const ZA_ARMCO_IRON: ZerilliArmstrong = ZerilliArmstrong::ARMCO_IRON;
 
 /// Zerilli & Armstrong (1987) FCC constants for OFHC copper: C2 890 MPa, C3 0.0028 /K,
 /// C4 0.000115 /K; athermal stress 65 MPa.

@@ -41,9 +41,7 @@ use stoss_kernel::drivers::{
 };
 use stoss_kernel::eos::MieGruneisen;
 use stoss_kernel::rht::RhtMaterial;
-use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, RateTerm, TwoRateJohnsonCook, ZerilliArmstrong,
-};
+use stoss_kernel::strength::{JohnsonCook, RateTerm, TwoRateJohnsonCook, ZerilliArmstrong};
 use stoss_kernel::{Material, MaterialState, PointModel, RateTreatment};
 
 /// Collects the hex lines of a driver run.
@@ -109,17 +107,7 @@ fn jc_mie_gruneisen_lagged() -> Material {
 /// Zerilli & Armstrong (1987) Armco-iron activation/hardening constants with a 65 MPa
 /// athermal stress (as in the kernel's benchmarks); elasticity etc. of 4340.
 fn za_bcc() -> Material {
-    Material::STEEL_4340.with_strength(ZerilliArmstrong {
-        structure: CrystalStructure::Bcc,
-        athermal_stress: 65.0e6,
-        c1: 1033.0e6,
-        c2: 0.0,
-        c3: 0.00698,
-        c4: 0.000415,
-        c5: 266.0e6,
-        exponent: 0.289,
-        reference_rate: 1.0,
-    })
+    Material::STEEL_4340.with_strength(ZerilliArmstrong::ARMCO_IRON)
 }
 
 /// Illustrative TJC constants (test data) with JC 4340 failure.

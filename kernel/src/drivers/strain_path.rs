@@ -38,7 +38,7 @@ pub fn strain_path<S: HistorySink + ?Sized>(
     for pair in path.windows(2) {
         let (start, end) = (&pair[0], &pair[1]);
         positive("time (increasing)", end.time - start.time)?;
-        if !tensor::all_finite(&end.strain) {
+        if !crate::math::all_finite(&end.strain) {
             return Err(DriverError::InvalidLoading { field: "strain" });
         }
         let count = f64::from(substeps);

@@ -116,7 +116,7 @@ pub fn strain_rate(increment: &tensor::Sym, dt: f64) -> f64 {
 }
 
 fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
-    if !tensor::all_finite(&input.strain_increment)
+    if !crate::math::all_finite(&input.strain_increment)
         || !input.dt.is_finite()
         || !input.relative_volume.is_finite()
     {

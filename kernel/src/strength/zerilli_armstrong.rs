@@ -53,6 +53,21 @@ pub struct ZerilliArmstrong {
 }
 
 impl ZerilliArmstrong {
+    /// Zerilli & Armstrong (1987) BCC constants for Armco iron: C1 1033 MPa, C3 0.00698 /K,
+    /// C4 0.000415 /K, C5 266 MPa, n 0.289, e0 1 /s; the athermal stress (grain-size term) is
+    /// not in their fit and is set to 65 MPa here, a typical Hall-Petch contribution.
+    pub const ARMCO_IRON: ZerilliArmstrong = ZerilliArmstrong {
+        structure: CrystalStructure::Bcc,
+        athermal_stress: 65.0e6,
+        c1: 1033.0e6,
+        c2: 0.0,
+        c3: 0.00698,
+        c4: 0.000415,
+        c5: 266.0e6,
+        exponent: 0.289,
+        reference_rate: 1.0,
+    };
+
     /// Floor of `e* = deps_p / e0` inside `ln` (quasi-static limit).
     pub const MINIMUM_RATE_RATIO: f64 = 1e-6;
 
