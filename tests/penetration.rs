@@ -203,13 +203,14 @@ fn write_variant(folder: &Path, replace: &[(&str, &str)]) -> PathBuf {
 fn bad_penetration_input_names_the_file_line_and_field() {
     // GOAL: a zero or negative gap, a rod wider than the target, an element size that does
     //       not fit, a recording outside the simulated time, an end time in seconds instead
-    //       of microseconds (a runaway run), an unknown hourglass form and an erosion
-    //       strain <= 0 are errors naming the file, the line and the field.
+    //       of microseconds (a runaway run), an unknown hourglass form, an ogive whose meplat
+    //       is too small to mesh at the element size and an erosion strain <= 0 are errors
+    //       naming the file, the line and the field.
     // SETUP: variants of penetration-hzb-1700.toml in a scratch folder.
     // REFERENCE: the error message names the file and the field (and the line for TOML
     //   fields; the recording's time is checked against `end_time`).
     let scratch = std::env::temp_dir().join(format!("stoss-penetration-{}", std::process::id()));
-    let cases: [(&str, &str, &str); 7] = [
+    let cases: [(&str, &str, &str); 8] = [
         ("end_time = 60.3e-6", "gap = 0.0\nend_time = 60.3e-6", "gap"),
         (
             "end_time = 60.3e-6",
@@ -232,6 +233,11 @@ fn bad_penetration_input_names_the_file_line_and_field() {
             "end_time = 60.3e-6",
             "hourglass = \"stiff\"\nend_time = 60.3e-6",
             "hourglass",
+        ),
+        (
+            "end_time = 60.3e-6",
+            "nose = \"ogive\"\nnose_length = 7.5e-3\ntip_radius = 0.02e-3\nend_time = 60.3e-6",
+            "element_size",
         ),
     ];
     for (k, (from, to, field)) in cases.iter().enumerate() {
@@ -324,11 +330,13 @@ fn driven_rigid_rod(
     spec.target_thickness = 40.0e-3;
     spec.target_radius = 30.0e-3;
     spec.end_time = depth / speed;
-    let built = spec.model(
-        &PartMaterial::from(target),
-        spec.rod.as_deref().unwrap(),
-        &SolverSettings::default(),
-    );
+    let built = spec
+        .model(
+            &PartMaterial::from(target),
+            spec.rod.as_deref().unwrap(),
+            &SolverSettings::default(),
+        )
+        .unwrap();
     let mut model = built.model;
     let mut rod_nodes: Vec<usize> = built
         .rod_elements

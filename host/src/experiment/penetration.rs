@@ -45,7 +45,7 @@ use crate::analytic::penetration::{
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory};
-use crate::mesh::QuadMesh;
+use crate::mesh::{pointed_rod, PointedRod, QuadMesh};
 use crate::solver::{
     Amplitude, ErodingContact, ExplicitModel, ExplicitRun, HourglassControl, Snapshot, SolverError,
     SolverSettings, VelocityConstraint,
@@ -317,6 +317,19 @@ impl PenetrationSpec {
                 "must be between 0 and the rod radius (m)",
             )?;
         }
+        if self.nose_length() > 0.0 && self.element_count_estimate() <= MAXIMUM_ELEMENTS {
+            if let Err(why) = self.rod_mesh(0.0) {
+                check(
+                    if self.rod_element_size.is_some() {
+                        "rod_element_size"
+                    } else {
+                        "element_size"
+                    },
+                    false,
+                    &format!("cannot mesh the nose: {why}"),
+                )?;
+            }
+        }
         if let Some(fine) = self.fine_radius {
             positive("fine_radius", fine, "m")?;
         }
@@ -345,13 +358,18 @@ impl PenetrationSpec {
         check_run_budget(check, self.end_time, self.undeformed_time_step(), elements)
     }
 
-    /// The stable step of the smallest undeformed element (the target's, the rod's or the
-    /// nose tip's) (s).
+    /// The stable step of the smallest undeformed element (the target's, the rod's or, for a
+    /// pointed nose, the O-grid's smallest, whose edges are at least a fifth of the rod's
+    /// element size) (s).
     fn undeformed_time_step(&self) -> f64 {
         if self.rigid_rod {
             return undeformed_time_step(self.element_size, true);
         }
-        let tip = self.tip_radius() / (0.5 * self.rod_diameter / self.rod_element_size()).ceil();
+        let tip = if self.nose_length() > 0.0 {
+            0.2 * self.rod_element_size()
+        } else {
+            self.rod_element_size()
+        };
         undeformed_time_step(
             self.element_size.min(self.rod_element_size()).min(tip),
             true,
@@ -430,13 +448,51 @@ impl PenetrationSpec {
         radii
     }
 
-    /// The finite-element model with `target` the calibrated material and `rod` the rod's.
+    /// The rod's mesh, its tip at `z = tip`: a structured block for a flat nose, an O-grid
+    /// following the blunted profile for a pointed one ([`pointed_rod`]); `Err` says why a
+    /// pointed nose cannot be meshed at the rod's element size.
+    fn rod_mesh(&self, tip: f64) -> Result<QuadMesh, String> {
+        let radius = 0.5 * self.rod_diameter;
+        let h_rod = self.rod_element_size();
+        let nose_length = self.nose_length();
+        if nose_length > 0.0 {
+            let meplat = self.tip_radius();
+            let nose = self.nose;
+            let profile = move |y: f64| {
+                meplat + (radius - meplat) * nose_profile(nose, y, nose_length, radius)
+            };
+            return pointed_rod(
+                "rod",
+                1,
+                &PointedRod {
+                    radius,
+                    length: self.rod_length,
+                    nose_length,
+                    profile: &profile,
+                    element_size: h_rod,
+                    tip,
+                },
+            );
+        }
+        let rod_radial = ((radius / h_rod).round() as usize).max(2);
+        let rod_axial = ((self.rod_length / h_rod).round() as usize).max(4);
+        let rod_rs: Vec<f64> = (0..=rod_radial)
+            .map(|i| radius * i as f64 / rod_radial as f64)
+            .collect();
+        let rod_zs: Vec<f64> = (0..=rod_axial)
+            .map(|j| tip + self.rod_length * j as f64 / rod_axial as f64)
+            .collect();
+        Ok(QuadMesh::structured("rod", 1, &rod_rs, &rod_zs))
+    }
+
+    /// The finite-element model with `target` the calibrated material and `rod` the rod's;
+    /// `Err` if the pointed nose cannot be meshed at the rod's element size.
     pub fn model(
         &self,
         target: &PartMaterial,
         rod: &PartMaterial,
         settings: &SolverSettings,
-    ) -> PenetrationModel {
+    ) -> Result<PenetrationModel, SolverError> {
         let h = self.element_size;
         let radius = 0.5 * self.rod_diameter;
         let thickness = self.target_thickness;
@@ -449,28 +505,9 @@ impl PenetrationSpec {
         let target_elements = mesh.elements.len();
         let gap = self.gap();
         let rod_first_node = mesh.nodes.len();
-        let h_rod = self.rod_element_size();
-        let rod_radial = ((radius / h_rod).round() as usize).max(2);
-        let rod_axial = ((self.rod_length / h_rod).round() as usize).max(4);
-        let rod_rs: Vec<f64> = (0..=rod_radial)
-            .map(|i| radius * i as f64 / rod_radial as f64)
-            .collect();
-        let rod_zs: Vec<f64> = (0..=rod_axial)
-            .map(|j| gap + self.rod_length * j as f64 / rod_axial as f64)
-            .collect();
-        let mut rod_mesh = QuadMesh::structured("rod", 1, &rod_rs, &rod_zs);
-        // A pointed nose: each row's radii scaled to the blunted profile at its height.
-        let nose_length = self.nose_length();
-        if nose_length > 0.0 {
-            let tip = self.tip_radius();
-            for node in &mut rod_mesh.nodes {
-                let y = node[1] - gap;
-                if y < nose_length {
-                    let profile = nose_profile(self.nose, y, nose_length, radius);
-                    node[0] *= (tip + (radius - tip) * profile) / radius;
-                }
-            }
-        }
+        let rod_mesh = self
+            .rod_mesh(gap)
+            .map_err(|why| SolverError::Model(format!("the rod's nose mesh: {why}")))?;
         mesh.append(rod_mesh);
         let rod_elements: Vec<usize> = (target_elements..mesh.elements.len()).collect();
         let mut initial_velocity = vec![[0.0; 3]; mesh.nodes.len()];
@@ -529,12 +566,12 @@ impl PenetrationSpec {
             tracked_elements,
         };
         let smallest_element = model.mesh.smallest_edge();
-        PenetrationModel {
+        Ok(PenetrationModel {
             model,
             rod_elements,
             impact_time,
             smallest_element,
-        }
+        })
     }
 
     /// Run the model to `end_time` and measure the rod's histories.
@@ -561,7 +598,7 @@ impl PenetrationSpec {
                 self.rod_material
             ))
         })?;
-        let built = self.model(target, &rod, settings);
+        let built = self.model(target, &rod, settings)?;
         let mesh = &built.model.mesh;
         let rod_density = rod.density();
         let reference_mass: Vec<f64> = built
@@ -909,7 +946,9 @@ mod tests {
             rod: None,
         };
         let material = PartMaterial::from(stoss_kernel::Material::STEEL_4340);
-        let built = spec.model(&material, &material, &SolverSettings::default());
+        let built = spec
+            .model(&material, &material, &SolverSettings::default())
+            .unwrap();
         let mesh = &built.model.mesh;
         let mut volume = 0.0;
         for &e in &built.rod_elements {

@@ -32,12 +32,18 @@ use stoss_kernel::{PartMaterial, PointModel};
 /// Quantities a perforation experiment records (those of the ballistic kind).
 pub const QUANTITIES: &[&str] = super::ballistic::QUANTITIES;
 
-/// The projectile's mass (kg) from its mesh (the blunted profile as meshed) and density.
-pub fn projectile_mass(spec: &BallisticLimitSpec, projectile: &PartMaterial) -> f64 {
+/// The projectile's mass (kg) from its mesh (the blunted profile as meshed) and density;
+/// `Err` if its nose cannot be meshed.
+pub fn projectile_mass(
+    spec: &BallisticLimitSpec,
+    projectile: &PartMaterial,
+) -> Result<f64, String> {
     let shot = spec.shot(1.0);
-    let built = shot.model(projectile, projectile, &SolverSettings::default());
+    let built = shot
+        .model(projectile, projectile, &SolverSettings::default())
+        .map_err(|error| error.to_string())?;
     let mesh = &built.model.mesh;
-    built
+    Ok(built
         .rod_elements
         .iter()
         .map(|&e| {
@@ -48,7 +54,7 @@ pub fn projectile_mass(spec: &BallisticLimitSpec, projectile: &PartMaterial) -> 
                     .sum::<f64>();
             2.0 * PI * mean_radius * mesh.area(e) * projectile.density()
         })
-        .sum()
+        .sum())
 }
 
 /// Diameter of the rear-face damage zone (m): twice the largest reference radius of a live
@@ -94,7 +100,7 @@ pub fn concrete_shot(
     let nose = spec.shot(1.0).nose_length();
     let ogive_radius = (nose * nose + radius * radius) / (2.0 * radius);
     Ok(ConcreteShot {
-        mass: projectile_mass(spec, projectile),
+        mass: projectile_mass(spec, projectile)?,
         diameter: spec.projectile_diameter,
         caliber_radius_head: ogive_radius / spec.projectile_diameter,
         velocity: 0.0,
@@ -180,7 +186,9 @@ pub(super) fn simulate(
     }
     let meshed = match (&base, spec.projectile.as_deref()) {
         (Ok(base), _) => Some((base.mass, base.caliber_radius_head)),
-        (Err(_), Some(projectile)) => Some((projectile_mass(spec, projectile), f64::NAN)),
+        (Err(_), Some(projectile)) => projectile_mass(spec, projectile)
+            .ok()
+            .map(|mass| (mass, f64::NAN)),
         (Err(_), None) => None,
     };
     if let Some((mass, caliber_radius_head)) = meshed {
