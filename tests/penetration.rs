@@ -168,7 +168,10 @@ fn an_element_inverting_before_it_erodes_is_a_typed_error() {
             assert!(part == "target" || part == "rod");
             assert!(time > 0.0 && time < 21.0e-6);
         }
-        Err(SolverError::Update { time, .. }) => assert!(time > 0.0),
+        Err(SolverError::Update { part, time, .. }) => {
+            assert!(part == "target" || part == "rod");
+            assert!(time > 0.0);
+        }
         other => panic!("expected an inverted element, got {:?}", other.map(|r| r.0)),
     }
 }

@@ -171,7 +171,9 @@ impl TensionSpec {
         .map_err(|error| {
             SimulationError::Solver(crate::solver::SolverError::Update {
                 element: 0,
+                part: "bar".into(),
                 time: 0.0,
+                relative_volume: 1.0,
                 error,
             })
         })?

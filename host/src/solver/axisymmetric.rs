@@ -263,7 +263,9 @@ impl Discretisation for QuadMesh {
             .update(&mut next, &input)
             .map_err(|error| SolverError::Update {
                 element: e,
+                part: self.parts[self.element_part[e]].name.clone(),
                 time,
+                relative_volume: input.relative_volume,
                 error,
             })?;
         // Bulk viscosity (compression only), as a pressure added to the forces.

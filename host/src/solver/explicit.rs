@@ -542,7 +542,9 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 )
                 .map_err(|error| SolverError::Update {
                     element: e,
+                    part: mesh.element_material(e).1.to_string(),
                     time: 0.0,
+                    relative_volume: 1.0,
                     error,
                 })?;
             dt = dt.min(mesh.element_time_step(e, &x, output.wave_speed));

@@ -247,7 +247,9 @@ impl Discretisation for HexMesh {
             .update(&mut next, &input)
             .map_err(|error| SolverError::Update {
                 element: e,
+                part: self.parts[self.element_part[e]].name.clone(),
                 time,
+                relative_volume: input.relative_volume,
                 error,
             })?;
         let density = material.density() / input.relative_volume;

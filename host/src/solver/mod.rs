@@ -217,13 +217,21 @@ pub enum SolverError {
         #[source]
         error: stoss_kernel::ParameterError,
     },
-    /// The kernel rejected an update (e.g. an inverted element).
-    #[error("element {element} at t = {time:.4e} s: {error}")]
+    /// The kernel rejected an update (e.g. an element crushed past its equation of state's
+    /// limiting compression, whose pressure is then not finite).
+    #[error(
+        "element {element} of part {part} at t = {time:.4e} s, relative volume V/V0 = \
+         {relative_volume:.4}: {error}"
+    )]
     Update {
         /// Element index.
         element: usize,
+        /// Its part.
+        part: String,
         /// Time (s).
         time: f64,
+        /// The element's relative volume `V/V0` at the end of the rejected step.
+        relative_volume: f64,
         /// The kernel's error.
         #[source]
         error: stoss_kernel::UpdateError,
