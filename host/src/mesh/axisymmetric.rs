@@ -96,17 +96,8 @@ impl QuadMesh {
             }
         }
         let node = |i: usize, j: usize| j * (nr + 1) + i;
-        for j in 0..nz {
-            for i in 0..nr {
-                mesh.elements.push([
-                    node(i, j),
-                    node(i + 1, j),
-                    node(i + 1, j + 1),
-                    node(i, j + 1),
-                ]);
-                mesh.element_part.push(0);
-            }
-        }
+        mesh.elements = super::structured_quads(nr, nz, node);
+        mesh.element_part = vec![0; mesh.elements.len()];
         mesh.parts.push(Part {
             name: part.into(),
             material,

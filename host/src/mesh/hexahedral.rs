@@ -73,17 +73,7 @@ impl HexMesh {
             }
             ring_nodes.push(layer);
         }
-        let mut quads: Vec<[usize; 4]> = Vec::new();
-        for j in 0..core {
-            for i in 0..core {
-                quads.push([
-                    index_core(i, j),
-                    index_core(i + 1, j),
-                    index_core(i + 1, j + 1),
-                    index_core(i, j + 1),
-                ]);
-            }
-        }
+        let mut quads = super::structured_quads(core, core, index_core);
         for ring in 0..rings {
             for k in 0..boundary_count - 1 {
                 let inner = &ring_nodes[ring];

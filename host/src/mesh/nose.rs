@@ -22,7 +22,7 @@
 //! than a billionth of the element size: the mesh depends only on the inputs. For a convex nose region the smoothed grid does not fold;
 //! [`pointed_rod`] checks that every element has a positive area and a bounded shape.
 
-use super::{Part, QuadMesh};
+use super::{structured_quads, Part, QuadMesh};
 
 /// Largest number of Gauss-Seidel sweeps of the Laplacian smoothing.
 const MAXIMUM_SWEEPS: usize = 20_000;
@@ -322,27 +322,15 @@ fn nose_region(
 
     // Elements (counter-clockwise): the ring (the region lies to the left of the boundary's
     // direction, inwards as l grows), then the core.
-    let mut elements = Vec::new();
-    for k in 0..boundary_segments {
-        for l in 0..ring_layers {
-            elements.push([
-                ring_index(k, l),
-                ring_index(k + 1, l),
-                ring_index(k + 1, l + 1),
-                ring_index(k, l + 1),
-            ]);
-        }
+    // Ring quads boundary segment by boundary segment (k outer, l inner), each
+    // `[(k, l), (k + 1, l), (k + 1, l + 1), (k, l + 1)]`: (l, k) is left-handed in the
+    // plane, so each quad of the (l, k) patch is reversed and rotated to that order.
+    let mut elements = structured_quads(ring_layers, boundary_segments, |l, k| ring_index(k, l));
+    for quad in &mut elements {
+        quad.reverse();
+        quad.rotate_right(1);
     }
-    for j in 0..rows {
-        for i in 0..core_columns {
-            elements.push([
-                core_index(i, j),
-                core_index(i + 1, j),
-                core_index(i + 1, j + 1),
-                core_index(i, j + 1),
-            ]);
-        }
-    }
+    elements.extend(structured_quads(core_columns, rows, core_index));
 
     // Smoothing: each movable node to the mean of the centroids of its elements (the
     // element-centroid form of Laplacian smoothing, which keeps the three elements around the
