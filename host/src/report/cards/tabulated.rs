@@ -653,7 +653,7 @@ mod tests {
     use super::*;
     use crate::input::material::StrengthSpec;
     use stoss_kernel::strength::{
-        ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm,
+        ComposedStrength, Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm,
         TwoRateJohnsonCook, ZerilliArmstrong,
     };
     use stoss_kernel::{update, MaterialState, StepInput};
@@ -701,15 +701,8 @@ mod tests {
             (
                 "zerilli-armstrong-bcc",
                 StrengthSpec::ZerilliArmstrong(ZerilliArmstrong {
-                    structure: CrystalStructure::Bcc,
                     athermal_stress: 400.0e6,
-                    c1: 1033.0e6,
-                    c2: 0.0,
-                    c3: 0.00698,
-                    c4: 0.000415,
-                    c5: 266.0e6,
-                    exponent: 0.289,
-                    reference_rate: 1.0,
+                    ..ZerilliArmstrong::ARMCO_IRON
                 }),
             ),
             (
