@@ -16,6 +16,7 @@
 //! - [`material`]: a complete material (elasticity, strength, heating, EoS, damage).
 //! - [`update`](mod@update): the stress update: EoS, elastic predictor, implicit (or lagged) radial
 //!   return, heating, damage, failure, the consistent tangent and the wave speed.
+//! - [`tangent`]: central-difference tangents for models without a closed-form one.
 //! - [`drivers`]: single-element drivers writing into caller-provided buffers.
 //!
 //! Conventions (SI): stress positive in tension; pressure `p = -tr(sigma)/3` positive in
@@ -38,6 +39,7 @@ pub mod part_material;
 pub mod rht;
 pub mod state;
 pub mod strength;
+pub mod tangent;
 pub mod tensor;
 pub mod update;
 

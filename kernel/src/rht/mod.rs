@@ -111,7 +111,7 @@ mod update;
 
 pub use parameters::{FailureMeridian, RateScaling, RhtParameters, TensileFailure};
 pub use surfaces::{lode_factor_from_cos, Lode, Surfaces, COS_SHEAR_MERIDIAN};
-pub use update::{strain_rate, update, update_with_tangent, TANGENT_PERTURBATION};
+pub use update::{strain_rate, update, update_with_tangent};
 
 use crate::damage::Failure;
 use crate::drivers::PointModel;

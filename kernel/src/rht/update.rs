@@ -34,8 +34,9 @@
 use super::surfaces::{Lode, Surfaces};
 use super::{RhtMaterial, TensileFailure};
 use crate::error::UpdateError;
-use crate::math::{clamp, exp, sqrt};
+use crate::math::{clamp, sqrt};
 use crate::state::{MaterialState, StateFlags};
+use crate::tangent::central_difference_tangent;
 use crate::tensor::{self, Matrix6};
 use crate::update::{StepInput, StepOutput};
 
@@ -50,16 +51,9 @@ pub fn update(
     Ok(output)
 }
 
-/// Relative size of the strain perturbation of [`update_with_tangent`].
-pub const TANGENT_PERTURBATION: f64 = 1e-6;
-
 /// [`update`] that also writes the algorithmic tangent `d sigma_{n+1} / d deps` (Voigt,
-/// tensor shear columns) into `tangent`, by **central differences** of the whole update
-/// (12 extra evaluations). The perturbation of column `j` is `TANGENT_PERTURBATION` times
-/// the largest strain increment component (at least `1e-12`); normal columns also perturb
-/// the relative volume as `V1 exp(h)`, the host's `V1 = V0 exp(tr deps)`. Meant as a Newton
-/// Jacobian for drivers and implicit callers; at a kink of the response (onset of yield,
-/// of softening) it is the average of the two one-sided slopes.
+/// tensor shear columns) into `tangent`, by central differences of the whole update
+/// ([`crate::tangent::central_difference_tangent`]).
 pub fn update_with_tangent(
     material: &RhtMaterial,
     state: &mut MaterialState,
@@ -67,27 +61,11 @@ pub fn update_with_tangent(
     tangent: &mut Matrix6,
 ) -> Result<StepOutput, UpdateError> {
     let (next, output) = compute(material, state, input)?;
-    let largest =
-        input
-            .strain_increment
-            .iter()
-            .fold(0.0_f64, |m, x| if x.abs() > m { x.abs() } else { m });
-    let h = TANGENT_PERTURBATION * if largest > 1e-6 { largest } else { 1e-6 };
-    for j in 0..6 {
-        let mut columns = [[0.0; 6]; 2];
-        for (column, sign) in columns.iter_mut().zip([1.0, -1.0]) {
-            let mut perturbed = *input;
-            perturbed.strain_increment[j] += sign * h;
-            if j < 3 {
-                perturbed.relative_volume = input.relative_volume * exp(sign * h);
-            }
-            let (stressed, _) = compute(material, state, &perturbed)?;
-            *column = stressed.stress;
-        }
-        for (i, row) in tangent.iter_mut().enumerate() {
-            row[j] = (columns[0][i] - columns[1][i]) / (2.0 * h);
-        }
-    }
+    central_difference_tangent(
+        input,
+        |perturbed| Ok(compute(material, state, perturbed)?.0.stress),
+        tangent,
+    )?;
     *state = next;
     Ok(output)
 }
