@@ -13,6 +13,7 @@
 //! - [`eos`]: equations of state (pressure from compression and internal energy).
 //! - [`damage`]: Johnson-Cook failure and the erosion flags shared by every model.
 //! - [`parameters`]: one description (name, symbol, unit, search range) per model constant.
+//! - [`rht`] and [`kc`]: the RHT and Karagozian & Case concrete models.
 //! - [`material`]: a complete material (elasticity, strength, heating, EoS, damage).
 //! - [`update`](mod@update): the stress update: EoS, elastic predictor, implicit (or lagged) radial
 //!   return, heating, damage, failure, the consistent tangent and the wave speed.
@@ -32,6 +33,7 @@ pub mod damage;
 pub mod drivers;
 pub mod eos;
 pub mod error;
+pub mod kc;
 pub mod material;
 pub mod math;
 pub mod parameters;

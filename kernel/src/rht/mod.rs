@@ -107,7 +107,7 @@
 
 mod parameters;
 mod surfaces;
-mod update;
+pub(crate) mod update;
 
 pub use parameters::{FailureMeridian, RateScaling, RhtParameters, TensileFailure};
 pub use surfaces::{lode_factor_from_cos, Lode, Surfaces, COS_SHEAR_MERIDIAN};

@@ -93,7 +93,7 @@ pub fn strain_rate(increment: &tensor::Sym, dt: f64) -> f64 {
     magnitude / dt
 }
 
-fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
+pub(crate) fn check_input(state: &MaterialState, input: &StepInput) -> Result<(), UpdateError> {
     if !crate::math::all_finite(&input.strain_increment)
         || !input.dt.is_finite()
         || !input.relative_volume.is_finite()

@@ -1,0 +1,268 @@
+//! The K&C stress update for one integration point and one step.
+//!
+//! Order of operations (given `deps`, `dt` and the new relative volume `V1`):
+//! 1. EoS pressure predictor at `mu = 1/V1 - 1` with the volumetric work only, as for RHT
+//!    ([`crate::rht::update()`]);
+//! 2. rate factor `r_f` at the largest principal strain rate ([`crate::rht::strain_rate`]);
+//!    tension cut-off: the pressure is held at `-r_f ft` before the peak of `eta` and at
+//!    `-r_f eta ft` after it (where the softened tensile surface closes);
+//! 3. deviatoric elastic predictor, Lode angle of the trial deviator;
+//! 4. radial return in the deviatoric plane at fixed pressure (no dilatancy, LS-DYNA's
+//!    `omega = 0`) onto the current surface, with the damage parameter growing as
+//!    `d lambda = d eps_p / (r_f (1 + p/(r_f ft))^b)` (`b1` for `p >= 0`, `b2` below),
+//!    times the crack-band scale after the peak. At fixed pressure the current strength is
+//!    linear in `lambda` on each segment of the damage function and `lambda` is linear in
+//!    the multiplier, so `q_trial - 3 G dl = Y(lambda_n + k dl)` is solved exactly, segment
+//!    by segment (a segment whose softening is faster than the elastic unloading, a
+//!    snap-back, is passed whole);
+//! 5. energy `E1 = E0 + W_dev - (p0 + p1)/2 (V1 - V0)` with the stored pressure, wave speed.
+
+use super::surfaces::Strengths;
+use super::KcMaterial;
+use crate::error::UpdateError;
+use crate::rht::update::check_input;
+use crate::rht::{strain_rate, Lode};
+use crate::state::{MaterialState, StateFlags};
+use crate::tangent::central_difference_tangent;
+use crate::tensor::{self, Matrix6};
+use crate::update::{StepInput, StepOutput};
+
+/// Update `state` over one step with the K&C model. On error, `state` is unchanged.
+pub fn update(
+    material: &KcMaterial,
+    state: &mut MaterialState,
+    input: &StepInput,
+) -> Result<StepOutput, UpdateError> {
+    let (next, output) = compute(material, state, input)?;
+    *state = next;
+    Ok(output)
+}
+
+/// [`update`] that also writes the algorithmic tangent by central differences
+/// ([`crate::tangent::central_difference_tangent`]).
+pub fn update_with_tangent(
+    material: &KcMaterial,
+    state: &mut MaterialState,
+    input: &StepInput,
+    tangent: &mut Matrix6,
+) -> Result<StepOutput, UpdateError> {
+    let (next, output) = compute(material, state, input)?;
+    central_difference_tangent(
+        input,
+        |perturbed| Ok(compute(material, state, perturbed)?.0.stress),
+        tangent,
+    )?;
+    *state = next;
+    Ok(output)
+}
+
+/// The scaled damage measure of LS-DYNA `*MAT_072R3`, halved to lie in `[0, 1]`:
+/// `lambda/(lambda + lambda_m)` before the peak, `(2 - eta)/2` after it (1/2 at the peak,
+/// 1 when only the residual strength is left).
+pub fn damage_measure(lambda: f64, peak_lambda: f64, eta: f64) -> f64 {
+    if lambda < peak_lambda {
+        lambda / (lambda + peak_lambda)
+    } else {
+        1.0 - 0.5 * eta
+    }
+}
+
+/// Result of the return: plastic multiplier, equivalent stress, damage parameter.
+struct Return {
+    increment: f64,
+    equivalent: f64,
+    lambda: f64,
+}
+
+/// Solve `q - 3 G dl = Y(lambda_n + k dl)` segment by segment (see the module's item 4);
+/// `k` is `growth.0` before the peak and `growth.1` after it.
+fn radial_return(
+    material: &KcMaterial,
+    strengths: &Strengths,
+    three_g: f64,
+    trial: f64,
+    lambda_n: f64,
+    growth: (f64, f64),
+) -> Return {
+    let table = &material.parameters.damage;
+    let n = table.count;
+    let peak = table.peak();
+    let mut used = 0.0;
+    let mut lambda = lambda_n;
+    let mut i = table.segment(lambda);
+    loop {
+        if lambda >= table.lambda[n - 1] {
+            // Beyond the table (after the peak, which is a table point): eta constant.
+            let strength = strengths.at(table.eta[n - 1], true);
+            let x = (trial - three_g * used - strength) / three_g;
+            let x = if x > 0.0 { x } else { 0.0 };
+            let increment = used + x;
+            return Return {
+                increment,
+                equivalent: trial - three_g * increment,
+                lambda: lambda + growth.1 * x,
+            };
+        }
+        let post_peak = i >= peak;
+        let k = if post_peak { growth.1 } else { growth.0 };
+        let (la, lb) = (table.lambda[i], table.lambda[i + 1]);
+        let (ea, eb) = (table.eta[i], table.eta[i + 1]);
+        let eta_start = ea + (eb - ea) * (lambda - la) / (lb - la);
+        let start = strengths.at(eta_start, post_peak);
+        let end = strengths.at(eb, post_peak);
+        let slope = (end - start) / (lb - lambda);
+        let to_end = (lb - lambda) / k;
+        let denominator = three_g + slope * k;
+        if denominator > 0.0 {
+            let x = (trial - three_g * used - start) / denominator;
+            let x = if x > 0.0 { x } else { 0.0 };
+            if x <= to_end {
+                let increment = used + x;
+                return Return {
+                    increment,
+                    equivalent: trial - three_g * increment,
+                    lambda: lambda + k * x,
+                };
+            }
+        }
+        used += to_end;
+        lambda = lb;
+        i += 1;
+    }
+}
+
+fn compute(
+    material: &KcMaterial,
+    state: &MaterialState,
+    input: &StepInput,
+) -> Result<(MaterialState, StepOutput), UpdateError> {
+    check_input(state, input)?;
+    let params = &material.parameters;
+    let table = &params.damage;
+    let dt = input.dt;
+    let mut next = *state;
+    next.flags
+        .remove(StateFlags::PLASTIC | StateFlags::PRESSURE_CUTOFF);
+    let lambda_n = if state.plastic_strain > 0.0 {
+        state.plastic_strain
+    } else {
+        0.0
+    };
+    let peak_lambda = table.peak_lambda();
+    let post_peak = lambda_n >= peak_lambda;
+    let eta_n = table.eta_at(lambda_n);
+
+    // 1. EoS pressure predictor (volumetric work only).
+    let volume_change = input.relative_volume - state.relative_volume;
+    let mid_volume = 0.5 * (input.relative_volume + state.relative_volume);
+    let mu = 1.0 / input.relative_volume - 1.0;
+    let (terms, eos_history) = material.eos.evaluate(mu, state.eos_history);
+    let old_pressure = state.pressure();
+    let predictor_energy = (state.internal_energy
+        - 0.5 * (old_pressure + terms.base) * volume_change)
+        / (1.0 + 0.5 * terms.energy_coefficient * volume_change);
+    let eos_pressure = terms.pressure(predictor_energy);
+
+    // 2. Rate factor; tension cut-off.
+    let rate = strain_rate(&input.strain_increment, dt);
+    let rate_factor = params.rate_factor(rate, eos_pressure);
+    let open = if post_peak { eta_n } else { 1.0 };
+    let tension_limit = -rate_factor * params.tensile_strength * open;
+    let pressure = if eos_pressure < tension_limit {
+        tension_limit
+    } else {
+        eos_pressure
+    };
+
+    // 3. Elastic predictor.
+    let shear = params.shear_modulus;
+    let three_g = 3.0 * shear;
+    let deviatoric_increment = tensor::deviator(&input.strain_increment);
+    let old_deviator = tensor::deviator(&state.stress);
+    let trial = tensor::add(
+        &old_deviator,
+        &tensor::scale(&deviatoric_increment, 2.0 * shear),
+    );
+    let trial_equivalent = tensor::von_mises(&trial);
+    let lode = Lode::from_deviator(&trial);
+
+    // 4. Return onto the current surface.
+    let strengths = params.strengths(pressure, lode, rate_factor);
+    let current = strengths.at(eta_n, post_peak);
+    let result = if trial_equivalent > current {
+        let base = 1.0 + pressure / (rate_factor * params.tensile_strength);
+        let base = if base > 0.01 { base } else { 0.01 };
+        let exponent = if pressure >= 0.0 {
+            params.compression_damage_exponent
+        } else {
+            params.tension_damage_exponent
+        };
+        let growth = 1.0 / (rate_factor * crate::math::pow(base, exponent));
+        radial_return(
+            material,
+            &strengths,
+            three_g,
+            trial_equivalent,
+            lambda_n,
+            (growth, growth * params.softening_scale()),
+        )
+    } else {
+        Return {
+            increment: 0.0,
+            equivalent: trial_equivalent,
+            lambda: lambda_n,
+        }
+    };
+    let new_deviator = if trial_equivalent > 0.0 {
+        tensor::scale(&trial, result.equivalent / trial_equivalent)
+    } else {
+        trial
+    };
+    let eta = table.eta_at(result.lambda);
+    if result.increment > 0.0 {
+        next.flags.insert(StateFlags::PLASTIC);
+    }
+    if result.lambda >= peak_lambda && eta <= 0.0 {
+        next.flags.insert(StateFlags::FAILED);
+    }
+    next.plastic_strain = result.lambda;
+    next.plastic_strain_rate = result.increment / dt;
+    next.damage = damage_measure(result.lambda, peak_lambda, eta);
+
+    // 5. Energy with the stored pressure, wave speed.
+    let mut volumetric_energy = predictor_energy;
+    if pressure != eos_pressure {
+        next.flags.insert(StateFlags::PRESSURE_CUTOFF);
+        volumetric_energy = state.internal_energy - 0.5 * (old_pressure + pressure) * volume_change;
+    }
+    let mean_deviator = tensor::scale(&tensor::add(&old_deviator, &new_deviator), 0.5);
+    let deviatoric_work = tensor::contract(&mean_deviator, &deviatoric_increment) * mid_volume;
+    let energy = volumetric_energy + deviatoric_work;
+    next.stress = tensor::from_deviator_and_pressure(&new_deviator, pressure);
+    next.relative_volume = input.relative_volume;
+    next.internal_energy = energy;
+    next.eos_history = eos_history;
+    let wave_speed = crate::eos::longitudinal_wave_speed(
+        &terms,
+        energy,
+        material.density,
+        input.relative_volume,
+        shear,
+    );
+    if !next.is_finite() || !wave_speed.is_finite() {
+        return Err(UpdateError::NonFiniteResult);
+    }
+    Ok((
+        next,
+        StepOutput {
+            wave_speed,
+            plastic_increment: result.increment,
+            yield_stress: if result.increment > 0.0 {
+                result.equivalent
+            } else {
+                current
+            },
+            iterations: 0,
+        },
+    ))
+}
