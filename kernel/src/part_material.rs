@@ -4,6 +4,7 @@
 
 use crate::drivers::PointModel;
 use crate::error::{ParameterError, UpdateError};
+use crate::kc::KcMaterial;
 use crate::material::Material;
 use crate::rht::RhtMaterial;
 use crate::state::{MaterialState, StateFlags};
@@ -21,14 +22,18 @@ pub enum PartMaterial {
     J2(Material),
     /// RHT concrete over its EoS ([`RhtMaterial`]).
     Rht(RhtMaterial),
+    /// Karagozian & Case concrete over its EoS ([`KcMaterial`]).
+    Kc(KcMaterial),
 }
 
 impl PartMaterial {
-    /// The model family's name, for messages: `"J2 metal"` or `"RHT concrete"`.
+    /// The model family's name, for messages: `"J2 metal"`, `"RHT concrete"` or
+    /// `"K&C concrete"`.
     pub fn family(&self) -> &'static str {
         match self {
             PartMaterial::J2(_) => "J2 metal",
             PartMaterial::Rht(_) => "RHT concrete",
+            PartMaterial::Kc(_) => "K&C concrete",
         }
     }
 
@@ -36,14 +41,14 @@ impl PartMaterial {
     pub fn j2(&self) -> Option<&Material> {
         match self {
             PartMaterial::J2(material) => Some(material),
-            PartMaterial::Rht(_) => None,
+            PartMaterial::Rht(_) | PartMaterial::Kc(_) => None,
         }
     }
 
     /// The RHT concrete, if this is one.
     pub fn rht(&self) -> Option<&RhtMaterial> {
         match self {
-            PartMaterial::J2(_) => None,
+            PartMaterial::J2(_) | PartMaterial::Kc(_) => None,
             PartMaterial::Rht(material) => Some(material),
         }
     }
@@ -52,6 +57,12 @@ impl PartMaterial {
 impl From<Material> for PartMaterial {
     fn from(material: Material) -> Self {
         PartMaterial::J2(material)
+    }
+}
+
+impl From<KcMaterial> for PartMaterial {
+    fn from(material: KcMaterial) -> Self {
+        PartMaterial::Kc(material)
     }
 }
 
@@ -66,6 +77,7 @@ impl PointModel for PartMaterial {
         match self {
             PartMaterial::J2(m) => PointModel::validate(m),
             PartMaterial::Rht(m) => PointModel::validate(m),
+            PartMaterial::Kc(m) => PointModel::validate(m),
         }
     }
 
@@ -73,6 +85,7 @@ impl PointModel for PartMaterial {
         match self {
             PartMaterial::J2(m) => PointModel::shear_modulus(m),
             PartMaterial::Rht(m) => PointModel::shear_modulus(m),
+            PartMaterial::Kc(m) => PointModel::shear_modulus(m),
         }
     }
 
@@ -80,6 +93,7 @@ impl PointModel for PartMaterial {
         match self {
             PartMaterial::J2(m) => PointModel::density(m),
             PartMaterial::Rht(m) => PointModel::density(m),
+            PartMaterial::Kc(m) => PointModel::density(m),
         }
     }
 
@@ -87,6 +101,7 @@ impl PointModel for PartMaterial {
         match self {
             PartMaterial::J2(m) => PointModel::initial_state(m, temperature),
             PartMaterial::Rht(m) => PointModel::initial_state(m, temperature),
+            PartMaterial::Kc(m) => PointModel::initial_state(m, temperature),
         }
     }
 
@@ -94,6 +109,7 @@ impl PointModel for PartMaterial {
         match self {
             PartMaterial::J2(m) => m.kinematic_strain_bound(),
             PartMaterial::Rht(m) => m.kinematic_strain_bound(),
+            PartMaterial::Kc(m) => m.kinematic_strain_bound(),
         }
     }
 
@@ -101,6 +117,7 @@ impl PointModel for PartMaterial {
         match self {
             PartMaterial::J2(m) => m.kinematic_flags(principal_strains),
             PartMaterial::Rht(m) => m.kinematic_flags(principal_strains),
+            PartMaterial::Kc(m) => m.kinematic_flags(principal_strains),
         }
     }
 
@@ -112,6 +129,7 @@ impl PointModel for PartMaterial {
         match self {
             PartMaterial::J2(m) => PointModel::update(m, state, input),
             PartMaterial::Rht(m) => PointModel::update(m, state, input),
+            PartMaterial::Kc(m) => PointModel::update(m, state, input),
         }
     }
 
@@ -124,6 +142,7 @@ impl PointModel for PartMaterial {
         match self {
             PartMaterial::J2(m) => PointModel::update_with_tangent(m, state, input, tangent),
             PartMaterial::Rht(m) => PointModel::update_with_tangent(m, state, input, tangent),
+            PartMaterial::Kc(m) => PointModel::update_with_tangent(m, state, input, tangent),
         }
     }
 }

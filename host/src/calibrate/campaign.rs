@@ -370,6 +370,13 @@ impl ModelSpace {
                 AnyMaterialFile::J2(file)
             }
             AnyMaterialFile::Rht(base) => AnyMaterialFile::Rht(self.rht_with(base, values)?),
+            AnyMaterialFile::Kc(_) => {
+                return Err(
+                    "K&C concrete constants cannot be fitted yet (their parameter \
+                            descriptions are not written); calibrate a J2 metal or RHT concrete"
+                        .into(),
+                )
+            }
         };
         let material = file.material().map_err(|e| e.to_string())?;
         Ok((file, material))
@@ -385,7 +392,7 @@ impl ModelSpace {
                 (None, AnyMaterialFile::Rht(file)) => {
                     file.clone().constant_slot(name).map(|value| *value)
                 }
-                (None, AnyMaterialFile::J2(_)) => None,
+                (None, AnyMaterialFile::J2(_) | AnyMaterialFile::Kc(_)) => None,
             })
             .collect()
     }
@@ -661,7 +668,7 @@ impl Campaign {
             name: model.name.clone(),
             strength: match &self.base {
                 AnyMaterialFile::J2(base) => Some(model.strength.unwrap_or(base.strength)),
-                AnyMaterialFile::Rht(_) => None,
+                AnyMaterialFile::Rht(_) | AnyMaterialFile::Kc(_) => None,
             },
             names,
             lower: bounds.iter().map(|b| b[0]).collect(),

@@ -31,6 +31,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stoss_kernel::damage::Failure;
 use stoss_kernel::eos::Eos;
+use stoss_kernel::kc::{KcMaterial, KcParameters};
 use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::parameters::{Constants, Parameter};
 use stoss_kernel::rht::{RhtMaterial, RhtParameters};
@@ -391,12 +392,14 @@ pub fn load(path: &Path) -> Result<(MaterialFile, Material), InputError> {
     parse(path, &read_text(path)?)
 }
 
-/// The model family of an RHT concrete file (`model = "rht"`).
+/// The model family of a concrete file (`model = "rht"` or `model = "kc"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ConcreteModel {
     /// Riedel-Hiermaier-Thoma concrete ([`stoss_kernel::rht`]).
     Rht,
+    /// Karagozian & Case concrete, release III ([`stoss_kernel::kc`]).
+    Kc,
 }
 
 /// An RHT concrete material file.
@@ -463,13 +466,66 @@ impl RhtMaterialFile {
     }
 }
 
-/// A material file of either family, as read.
+/// A K&C concrete material file.
+///
+/// ```toml
+/// name = "HPC 100 MPa"
+/// model = "kc"
+/// density = 2420.0
+/// [parameters]                      # stoss_kernel::kc::KcParameters, SI
+/// compressive_strength = 100.0e6
+/// ...
+/// [parameters.damage]               # eta(lambda), equally long lists
+/// lambda = [0.0, 5.5e-6, ...]
+/// eta = [0.0, 0.25, ...]
+/// [eos]
+/// kind = "tabulated-compaction"
+/// ...
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KcMaterialFile {
+    /// Display name.
+    pub name: String,
+    /// Where the constants come from.
+    #[serde(default)]
+    pub source: String,
+    /// The model family: `"kc"`.
+    pub model: ConcreteModel,
+    /// Reference density (kg/m^3).
+    pub density: f64,
+    /// Strength, damage, rate and crack-band constants.
+    pub parameters: KcParameters,
+    /// Equation of state.
+    pub eos: Eos,
+    /// Geometric strain at which the element erodes.
+    #[serde(default)]
+    pub erosion_geometric_strain: Option<f64>,
+}
+
+impl KcMaterialFile {
+    /// The kernel material, validated.
+    pub fn material(&self) -> Result<KcMaterial, ParameterError> {
+        let material = KcMaterial {
+            density: self.density,
+            parameters: self.parameters,
+            eos: self.eos,
+            erosion_geometric_strain: self.erosion_geometric_strain,
+        };
+        material.validate()?;
+        Ok(material)
+    }
+}
+
+/// A material file of any family, as read.
 #[derive(Clone, Debug, PartialEq)]
 pub enum AnyMaterialFile {
     /// A J2 metal file.
     J2(MaterialFile),
     /// An RHT concrete file.
     Rht(RhtMaterialFile),
+    /// A K&C concrete file.
+    Kc(KcMaterialFile),
 }
 
 impl AnyMaterialFile {
@@ -479,6 +535,7 @@ impl AnyMaterialFile {
         let (n, s) = match self {
             AnyMaterialFile::J2(file) => (&mut file.name, &mut file.source),
             AnyMaterialFile::Rht(file) => (&mut file.name, &mut file.source),
+            AnyMaterialFile::Kc(file) => (&mut file.name, &mut file.source),
         };
         *n = name;
         *s = source;
@@ -489,6 +546,7 @@ impl AnyMaterialFile {
         match self {
             AnyMaterialFile::J2(file) => &file.name,
             AnyMaterialFile::Rht(file) => &file.name,
+            AnyMaterialFile::Kc(file) => &file.name,
         }
     }
 
@@ -497,6 +555,7 @@ impl AnyMaterialFile {
         Ok(match self {
             AnyMaterialFile::J2(file) => file.material()?.into(),
             AnyMaterialFile::Rht(file) => file.material()?.into(),
+            AnyMaterialFile::Kc(file) => file.material()?.into(),
         })
     }
 
@@ -505,12 +564,13 @@ impl AnyMaterialFile {
         match self {
             AnyMaterialFile::J2(file) => file.to_toml(),
             AnyMaterialFile::Rht(file) => toml::to_string(file).unwrap_or_default(),
+            AnyMaterialFile::Kc(file) => toml::to_string(file).unwrap_or_default(),
         }
     }
 }
 
-/// Parse a material file of either family: an RHT concrete file when its top level says
-/// `model = "rht"`, a J2 metal file otherwise. Errors name `path`, the line and the field.
+/// Parse a material file of any family: an RHT or K&C concrete file when its top level says
+/// `model = "rht"` or `model = "kc"`, a J2 metal file otherwise. Errors name `path`, the line and the field.
 pub fn parse_part(path: &Path, text: &str) -> Result<(AnyMaterialFile, PartMaterial), InputError> {
     let table: toml::Table = parse_toml(path, text)?;
     match table.get("model") {
@@ -526,13 +586,21 @@ pub fn parse_part(path: &Path, text: &str) -> Result<(AnyMaterialFile, PartMater
             })?;
             Ok((AnyMaterialFile::Rht(file), material.into()))
         }
+        Some(toml::Value::String(model)) if model == "kc" => {
+            let file: KcMaterialFile = parse_toml(path, text)?;
+            let material = file.material().map_err(|error| {
+                let field = parameter_field(&error);
+                InputError::field(path, text, field, error.to_string())
+            })?;
+            Ok((AnyMaterialFile::Kc(file), material.into()))
+        }
         Some(other) => Err(InputError::field(
             path,
             text,
             "model",
             format!(
-                "the top-level `model` names a concrete model family and must be \"rht\", not \
-                 {other}; a J2 metal file has no top-level `model` (its flow-stress model is \
+                "the top-level `model` names a concrete model family and must be \"rht\" or \
+                 \"kc\", not {other}; a J2 metal file has no top-level `model` (its flow-stress model is \
                  `model` in [strength])"
             ),
         )),
@@ -582,6 +650,25 @@ melting_temperature = 1793.0
 kind = "linear"
 bulk_modulus = 159e9
 "#;
+
+    #[test]
+    fn the_bundled_kc_file_gives_the_kernel_constant() {
+        // GOAL: a K&C material file maps onto the kernel's KcMaterial, damage function and
+        //       tabulated EoS included, and `load_part` dispatches on `model = "kc"`.
+        // SETUP: fixtures/materials/hpc-100-kc.toml (seed 001 tables 5.1-5.3).
+        // REFERENCE: KcMaterial::HPC_100MPA_FOI, equal field by field.
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/materials/hpc-100-kc.toml");
+        let (file, part) = load_part(&path).expect("bundled K&C file");
+        assert!(matches!(file, AnyMaterialFile::Kc(_)));
+        assert_eq!(part, PartMaterial::Kc(KcMaterial::HPC_100MPA_FOI));
+        // Unequal damage lists are refused, naming the field.
+        let text = std::fs::read_to_string(&path)
+            .unwrap()
+            .replace("eta = [0.0, 0.25,", "eta = [0.25,");
+        let error = parse_part(&path, &text).unwrap_err().to_string();
+        assert!(error.contains("eta") || error.contains("damage"), "{error}");
+    }
 
     #[test]
     fn the_bundled_rht_file_gives_the_kernel_constant_with_its_erosion() {

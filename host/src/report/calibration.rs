@@ -485,7 +485,7 @@ pub fn write(
         .map_err(|e| e.to_string())?;
         let metal_file = match &material_file {
             AnyMaterialFile::J2(file) => Some(file),
-            AnyMaterialFile::Rht(_) => None,
+            AnyMaterialFile::Rht(_) | AnyMaterialFile::Kc(_) => None,
         };
         for (ext, card) in [
             ("k", metal_file.and_then(cards::ls_dyna)),

@@ -627,6 +627,7 @@ pub fn run_all() -> Vec<CheckResult> {
     rows.push(johnson_cook_failure());
     rows.extend(super::eos_checks::run_all());
     rows.extend(super::rht_checks::run_all());
+    rows.extend(super::kc_checks::run_all());
     rows
 }
 

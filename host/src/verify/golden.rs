@@ -22,16 +22,19 @@ use stoss_kernel::drivers::{
     UniaxialStressLoading,
 };
 use stoss_kernel::eos::{Eos, MieGruneisen, TabulatedCompaction};
+use stoss_kernel::kc::{KcMaterial, KcParameters};
 use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::{Material, MaterialState};
 
-/// A material point model of a golden case: a J2 metal or RHT concrete.
+/// A material point model of a golden case: a J2 metal, RHT or K&C concrete.
 #[derive(Clone, Copy, Debug)]
 pub enum GoldenModel {
     /// J2 metal (any strength model and EoS).
     Metal(Material),
     /// RHT concrete.
     Concrete(RhtMaterial),
+    /// K&C concrete.
+    KcConcrete(KcMaterial),
 }
 
 impl GoldenModel {
@@ -43,6 +46,7 @@ impl GoldenModel {
                 state
             }
             GoldenModel::Concrete(material) => material.initial_state(293.0),
+            GoldenModel::KcConcrete(material) => material.initial_state(293.0),
         }
     }
 }
@@ -94,6 +98,7 @@ impl GoldenDriver {
         match model {
             GoldenModel::Metal(material) => self.run_with(material, model.initial_state()),
             GoldenModel::Concrete(material) => self.run_with(material, model.initial_state()),
+            GoldenModel::KcConcrete(material) => self.run_with(material, model.initial_state()),
         }
     }
 
@@ -248,7 +253,7 @@ impl GoldenCase {
 }
 
 /// Every golden case, in a fixed order: each reference metal through the five metal drivers,
-/// then the EoS and RHT cases (seed 001 sec. 4.3.2 single-element tests).
+/// then the EoS, RHT (seed 001 sec. 4.3.2 single-element tests) and K&C cases.
 pub fn cases() -> Vec<GoldenCase> {
     let metal_drivers = [
         GoldenDriver::UniaxialStress,
@@ -288,6 +293,23 @@ pub fn cases() -> Vec<GoldenCase> {
         all.push(GoldenCase {
             material_name: "rht-hpc-92",
             model: GoldenModel::Concrete(RhtMaterial::HPC_92MPA),
+            driver,
+        });
+    }
+    // K&C (seed 001 chapter 5) with the crack band of a 10 mm element.
+    let kc = KcMaterial {
+        parameters: KcParameters::HPC_100MPA_FOI.with_fracture_energy(156.0, 0.01),
+        ..KcMaterial::HPC_100MPA_FOI
+    };
+    for driver in [
+        GoldenDriver::HydrostaticCompaction,
+        GoldenDriver::ConcreteCompression,
+        GoldenDriver::ConcreteTension,
+        GoldenDriver::ConcreteUniaxialStrain,
+    ] {
+        all.push(GoldenCase {
+            material_name: "kc-hpc-100",
+            model: GoldenModel::KcConcrete(kc),
             driver,
         });
     }

@@ -21,13 +21,15 @@ use crate::batch::{
 use crate::block::{initial_bulk_modulus, StossMaterialBlock, BLOCK_SIZE, STOSS_LAYOUT_VERSION};
 use stoss_kernel::{PartMaterial, PointModel};
 
-/// Run `$body` with `$m` bound to the J2 metal or the RHT concrete of a [`PartMaterial`]:
+/// Run `$body` with `$m` bound to the J2 metal, the RHT or the K&C concrete of a
+/// [`PartMaterial`]:
 /// the body is compiled once per family, so no point pays for the dispatch.
 macro_rules! per_family {
     ($model:expr, $m:ident => $body:expr) => {
         match $model {
             PartMaterial::J2(ref $m) => $body,
             PartMaterial::Rht(ref $m) => $body,
+            PartMaterial::Kc(ref $m) => $body,
         }
     };
 }

@@ -6,6 +6,7 @@
 //! status and keeps its state untouched; the others proceed.
 
 use stoss_kernel::eos::Eos;
+use stoss_kernel::kc::KcMaterial;
 use stoss_kernel::math::exp;
 use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::tensor::{self, Matrix6, Sym};
@@ -122,11 +123,18 @@ impl AbiModel for RhtMaterial {
     }
 }
 
+impl AbiModel for KcMaterial {
+    fn eos(&self) -> &Eos {
+        &self.eos
+    }
+}
+
 impl AbiModel for PartMaterial {
     fn eos(&self) -> &Eos {
         match self {
             PartMaterial::J2(material) => material.eos(),
             PartMaterial::Rht(material) => material.eos(),
+            PartMaterial::Kc(material) => material.eos(),
         }
     }
 }

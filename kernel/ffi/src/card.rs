@@ -462,6 +462,7 @@ pub fn card_from_block(
     let eos = match &model {
         PartMaterial::J2(material) => &material.eos,
         PartMaterial::Rht(material) => &material.eos,
+        PartMaterial::Kc(material) => &material.eos,
     };
     let mut card = [0.0; STOSS_CARD_MAX_LENGTH];
     card[0] = f64::from(STOSS_LAYOUT_VERSION);

@@ -10,11 +10,10 @@ pub const MAX_DAMAGE_POINTS: usize = 16;
 /// The damage function `eta(lambda)` (Malvar et al. 1997): piecewise linear between its
 /// points, `eta` rising from 0 at `lambda = 0` to 1 at `lambda_m` (hardening from the yield
 /// to the maximum surface) and falling after it (softening towards the residual surface);
-/// constant beyond the last point.
+/// constant beyond the last point. In a material file (serde) it is two equally long lists,
+/// `lambda = [...]` and `eta = [...]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct DamageFunction {
     /// Damage parameter `lambda` of each point (-), strictly increasing from 0.
     pub lambda: [f64; MAX_DAMAGE_POINTS],
@@ -385,6 +384,108 @@ impl KcParameters {
         match self.crack_band {
             Some(band) => band.width / band.reference_width,
             None => 1.0,
+        }
+    }
+}
+
+#[cfg(feature = "serde")]
+mod damage_serde {
+    //! [`DamageFunction`] as two lists of its used points (no heap: the lists are read into
+    //! the fixed arrays; more than [`MAX_DAMAGE_POINTS`] points or unequal lengths are
+    //! errors naming the field).
+
+    use super::{DamageFunction, MAX_DAMAGE_POINTS};
+    use core::fmt;
+    use serde::de::{self, MapAccess, SeqAccess, Visitor};
+    use serde::ser::SerializeStruct;
+
+    /// The used prefix of a fixed array, serialized as a list.
+    struct Used<'a>(&'a [f64]);
+
+    impl serde::Serialize for Used<'_> {
+        fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+            serializer.collect_seq(self.0.iter())
+        }
+    }
+
+    impl serde::Serialize for DamageFunction {
+        fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+            let mut table = serializer.serialize_struct("DamageFunction", 2)?;
+            table.serialize_field("lambda", &Used(&self.lambda[..self.count]))?;
+            table.serialize_field("eta", &Used(&self.eta[..self.count]))?;
+            table.end()
+        }
+    }
+
+    /// A list of at most [`MAX_DAMAGE_POINTS`] numbers, with its length.
+    struct Points([f64; MAX_DAMAGE_POINTS], usize);
+
+    impl<'de> serde::Deserialize<'de> for Points {
+        fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+            struct PointsVisitor;
+            impl<'de> Visitor<'de> for PointsVisitor {
+                type Value = Points;
+                fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                    write!(f, "a list of at most {MAX_DAMAGE_POINTS} numbers")
+                }
+                fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Points, A::Error> {
+                    let mut values = [0.0; MAX_DAMAGE_POINTS];
+                    let mut count = 0;
+                    while let Some(value) = seq.next_element::<f64>()? {
+                        if count == MAX_DAMAGE_POINTS {
+                            return Err(de::Error::invalid_length(count + 1, &self));
+                        }
+                        values[count] = value;
+                        count += 1;
+                    }
+                    Ok(Points(values, count))
+                }
+            }
+            deserializer.deserialize_seq(PointsVisitor)
+        }
+    }
+
+    /// The two keys of a damage-function table.
+    #[derive(serde::Deserialize)]
+    #[serde(field_identifier, rename_all = "lowercase")]
+    enum Field {
+        Lambda,
+        Eta,
+    }
+
+    impl<'de> serde::Deserialize<'de> for DamageFunction {
+        fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+            struct TableVisitor;
+            impl<'de> Visitor<'de> for TableVisitor {
+                type Value = DamageFunction;
+                fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                    f.write_str("a table with the lists `lambda` and `eta`")
+                }
+                fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+                    let mut lambda: Option<Points> = None;
+                    let mut eta: Option<Points> = None;
+                    while let Some(key) = map.next_key::<Field>()? {
+                        match key {
+                            Field::Lambda => lambda = Some(map.next_value()?),
+                            Field::Eta => eta = Some(map.next_value()?),
+                        }
+                    }
+                    let lambda = lambda.ok_or_else(|| de::Error::missing_field("lambda"))?;
+                    let eta = eta.ok_or_else(|| de::Error::missing_field("eta"))?;
+                    if lambda.1 != eta.1 {
+                        return Err(de::Error::invalid_length(
+                            eta.1,
+                            &"as many values in `eta` as in `lambda`",
+                        ));
+                    }
+                    Ok(DamageFunction {
+                        lambda: lambda.0,
+                        eta: eta.0,
+                        count: lambda.1,
+                    })
+                }
+            }
+            deserializer.deserialize_struct("DamageFunction", &["lambda", "eta"], TableVisitor)
         }
     }
 }

@@ -158,15 +158,21 @@ pub struct Strengths {
 impl Strengths {
     /// The strength at `eta`, before (`post_peak = false`) or after the peak.
     pub fn at(&self, eta: f64, post_peak: bool) -> f64 {
-        let strength = if post_peak {
-            self.post_base + eta * self.post_span
-        } else {
-            self.pre_base + eta * self.pre_span
-        };
+        let strength = self.linear(eta, post_peak);
         if strength > 0.0 {
             strength
         } else {
             0.0
+        }
+    }
+
+    /// [`Strengths::at`] before the clamp at zero: linear in `eta` (negative where the
+    /// softened tensile surface has closed).
+    pub fn linear(&self, eta: f64, post_peak: bool) -> f64 {
+        if post_peak {
+            self.post_base + eta * self.post_span
+        } else {
+            self.pre_base + eta * self.pre_span
         }
     }
 }

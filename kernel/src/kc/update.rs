@@ -108,14 +108,23 @@ fn radial_return(
         let (la, lb) = (table.lambda[i], table.lambda[i + 1]);
         let (ea, eb) = (table.eta[i], table.eta[i + 1]);
         let eta_start = ea + (eb - ea) * (lambda - la) / (lb - la);
-        let start = strengths.at(eta_start, post_peak);
-        let end = strengths.at(eb, post_peak);
+        // Linear along the segment; a strength that falls below zero (the tensile surface
+        // closing) is zero from there on.
+        let start = strengths.linear(eta_start, post_peak);
+        let end = strengths.linear(eb, post_peak);
         let slope = (end - start) / (lb - lambda);
         let to_end = (lb - lambda) / k;
         let denominator = three_g + slope * k;
+        let remaining = trial - three_g * used;
+        if start <= 0.0 {
+            return to_zero_strength(used, remaining / three_g, lambda, k);
+        }
         if denominator > 0.0 {
-            let x = (trial - three_g * used - start) / denominator;
+            let x = (remaining - start) / denominator;
             let x = if x > 0.0 { x } else { 0.0 };
+            if start + slope * k * x < 0.0 {
+                return to_zero_strength(used, remaining / three_g, lambda, k);
+            }
             if x <= to_end {
                 let increment = used + x;
                 return Return {
@@ -128,6 +137,16 @@ fn radial_return(
         used += to_end;
         lambda = lb;
         i += 1;
+    }
+}
+
+/// The return to a zero deviator once the strength is zero: the rest of the trial
+/// deviator, `x = remaining / 3G`, is plastic, and `lambda` keeps growing with it.
+fn to_zero_strength(used: f64, x: f64, lambda: f64, k: f64) -> Return {
+    Return {
+        increment: used + x,
+        equivalent: 0.0,
+        lambda: lambda + k * x,
     }
 }
 

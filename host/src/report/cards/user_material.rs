@@ -32,6 +32,13 @@ pub fn cards(file: &AnyMaterialFile, initial_temperature: f64) -> Result<(String
                 .map_err(|e| e.message)?;
             (block, dropped, material.erosion_plastic_strain.is_some())
         }
+        AnyMaterialFile::Kc(_) => {
+            return Err(
+                "K&C concrete is not in the C ABI's material block yet: no user-material \
+                        card"
+                    .into(),
+            )
+        }
     };
     let name = file.name();
     let density = block.density;
