@@ -35,6 +35,7 @@ fn main() {
         "strength_update_tjc" => |d| stoss_fuzz::strength::run(Family::TwoRateJohnsonCook, d),
         "eos" => stoss_fuzz::eos::run,
         "rht_update" => stoss_fuzz::rht::run,
+        "kc_update" => stoss_fuzz::kc::run,
         other => panic!("unknown target {other}"),
     };
     let mut inputs = Vec::new();

@@ -4,7 +4,8 @@
 //! - [`check`]: the properties asserted on every stress update;
 //! - [`strength`]: the `strength_update_<model>` targets;
 //! - [`eos`]: the `eos` target;
-//! - [`rht`]: the `rht_update` target (RHT concrete).
+//! - [`rht`]: the `rht_update` target (RHT concrete);
+//! - [`kc`]: the `kc_update` target (K&C concrete).
 //!
 //! Every target is a function of the input bytes only (no clock, no randomness, no I/O), so a
 //! crash reproduces from its artifact file.
@@ -14,6 +15,7 @@
 
 pub mod check;
 pub mod eos;
+pub mod kc;
 pub mod rht;
 pub mod source;
 pub mod strength;

@@ -357,3 +357,113 @@ fn fuzz_large_step_through_a_voce_term_stays_on_the_yield_surface() {
     let output = run(&material, &mut state, &input);
     assert!(output.plastic_increment > 1.0, "{output:?}");
 }
+
+#[test]
+fn a_kc_material_with_a_biaxial_ratio_below_one_half_does_not_recurse() {
+    // GOAL: kc_update's chaos seed (fuzz/regressions/kc_update/) overflowed the stack: the
+    //       meridian ratio evaluated the maximum surface at the biaxial pressure `2 alpha
+    //       fc/3`, which for `alpha < 1/2` lies below `fc/3`, where the maximum surface asks
+    //       the meridian ratio again. Invalid constants must give a result or an error, never
+    //       a crash.
+    // SETUP: HPC_100MPA_FOI with biaxial ratio 0.3 (validate() refuses it), one step of
+    //        uniaxial compression that reaches the low-pressure branch.
+    // REFERENCE: the update returns (Ok or Err), the surfaces are finite.
+    use stoss_kernel::kc::{update as kc_update, KcMaterial, KcParameters};
+    let material = KcMaterial {
+        parameters: KcParameters {
+            biaxial_ratio: 0.3,
+            ..KcParameters::HPC_100MPA_FOI
+        },
+        ..KcMaterial::HPC_100MPA_FOI
+    };
+    assert!(material.validate().is_err());
+    assert!(material.parameters.maximum_meridian(10.0e6).is_finite());
+    let mut state = material.initial_state(293.0);
+    let input = StepInput {
+        strain_increment: [-1.0e-3, 2.0e-4, 2.0e-4, 0.0, 0.0, 0.0],
+        dt: 1.0e-6,
+        relative_volume: stoss_kernel::math::exp(-6.0e-4),
+    };
+    let _ = kc_update(&material, &mut state, &input);
+}
+
+#[test]
+fn the_kc_damage_measure_never_loses_an_ulp() {
+    // GOAL: kc_update found the damage measure 1 ulp lower after lambda grew by 1 ulp
+    //       (lambda/(lambda + lambda_m) rounds both ways); written 1 - lambda_m/(lambda +
+    //       lambda_m) every operation is monotone.
+    // SETUP: the reproducer's lambda (fuzz/regressions/kc_update/damage-measure-lost-an-ulp)
+    //        and its next 1000 doubles, lambda_m of its table.
+    // REFERENCE: non-decreasing measure.
+    use stoss_kernel::kc::damage_measure;
+    let peak = 3.224_733_310_375_842_6e-6;
+    let mut lambda: f64 = 1.751_239_267_264_592_9e-6;
+    let mut previous = damage_measure(lambda, peak, 0.0);
+    for _ in 0..1000 {
+        lambda = f64::from_bits(lambda.to_bits() + 1);
+        let measure = damage_measure(lambda, peak, 0.0);
+        assert!(measure >= previous, "{lambda:e}: {measure} < {previous}");
+        previous = measure;
+    }
+}
+
+#[test]
+fn a_kc_snap_back_never_returns_below_zero_strength() {
+    // GOAL: kc_update found a return that passed snap-back segments whole and removed more
+    //       than the trial deviator (stored q above a negative reported strength).
+    // SETUP: the reproducer (fuzz/regressions/kc_update/snap-back-passes-removed-more-than-
+    //        the-deviator): a three-point damage function peaking at 1.46e-4, exponents 0,
+    //        one step from the virgin state to V = 2 (deep hydrostatic tension).
+    // REFERENCE: reported strength >= 0 and the stored q on or inside it.
+    use stoss_kernel::kc::{update as kc_update, DamageFunction, KcMaterial, KcParameters};
+    let parameters = KcParameters {
+        maximum_surface: [
+            14_479_003.663_965_221,
+            0.390_373_994_880_708,
+            1.262_239_668_097_613_6e-9,
+        ],
+        yield_surface: [
+            10_929_382.050_370_17,
+            0.637_075_498_937_181,
+            5.557_856_816_288_592e-9,
+        ],
+        residual_surface: [0.552_123_685_181_770_9, 2.642_928_596_773_876e-9],
+        biaxial_ratio: 1.000_000_000_000_273,
+        compression_damage_exponent: 0.0,
+        tension_damage_exponent: 0.0,
+        damage: DamageFunction::from_points(&[
+            (0.0, 0.0),
+            (1.461_187_278_110_748_5e-4, 1.0),
+            (4.695_663_192_985_233e-4, 0.0),
+        ]),
+        ..KcParameters::from_strength(
+            55_999_999.462_968_074,
+            8_246_282.735_842_79,
+            7_924_465_996.292_801,
+        )
+    };
+    let material = KcMaterial {
+        density: 1500.0,
+        parameters,
+        eos: Eos::Linear(LinearEos {
+            bulk_modulus: 23_892_748_959.183_857,
+        }),
+        erosion_geometric_strain: None,
+    };
+    let mut state = material.initial_state(293.0);
+    let input = StepInput {
+        strain_increment: [
+            -0.024_840_800_137_298_16,
+            -0.021_348_620_268_396_058,
+            -0.009_038_873_568_631_908,
+            0.016_538_339_870_508_33,
+            -0.033_137_254_901_960_79,
+            -0.033_137_254_901_960_79,
+        ],
+        dt: 2.008_397_896_240_989e-9,
+        relative_volume: 2.0,
+    };
+    let output = kc_update(&material, &mut state, &input).expect("update");
+    assert!(output.yield_stress >= 0.0, "{output:?}");
+    assert!(state.equivalent_stress() <= output.yield_stress * (1.0 + 1e-9) + 1e-6);
+}

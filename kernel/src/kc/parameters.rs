@@ -60,10 +60,16 @@ impl DamageFunction {
         }
     }
 
+    /// The number of points read: `count` within `1..=MAX_DAMAGE_POINTS`, so that an
+    /// unvalidated table never indexes outside its arrays.
+    pub fn used(&self) -> usize {
+        self.count.clamp(1, MAX_DAMAGE_POINTS)
+    }
+
     /// Index of the peak, the first point with `eta = 1`.
     pub fn peak(&self) -> usize {
         let mut i = 0;
-        while i + 1 < self.count && self.eta[i] < 1.0 {
+        while i + 1 < self.used() && self.eta[i] < 1.0 {
             i += 1;
         }
         i
@@ -76,8 +82,8 @@ impl DamageFunction {
 
     /// `eta(lambda)`, piecewise linear, constant beyond the last point.
     pub fn eta_at(&self, lambda: f64) -> f64 {
-        let n = self.count;
-        if lambda >= self.lambda[n - 1] {
+        let n = self.used();
+        if n == 1 || lambda >= self.lambda[n - 1] {
             return self.eta[n - 1];
         }
         let i = self.segment(lambda);
@@ -89,7 +95,7 @@ impl DamageFunction {
     /// at or beyond the end, the first for a negative one).
     pub fn segment(&self, lambda: f64) -> usize {
         let mut i = 0;
-        while i + 2 < self.count && lambda >= self.lambda[i + 1] {
+        while i + 2 < self.used() && lambda >= self.lambda[i + 1] {
             i += 1;
         }
         i
@@ -352,7 +358,7 @@ impl KcParameters {
         };
         let table = &self.damage;
         let mut energy = 0.0;
-        for i in table.peak()..table.count - 1 {
+        for i in table.peak()..table.used() - 1 {
             let (la, lb) = (table.lambda[i], table.lambda[i + 1]);
             let (ea, eb) = (table.eta[i], table.eta[i + 1]);
             energy += if ea == eb {
@@ -411,8 +417,8 @@ mod damage_serde {
     impl serde::Serialize for DamageFunction {
         fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
             let mut table = serializer.serialize_struct("DamageFunction", 2)?;
-            table.serialize_field("lambda", &Used(&self.lambda[..self.count]))?;
-            table.serialize_field("eta", &Used(&self.eta[..self.count]))?;
+            table.serialize_field("lambda", &Used(&self.lambda[..self.used()]))?;
+            table.serialize_field("eta", &Used(&self.eta[..self.used()]))?;
             table.end()
         }
     }

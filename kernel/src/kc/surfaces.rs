@@ -17,7 +17,11 @@ impl KcParameters {
         let fc = self.compressive_strength;
         let uniaxial = 0.5 + 1.5 * self.tensile_strength / fc;
         let biaxial_pressure = 2.0 * self.biaxial_ratio * fc / 3.0;
-        let biaxial = self.biaxial_ratio * fc / self.maximum_meridian(biaxial_pressure);
+        // The biaxial point lies above fc/3 (biaxial ratio >= 1): the maximum surface's
+        // formula directly (never through this function again, whatever the constants).
+        let [a0, a1, a2] = self.maximum_surface;
+        let biaxial =
+            self.biaxial_ratio * fc / (a0 + biaxial_pressure / (a1 + a2 * biaxial_pressure));
         let line =
             |p0: f64, r0: f64, p1: f64, r1: f64| r0 + (r1 - r0) * (pressure - p0) / (p1 - p0);
         if pressure <= 0.0 {

@@ -59,9 +59,13 @@ pub fn update_with_tangent(
 /// The scaled damage measure of LS-DYNA `*MAT_072R3`, halved to lie in `[0, 1]`:
 /// `lambda/(lambda + lambda_m)` before the peak, `(2 - eta)/2` after it (1/2 at the peak,
 /// 1 when only the residual strength is left).
+///
+/// Written `1 - lambda_m/(lambda + lambda_m)` before the peak so that every rounded
+/// operation is monotone in `lambda`: the measure never decreases as `lambda` grows, to the
+/// last bit (`lambda/(lambda + lambda_m)` can lose an ulp when `lambda` gains one).
 pub fn damage_measure(lambda: f64, peak_lambda: f64, eta: f64) -> f64 {
     if lambda < peak_lambda {
-        lambda / (lambda + peak_lambda)
+        1.0 - peak_lambda / (lambda + peak_lambda)
     } else {
         1.0 - 0.5 * eta
     }
@@ -85,23 +89,14 @@ fn radial_return(
     growth: (f64, f64),
 ) -> Return {
     let table = &material.parameters.damage;
-    let n = table.count;
+    let n = table.used();
     let peak = table.peak();
     let mut used = 0.0;
     let mut lambda = lambda_n;
-    let mut i = table.segment(lambda);
-    loop {
+    // At most one pass over each segment (bounded whatever an unvalidated table holds).
+    for i in table.segment(lambda)..n.saturating_sub(1) {
         if lambda >= table.lambda[n - 1] {
-            // Beyond the table (after the peak, which is a table point): eta constant.
-            let strength = strengths.at(table.eta[n - 1], true);
-            let x = (trial - three_g * used - strength) / three_g;
-            let x = if x > 0.0 { x } else { 0.0 };
-            let increment = used + x;
-            return Return {
-                increment,
-                equivalent: trial - three_g * increment,
-                lambda: lambda + growth.1 * x,
-            };
+            break;
         }
         let post_peak = i >= peak;
         let k = if post_peak { growth.1 } else { growth.0 };
@@ -126,17 +121,28 @@ fn radial_return(
                 return to_zero_strength(used, remaining / three_g, lambda, k);
             }
             if x <= to_end {
-                let increment = used + x;
-                return Return {
-                    increment,
-                    equivalent: trial - three_g * increment,
-                    lambda: lambda + k * x,
-                };
+                return returned(trial, three_g, used + x, lambda + k * x);
             }
         }
-        used += to_end;
+        // Passed whole; never more than removes the whole trial deviator.
+        used = (used + to_end).min(trial / three_g);
         lambda = lb;
-        i += 1;
+    }
+    // Beyond the table (after the peak, which is a table point): eta constant.
+    let strength = strengths.at(table.eta[n - 1], true);
+    let x = (trial - three_g * used - strength) / three_g;
+    let x = if x > 0.0 { x } else { 0.0 };
+    returned(trial, three_g, used + x, lambda + growth.1 * x)
+}
+
+/// The return with multiplier `increment`: equivalent stress `q_trial - 3G dl`, never below
+/// zero (round-off of a return that removes the whole deviator).
+fn returned(trial: f64, three_g: f64, increment: f64, lambda: f64) -> Return {
+    let equivalent = trial - three_g * increment;
+    Return {
+        increment,
+        equivalent: if equivalent > 0.0 { equivalent } else { 0.0 },
+        lambda,
     }
 }
 
