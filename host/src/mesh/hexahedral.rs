@@ -132,6 +132,62 @@ impl HexMesh {
         mesh
     }
 
+    /// Rectangular block `[0, lx] x [0, ly] x [0, lz]` of `nx x ny x nz` equal elements
+    /// (`extent` = `[lx, ly, lz]`, `divisions` = `[nx, ny, nz]`), nodes numbered x fastest,
+    /// then y, then z. Node sets `<part>.x0`, `<part>.x1`, `<part>.y0`, `<part>.y1`,
+    /// `<part>.z0`, `<part>.z1` (the six faces).
+    pub fn block(part: &str, material: usize, extent: [f64; 3], divisions: [usize; 3]) -> Self {
+        let [nx, ny, nz] = divisions;
+        let node = |i: usize, j: usize, k: usize| (k * (ny + 1) + j) * (nx + 1) + i;
+        let mut mesh = HexMesh {
+            parts: vec![Part {
+                name: part.to_string(),
+                material,
+            }],
+            ..HexMesh::default()
+        };
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    mesh.nodes.push([
+                        extent[0] * i as f64 / nx as f64,
+                        extent[1] * j as f64 / ny as f64,
+                        extent[2] * k as f64 / nz as f64,
+                    ]);
+                }
+            }
+        }
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    mesh.elements.push([
+                        node(i, j, k),
+                        node(i + 1, j, k),
+                        node(i + 1, j + 1, k),
+                        node(i, j + 1, k),
+                        node(i, j, k + 1),
+                        node(i + 1, j, k + 1),
+                        node(i + 1, j + 1, k + 1),
+                        node(i, j + 1, k + 1),
+                    ]);
+                    mesh.element_part.push(0);
+                }
+            }
+        }
+        for (axis, count) in divisions.iter().enumerate() {
+            let name = ["x", "y", "z"][axis];
+            for (end, index) in [("0", 0), ("1", *count)] {
+                let set = (0..=nz)
+                    .flat_map(|k| (0..=ny).flat_map(move |j| (0..=nx).map(move |i| [i, j, k])))
+                    .filter(|ijk| ijk[axis] == index)
+                    .map(|[i, j, k]| node(i, j, k))
+                    .collect();
+                mesh.node_sets.insert(format!("{part}.{name}{end}"), set);
+            }
+        }
+        mesh
+    }
+
     /// Volume of element `e` (one-point: 8 times the Jacobian determinant at the centre,
     /// exact for parallelepipeds).
     pub fn volume(&self, e: usize) -> f64 {
@@ -176,5 +232,26 @@ mod tests {
         assert!((0..mesh.elements.len()).all(|e| mesh.volume(e) > 0.0));
         assert!((total / exact - 1.0).abs() < 0.01, "{total} vs {exact}");
         assert!(!mesh.node_sets["rod.x0"].is_empty());
+    }
+
+    #[test]
+    fn a_block_is_filled_by_positive_elements_and_its_faces_are_named() {
+        // GOAL: the box mesher's elements are right-handed and tile the block.
+        // SETUP: 2 x 0.5 x 0.25 m in 8 x 3 x 2 elements.
+        // REFERENCE: every volume lx ly lz / (nx ny nz), their sum the block's; each face set
+        //            holds (n_a + 1)(n_b + 1) nodes on its plane.
+        let mesh = HexMesh::block("beam", 0, [2.0, 0.5, 0.25], [8, 3, 2]);
+        assert_eq!(mesh.elements.len(), 48);
+        assert_eq!(mesh.nodes.len(), 9 * 4 * 3);
+        for e in 0..mesh.elements.len() {
+            assert!((mesh.volume(e) - 0.25 / 48.0).abs() < 1e-15, "{e}");
+        }
+        let x1 = &mesh.node_sets["beam.x1"];
+        assert_eq!(x1.len(), 4 * 3);
+        assert!(x1.iter().all(|&n| mesh.nodes[n][0] == 2.0));
+        assert_eq!(mesh.node_sets["beam.z0"].len(), 9 * 4);
+        assert!(mesh.node_sets["beam.y1"]
+            .iter()
+            .all(|&n| mesh.nodes[n][1] == 0.5));
     }
 }
