@@ -323,6 +323,7 @@ mod plate {
                 history: shared(history),
                 scale: 1.0,
             }],
+            body_acceleration: None,
             settings: SolverSettings {
                 end_time: 1.0e-5,
                 ..SolverSettings::default()

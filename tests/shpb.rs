@@ -303,6 +303,7 @@ fn bar_on_bar(speed: f64, friction: f64, threads: Option<usize>) -> (Axisymmetri
         eroding_contact: None,
         rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
+        body_acceleration: None,
         settings: SolverSettings {
             end_time: 30.0e-6,
             output_interval: 0.5e-6,

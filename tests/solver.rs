@@ -76,6 +76,7 @@ fn elastic_bar_wave_speed_amplitude_and_free_end_reflection() {
         eroding_contact: None,
         rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
+        body_acceleration: None,
         settings: SolverSettings {
             end_time: 26.0e-6,
             output_interval: 0.02e-6,
@@ -340,6 +341,7 @@ fn a_rigid_mass_striking_an_elastic_bar_slows_as_the_closed_form() {
         eroding_contact: Some(stoss::solver::ErodingContact::new(vec![0, 1], 0.0)),
         rigid_parts: vec![1],
         pressure_loads: Vec::new(),
+        body_acceleration: None,
         settings: SolverSettings {
             end_time: 2.2 * tau,
             output_interval: 0.1e-6,
@@ -529,6 +531,7 @@ fn spherical_cavity_expansion_reaches_hills_pressure() {
         eroding_contact: None,
         rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
+        body_acceleration: None,
         settings: SolverSettings {
             end_time,
             ..SolverSettings::default()
@@ -659,6 +662,7 @@ fn viscous_hourglass_work_is_booked_so_that_energy_balances_under_strong_damping
         eroding_contact: None,
         rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
+        body_acceleration: None,
         settings: SolverSettings {
             end_time: 2.0e-6,
             output_interval: 0.1e-6,

@@ -457,6 +457,7 @@ impl BlastPlateSpec {
                 history: wall,
                 scale: self.impulse_scale,
             }],
+            body_acceleration: None,
             settings: SolverSettings {
                 end_time: self.end_time,
                 damping: Some(NodalDamping {

@@ -171,6 +171,7 @@ impl TaylorSpec {
             eroding_contact: None,
             rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
+            body_acceleration: None,
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {
@@ -221,6 +222,7 @@ impl TaylorSpec {
             eroding_contact: None,
             rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
+            body_acceleration: None,
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {

@@ -221,6 +221,7 @@ impl TensionSpec {
             eroding_contact: None,
             rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
+            body_acceleration: None,
             settings: SolverSettings {
                 end_time: self.duration(),
                 damping: None,

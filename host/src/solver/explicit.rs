@@ -330,6 +330,10 @@ pub struct ExplicitModel<M, P = Material> {
     pub rigid_parts: Vec<usize>,
     /// Pressures on boundary segments (2D models only).
     pub pressure_loads: Vec<PressureLoad>,
+    /// A uniform body acceleration `g` (m/s^2; LS-DYNA `*LOAD_BODY`), gravity: every node
+    /// feels `m g`, and its work `m g . (v_n-1/2 + v_n+1/2)/2 dt` is booked as external work
+    /// (the loss of potential energy). `None`: no body load.
+    pub body_acceleration: Option<Vector>,
     /// Numerical settings.
     pub settings: SolverSettings,
     /// Elements whose state history is recorded.
@@ -781,6 +785,11 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                             for d in 0..dimension {
                                 vel[d] += total[d] / mass[n] * dt_average;
                             }
+                            if let Some(g) = &self.body_acceleration {
+                                for d in 0..dimension {
+                                    vel[d] += g[d] * dt_average;
+                                }
+                            }
                         }
                         if deferred[n] {
                             continue;
@@ -879,6 +888,17 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             }
             if let Some(surfaces) = &eroding {
                 energy.contact += measure * surfaces.absorbed(&v_old, &v, dt_average);
+            }
+            if let Some(g) = &self.body_acceleration {
+                // In node order, so the sum does not depend on the thread count.
+                let mut work = 0.0;
+                for n in 0..node_count {
+                    if mass[n] > 0.0 {
+                        let mean: Vector = core::array::from_fn(|d| 0.5 * (v_old[n][d] + v[n][d]));
+                        work += mass[n] * dot(g, &mean, dimension) * dt_average;
+                    }
+                }
+                energy.external_work += measure * work;
             }
 
             // Elements in parallel (or serially on one thread), in chunks of a fixed size: each

@@ -210,6 +210,7 @@ impl ShpbSpec {
             eroding_contact: None,
             rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
+            body_acceleration: None,
             settings: SolverSettings {
                 end_time,
                 damping: None,
