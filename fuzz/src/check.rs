@@ -45,7 +45,8 @@ pub fn state_bits(state: &MaterialState) -> [u64; 14] {
     ]
 }
 
-fn output_bits(output: &StepOutput) -> [u64; 4] {
+/// The output's numbers as bits.
+pub fn output_bits(output: &StepOutput) -> [u64; 4] {
     [
         output.wave_speed.to_bits(),
         output.plastic_increment.to_bits(),
@@ -143,6 +144,65 @@ pub fn run_steps(
     initial_in_domain: bool,
     steps: &[FuzzStep],
 ) -> Tally {
+    run_point_steps(
+        &PointTarget {
+            name: "update",
+            material,
+            run_once: &|state, step, tangent| run_once(material, state, step, tangent),
+            // update.rs documents that its iteration bound is never the reason for a result
+            // (MAX_RETURN_ITERATIONS).
+            iteration_bound_is_a_defect: true,
+            check_step: &|before, after, step, output, tangent, context| {
+                check_step(material, before, after, step, output, tangent, context)
+            },
+        },
+        checked,
+        initial,
+        initial_in_domain,
+        steps,
+    )
+}
+
+/// One fuzzed step: `(state before, state after, step, output, tangent, context)`.
+pub type StepCheck<'a> = dyn Fn(&MaterialState, &MaterialState, &FuzzStep, &StepOutput, &[[f64; 6]; 6], &dyn Fn() -> String)
+    + 'a;
+
+/// What [`run_point_steps`] needs of a target: its name for messages, the material (for
+/// messages), one update with or without the tangent, whether the return mapping's
+/// iteration bound is a defect inside the domain, and the model's own properties of an
+/// in-domain `Ok` step.
+pub struct PointTarget<'a> {
+    /// Name of the update in messages (`"update"`, `"RHT update"`...).
+    pub name: &'static str,
+    /// The material, printed with a failing step.
+    pub material: &'a dyn core::fmt::Debug,
+    /// One update (with the tangent when the step asks for it).
+    #[allow(clippy::type_complexity)]
+    pub run_once: &'a dyn Fn(
+        &mut MaterialState,
+        &FuzzStep,
+        &mut [[f64; 6]; 6],
+    ) -> Result<StepOutput, UpdateError>,
+    /// `ReturnMappingDiverged` inside the domain is a defect (the J2 return says its bound is
+    /// never the reason for a result).
+    pub iteration_bound_is_a_defect: bool,
+    /// The model's properties of an in-domain `Ok` step.
+    pub check_step: &'a StepCheck<'a>,
+}
+
+/// The step loop every point-model target shares: no panic; on `Err` the state is bitwise
+/// unchanged; the same call on a copy gives the same bits (determinism, the tangent
+/// included); an `Ok` state and wave speed are finite; inside the domain the target's own
+/// properties ([`PointTarget::check_step`]). The sequence continues from the returned state
+/// after `Ok` and from the unchanged one after `Err`.
+pub fn run_point_steps(
+    target: &PointTarget<'_>,
+    checked: bool,
+    initial: MaterialState,
+    initial_in_domain: bool,
+    steps: &[FuzzStep],
+) -> Tally {
+    let name = target.name;
     let mut tally = Tally::default();
     let mut state = initial;
     for (index, step) in steps.iter().enumerate() {
@@ -154,8 +214,9 @@ pub fn run_steps(
             && (index > 0 || initial_in_domain);
         let context = || {
             format!(
-                "step {index}\nmaterial: {material:?}\nstate before: {before:?}\n\
+                "step {index}\nmaterial: {:?}\nstate before: {before:?}\n\
                  state bits: {:016x?}\ninput: {:?}\ntangent requested: {}",
+                target.material,
                 state_bits(&before),
                 step.input,
                 step.tangent
@@ -163,10 +224,10 @@ pub fn run_steps(
         };
 
         let mut tangent = [[f64::NAN; 6]; 6];
-        let result = run_once(material, &mut state, step, &mut tangent);
+        let result = (target.run_once)(&mut state, step, &mut tangent);
         let mut again = before;
         let mut tangent_again = [[f64::NAN; 6]; 6];
-        let result_again = run_once(material, &mut again, step, &mut tangent_again);
+        let result_again = (target.run_once)(&mut again, step, &mut tangent_again);
         let same = match (&result, &result_again) {
             (Ok(a), Ok(b)) => output_bits(a) == output_bits(b),
             (Err(a), Err(b)) => a == b,
@@ -180,7 +241,7 @@ pub fn run_steps(
                         .flatten()
                         .zip(tangent_again.iter().flatten())
                         .all(|(a, b)| a.to_bits() == b.to_bits())),
-            "update is not deterministic: {result:?} vs {result_again:?}\n{}",
+            "{name} is not deterministic: {result:?} vs {result_again:?}\n{}",
             context()
         );
 
@@ -189,14 +250,13 @@ pub fn run_steps(
                 assert_eq!(
                     state_bits(&state),
                     state_bits(&before),
-                    "state changed although update returned {error:?}\nafter: {state:?}\n{}",
+                    "state changed although {name} returned {error:?}\nafter: {state:?}\n{}",
                     context()
                 );
                 if domain {
-                    // update.rs documents that its iteration bound is never the reason for a
-                    // result (MAX_RETURN_ITERATIONS).
                     assert!(
-                        error != UpdateError::ReturnMappingDiverged,
+                        !(target.iteration_bound_is_a_defect
+                            && error == UpdateError::ReturnMappingDiverged),
                         "return mapping hit its iteration bound inside the domain\n{}",
                         context()
                     );
@@ -220,13 +280,88 @@ pub fn run_steps(
             continue;
         }
         tally.checked += 1;
-        let plastic = state.flags.contains(StateFlags::PLASTIC);
-        if plastic {
+        if state.flags.contains(StateFlags::PLASTIC) {
             tally.plastic += 1;
         }
-        check_step(material, &before, &state, step, &output, &tangent, &context);
+        (target.check_step)(&before, &state, step, &output, &tangent, &context);
     }
     tally
+}
+
+/// The first violated property of an in-domain `Ok` step that holds for every model: finite
+/// outputs (and tangent when asked for), `dl >= 0`, the plastic-strain variable not
+/// decreasing, damage in `[0, 1]` and not decreasing, `V` taken from the input.
+pub fn common_violation(
+    before: &MaterialState,
+    after: &MaterialState,
+    step: &FuzzStep,
+    output: &StepOutput,
+    tangent: &[[f64; 6]; 6],
+) -> Option<String> {
+    if !(output.wave_speed.is_finite()
+        && output.plastic_increment.is_finite()
+        && output.yield_stress.is_finite())
+    {
+        return Some(format!("non-finite output {output:?}"));
+    }
+    if step.tangent && !tangent.iter().flatten().all(|c| c.is_finite()) {
+        return Some(format!("non-finite tangent {tangent:?}"));
+    }
+    if !(output.plastic_increment >= 0.0) {
+        return Some(format!(
+            "negative plastic increment {}",
+            output.plastic_increment
+        ));
+    }
+    if !(after.plastic_strain >= before.plastic_strain) {
+        return Some("the plastic-strain variable decreased".into());
+    }
+    if !((0.0..=1.0).contains(&after.damage) && after.damage >= before.damage) {
+        return Some(format!(
+            "damage {} -> {} (must stay in [0, 1], not decrease)",
+            before.damage, after.damage
+        ));
+    }
+    if after.relative_volume.to_bits() != step.input.relative_volume.to_bits() {
+        return Some("relative volume not taken from the input".into());
+    }
+    None
+}
+
+/// The step sequence of the concrete targets (`rht_update`, `kc_update`): 1 to 12 steps,
+/// components in `[-0.05, 0.05]`, `dt` in `[1e-9, 1e-3]` s (log), the new `V` from
+/// `V exp(tr deps)` (three steps in four) or in `[0.5, 2]`, the tangent one step in two.
+pub fn concrete_steps(src: &mut crate::source::Source, initial_volume: f64) -> Vec<FuzzStep> {
+    let count = src.count(1, 12);
+    let mut volume = initial_volume;
+    (0..count)
+        .map(|_| {
+            src.take_domain();
+            let mut strain_increment = [0.0; 6];
+            for d in strain_increment.iter_mut() {
+                *d = src.linear(-0.05, 0.05);
+            }
+            let dt = src.log(1e-9, 1e-3);
+            let trace = strain_increment[0] + strain_increment[1] + strain_increment[2];
+            let relative_volume = if src.byte() & 3 == 0 {
+                src.linear(0.5, 2.0)
+            } else {
+                volume * trace.exp()
+            };
+            let tangent = src.flag();
+            let in_domain = src.take_domain() && (0.5..=2.0).contains(&relative_volume);
+            volume = relative_volume;
+            FuzzStep {
+                input: StepInput {
+                    strain_increment,
+                    dt,
+                    relative_volume,
+                },
+                tangent,
+                in_domain,
+            }
+        })
+        .collect()
 }
 
 fn check_step(
@@ -244,23 +379,8 @@ fn check_step(
             context()
         )
     };
-    if !(output.wave_speed.is_finite()
-        && output.plastic_increment.is_finite()
-        && output.yield_stress.is_finite())
-    {
-        fail(format!("non-finite output {output:?}"));
-    }
-    if step.tangent && !tangent.iter().flatten().all(|c| c.is_finite()) {
-        fail(format!("non-finite consistent tangent {tangent:?}"));
-    }
-    if !(output.plastic_increment >= 0.0) {
-        fail(format!(
-            "negative plastic increment {}",
-            output.plastic_increment
-        ));
-    }
-    if !(after.plastic_strain >= before.plastic_strain) {
-        fail("equivalent plastic strain decreased".into());
+    if let Some(what) = common_violation(before, after, step, output, tangent) {
+        fail(what);
     }
     if !(output.yield_stress >= 0.0) {
         fail(format!("negative flow stress {}", output.yield_stress));
@@ -279,16 +399,6 @@ fn check_step(
     {
         fail("isothermal material changed temperature".into());
     }
-    if !((0.0..=1.0).contains(&after.damage) && after.damage >= before.damage) {
-        fail(format!(
-            "damage {} -> {} (must stay in [0, 1], not decrease)",
-            before.damage, after.damage
-        ));
-    }
-    if after.relative_volume.to_bits() != step.input.relative_volume.to_bits() {
-        fail("relative volume not taken from the input".into());
-    }
-
     // Yield condition (a failed point carries no deviator: its flow stress is 0).
     let plastic = after.flags.contains(StateFlags::PLASTIC);
     let flow = if after.flags.contains(StateFlags::FAILED) {

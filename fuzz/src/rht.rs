@@ -28,7 +28,9 @@
 //! (`q <= yield_stress (1 + 1e-9) + 1e-6 Pa + 1e-14 (max|sigma| + q_trial bound)`: "a stored
 //! stress lies exactly on the surface it was returned to", kernel/src/rht/update.rs).
 
-use crate::check::{state_bits, state_in_domain, Tally};
+use crate::check::{
+    common_violation, concrete_steps, run_point_steps, FuzzStep, PointTarget, Tally,
+};
 use crate::source::Source;
 use stoss_kernel::eos::{Eos, LinearEos, PAlpha, Polynomial};
 use stoss_kernel::rht::{
@@ -36,7 +38,7 @@ use stoss_kernel::rht::{
     TensileFailure,
 };
 use stoss_kernel::tensor;
-use stoss_kernel::{MaterialState, StateFlags, StepInput, StepOutput, UpdateError};
+use stoss_kernel::{MaterialState, StepOutput, UpdateError};
 
 fn parameters(src: &mut Source) -> RhtParameters {
     RhtParameters {
@@ -138,49 +140,10 @@ fn state(src: &mut Source, material: &RhtMaterial) -> MaterialState {
     state
 }
 
-struct Step {
-    input: StepInput,
-    tangent: bool,
-    in_domain: bool,
-}
-
-fn steps(src: &mut Source, initial_volume: f64) -> Vec<Step> {
-    let count = src.count(1, 12);
-    let mut volume = initial_volume;
-    (0..count)
-        .map(|_| {
-            src.take_domain();
-            let mut strain_increment = [0.0; 6];
-            for d in strain_increment.iter_mut() {
-                *d = src.linear(-0.05, 0.05);
-            }
-            let dt = src.log(1e-9, 1e-3);
-            let trace = strain_increment[0] + strain_increment[1] + strain_increment[2];
-            let relative_volume = if src.byte() & 3 == 0 {
-                src.linear(0.5, 2.0)
-            } else {
-                volume * trace.exp()
-            };
-            let tangent = src.flag();
-            let in_domain = src.take_domain() && (0.5..=2.0).contains(&relative_volume);
-            volume = relative_volume;
-            Step {
-                input: StepInput {
-                    strain_increment,
-                    dt,
-                    relative_volume,
-                },
-                tangent,
-                in_domain,
-            }
-        })
-        .collect()
-}
-
 fn run_once(
     material: &RhtMaterial,
     state: &mut MaterialState,
-    step: &Step,
+    step: &FuzzStep,
     tangent: &mut [[f64; 6]; 6],
 ) -> Result<StepOutput, UpdateError> {
     if step.tangent {
@@ -190,15 +153,6 @@ fn run_once(
     }
 }
 
-fn output_bits(output: &StepOutput) -> [u64; 4] {
-    [
-        output.wave_speed.to_bits(),
-        output.plastic_increment.to_bits(),
-        output.yield_stress.to_bits(),
-        u64::from(output.iterations),
-    ]
-}
-
 /// One fuzz case of the `rht_update` target.
 pub fn run(data: &[u8]) -> Tally {
     let mut src = Source::new(data);
@@ -206,93 +160,30 @@ pub fn run(data: &[u8]) -> Tally {
     let material_in_domain = src.take_domain();
     let initial = state(&mut src, &material);
     let initial_in_domain = src.take_domain();
-    let steps = steps(&mut src, initial.relative_volume);
+    let steps = concrete_steps(&mut src, initial.relative_volume);
     let checked = material_in_domain && material.validate().is_ok();
-
-    let mut tally = Tally::default();
-    let mut state = initial;
-    for (index, step) in steps.iter().enumerate() {
-        tally.steps += 1;
-        let before = state;
-        let domain = checked
-            && step.in_domain
-            && state_in_domain(&before)
-            && (index > 0 || initial_in_domain);
-        let context = || {
-            format!(
-                "step {index}\nmaterial: {material:?}\nstate before: {before:?}\n\
-                 state bits: {:016x?}\ninput: {:?}\ntangent requested: {}",
-                state_bits(&before),
-                step.input,
-                step.tangent
-            )
-        };
-        let mut tangent = [[f64::NAN; 6]; 6];
-        let result = run_once(&material, &mut state, step, &mut tangent);
-        let mut again = before;
-        let mut tangent_again = [[f64::NAN; 6]; 6];
-        let result_again = run_once(&material, &mut again, step, &mut tangent_again);
-        let same = match (&result, &result_again) {
-            (Ok(a), Ok(b)) => output_bits(a) == output_bits(b),
-            (Err(a), Err(b)) => a == b,
-            _ => false,
-        };
-        assert!(
-            same && state_bits(&state) == state_bits(&again)
-                && (!step.tangent
-                    || tangent
-                        .iter()
-                        .flatten()
-                        .zip(tangent_again.iter().flatten())
-                        .all(|(a, b)| a.to_bits() == b.to_bits())),
-            "RHT update is not deterministic: {result:?} vs {result_again:?}\n{}",
-            context()
-        );
-        let output = match result {
-            Err(error) => {
-                assert_eq!(
-                    state_bits(&state),
-                    state_bits(&before),
-                    "state changed although the RHT update returned {error:?}\nafter: \
-                     {state:?}\n{}",
-                    context()
-                );
-                if domain {
-                    tally.checked += 1;
-                    tally.errors[match error {
-                        UpdateError::NonFiniteResult => 0,
-                        UpdateError::ReturnMappingDiverged => 1,
-                        _ => 2,
-                    }] += 1;
-                }
-                continue;
-            }
-            Ok(output) => output,
-        };
-        assert!(
-            state.is_finite() && output.wave_speed.is_finite(),
-            "Ok with a non-finite state or wave speed {state:?} {output:?}\n{}",
-            context()
-        );
-        if !domain {
-            continue;
-        }
-        tally.checked += 1;
-        if state.flags.contains(StateFlags::PLASTIC) {
-            tally.plastic += 1;
-        }
-        check_step(
-            &material, &before, &state, step, &output, &tangent, &context,
-        );
-    }
-    tally
+    run_point_steps(
+        &PointTarget {
+            name: "RHT update",
+            material: &material,
+            run_once: &|state, step, tangent| run_once(&material, state, step, tangent),
+            iteration_bound_is_a_defect: false,
+            check_step: &|before, after, step, output, tangent, context| {
+                check_step(&material, before, after, step, output, tangent, context)
+            },
+        },
+        checked,
+        initial,
+        initial_in_domain,
+        &steps,
+    )
 }
 
 fn check_step(
     material: &RhtMaterial,
     before: &MaterialState,
     after: &MaterialState,
-    step: &Step,
+    step: &FuzzStep,
     output: &StepOutput,
     tangent: &[[f64; 6]; 6],
     context: &dyn Fn() -> String,
@@ -303,32 +194,8 @@ fn check_step(
             context()
         )
     };
-    if !(output.wave_speed.is_finite()
-        && output.plastic_increment.is_finite()
-        && output.yield_stress.is_finite())
-    {
-        fail(format!("non-finite output {output:?}"));
-    }
-    if step.tangent && !tangent.iter().flatten().all(|c| c.is_finite()) {
-        fail(format!("non-finite tangent {tangent:?}"));
-    }
-    if !(output.plastic_increment >= 0.0) {
-        fail(format!(
-            "negative plastic increment {}",
-            output.plastic_increment
-        ));
-    }
-    if !(after.plastic_strain >= before.plastic_strain) {
-        fail("equivalent plastic strain decreased".into());
-    }
-    if !((0.0..=1.0).contains(&after.damage) && after.damage >= before.damage) {
-        fail(format!(
-            "damage {} -> {} (must stay in [0, 1], not decrease)",
-            before.damage, after.damage
-        ));
-    }
-    if after.relative_volume.to_bits() != step.input.relative_volume.to_bits() {
-        fail("relative volume not taken from the input".into());
+    if let Some(what) = common_violation(before, after, step, output, tangent) {
+        fail(what);
     }
     if let Eos::PAlpha(p) = material.eos {
         let incoming = if before.eos_history >= 1.0 && before.eos_history <= p.initial_distension {
