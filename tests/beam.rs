@@ -23,6 +23,69 @@ fn zero_crossings(times: &[f64], values: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// The quarter model of both elastic checks: the plain concrete body (K&C, seed 001 chapter
+/// 5) simply supported at its end sections 4.0 m apart, 2.0 x 0.085 x 0.34 m in 50 x 2 x 8
+/// hexes, symmetric at mid-span and mid-width, at rest, without loads; and the node at
+/// mid-span on the neutral axis.
+fn quarter_beam(settings: SolverSettings) -> (ExplicitModel<HexMesh, PartMaterial>, usize) {
+    let mut mesh = HexMesh::block("beam", 0, [0.5 * SPAN, 0.5 * WIDTH, DEPTH], [50, 2, 8]);
+    // Beam theory's simple support: the end section held vertically (free to rotate and to
+    // slide), not the seed's bearing under the bottom edge, whose local compliance beam
+    // theory omits (a bottom-edge line support adds about 3 % to the sag here).
+    let fixed = |set: &str, dof: usize| VelocityConstraint {
+        nodes: mesh.node_sets[set].clone(),
+        dof,
+        velocity: Amplitude::constant(0.0),
+    };
+    let constraints = vec![
+        fixed("beam.x0", 2),
+        fixed("beam.x1", 0),
+        fixed("beam.y0", 1),
+    ];
+    let probe = mesh
+        .nodes
+        .iter()
+        .position(|p| p[0] == 0.5 * SPAN && p[1] == 0.0 && (p[2] - 0.5 * DEPTH).abs() < 1e-12)
+        .expect("a node at mid-span on the neutral axis");
+    mesh.node_sets.clear();
+    let model = ExplicitModel {
+        mesh,
+        materials: vec![PartMaterial::Kc(KcMaterial::HPC_100MPA_FOI)],
+        initial_temperature: 293.0,
+        initial_velocity: Vec::new(),
+        constraints,
+        walls: Vec::new(),
+        contacts: Vec::new(),
+        eroding_contact: None,
+        rigid_parts: Vec::new(),
+        pressure_loads: Vec::new(),
+        body_acceleration: None,
+        settings,
+        tracked_elements: Vec::new(),
+    };
+    (model, probe)
+}
+
+/// The concrete's elastic constants for beam theory: `(E, G, Cowper's shear coefficient)`,
+/// from table 5.2's bulk modulus 21.57 GPa and G 18.97 GPa (E 44 GPa, nu 0.16).
+fn elastic_constants() -> (f64, f64, f64) {
+    let bulk = 21.57e9;
+    let shear = KcMaterial::HPC_100MPA_FOI.parameters.shear_modulus;
+    let young = 9.0 * bulk * shear / (3.0 * bulk + shear);
+    let poisson = young / (2.0 * shear) - 1.0;
+    (
+        young,
+        shear,
+        10.0 * (1.0 + poisson) / (12.0 + 11.0 * poisson),
+    )
+}
+
+/// Euler-Bernoulli's first circular frequency of the simply supported span.
+fn euler_bernoulli_frequency(young: f64) -> f64 {
+    (std::f64::consts::PI / SPAN).powi(2)
+        * (young * DEPTH * DEPTH / 12.0 / KcMaterial::HPC_100MPA_FOI.density).sqrt()
+}
+
 #[test]
 fn the_concrete_beam_vibrates_at_its_timoshenko_bending_frequency() {
     // GOAL: issue 19's elastic check: the beam's first bending frequency in the 3D solver
@@ -39,24 +102,20 @@ fn the_concrete_beam_vibrates_at_its_timoshenko_bending_frequency() {
     //            table 5.2's bulk modulus 21.57 GPa and G 18.97 GPa (E 44 GPa, nu 0.16).
     //            Period from the mid-span deflection's sign changes (at T/2 and T; the
     //            velocity carries too much of the higher modes to time). Energy error <= 1 %.
-    let material = KcMaterial::HPC_100MPA_FOI;
-    let mut mesh = HexMesh::block("beam", 0, [0.5 * SPAN, 0.5 * WIDTH, DEPTH], [50, 2, 8]);
-    // Beam theory's simple support: the end section held vertically (free to rotate and to
-    // slide), not the seed's bearing under the bottom edge, whose local compliance beam
-    // theory omits (a bottom-edge line support adds about 3 % to the sag here).
-    let support = mesh.node_sets["beam.x0"].clone();
-    let fixed = |nodes: Vec<usize>, dof: usize| VelocityConstraint {
-        nodes,
-        dof,
-        velocity: Amplitude::constant(0.0),
-    };
-    let constraints = vec![
-        fixed(support, 2),
-        fixed(mesh.node_sets["beam.x1"].clone(), 0),
-        fixed(mesh.node_sets["beam.y0"].clone(), 1),
-    ];
+    let (young, shear, cowper) = elastic_constants();
+    let euler = euler_bernoulli_frequency(young);
+    let slenderness = (std::f64::consts::PI / SPAN).powi(2) * DEPTH * DEPTH / 12.0;
+    let timoshenko = euler / (1.0 + slenderness * (1.0 + young / (cowper * shear))).sqrt();
+    let period = 2.0 * std::f64::consts::PI / timoshenko;
+    let (mut model, probe) = quarter_beam(SolverSettings {
+        end_time: 1.5 * period,
+        output_interval: period / 400.0,
+        threads: Some(2),
+        ..SolverSettings::default()
+    });
     let amplitude = 0.01;
-    let initial_velocity = mesh
+    model.initial_velocity = model
+        .mesh
         .nodes
         .iter()
         .map(|p| {
@@ -67,44 +126,6 @@ fn the_concrete_beam_vibrates_at_its_timoshenko_bending_frequency() {
             ]
         })
         .collect();
-    let probe = mesh
-        .nodes
-        .iter()
-        .position(|p| p[0] == 0.5 * SPAN && p[1] == 0.0 && (p[2] - 0.5 * DEPTH).abs() < 1e-12)
-        .expect("a node at mid-span on the neutral axis");
-    mesh.node_sets.clear();
-
-    let bulk = 21.57e9;
-    let shear = material.parameters.shear_modulus;
-    let young = 9.0 * bulk * shear / (3.0 * bulk + shear);
-    let poisson = young / (2.0 * shear) - 1.0;
-    let slenderness = (std::f64::consts::PI / SPAN).powi(2) * DEPTH * DEPTH / 12.0;
-    let euler = (std::f64::consts::PI / SPAN).powi(2)
-        * (young * DEPTH * DEPTH / 12.0 / material.density).sqrt();
-    let cowper = 10.0 * (1.0 + poisson) / (12.0 + 11.0 * poisson);
-    let timoshenko = euler / (1.0 + slenderness * (1.0 + young / (cowper * shear))).sqrt();
-    let period = 2.0 * std::f64::consts::PI / timoshenko;
-
-    let model = ExplicitModel {
-        mesh,
-        materials: vec![PartMaterial::Kc(material)],
-        initial_temperature: 293.0,
-        initial_velocity,
-        constraints,
-        walls: Vec::new(),
-        contacts: Vec::new(),
-        eroding_contact: None,
-        rigid_parts: Vec::new(),
-        pressure_loads: Vec::new(),
-        body_acceleration: None,
-        settings: SolverSettings {
-            end_time: 1.5 * period,
-            output_interval: period / 400.0,
-            threads: Some(2),
-            ..SolverSettings::default()
-        },
-        tracked_elements: Vec::new(),
-    };
     let height = model.mesh.nodes[probe][2];
     let (mut times, mut deflections) = (Vec::new(), Vec::new());
     let mut worst_plastic = 0.0_f64;
@@ -149,68 +170,25 @@ fn the_concrete_beam_sags_under_its_own_weight_as_beam_theory_says() {
     //            A)` (bending and shear, Cowper's k), `q = rho g A`, within 5 %; energy balance
     //            with gravity's work booked as external work within 1 %; no plastic strain
     //            (bending stress about 0.8 MPa).
-    let material = KcMaterial::HPC_100MPA_FOI;
-    let mut mesh = HexMesh::block("beam", 0, [0.5 * SPAN, 0.5 * WIDTH, DEPTH], [50, 2, 8]);
-    // Beam theory's simple support: the end section held vertically (free to rotate and to
-    // slide), not the seed's bearing under the bottom edge, whose local compliance beam
-    // theory omits (a bottom-edge line support adds about 3 % to the sag here).
-    let support = mesh.node_sets["beam.x0"].clone();
-    let fixed = |nodes: Vec<usize>, dof: usize| VelocityConstraint {
-        nodes,
-        dof,
-        velocity: Amplitude::constant(0.0),
-    };
-    let constraints = vec![
-        fixed(support, 2),
-        fixed(mesh.node_sets["beam.x1"].clone(), 0),
-        fixed(mesh.node_sets["beam.y0"].clone(), 1),
-    ];
-    let probe = mesh
-        .nodes
-        .iter()
-        .position(|p| p[0] == 0.5 * SPAN && p[1] == 0.0 && (p[2] - 0.5 * DEPTH).abs() < 1e-12)
-        .expect("a node at mid-span on the neutral axis");
-    mesh.node_sets.clear();
-    let height = mesh.nodes[probe][2];
-
     let gravity = 9.81;
-    let bulk = 21.57e9;
-    let shear = material.parameters.shear_modulus;
-    let young = 9.0 * bulk * shear / (3.0 * bulk + shear);
-    let poisson = young / (2.0 * shear) - 1.0;
-    let cowper = 10.0 * (1.0 + poisson) / (12.0 + 11.0 * poisson);
+    let (young, shear, cowper) = elastic_constants();
     // Per unit area of section: q/A = rho g, I/A = h^2/12.
-    let load = material.density * gravity;
+    let load = KcMaterial::HPC_100MPA_FOI.density * gravity;
     let bending = 5.0 * load * SPAN.powi(4) / (384.0 * young * DEPTH * DEPTH / 12.0);
     let shearing = load * SPAN * SPAN / (8.0 * cowper * shear);
     let expected = bending + shearing;
-    let omega = (std::f64::consts::PI / SPAN).powi(2)
-        * (young * DEPTH * DEPTH / 12.0 / material.density).sqrt();
-
-    let model = ExplicitModel {
-        mesh,
-        materials: vec![PartMaterial::Kc(material)],
-        initial_temperature: 293.0,
-        initial_velocity: Vec::new(),
-        constraints,
-        walls: Vec::new(),
-        contacts: Vec::new(),
-        eroding_contact: None,
-        rigid_parts: Vec::new(),
-        pressure_loads: Vec::new(),
-        body_acceleration: Some([0.0, 0.0, -gravity]),
-        settings: SolverSettings {
-            end_time: 0.1,
-            output_interval: 0.1 / 100.0,
-            damping: Some(NodalDamping {
-                start_time: 0.0,
-                coefficient: 2.0 * omega,
-            }),
-            threads: Some(2),
-            ..SolverSettings::default()
-        },
-        tracked_elements: Vec::new(),
-    };
+    let (mut model, probe) = quarter_beam(SolverSettings {
+        end_time: 0.1,
+        output_interval: 0.1 / 100.0,
+        damping: Some(NodalDamping {
+            start_time: 0.0,
+            coefficient: 2.0 * euler_bernoulli_frequency(young),
+        }),
+        threads: Some(2),
+        ..SolverSettings::default()
+    });
+    model.body_acceleration = Some([0.0, 0.0, -gravity]);
+    let height = model.mesh.nodes[probe][2];
     let run = model.run(&mut |_, _| {}).expect("beam run");
     let deflection = height - run.positions[probe][2];
     let error = deflection / expected - 1.0;
