@@ -324,6 +324,7 @@ mod plate {
                 scale: 1.0,
             }],
             body_acceleration: None,
+            trusses: Vec::new(),
             settings: SolverSettings {
                 end_time: 1.0e-5,
                 ..SolverSettings::default()

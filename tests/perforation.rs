@@ -130,6 +130,7 @@ fn rht_through_the_solver_is_the_kernel_update_bit_for_bit() {
         rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
         body_acceleration: None,
+        trusses: Vec::new(),
         settings: SolverSettings {
             end_time,
             linear_viscosity: 0.0,

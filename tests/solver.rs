@@ -77,6 +77,7 @@ fn elastic_bar_wave_speed_amplitude_and_free_end_reflection() {
         rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
         body_acceleration: None,
+        trusses: Vec::new(),
         settings: SolverSettings {
             end_time: 26.0e-6,
             output_interval: 0.02e-6,
@@ -342,6 +343,7 @@ fn a_rigid_mass_striking_an_elastic_bar_slows_as_the_closed_form() {
         rigid_parts: vec![1],
         pressure_loads: Vec::new(),
         body_acceleration: None,
+        trusses: Vec::new(),
         settings: SolverSettings {
             end_time: 2.2 * tau,
             output_interval: 0.1e-6,
@@ -532,6 +534,7 @@ fn spherical_cavity_expansion_reaches_hills_pressure() {
         rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
         body_acceleration: None,
+        trusses: Vec::new(),
         settings: SolverSettings {
             end_time,
             ..SolverSettings::default()
@@ -663,6 +666,7 @@ fn viscous_hourglass_work_is_booked_so_that_energy_balances_under_strong_damping
         rigid_parts: Vec::new(),
         pressure_loads: Vec::new(),
         body_acceleration: None,
+        trusses: Vec::new(),
         settings: SolverSettings {
             end_time: 2.0e-6,
             output_interval: 0.1e-6,

@@ -458,6 +458,7 @@ impl BlastPlateSpec {
                 scale: self.impulse_scale,
             }],
             body_acceleration: None,
+            trusses: Vec::new(),
             settings: SolverSettings {
                 end_time: self.end_time,
                 damping: Some(NodalDamping {

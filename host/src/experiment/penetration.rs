@@ -557,6 +557,7 @@ impl PenetrationSpec {
             rigid_parts: if self.rigid_rod { vec![1] } else { Vec::new() },
             pressure_loads: Vec::new(),
             body_acceleration: None,
+            trusses: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 hourglass: self.hourglass,

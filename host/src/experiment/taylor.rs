@@ -172,6 +172,7 @@ impl TaylorSpec {
             rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
             body_acceleration: None,
+            trusses: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {
@@ -223,6 +224,7 @@ impl TaylorSpec {
             rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
             body_acceleration: None,
+            trusses: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {

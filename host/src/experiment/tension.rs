@@ -222,6 +222,7 @@ impl TensionSpec {
             rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
             body_acceleration: None,
+            trusses: Vec::new(),
             settings: SolverSettings {
                 end_time: self.duration(),
                 damping: None,

@@ -12,6 +12,7 @@ use super::contact::{
 };
 use super::energy::EnergyBalance;
 use super::loads::{PressureHistory, PressureLoad, RigidWall, VelocityConstraint};
+use super::truss::{Truss, Trusses};
 use super::{HourglassControl, SolverError, SolverSettings};
 use crate::measure::{StateHistory, StateSample};
 use rayon::prelude::*;
@@ -334,6 +335,9 @@ pub struct ExplicitModel<M, P = Material> {
     /// feels `m g`, and its work `m g . (v_n-1/2 + v_n+1/2)/2 dt` is booked as external work
     /// (the loss of potential energy). `None`: no body load.
     pub body_acceleration: Option<Vector>,
+    /// Truss (axial bar) elements on the mesh's nodes, e.g. reinforcement merged with the
+    /// concrete (3D models only; [`super::truss`]).
+    pub trusses: Vec<Truss>,
     /// Numerical settings.
     pub settings: SolverSettings,
     /// Elements whose state history is recorded.
@@ -514,6 +518,8 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     .into(),
             ));
         }
+        let mut trusses = Trusses::new(&self.trusses, &x, dimension)?;
+        trusses.add_masses(&mut mass);
         let mut v = if self.initial_velocity.is_empty() {
             vec![[0.0; 3]; node_count]
         } else if self.initial_velocity.len() == node_count {
@@ -553,6 +559,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 })?;
             dt = dt.min(mesh.element_time_step(e, &x, output.wave_speed));
         }
+        dt = dt.min(trusses.stable_time_step());
         let safety = settings.effective_time_step_safety(self.eroding_contact.is_some());
         dt *= safety;
         let minimum_dt = dt * 1e-4;
@@ -756,6 +763,8 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             // loop), the velocity update and, for every node no constraint, wall or rigid body
             // may change, damping, the work sums and the new position. Each chunk's work sums
             // are added in chunk order.
+            // Without bars nothing is added (not even zeros, which would turn a -0.0 into +0.0).
+            let truss_force = (!self.trusses.is_empty()).then_some(&trusses.node_force);
             let damping_factor = match settings.damping {
                 Some(damping) if time >= damping.start_time => Some(1.0 - damping.coefficient * dt),
                 _ => None,
@@ -782,8 +791,17 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         }
                         *old = *vel;
                         if mass[n] > 0.0 {
-                            for d in 0..dimension {
-                                vel[d] += total[d] / mass[n] * dt_average;
+                            match truss_force {
+                                Some(bars) => {
+                                    for d in 0..dimension {
+                                        vel[d] += (total[d] + bars[n][d]) / mass[n] * dt_average;
+                                    }
+                                }
+                                None => {
+                                    for d in 0..dimension {
+                                        vel[d] += total[d] / mass[n] * dt_average;
+                                    }
+                                }
                             }
                             if let Some(g) = &self.body_acceleration {
                                 for d in 0..dimension {
@@ -994,6 +1012,8 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 }
             }
 
+            dt_next = dt_next.min(trusses.step(&x_new)?);
+
             // With contact or loads, the nodal forces are gathered here, before those add theirs.
             if !gather_with_nodes {
                 let gather = |(c, chunk): (usize, &mut [Vector])| {
@@ -1053,6 +1073,9 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         .filter(|(_, gone)| !**gone)
                         .map(|((s, v0), _)| s.internal_energy * v0)
                         .sum::<f64>();
+                if !self.trusses.is_empty() {
+                    energy.internal += measure * trusses.internal_energy();
+                }
                 energy.hourglass = measure * slots.iter().map(|s| s.hourglass_energy).sum::<f64>();
                 energy.viscous = measure * slots.iter().map(|s| s.viscous_energy).sum::<f64>();
                 next_output += settings.output_interval;

@@ -18,6 +18,7 @@ pub mod energy;
 pub mod explicit;
 pub mod hexahedral;
 pub mod loads;
+pub mod truss;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
 pub use contact::{ContactPair, ContactStatistics, ErodingContact};
@@ -29,6 +30,7 @@ pub use loads::{
     shared, Amplitude, NodalDamping, PressureHistory, PressureLoad, RigidWall, SharedPressure,
     VelocityConstraint,
 };
+pub use truss::{Truss, TrussMaterial};
 
 /// Default time-step safety factor: LS-DYNA's TSSFAC and OpenRadioss' /DT default, 0.9.
 pub const DEFAULT_TIME_STEP_SAFETY: f64 = 0.9;

@@ -211,6 +211,7 @@ impl ShpbSpec {
             rigid_parts: Vec::new(),
             pressure_loads: Vec::new(),
             body_acceleration: None,
+            trusses: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: None,
