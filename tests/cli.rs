@@ -26,10 +26,12 @@ fn verify_prints_the_table_and_succeeds() {
         "za-fcc-copper",
         "mjc-hha",
         "tjc-hha",
+        "rht-hpc-92",
+        "kc-hpc-100",
     ] {
         assert!(text.contains(model), "missing {model}");
     }
-    assert!(text.contains("golden histories: 45 of 45 bit-identical"));
+    assert!(text.contains("golden histories: 49 of 49 bit-identical"));
 }
 
 #[test]

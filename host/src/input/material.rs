@@ -668,6 +668,19 @@ bulk_modulus = 159e9
             .replace("eta = [0.0, 0.25,", "eta = [0.25,");
         let error = parse_part(&path, &text).unwrap_err().to_string();
         assert!(error.contains("eta") || error.contains("damage"), "{error}");
+        // A damage function not increasing in lambda is refused with the file, the line of
+        // `lambda = [...]` and the field.
+        let original = std::fs::read_to_string(&path).unwrap();
+        let text = original.replace("1.4e-5, 2.9e-5", "1.4e-5, 1.0e-5");
+        let line = 1 + original
+            .lines()
+            .position(|l| l.starts_with("lambda = ["))
+            .expect("the lambda line");
+        let error = parse_part(&path, &text).unwrap_err().to_string();
+        assert!(
+            error.contains(&format!("hpc-100-kc.toml:{line}: field `damage.lambda`")),
+            "{error}"
+        );
     }
 
     #[test]

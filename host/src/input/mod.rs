@@ -183,7 +183,8 @@ pub fn line_of_key(text: &str, key: &str) -> Option<usize> {
     let (table, leaf) = key.rsplit_once('.')?;
     let mut inside = false;
     for (index, line) in text.lines().enumerate() {
-        let trimmed = line.trim();
+        // A table header may carry a comment after it (`[eos]  # table 5.2`).
+        let trimmed = line.split('#').next().unwrap_or_default().trim();
         if let Some(header) = trimmed.strip_prefix('[') {
             let name = header.trim_end_matches(']').trim();
             inside = name == table || name.ends_with(&format!(".{table}"));
