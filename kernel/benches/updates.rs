@@ -30,6 +30,9 @@
 //! (`0 < D < 1`, each step plastic), [`SHORT_BLOCK`] per iteration, all asserted before
 //! timing.
 //!
+//! K&C concrete (`kc` module): elastic updates and a softening path past the peak of the
+//! damage function, [`BLOCK`] per iteration, asserted before timing.
+//!
 //! The costly cases (RHT plastic steps and P-alpha compaction, about 5 us each) run
 //! [`SHORT_BLOCK`] per iteration so that a sample (about 0.5 ms) fits in a scheduler time
 //! slice: on a loaded machine, samples of several milliseconds are nearly all preempted and
@@ -752,6 +755,83 @@ mod rht {
                 }
                 state
             });
+    }
+}
+
+/// K&C concrete updates per second ([`KcMaterial::HPC_100MPA_FOI`] with the crack band of a
+/// 10 mm element, `stoss_kernel::kc::update`), uniaxial compressive strain as for RHT.
+mod kc {
+    use super::*;
+    use stoss_kernel::kc::{self, KcMaterial, KcParameters};
+
+    fn material() -> KcMaterial {
+        let material = KcMaterial {
+            parameters: KcParameters::HPC_100MPA_FOI.with_fracture_energy(156.0, 0.01),
+            ..KcMaterial::HPC_100MPA_FOI
+        };
+        material.validate().expect("invalid benchmark material");
+        material
+    }
+
+    fn step(material: &KcMaterial, state: &mut MaterialState, axial: f64, dt: f64) -> bool {
+        let input = uniaxial_step(axial, dt, state.relative_volume);
+        kc::update(material, state, &input).expect("K&C update failed");
+        state.flags.0 & StateFlags::PLASTIC != 0
+    }
+
+    /// [`BLOCK`] consecutive updates of `deps_xx = -1e-9` from the virgin state (far inside
+    /// the yield surface; asserted).
+    #[divan::bench]
+    fn elastic(bencher: Bencher) {
+        let material = material();
+        let start = material.initial_state(ROOM_TEMPERATURE);
+        let mut state = start;
+        for _ in 0..BLOCK {
+            assert!(
+                !step(&material, &mut state, -1.0e-9, 1.0e-8),
+                "elastic block yielded"
+            );
+        }
+        bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
+            let material = black_box(&material);
+            let mut state = black_box(start);
+            for _ in 0..BLOCK {
+                let input = uniaxial_step(-1.0e-9, 1.0e-8, state.relative_volume);
+                kc::update(material, &mut state, black_box(&input)).expect("update failed");
+            }
+            state
+        });
+    }
+
+    /// [`BLOCK`] consecutive plastic-loading updates past the peak of the damage function
+    /// (softening towards the residual surface; every step plastic, asserted).
+    #[divan::bench]
+    fn softening_path(bencher: Bencher) {
+        let material = material();
+        let peak = material.parameters.damage.peak_lambda();
+        let mut start = material.initial_state(ROOM_TEMPERATURE);
+        let mut steps = 0;
+        while start.plastic_strain <= peak {
+            step(&material, &mut start, PLASTIC_AXIAL, PLASTIC_DT);
+            steps += 1;
+            assert!(steps < 100 * BLOCK, "never past the peak");
+        }
+        let mut state = start;
+        for _ in 0..BLOCK {
+            assert!(
+                step(&material, &mut state, PLASTIC_AXIAL, PLASTIC_DT),
+                "elastic step"
+            );
+        }
+        bencher.counter(ItemsCount::new(BLOCK)).bench_local(|| {
+            let material = black_box(&material);
+            let mut state = black_box(start);
+            for _ in 0..BLOCK {
+                let input = uniaxial_step(PLASTIC_AXIAL, PLASTIC_DT, state.relative_volume);
+                kc::update(material, &mut state, black_box(&input)).expect("update failed");
+            }
+            state
+        });
     }
 }
 
