@@ -314,33 +314,43 @@ impl KcParameters {
         }
         let relative = self.compressive_strength / 10.0e6;
         let ln10 = core::f64::consts::LN_10;
-        let compression = {
+        // Each factor only where the pressure needs it.
+        let compression = || {
             let a = 1.0 / (5.0 + 9.0 * relative);
             let ratio = rate / 30.0e-6;
-            if rate <= 30.0 {
+            let factor = if rate <= 30.0 {
                 pow(ratio, 1.026 * a)
             } else {
                 exp(ln10 * (6.156 * a - 2.0)) * pow(ratio, 1.0 / 3.0)
+            };
+            if factor > 1.0 {
+                factor
+            } else {
+                1.0
             }
         };
-        let tension = {
+        let tension = || {
             let d = 1.0 / (10.0 + 6.0 * relative);
             let ratio = rate / 3.0e-6;
-            if rate <= 30.0 {
+            let factor = if rate <= 30.0 {
                 pow(ratio, 1.016 * d)
             } else {
                 exp(ln10 * (7.11 * d - 2.33)) * pow(ratio, 1.0 / 3.0)
+            };
+            if factor > 1.0 {
+                factor
+            } else {
+                1.0
             }
         };
-        let compression = if compression > 1.0 { compression } else { 1.0 };
-        let tension = if tension > 1.0 { tension } else { 1.0 };
         let upper = self.compressive_strength / 3.0;
         let lower = -self.tensile_strength / 3.0;
         if pressure >= upper {
-            compression
+            compression()
         } else if pressure <= lower {
-            tension
+            tension()
         } else {
+            let (compression, tension) = (compression(), tension());
             tension + (compression - tension) * (pressure - lower) / (upper - lower)
         }
     }

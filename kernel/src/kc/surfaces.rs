@@ -78,6 +78,11 @@ impl KcParameters {
     /// `1.35 ft + 3 p (1 - 1.35 ft/fyc)` from `p = 0` to there; `1.35 (p + ft)` in tension;
     /// never above the maximum surface.
     pub fn yield_meridian(&self, pressure: f64) -> f64 {
+        self.yield_meridian_below(pressure, self.maximum_meridian(pressure))
+    }
+
+    /// [`KcParameters::yield_meridian`] with the maximum surface at `pressure` given.
+    fn yield_meridian_below(&self, pressure: f64, maximum: f64) -> f64 {
         let ft = self.tensile_strength;
         let fyc = self.yield_uniaxial_strength();
         let [a0, a1, a2] = self.yield_surface;
@@ -88,7 +93,6 @@ impl KcParameters {
         } else {
             1.35 * (pressure + ft)
         };
-        let maximum = self.maximum_meridian(pressure);
         let strength = if strength < maximum {
             strength
         } else {
@@ -104,12 +108,16 @@ impl KcParameters {
     /// Residual surface, compressive meridian: `p/(a1f + a2f p)` in compression, zero in
     /// tension, never above the maximum surface.
     pub fn residual_meridian(&self, pressure: f64) -> f64 {
+        self.residual_meridian_below(pressure, self.maximum_meridian(pressure))
+    }
+
+    /// [`KcParameters::residual_meridian`] with the maximum surface at `pressure` given.
+    fn residual_meridian_below(&self, pressure: f64, maximum: f64) -> f64 {
         if pressure <= 0.0 {
             return 0.0;
         }
         let [a1, a2] = self.residual_surface;
         let strength = pressure / (a1 + a2 * pressure);
-        let maximum = self.maximum_meridian(pressure);
         if strength < maximum {
             strength
         } else {
@@ -124,10 +132,11 @@ impl KcParameters {
         let scaled = pressure / rate_factor;
         let factor =
             rate_factor * lode_factor_from_cos(lode.cos_theta, self.meridian_ratio(scaled));
+        // The maximum surface once, for the three meridians.
         let maximum = self.maximum_meridian(scaled);
-        let yield_ = self.yield_meridian(scaled);
+        let yield_ = self.yield_meridian_below(scaled, maximum);
         let (post_base, post_span) = if scaled >= 0.0 {
-            let residual = self.residual_meridian(scaled);
+            let residual = self.residual_meridian_below(scaled, maximum);
             (residual, maximum - residual)
         } else {
             // In tension the softened surface is the maximum one scaled about the origin by
