@@ -133,11 +133,27 @@ impl HexMesh {
     }
 
     /// Rectangular block `[0, lx] x [0, ly] x [0, lz]` of `nx x ny x nz` equal elements
-    /// (`extent` = `[lx, ly, lz]`, `divisions` = `[nx, ny, nz]`), nodes numbered x fastest,
-    /// then y, then z. Node sets `<part>.x0`, `<part>.x1`, `<part>.y0`, `<part>.y1`,
-    /// `<part>.z0`, `<part>.z1` (the six faces).
+    /// (`extent` = `[lx, ly, lz]`, `divisions` = `[nx, ny, nz]`); see [`HexMesh::block_on_planes`].
     pub fn block(part: &str, material: usize, extent: [f64; 3], divisions: [usize; 3]) -> Self {
-        let [nx, ny, nz] = divisions;
+        let planes = |axis: usize| -> Vec<f64> {
+            let count = divisions[axis];
+            (0..=count)
+                .map(|i| extent[axis] * i as f64 / count as f64)
+                .collect()
+        };
+        Self::block_on_planes(part, material, [&planes(0), &planes(1), &planes(2)])
+    }
+
+    /// The structured block between the given node planes (`planes[axis]` increasing, at
+    /// least two per axis), nodes numbered x fastest, then y, then z. Node sets `<part>.x0`,
+    /// `<part>.x1`, `<part>.y0`, `<part>.y1`, `<part>.z0`, `<part>.z1` (the six faces).
+    pub fn block_on_planes(part: &str, material: usize, planes: [&[f64]; 3]) -> Self {
+        let [xs, ys, zs] = planes;
+        let (nx, ny, nz) = (
+            xs.len().saturating_sub(1),
+            ys.len().saturating_sub(1),
+            zs.len().saturating_sub(1),
+        );
         let node = |i: usize, j: usize, k: usize| (k * (ny + 1) + j) * (nx + 1) + i;
         let mut mesh = HexMesh {
             parts: vec![Part {
@@ -146,14 +162,10 @@ impl HexMesh {
             }],
             ..HexMesh::default()
         };
-        for k in 0..=nz {
-            for j in 0..=ny {
-                for i in 0..=nx {
-                    mesh.nodes.push([
-                        extent[0] * i as f64 / nx as f64,
-                        extent[1] * j as f64 / ny as f64,
-                        extent[2] * k as f64 / nz as f64,
-                    ]);
+        for &z in zs {
+            for &y in ys {
+                for &x in xs {
+                    mesh.nodes.push([x, y, z]);
                 }
             }
         }
@@ -174,6 +186,7 @@ impl HexMesh {
                 }
             }
         }
+        let divisions = [nx, ny, nz];
         for (axis, count) in divisions.iter().enumerate() {
             let name = ["x", "y", "z"][axis];
             for (end, index) in [("0", 0), ("1", *count)] {
@@ -186,6 +199,88 @@ impl HexMesh {
             }
         }
         mesh
+    }
+
+    /// Join `other` to this mesh, merging each of its nodes that lies within `tolerance` of
+    /// one of this mesh's nodes (the merged-node coupling of a tied interface, LS-DYNA's
+    /// coincident nodes): its parts, elements and node sets are renumbered after this mesh's;
+    /// its parts' materials are kept. Returns the number of merged nodes.
+    pub fn merge(&mut self, other: HexMesh, tolerance: f64) -> usize {
+        let cell = |p: &[f64; 3]| p.map(|c| libm::floor(c / tolerance) as i64);
+        let mut grid: BTreeMap<[i64; 3], Vec<usize>> = BTreeMap::new();
+        for (n, p) in self.nodes.iter().enumerate() {
+            grid.entry(cell(p)).or_default().push(n);
+        }
+        let close = |a: &[f64; 3], b: &[f64; 3]| (0..3).all(|d| (a[d] - b[d]).abs() <= tolerance);
+        let mut merged = 0;
+        let mut renumber = Vec::with_capacity(other.nodes.len());
+        for p in &other.nodes {
+            let home = cell(p);
+            let mut found = None;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let key = [home[0] + dx, home[1] + dy, home[2] + dz];
+                        if let Some(candidates) = grid.get(&key) {
+                            if let Some(&n) = candidates.iter().find(|&&n| close(&self.nodes[n], p))
+                            {
+                                found = Some(n);
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+            renumber.push(match found {
+                Some(n) => {
+                    merged += 1;
+                    n
+                }
+                None => {
+                    self.nodes.push(*p);
+                    self.nodes.len() - 1
+                }
+            });
+        }
+        let part_offset = self.parts.len();
+        self.parts.extend(other.parts);
+        self.elements.extend(
+            other
+                .elements
+                .iter()
+                .map(|element| element.map(|n| renumber[n])),
+        );
+        self.element_part
+            .extend(other.element_part.iter().map(|p| p + part_offset));
+        for (name, set) in other.node_sets {
+            self.node_sets
+                .insert(name, set.iter().map(|&n| renumber[n]).collect());
+        }
+        merged
+    }
+
+    /// The element sizes of a structured direction: planes through every coordinate of
+    /// `fixed` (sorted, duplicates within `1e-9` of the span dropped; the first and last are
+    /// the direction's ends), each interval between two of them cut into the fewest equal
+    /// elements no longer than `size_at` its midpoint.
+    pub fn planes_through(fixed: &[f64], size_at: impl Fn(f64) -> f64) -> Vec<f64> {
+        let mut fixed: Vec<f64> = fixed.to_vec();
+        fixed.sort_by(f64::total_cmp);
+        let span = fixed.last().copied().unwrap_or(0.0) - fixed.first().copied().unwrap_or(0.0);
+        fixed.dedup_by(|b, a| (*b - *a).abs() <= 1e-9 * span);
+        let mut planes = Vec::new();
+        for pair in fixed.windows(2) {
+            let (a, b) = (pair[0], pair[1]);
+            let size = size_at(0.5 * (a + b));
+            let count = libm::ceil((b - a) / size - 1e-9).max(1.0) as usize;
+            for i in 0..count {
+                planes.push(a + (b - a) * i as f64 / count as f64);
+            }
+        }
+        if let Some(&last) = fixed.last() {
+            planes.push(last);
+        }
+        planes
     }
 
     /// Volume of element `e` (one-point: 8 times the Jacobian determinant at the centre,
@@ -253,5 +348,48 @@ mod tests {
         assert!(mesh.node_sets["beam.y1"]
             .iter()
             .all(|&n| mesh.nodes[n][1] == 0.5));
+    }
+
+    #[test]
+    fn planes_pass_through_the_fixed_coordinates_at_the_local_size() {
+        // GOAL: a graded direction keeps every required plane (a bar, a support) and no
+        //       element exceeds the local target size.
+        // SETUP: fixed 0, 0.031, 0.34 (unsorted, one duplicate), size 0.01 below 0.1 m and
+        //        0.05 beyond.
+        // REFERENCE: 0..0.031 in 4 elements of 7.75 mm, 0.031..0.34 (midpoint 0.1855) in 7 of
+        //            44.1 mm; 12 planes.
+        let planes = HexMesh::planes_through(&[0.34, 0.0, 0.031, 0.031], |x| {
+            if x < 0.1 {
+                0.01
+            } else {
+                0.05
+            }
+        });
+        assert_eq!(planes.len(), 12);
+        assert!(planes.contains(&0.031) && planes[0] == 0.0 && planes[11] == 0.34);
+        assert!(planes.windows(2).all(|w| w[1] > w[0]));
+        assert!((planes[1] - 0.00775).abs() < 1e-15);
+    }
+
+    #[test]
+    fn merging_a_block_onto_another_shares_the_coincident_face() {
+        // GOAL: a pad meshed separately is tied to the beam through its coincident nodes.
+        // SETUP: a 2 x 2 x 2 block of 1 m, and a 1 x 1 x 1 block of 1 m on its top at
+        //        (0..1, 0..1, 2..3), its material 1.
+        // REFERENCE: the pad's bottom face (4 nodes) merges; 27 + 8 - 4 nodes; the second part
+        //            renumbered 1 with its material, its node sets renamed onto merged nodes.
+        let mut beam = HexMesh::block("beam", 0, [2.0, 2.0, 2.0], [2, 2, 2]);
+        let mut pad = HexMesh::block("pad", 1, [1.0, 1.0, 1.0], [1, 1, 1]);
+        for p in &mut pad.nodes {
+            p[2] += 2.0;
+        }
+        let merged = beam.merge(pad, 1e-9);
+        assert_eq!(merged, 4);
+        assert_eq!(beam.nodes.len(), 31);
+        assert_eq!(beam.element_part, vec![0, 0, 0, 0, 0, 0, 0, 0, 1]);
+        assert_eq!(beam.parts[1].material, 1);
+        let bottom = &beam.node_sets["pad.z0"];
+        assert!(bottom.iter().all(|&n| beam.node_sets["beam.z1"].contains(&n)));
+        assert!((0..beam.elements.len()).all(|e| beam.volume(e) > 0.0));
     }
 }
