@@ -12,6 +12,7 @@ use super::contact::{
 };
 use super::energy::EnergyBalance;
 use super::loads::{PressureHistory, PressureLoad, RigidWall, VelocityConstraint};
+use super::moving_wall::{self, WallState};
 use super::truss::{Truss, Trusses};
 use super::{HourglassControl, SolverError, SolverSettings};
 use crate::measure::{StateHistory, StateSample};
@@ -367,6 +368,8 @@ pub struct ExplicitRun {
     pub element_cycles: u64,
     /// The eroding contact's statistics (default when the model has none).
     pub contact: ContactStatistics,
+    /// Final state of each wall, in the order of `walls` (default for a fixed wall).
+    pub walls: Vec<WallState>,
 }
 
 impl ExplicitRun {
@@ -404,6 +407,8 @@ pub struct Snapshot<'a> {
     pub eroded: &'a [bool],
     /// The energy balance.
     pub energy: &'a EnergyBalance,
+    /// Each wall's state, in the order of the model's `walls` (default for a fixed wall).
+    pub walls: &'a [WallState],
 }
 
 impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
@@ -631,8 +636,46 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
         let mut pressure_force = vec![[0.0; 3]; node_count];
         let mut shares: Vec<(usize, f64)> = Vec::new();
 
+        // Moving walls: checked, and their velocities `w_{n-1/2}` (the initial one first).
+        for (index, wall) in self.walls.iter().enumerate() {
+            if let Some(motion) = &wall.motion {
+                let length = wall.normal.iter().map(|c| c * c).sum::<f64>().sqrt();
+                let valid = motion.mass > 0.0
+                    && motion.mass.is_finite()
+                    && motion.velocity.is_finite()
+                    && wall.friction >= 0.0
+                    && (length - 1.0).abs() < 1e-9
+                    && wall.point.iter().all(|c| c.is_finite())
+                    && wall.nodes.iter().all(|&n| n < node_count);
+                if !valid {
+                    return Err(SolverError::Model(format!(
+                        "moving wall {index}: needs a mass > 0 (kg), a finite velocity, a \
+                         friction >= 0, a unit normal and slave nodes of the mesh ({wall:?})"
+                    )));
+                }
+            }
+        }
+        let mut wall_states: Vec<WallState> = self
+            .walls
+            .iter()
+            .map(|wall| WallState {
+                velocity: wall.motion.map_or(0.0, |m| m.velocity),
+                ..WallState::default()
+            })
+            .collect();
+        let walls_kinetic = |states: &[WallState]| -> f64 {
+            self.walls
+                .iter()
+                .zip(states)
+                .filter_map(|(wall, state)| {
+                    wall.motion
+                        .map(|m| 0.5 * m.mass * state.velocity * state.velocity)
+                })
+                .sum::<f64>()
+        };
+        let mut wall_order: Vec<(f64, usize)> = Vec::new();
         let mut energy = EnergyBalance {
-            kinetic: kinetic(&v, &mass, measure, dimension),
+            kinetic: kinetic(&v, &mass, measure, dimension) + walls_kinetic(&wall_states),
             ..EnergyBalance::default()
         };
         energy.initial = energy.total();
@@ -859,6 +902,9 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             // Rigid walls: stop the normal approach; Coulomb friction on the tangential part.
             for ((wall, (point, normal)), slaves) in self.walls.iter().zip(&walls).zip(&wall_slaves)
             {
+                if wall.motion.is_some() {
+                    continue;
+                }
                 for &n in slaves {
                     let offset: Vector = core::array::from_fn(|d| x[n][d] - point[d]);
                     let gap = dot(&offset, normal, dimension);
@@ -880,6 +926,49 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                         dv_wall[n][d] += v[n][d] - before[d];
                     }
                 }
+            }
+            // Moving walls: gravity on the wall, then the momentum-conserving contact.
+            for (((wall, (point, normal)), slaves), state) in self
+                .walls
+                .iter()
+                .zip(&walls)
+                .zip(&wall_slaves)
+                .zip(wall_states.iter_mut())
+            {
+                let Some(motion) = &wall.motion else {
+                    continue;
+                };
+                let gravity = self
+                    .body_acceleration
+                    .as_ref()
+                    .map_or(0.0, |g| dot(g, normal, dimension));
+                let before = state.velocity;
+                let step = moving_wall::resolve(
+                    point,
+                    normal,
+                    state.displacement,
+                    motion.mass / measure,
+                    before + gravity * dt_average,
+                    wall.friction,
+                    slaves,
+                    &mass,
+                    &x,
+                    &mut v,
+                    &mut dv_wall,
+                    dt,
+                    dimension,
+                    &mut wall_order,
+                );
+                let mean = 0.5 * (before + step.velocity);
+                energy.external_work += motion.mass * gravity * dt_average * mean;
+                energy.contact -= motion.mass * (step.velocity - step.free_velocity) * mean;
+                state.contact_force = if dt_average > 0.0 {
+                    motion.mass * (step.velocity - step.free_velocity) / dt_average
+                } else {
+                    0.0
+                };
+                state.velocity = step.velocity;
+                state.displacement += step.velocity * dt;
             }
             // The deferred nodes, in ascending order, after the kinematic changes.
             let mut deferred_work = NodeWork::default();
@@ -1064,7 +1153,8 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 });
             }
             if time >= next_output || time >= settings.end_time {
-                energy.kinetic = kinetic(&v, &mass, measure, dimension);
+                energy.kinetic =
+                    kinetic(&v, &mass, measure, dimension) + walls_kinetic(&wall_states);
                 energy.internal = measure
                     * states
                         .iter()
@@ -1095,6 +1185,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                     states: &states,
                     eroded: &eroded,
                     energy: &energy,
+                    walls: &wall_states,
                 });
                 if decision.is_break() {
                     break;
@@ -1127,6 +1218,7 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 .as_ref()
                 .map(ErodingSurfaces::statistics)
                 .unwrap_or_default(),
+            walls: wall_states,
         })
     }
 }

@@ -52,7 +52,9 @@ pub struct VelocityConstraint {
     pub velocity: Amplitude,
 }
 
-/// A rigid, fixed, planar wall. Nodes of `nodes` (or all nodes if empty) may not cross it.
+/// A rigid planar wall, fixed (LS-DYNA `*RIGIDWALL_PLANAR`) or moving along its normal with a
+/// finite mass (`*RIGIDWALL_PLANAR_MOVING`, [`super::moving_wall`]). Nodes of `nodes` (or all
+/// nodes if empty) may not cross it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RigidWall {
     /// A point on the wall.
@@ -63,6 +65,8 @@ pub struct RigidWall {
     pub friction: f64,
     /// Slave nodes; empty means every node.
     pub nodes: Vec<usize>,
+    /// `None`: the wall is fixed; else its mass and initial velocity along its normal.
+    pub motion: Option<super::WallMotion>,
 }
 
 /// Mass-proportional nodal damping, used to bring a structure to rest and read its final

@@ -8,7 +8,7 @@
 //! - the kernel is called per element (one integration point), in parallel with rayon; element
 //!   results are assembled into nodes serially in element order, so results are bit-identical
 //!   for any thread count;
-//! - rigid planar walls (frictionless or Coulomb), prescribed velocities, initial velocities,
+//! - rigid planar walls (frictionless or Coulomb), fixed or moving with a mass (a drop weight), prescribed velocities, initial velocities,
 //!   erosion on the kernel's flags, nodal damping, and an energy balance every run;
 //! - penalty node-to-segment contact with Coulomb friction between deformable parts (2D).
 
@@ -18,6 +18,7 @@ pub mod energy;
 pub mod explicit;
 pub mod hexahedral;
 pub mod loads;
+pub mod moving_wall;
 pub mod truss;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
@@ -30,6 +31,7 @@ pub use loads::{
     shared, Amplitude, NodalDamping, PressureHistory, PressureLoad, RigidWall, SharedPressure,
     VelocityConstraint,
 };
+pub use moving_wall::{WallMotion, WallState};
 pub use truss::{Truss, TrussMaterial};
 
 /// Default time-step safety factor: LS-DYNA's TSSFAC and OpenRadioss' /DT default, 0.9.
