@@ -472,7 +472,112 @@ fn cases() -> Vec<Case> {
         });
     }
 
-    // 7. Command-line slips.
+    // 7. The drop-weight beam (issue 19): bars outside the concrete, a drop height or mass
+    //    <= 0, a damage table that is not monotone in lambda.
+    let beam = read("experiments/rc-beam-drop-weight.toml")
+        .replace("\"rc-beam-drop-weight.csv\"", "\"recording.csv\"")
+        .replace("\"../materials/hpc-100-kc.toml\"", "\"material.toml\"")
+        .replace(
+            "\"../materials/drop-weight-steel-elastic.toml\"",
+            "\"steel.toml\"",
+        );
+    let beam_material = read("materials/hpc-100-kc.toml");
+    let beam_files = |experiment: &str, material: &str| -> Vec<(String, String)> {
+        vec![
+            ("experiment.toml".into(), experiment.into()),
+            ("material.toml".into(), material.into()),
+            (
+                "steel.toml".into(),
+                read("materials/drop-weight-steel-elastic.toml"),
+            ),
+            (
+                "recording.csv".into(),
+                read("experiments/rc-beam-drop-weight.csv"),
+            ),
+        ]
+    };
+    let by_height = beam.replace("impact_velocity = 6.7", "drop_height = 2.29");
+    for (name, experiment, field) in [
+        (
+            "bottom bar below the beam",
+            with_value(&beam, "bottom_bar_cover", "-0.01"),
+            "bottom_bar_cover",
+        ),
+        (
+            "bottom bar above the beam",
+            with_value(&beam, "bottom_bar_cover", "0.5"),
+            "bottom_bar_cover",
+        ),
+        (
+            "top bar outside",
+            with_value(&beam, "top_bar_cover", "0.4"),
+            "top_bar_cover",
+        ),
+        (
+            "bar outside the side",
+            with_value(&beam, "bar_side_cover", "0.1"),
+            "bar_side_cover",
+        ),
+        (
+            "stirrups beyond the beam",
+            with_value(&beam, "stirrup_count", "40"),
+            "first_stirrup",
+        ),
+        (
+            "drop height 0",
+            with_value(&by_height, "drop_height", "0.0"),
+            "drop_height",
+        ),
+        (
+            "drop height negative",
+            with_value(&by_height, "drop_height", "-2.0"),
+            "drop_height",
+        ),
+        (
+            "height and velocity",
+            with_value(&beam, "drop_height", "2.0"),
+            "impact_velocity",
+        ),
+        (
+            "drop mass 0",
+            with_value(&beam, "drop_mass", "0.0"),
+            "drop_mass",
+        ),
+        (
+            "drop mass negative",
+            with_value(&beam, "drop_mass", "-718.0"),
+            "drop_mass",
+        ),
+        (
+            "velocity in km/h",
+            with_value(&beam, "impact_velocity", "\"24 km/h\""),
+            "impact_velocity",
+        ),
+    ] {
+        cases.push(Case {
+            name: format!("drop-weight beam: {name}"),
+            files: beam_files(&experiment, &beam_material),
+            args: simulate_args(),
+            file: "experiment.toml".into(),
+            field: field.into(),
+            line: true,
+        });
+    }
+    let non_monotone = beam_material.replace(
+        "lambda = [0.0, 5.5e-6, 1.4e-5,",
+        "lambda = [0.0, 1.4e-5, 5.5e-6,",
+    );
+    assert_ne!(non_monotone, beam_material);
+    cases.push(Case {
+        name: "drop-weight beam: damage table not increasing in lambda".into(),
+        files: beam_files(&beam, &non_monotone),
+        args: simulate_args(),
+        file: "material.toml".into(),
+        field: "lambda".into(),
+        line: true,
+    });
+
+    // 8. Command-line slips.
     for (name, args, field) in [
         ("threads 0", vec!["--threads", "0"], "threads"),
         ("threads huge", vec!["--threads", "100000"], "threads"),

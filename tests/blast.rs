@@ -325,6 +325,7 @@ mod plate {
             }],
             body_acceleration: None,
             trusses: Vec::new(),
+            node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time: 1.0e-5,
                 ..SolverSettings::default()

@@ -131,6 +131,7 @@ fn rht_through_the_solver_is_the_kernel_update_bit_for_bit() {
         pressure_loads: Vec::new(),
         body_acceleration: None,
         trusses: Vec::new(),
+        node_contacts: Vec::new(),
         settings: SolverSettings {
             end_time,
             linear_viscosity: 0.0,

@@ -305,6 +305,7 @@ fn bar_on_bar(speed: f64, friction: f64, threads: Option<usize>) -> (Axisymmetri
         pressure_loads: Vec::new(),
         body_acceleration: None,
         trusses: Vec::new(),
+        node_contacts: Vec::new(),
         settings: SolverSettings {
             end_time: 30.0e-6,
             output_interval: 0.5e-6,

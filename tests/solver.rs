@@ -78,6 +78,7 @@ fn elastic_bar_wave_speed_amplitude_and_free_end_reflection() {
         pressure_loads: Vec::new(),
         body_acceleration: None,
         trusses: Vec::new(),
+        node_contacts: Vec::new(),
         settings: SolverSettings {
             end_time: 26.0e-6,
             output_interval: 0.02e-6,
@@ -344,6 +345,7 @@ fn a_rigid_mass_striking_an_elastic_bar_slows_as_the_closed_form() {
         pressure_loads: Vec::new(),
         body_acceleration: None,
         trusses: Vec::new(),
+        node_contacts: Vec::new(),
         settings: SolverSettings {
             end_time: 2.2 * tau,
             output_interval: 0.1e-6,
@@ -535,6 +537,7 @@ fn spherical_cavity_expansion_reaches_hills_pressure() {
         pressure_loads: Vec::new(),
         body_acceleration: None,
         trusses: Vec::new(),
+        node_contacts: Vec::new(),
         settings: SolverSettings {
             end_time,
             ..SolverSettings::default()
@@ -667,6 +670,7 @@ fn viscous_hourglass_work_is_booked_so_that_energy_balances_under_strong_damping
         pressure_loads: Vec::new(),
         body_acceleration: None,
         trusses: Vec::new(),
+        node_contacts: Vec::new(),
         settings: SolverSettings {
             end_time: 2.0e-6,
             output_interval: 0.1e-6,

@@ -45,6 +45,14 @@ impl PartMaterial {
         }
     }
 
+    /// The K&C concrete, if this is one.
+    pub fn kc(&self) -> Option<&KcMaterial> {
+        match self {
+            PartMaterial::J2(_) | PartMaterial::Rht(_) => None,
+            PartMaterial::Kc(material) => Some(material),
+        }
+    }
+
     /// The RHT concrete, if this is one.
     pub fn rht(&self) -> Option<&RhtMaterial> {
         match self {

@@ -163,6 +163,9 @@ fn write_outputs(
     }
     if let Some(report) = &outcome.report {
         std::fs::write(directory.join("report.txt"), &report.text)?;
+        for (file, field) in &report.snapshots {
+            std::fs::write(directory.join(file), vtk::render_hexahedral(field))?;
+        }
         for chart in &report.charts {
             plots::line_chart(
                 &directory.join(&chart.file),

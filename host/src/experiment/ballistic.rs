@@ -730,6 +730,7 @@ impl BallisticLimitSpec {
                     series: histories,
                 },
             ],
+            snapshots: Vec::new(),
         }
     }
 }

@@ -459,6 +459,7 @@ impl BlastPlateSpec {
             }],
             body_acceleration: None,
             trusses: Vec::new(),
+            node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time: self.end_time,
                 damping: Some(NodalDamping {
@@ -734,6 +735,7 @@ impl BlastPlateSpec {
                 y_label: "deflection (mm)".into(),
                 series,
             }],
+            snapshots: Vec::new(),
         }
     }
 }

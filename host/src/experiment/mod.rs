@@ -9,7 +9,7 @@
 //! material = "../materials/4340-jc.toml"   # default material; `--material` overrides
 //!
 //! [setup]
-//! kind = "taylor"                          # uniaxial | tension | taylor | shpb | penetration | ballistic-limit | perforation | blast-plate
+//! kind = "taylor"                          # uniaxial | tension | taylor | shpb | penetration | ballistic-limit | perforation | blast-plate | drop-weight-beam
 //! length = 25.4e-3
 //! ...
 //! ```
@@ -20,6 +20,7 @@
 
 pub mod ballistic;
 pub mod blast_plate;
+pub mod drop_weight_beam;
 pub mod penetration;
 pub mod perforation;
 pub mod shpb;
@@ -38,6 +39,7 @@ use stoss_kernel::{Material, MaterialState, PartMaterial};
 
 pub use ballistic::BallisticLimitSpec;
 pub use blast_plate::BlastPlateSpec;
+pub use drop_weight_beam::DropWeightBeamSpec;
 pub use penetration::PenetrationSpec;
 pub use shpb::ShpbSpec;
 pub use taylor::TaylorSpec;
@@ -66,10 +68,13 @@ pub enum Setup {
     Perforation(BallisticLimitSpec),
     /// Near-field blast-bulged plate: the permanent deflection profile.
     BlastPlate(BlastPlateSpec),
+    /// Reinforced-concrete beam under a drop weight (K&C): striker, accelerations, bar strains
+    /// and where damage localises ([`drop_weight_beam`]).
+    DropWeightBeam(DropWeightBeamSpec),
 }
 
 /// The quantities of every experiment kind (each kind's `QUANTITIES`).
-pub const QUANTITIES_OF_EVERY_KIND: [&[&str]; 8] = [
+pub const QUANTITIES_OF_EVERY_KIND: [&[&str]; 9] = [
     uniaxial::QUANTITIES,
     shpb::QUANTITIES,
     tension::QUANTITIES,
@@ -78,6 +83,7 @@ pub const QUANTITIES_OF_EVERY_KIND: [&[&str]; 8] = [
     ballistic::QUANTITIES,
     perforation::QUANTITIES,
     blast_plate::QUANTITIES,
+    drop_weight_beam::QUANTITIES,
 ];
 
 impl Setup {
@@ -92,6 +98,7 @@ impl Setup {
             Setup::BallisticLimit(_) => ballistic::QUANTITIES,
             Setup::Perforation(_) => perforation::QUANTITIES,
             Setup::BlastPlate(_) => blast_plate::QUANTITIES,
+            Setup::DropWeightBeam(_) => drop_weight_beam::QUANTITIES,
         }
     }
 }
@@ -99,11 +106,12 @@ impl Setup {
 impl Setup {
     /// Whether this kind can use `material` as its calibrated part: the uniaxial driver and
     /// the penetration and ballistic kinds take either model family, the perforation kind RHT
-    /// concrete, every other kind only a J2 metal.
+    /// concrete, the drop-weight beam K&C concrete, every other kind only a J2 metal.
     pub fn accepts(&self, material: &PartMaterial) -> Result<(), SimulationError> {
         let (ok, needs) = match self {
             Setup::Uniaxial(_) | Setup::Penetration(_) | Setup::BallisticLimit(_) => (true, ""),
             Setup::Perforation(_) => (material.rht().is_some(), "an RHT concrete"),
+            Setup::DropWeightBeam(_) => (material.kc().is_some(), "a K&C concrete"),
             _ => (material.j2().is_some(), "a J2 metal"),
         };
         if ok {
@@ -202,6 +210,9 @@ pub struct ExperimentReport {
     pub text: String,
     /// Figures written into the output folder.
     pub charts: Vec<Chart>,
+    /// Fields at times during the run, written into the output folder as `.vtu` files
+    /// (file name, field).
+    pub snapshots: Vec<(String, HexFieldOutput)>,
 }
 
 /// A line chart of an experiment's report ([`crate::report::plots::line_chart`]).
@@ -260,6 +271,7 @@ impl Experiment {
             Setup::Penetration(spec) => spec.validate(&check)?,
             Setup::BallisticLimit(spec) | Setup::Perforation(spec) => spec.validate(&check)?,
             Setup::BlastPlate(spec) => spec.validate(&check)?,
+            Setup::DropWeightBeam(spec) => spec.validate(&check)?,
         }
         if let Setup::BlastPlate(spec) = &mut file.setup {
             spec.cache_folder = Some(match &spec.load_cache {
@@ -282,6 +294,14 @@ impl Experiment {
                 .join(&spec.projectile_material);
             let (_, projectile) = input::material::load_part(&projectile_path)?;
             spec.projectile = Some(Box::new(projectile));
+        }
+        if let Setup::DropWeightBeam(spec) = &mut file.setup {
+            let steel_path = path
+                .parent()
+                .unwrap_or(Path::new("."))
+                .join(&spec.steel_material);
+            let (_, steel) = input::material::load_part(&steel_path)?;
+            spec.steel = Some(Box::new(steel));
         }
         let recording_path = path
             .parent()
@@ -443,6 +463,7 @@ impl Experiment {
                 perforation::simulate(spec, material, settings, &self.recording)
             }
             Setup::BlastPlate(spec) => spec.simulate(j2()?, settings, &self.recording),
+            Setup::DropWeightBeam(spec) => spec.simulate(material, settings, &self.recording),
         }
     }
 }
@@ -458,6 +479,7 @@ pub fn kind_name(setup: &Setup) -> &'static str {
         Setup::BallisticLimit(_) => "ballistic-limit",
         Setup::Perforation(_) => "perforation",
         Setup::BlastPlate(_) => "blast-plate",
+        Setup::DropWeightBeam(_) => "drop-weight-beam",
     }
 }
 

@@ -558,6 +558,7 @@ impl PenetrationSpec {
             pressure_loads: Vec::new(),
             body_acceleration: None,
             trusses: Vec::new(),
+            node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 hourglass: self.hourglass,

@@ -174,6 +174,7 @@ impl TaylorSpec {
             pressure_loads: Vec::new(),
             body_acceleration: None,
             trusses: Vec::new(),
+            node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {
@@ -227,6 +228,7 @@ impl TaylorSpec {
             pressure_loads: Vec::new(),
             body_acceleration: None,
             trusses: Vec::new(),
+            node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: Some(NodalDamping {

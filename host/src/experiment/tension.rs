@@ -223,6 +223,7 @@ impl TensionSpec {
             pressure_loads: Vec::new(),
             body_acceleration: None,
             trusses: Vec::new(),
+            node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time: self.duration(),
                 damping: None,

@@ -206,10 +206,29 @@ impl HexMesh {
     /// coincident nodes): its parts, elements and node sets are renumbered after this mesh's;
     /// its parts' materials are kept. Returns the number of merged nodes.
     pub fn merge(&mut self, other: HexMesh, tolerance: f64) -> usize {
-        let cell = |p: &[f64; 3]| p.map(|c| libm::floor(c / tolerance) as i64);
+        self.join(other, Some(tolerance))
+    }
+
+    /// Join `other` to this mesh without merging any node (two bodies that may touch but are
+    /// not tied): as [`HexMesh::merge`], every node of `other` a new one.
+    pub fn append(&mut self, other: HexMesh) {
+        self.join(other, None);
+    }
+
+    fn join(&mut self, other: HexMesh, tolerance: Option<f64>) -> usize {
+        let tolerance = tolerance.unwrap_or(-1.0);
+        let cell = |p: &[f64; 3]| {
+            if tolerance > 0.0 {
+                p.map(|c| libm::floor(c / tolerance) as i64)
+            } else {
+                [0; 3]
+            }
+        };
         let mut grid: BTreeMap<[i64; 3], Vec<usize>> = BTreeMap::new();
-        for (n, p) in self.nodes.iter().enumerate() {
-            grid.entry(cell(p)).or_default().push(n);
+        if tolerance >= 0.0 {
+            for (n, p) in self.nodes.iter().enumerate() {
+                grid.entry(cell(p)).or_default().push(n);
+            }
         }
         let close = |a: &[f64; 3], b: &[f64; 3]| (0..3).all(|d| (a[d] - b[d]).abs() <= tolerance);
         let mut merged = 0;
@@ -389,7 +408,9 @@ mod tests {
         assert_eq!(beam.element_part, vec![0, 0, 0, 0, 0, 0, 0, 0, 1]);
         assert_eq!(beam.parts[1].material, 1);
         let bottom = &beam.node_sets["pad.z0"];
-        assert!(bottom.iter().all(|&n| beam.node_sets["beam.z1"].contains(&n)));
+        assert!(bottom
+            .iter()
+            .all(|&n| beam.node_sets["beam.z1"].contains(&n)));
         assert!((0..beam.elements.len()).all(|e| beam.volume(e) > 0.0));
     }
 }

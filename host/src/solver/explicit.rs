@@ -8,11 +8,13 @@
 //! work is booked as `EnergyBalance::contact` with the same mid-step velocities as the walls'.
 
 use super::contact::{
-    absorbed_work, ContactPair, ContactStatistics, ErodingContact, ErodingSurfaces, PenaltyContact,
+    absorbed_work, ContactPair, ContactStatistics, ErodingContact, ErodingSurfaces,
+    NodeToNodeContact, PenaltyContact,
 };
 use super::energy::EnergyBalance;
 use super::loads::{PressureHistory, PressureLoad, RigidWall, VelocityConstraint};
 use super::moving_wall::{self, WallState};
+use super::nonlocal::NonlocalField;
 use super::truss::{Truss, Trusses};
 use super::{HourglassControl, SolverError, SolverSettings};
 use crate::measure::{StateHistory, StateSample};
@@ -339,6 +341,9 @@ pub struct ExplicitModel<M, P = Material> {
     /// Truss (axial bar) elements on the mesh's nodes, e.g. reinforcement merged with the
     /// concrete (3D models only; [`super::truss`]).
     pub trusses: Vec<Truss>,
+    /// Node-to-node contact of faces meshed on the same planes (a striker head on its pad;
+    /// [`super::contact::node_to_node`]).
+    pub node_contacts: Vec<NodeToNodeContact>,
     /// Numerical settings.
     pub settings: SolverSettings,
     /// Elements whose state history is recorded.
@@ -674,6 +679,25 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 .sum::<f64>()
         };
         let mut wall_order: Vec<(f64, usize)> = Vec::new();
+        let mut nonlocal = match &settings.nonlocal {
+            Some(averaging) => {
+                let centroids: Vec<Vector> = (0..element_count)
+                    .map(|e| {
+                        let nodes = mesh.element_nodes(e);
+                        core::array::from_fn(|d| {
+                            nodes.iter().map(|&n| x[n][d]).sum::<f64>() / nodes.len() as f64
+                        })
+                    })
+                    .collect();
+                Some(NonlocalField::new(
+                    averaging,
+                    &centroids,
+                    &reference_volume,
+                    |e| mesh.element_part(e),
+                )?)
+            }
+            None => None,
+        };
         let mut energy = EnergyBalance {
             kinetic: kinetic(&v, &mass, measure, dimension) + walls_kinetic(&wall_states),
             ..EnergyBalance::default()
@@ -724,11 +748,19 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
         let mut dv_wall = vec![[0.0; 3]; node_count];
         let mut node_work = vec![NodeWork::default(); node_count.div_ceil(NODE_CHUNK)];
         // Nodes whose velocity a constraint or a wall may change.
+        for contact in &self.node_contacts {
+            contact.check(node_count)?;
+        }
         let mut kinematic_nodes: Vec<usize> = self
             .constraints
             .iter()
             .flat_map(|c| c.nodes.iter().copied())
             .chain(wall_slaves.iter().flatten().copied())
+            .chain(
+                self.node_contacts
+                    .iter()
+                    .flat_map(|c| c.pairs.iter().flatten().copied()),
+            )
             .collect();
         kinematic_nodes.sort_unstable();
         kinematic_nodes.dedup();
@@ -970,6 +1002,9 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 state.velocity = step.velocity;
                 state.displacement += step.velocity * dt;
             }
+            for contact in &self.node_contacts {
+                contact.resolve(&mass, &x, &mut v, &mut dv_wall, dt, dimension);
+            }
             // The deferred nodes, in ascending order, after the kinematic changes.
             let mut deferred_work = NodeWork::default();
             for &n in &deferred_nodes {
@@ -1008,6 +1043,9 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 energy.external_work += measure * work;
             }
 
+            if let Some(field) = nonlocal.as_mut() {
+                field.record(&states);
+            }
             // Elements in parallel (or serially on one thread), in chunks of a fixed size: each
             // element writes its own state and slot; the chunks' summaries are combined in
             // element order, so nothing depends on the thread count.
@@ -1101,6 +1139,9 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
                 }
             }
 
+            if let Some(field) = nonlocal.as_mut() {
+                field.apply(&mut states, &eroded);
+            }
             dt_next = dt_next.min(trusses.step(&x_new)?);
 
             // With contact or loads, the nodal forces are gathered here, before those add theirs.

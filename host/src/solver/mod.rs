@@ -10,7 +10,8 @@
 //!   for any thread count;
 //! - rigid planar walls (frictionless or Coulomb), fixed or moving with a mass (a drop weight), prescribed velocities, initial velocities,
 //!   erosion on the kernel's flags, nodal damping, and an energy balance every run;
-//! - penalty node-to-segment contact with Coulomb friction between deformable parts (2D).
+//! - penalty node-to-segment contact with Coulomb friction between deformable parts (2D);
+//! - non-local averaging of the damage driver over a radius.
 
 pub mod axisymmetric;
 pub mod contact;
@@ -19,10 +20,11 @@ pub mod explicit;
 pub mod hexahedral;
 pub mod loads;
 pub mod moving_wall;
+pub mod nonlocal;
 pub mod truss;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
-pub use contact::{ContactPair, ContactStatistics, ErodingContact};
+pub use contact::{ContactPair, ContactStatistics, ErodingContact, NodeToNodeContact};
 pub use energy::EnergyBalance;
 pub use explicit::HourglassStress;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun, Snapshot};
@@ -32,6 +34,7 @@ pub use loads::{
     VelocityConstraint,
 };
 pub use moving_wall::{WallMotion, WallState};
+pub use nonlocal::NonlocalAveraging;
 pub use truss::{Truss, TrussMaterial};
 
 /// Default time-step safety factor: LS-DYNA's TSSFAC and OpenRadioss' /DT default, 0.9.
@@ -91,6 +94,8 @@ pub struct SolverSettings {
     /// Where a run reports how far it has come (`stoss simulate`'s progress); results never
     /// depend on it.
     pub progress: RunProgress,
+    /// Non-local averaging of the damage driver over a radius (`None`: local; [`nonlocal`]).
+    pub nonlocal: Option<NonlocalAveraging>,
 }
 
 /// The fraction of its end time a run has reached, shared with whoever reports progress (a
@@ -205,6 +210,7 @@ impl Default for SolverSettings {
             output_interval: 1e-6,
             rest_fraction: 0.0,
             progress: RunProgress::default(),
+            nonlocal: None,
         }
     }
 }

@@ -152,14 +152,38 @@ mod tests {
         let mut change = vec![[0.0; 3]; 4];
         let slaves = [0, 1, 2, 3];
         let step = resolve(
-            &[0.0; 3], &normal, 0.0, 3.0, 10.0, 0.0, &slaves, &masses, &x, &mut v, &mut change,
-            1e-4, 3, &mut order,
+            &[0.0; 3],
+            &normal,
+            0.0,
+            3.0,
+            10.0,
+            0.0,
+            &slaves,
+            &masses,
+            &x,
+            &mut v,
+            &mut change,
+            1e-4,
+            3,
+            &mut order,
         );
         assert_eq!(step.velocity, 10.0);
         assert!(v.iter().all(|v| *v == [0.0; 3]));
         let step = resolve(
-            &[0.0; 3], &normal, 0.0, 3.0, 10.0, 0.0, &slaves, &masses, &x, &mut v, &mut change,
-            2e-4, 3, &mut order,
+            &[0.0; 3],
+            &normal,
+            0.0,
+            3.0,
+            10.0,
+            0.0,
+            &slaves,
+            &masses,
+            &x,
+            &mut v,
+            &mut change,
+            2e-4,
+            3,
+            &mut order,
         );
         assert!((step.velocity - 7.5).abs() < 1e-12);
         for node in &v[..3] {

@@ -7,7 +7,9 @@
 //! `d eps = ln(l_n+1 / l_n)`, elastic predictor `sigma + E d eps`, return onto `fy + H eps_p`
 //! (`eps_p += f / (E + H)`), axial force `N = sigma A` with the area constant (small-strain
 //! bars), nodal forces `+-N e` along the bar, internal energy `(N_n + N_n+1)/2 (l_n+1 - l_n)`,
-//! stable step `l / sqrt(E / rho)`. Half the bar's mass `rho A l0` goes to each node.
+//! stable step `l / sqrt(E / rho)`. Half the bar's mass `rho A l0` goes to each node. A bar
+//! whose plastic strain reaches its failure strain breaks: from then on it carries no force
+//! (LS-DYNA `*MAT_PLASTIC_KINEMATIC`'s `FS`); the energy it absorbed stays booked.
 
 use super::explicit::Vector;
 use super::SolverError;
@@ -23,17 +25,19 @@ pub struct TrussMaterial {
     pub yield_stress: f64,
     /// Plastic hardening modulus `H = d sigma / d eps_p` (Pa).
     pub hardening_modulus: f64,
+    /// Plastic strain at which the bar breaks (`f64::INFINITY`: never).
+    pub failure_plastic_strain: f64,
 }
 
 impl TrussMaterial {
-    /// Ks 500 ST reinforcing steel of seed 001 table 5.4: 7800 kg/m^3, E 207 GPa, fy 586 MPa;
-    /// hardening from fy to the tensile strength fu 684 MPa over the bar's uniform elongation
-    /// is not given, so the seed's stirrup hardening modulus (1.0 GPa) is used for all bars.
+    /// Ks 500 ST reinforcing steel of seed 001 table 5.4, as the seed models its stirrups:
+    /// 7800 kg/m^3, E 207 GPa, fy 586 MPa, hardening modulus 1.0 GPa; unbreakable.
     pub const KS_500_ST: TrussMaterial = TrussMaterial {
         density: 7800.0,
         young_modulus: 207.0e9,
         yield_stress: 586.0e6,
         hardening_modulus: 1.0e9,
+        failure_plastic_strain: f64::INFINITY,
     };
 }
 
@@ -55,6 +59,7 @@ struct BarState {
     plastic_strain: f64,
     force: f64,
     energy: f64,
+    broken: bool,
 }
 
 /// The bars of a run: their states and the nodal forces they exert.
@@ -95,6 +100,7 @@ impl<'a> Trusses<'a> {
                 && m.young_modulus > 0.0
                 && m.yield_stress > 0.0
                 && m.hardening_modulus >= 0.0
+                && m.failure_plastic_strain > 0.0
                 && [
                     bar.area,
                     m.density,
@@ -163,6 +169,9 @@ impl<'a> Trusses<'a> {
         }
         for (i, (bar, state)) in self.bars.iter().zip(self.states.iter_mut()).enumerate() {
             let (l, d) = length(x, bar.nodes);
+            if state.broken {
+                continue;
+            }
             if l.is_nan() || l <= 0.0 || !l.is_finite() {
                 return Err(SolverError::Model(format!(
                     "truss {i} (nodes {:?}) collapsed to length {l}",
@@ -170,7 +179,7 @@ impl<'a> Trusses<'a> {
                 )));
             }
             let m = &bar.material;
-            let increment = (l / state.length).ln();
+            let increment = libm::log(l / state.length);
             let trial = state.stress + m.young_modulus * increment;
             let flow = m.yield_stress + m.hardening_modulus * state.plastic_strain;
             let excess = trial.abs() - flow;
@@ -181,7 +190,11 @@ impl<'a> Trusses<'a> {
             } else {
                 trial
             };
-            let force = stress * bar.area;
+            let mut force = stress * bar.area;
+            if state.plastic_strain >= m.failure_plastic_strain {
+                state.broken = true;
+                force = 0.0;
+            }
             state.energy += 0.5 * (state.force + force) * (l - state.length);
             state.stress = stress;
             state.force = force;

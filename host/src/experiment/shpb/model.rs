@@ -212,6 +212,7 @@ impl ShpbSpec {
             pressure_loads: Vec::new(),
             body_acceleration: None,
             trusses: Vec::new(),
+            node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time,
                 damping: None,

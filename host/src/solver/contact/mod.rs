@@ -1,5 +1,6 @@
 //! Penalty contact between deformable parts: node-to-segment, **2D only** (axisymmetric
-//! `(r, z)` models; a 3D model with contact pairs is rejected).
+//! `(r, z)` models; a 3D model with contact pairs is rejected); and the node-to-node contact of
+//! two faces meshed on the same planes, 2D or 3D ([`node_to_node`]).
 //!
 //! A [`ContactPair`] lists *slave* nodes and the *master* segments they may not cross. One pass:
 //! only slave nodes are checked against master segments (make the finer surface the slave).
@@ -42,10 +43,12 @@
 //! energy stored while in contact and the friction dissipation close the balance.
 
 mod eroding;
+pub mod node_to_node;
 
 pub use eroding::ContactStatistics;
 pub(crate) use eroding::ErodingSurfaces;
 pub use eroding::{ErodingContact, DEFAULT_ERODING_PENALTY_SCALE};
+pub use node_to_node::NodeToNodeContact;
 
 use super::explicit::Vector;
 use super::SolverError;
