@@ -487,7 +487,7 @@ impl DropWeightBeamSpec {
             "a bar must lie inside the concrete: 0 < side cover < width/2 (m)",
         )?;
         check(
-            "first_stirrup",
+            "stirrup_count",
             self.first_stirrup >= 0.0
                 && self.first_stirrup
                     + self.stirrup_count.saturating_sub(1) as f64 * self.stirrup_spacing

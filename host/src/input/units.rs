@@ -19,6 +19,8 @@ pub enum Dimension {
     Time,
     /// m/s.
     Velocity,
+    /// m/s^2.
+    Acceleration,
     /// Pa.
     Stress,
     /// kg/m^3.
@@ -43,6 +45,7 @@ impl Dimension {
             Dimension::Length => "m",
             Dimension::Time => "s",
             Dimension::Velocity => "m/s",
+            Dimension::Acceleration => "m/s^2",
             Dimension::Stress => "Pa",
             Dimension::Density => "kg/m^3",
             Dimension::Temperature => "K",
@@ -60,6 +63,7 @@ impl Dimension {
             Dimension::Length => "a length",
             Dimension::Time => "a time",
             Dimension::Velocity => "a velocity",
+            Dimension::Acceleration => "an acceleration",
             Dimension::Stress => "a stress",
             Dimension::Density => "a density",
             Dimension::Temperature => "a temperature",
@@ -155,6 +159,9 @@ const UNITS: &[(&[&str], Dimension, f64)] = &[
     (&["m/s"], Dimension::Velocity, 1.0),
     (&["km/s", "mm/us", "mm/µs"], Dimension::Velocity, 1e3),
     (&["ft/s"], Dimension::Velocity, 0.3048),
+    (&["m/s^2", "m/s2"], Dimension::Acceleration, 1.0),
+    // Standard gravity (CGPM 1901).
+    (&["g_n"], Dimension::Acceleration, 9.80665),
     (&["Pa"], Dimension::Stress, 1.0),
     (&["kPa"], Dimension::Stress, 1e3),
     (&["MPa", "N/mm^2", "N/mm2"], Dimension::Stress, 1e6),
@@ -334,6 +341,8 @@ pub fn plausible_range(dimension: Dimension) -> Option<(f64, f64)> {
         Dimension::Length => (1.0e-7, 10.0),
         // Up to orbital debris and detonation speeds.
         Dimension::Velocity => (1.0e-6, 1.0e4),
+        // From a building's sway to a struck striker's shock.
+        Dimension::Acceleration => (1.0e-6, 1.0e9),
         // From a nanosecond step to an hour of test time.
         Dimension::Time => (1.0e-12, 3600.0),
         Dimension::Temperature => (1.0, 1.0e4),
@@ -359,6 +368,11 @@ pub fn recorded_dimensions(quantity: &str) -> Option<(Dimension, Dimension)> {
         "deflection" | "peak_deflection" => (Length, Length),
         "residual_velocity" | "ballistic_limit" | "exit_velocity" => (Velocity, Velocity),
         "residual_mass" => (Velocity, Mass),
+        "striker_displacement" => (Time, Length),
+        "striker_velocity" => (Time, Velocity),
+        "beam_acceleration" => (Time, Acceleration),
+        "rebar_strain_midspan" | "rebar_strain_200mm" => (Time, Dimensionless),
+        "first_crack_time" => (Dimensionless, Time),
         _ => return None,
     })
 }

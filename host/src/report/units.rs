@@ -18,6 +18,7 @@ pub fn display_units(quantity: &str) -> DisplayUnits {
     const MPA: (&str, f64) = ("stress (MPa)", 1e-6);
     const MM: (&str, f64) = ("length (mm)", 1e3);
     const US: (&str, f64) = ("time (us)", 1e6);
+    const MS: (&str, f64) = ("time (ms)", 1e3);
     match quantity {
         "true_stress" | "peak_stress" => units(MPA, ("plastic strain (-)", 1.0)),
         "engineering_stress" => units(MPA, ("engineering strain (-)", 1.0)),
@@ -31,6 +32,11 @@ pub fn display_units(quantity: &str) -> DisplayUnits {
             units(("velocity (m/s)", 1.0), ("impact velocity (m/s)", 1.0))
         }
         "residual_mass" => units(("mass (g)", 1e3), ("impact velocity (m/s)", 1.0)),
+        "striker_displacement" => units(("displacement (mm)", 1e3), MS),
+        "striker_velocity" => units(("velocity (m/s)", 1.0), MS),
+        "beam_acceleration" => units(("acceleration (m/s^2)", 1.0), MS),
+        "rebar_strain_midspan" | "rebar_strain_200mm" => units(("strain (%)", 1e2), MS),
+        "first_crack_time" => units(MS, ("-", 1.0)),
         _ => units(("value (SI)", 1.0), ("position (SI)", 1.0)),
     }
 }

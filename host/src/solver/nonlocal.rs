@@ -175,7 +175,7 @@ mod tests {
             parts: vec![0],
         };
         let mut field = NonlocalField::new(&averaging, &centroids, &volumes, |_| 0).unwrap();
-        let mut states = vec![MaterialState::default(); centroids.len()];
+        let mut states = vec![MaterialState::initial(293.0); centroids.len()];
         field.record(&states);
         let centre = (4 * n + 4) * n + 4;
         states[centre].plastic_strain = 1.0;
