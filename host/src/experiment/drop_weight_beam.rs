@@ -361,12 +361,16 @@ pub struct FailureMode {
     pub web_open: Option<f64>,
     /// The same, for an open crack ([`OPEN`]).
     pub crushing_open: Option<f64>,
-    /// First time an inclined band of open cracks crossed the web near the load
-    /// ([`classify`]): a shear crack (s).
+    /// First time open cracks crossed the web near the load: every element row of the zone
+    /// holds an open element (s).
+    pub web_crossed: Option<f64>,
+    /// The median inclination of the cracks in the web near the load when it was crossed (at
+    /// the end if it never was; NaN: nothing opened there): the angle of each open element's
+    /// principal tension, at the time it cracked, from the beam's axis in the span's plane
+    /// (degrees; 0 for a flexural crack, 45 for a diagonal shear crack).
+    pub web_crack_angle: f64,
+    /// The web was crossed by inclined cracks ([`SHEAR_ANGLE`]): a shear crack (s).
     pub shear_crack: Option<f64>,
-    /// The band's slope `dx/dz` away from the load when it formed, or at the end if it never
-    /// did (NaN: the web was never crossed).
-    pub shear_slope: f64,
 }
 
 impl FailureMode {
@@ -381,11 +385,19 @@ impl FailureMode {
     }
 }
 
-/// The slope `dx/dz` of a crack band below which it is counted as inclined (a shear crack):
-/// -0.5, 27 degrees from the vertical; flexural cracks run vertically (0), diagonal shear
-/// cracks at 30-45 degrees to the beam's axis (`dx/dz` -1.7 to -1, descending away from
-/// the load).
-pub const SHEAR_SLOPE: f64 = -0.5;
+/// The median crack inclination (degrees) above which cracks crossing the web are a shear
+/// crack: 30, between a flexural crack's 0 (tension along the axis, the crack vertical) and
+/// the 45 of diagonal tension under pure shear (Rankine's principal-stress orientation of a
+/// smeared crack).
+pub const SHEAR_ANGLE: f64 = 30.0;
+
+/// The inclination (degrees, 0 to 90) of the largest principal stress of `stress` (Voigt
+/// `xx yy zz xy yz zx`) from the x axis in the x-z plane: `theta = atan2(2 s_xz, s_xx - s_zz)
+/// / 2`.
+pub fn tension_angle(stress: &[f64; 6]) -> f64 {
+    let theta = 0.5 * libm::atan2(2.0 * stress[5], stress[0] - stress[2]);
+    theta.abs().to_degrees()
+}
 
 impl DropWeightBeamSpec {
     /// The impact velocity from `impact_velocity` or `drop_height` (m/s).
@@ -872,6 +884,7 @@ impl DropWeightBeamSpec {
         let mut histories = Histories::default();
         let mut cracked_at = vec![f64::NAN; element_count];
         let mut opened_at = vec![f64::NAN; element_count];
+        let mut crack_angle = vec![f64::NAN; element_count];
         let mut fields: Vec<(f64, HexFieldOutput)> = Vec::new();
         let mut pending_fields: Vec<f64> = self.field_times.clone();
         pending_fields.sort_by(f64::total_cmp);
@@ -921,6 +934,7 @@ impl DropWeightBeamSpec {
                 let damage = snapshot.states[e].damage;
                 if damage >= CRACKED && cracked_at[e].is_nan() {
                     cracked_at[e] = time;
+                    crack_angle[e] = tension_angle(&snapshot.states[e].stress);
                 }
                 if damage >= OPEN && opened_at[e].is_nan() {
                     opened_at[e] = time;
@@ -940,7 +954,14 @@ impl DropWeightBeamSpec {
             }
             ControlFlow::Continue(())
         })?;
-        let mode = classify(self, &centroids, &concrete_element, &cracked_at, &opened_at);
+        let mode = classify(
+            self,
+            &centroids,
+            &concrete_element,
+            &cracked_at,
+            &opened_at,
+            &crack_angle,
+        );
         let first_crack = mode.bottom_crack.unwrap_or(self.end_time);
         let predicted = recording
             .iter()
@@ -983,11 +1004,12 @@ impl DropWeightBeamSpec {
             ("bottom_open_time", mode.bottom_open),
             ("web_open_time", mode.web_open),
             ("crushing_open_time", mode.crushing_open),
+            ("web_crossed_time", mode.web_crossed),
             ("shear_crack_time", mode.shear_crack),
         ] {
             summary.push((name.into(), time.unwrap_or(f64::NAN)));
         }
-        summary.push(("shear_slope".into(), mode.shear_slope));
+        summary.push(("web_crack_angle".into(), mode.web_crack_angle));
         summary.push((
             "failure_mode_shear".into(),
             if mode.name() == "shear" { 1.0 } else { 0.0 },
@@ -1067,8 +1089,9 @@ impl DropWeightBeamSpec {
         let _ = writeln!(
             text,
             "first cracked (damage >= {CRACKED}) / open (>= {OPEN}): bottom fibre {} / {}; web \
-             near the load {} / {}; under the pad {} / {}\nshear crack through the web near \
-             the load: {} (band slope dx/dz {:.2}; inclined below {SHEAR_SLOPE})\nfailure mode: \
+             near the load {} / {}; under the pad {} / {}\nweb near the load crossed by open \
+             cracks: {}, their median inclination {:.0} degrees (a shear crack above \
+             {SHEAR_ANGLE})\nfailure mode: \
              {} (the test: bending, the first mode-I crack at about 0.3 ms, then crushing under \
              the striker; FOI's simulation: a shear crack 50 mm from the impact)",
             ms(mode.bottom_crack),
@@ -1077,8 +1100,8 @@ impl DropWeightBeamSpec {
             ms(mode.web_open),
             ms(mode.crushing),
             ms(mode.crushing_open),
-            ms(mode.shear_crack),
-            mode.shear_slope,
+            ms(mode.web_crossed),
+            mode.web_crack_angle,
             mode.name()
         );
         let to_ms = |table: &[(f64, f64)], scale: f64| -> Vec<(f64, f64)> {
@@ -1166,21 +1189,22 @@ struct Histories {
 }
 
 /// Where damage first appeared, from each concrete element's first time cracked and open
-/// (NaN: never) and its reference centroid, in three zones: the bottom fibre (below the
+/// (NaN: never), the inclination of its principal tension when it cracked
+/// ([`tension_angle`]) and its reference centroid, in three zones: the bottom fibre (below the
 /// bottom bars), the web near the load (the middle half of the depth, from the pad's edge to
 /// one depth beyond it, where FOI's shear crack formed 50 mm from the impact) and the concrete
 /// under the pad (its top quarter).
 ///
-/// A shear crack is a band of open elements that crosses the web near the load: every element
-/// row of the web zone holds an open element, and the rows' mean x of their open elements,
-/// fitted linearly against z, descends away from the load with a slope below [`SHEAR_SLOPE`].
-/// It is sought at each time an element of the zone opened.
+/// The web is crossed when every element row of its zone holds an open element; the cracks
+/// that crossed it are a shear crack if their median inclination then exceeds
+/// [`SHEAR_ANGLE`], flexural cracks grown up from the bottom otherwise.
 pub fn classify(
     spec: &DropWeightBeamSpec,
     centroids: &[[f64; 3]],
     concrete: &[bool],
     cracked_at: &[f64],
     opened_at: &[f64],
+    crack_angle: &[f64],
 ) -> FailureMode {
     let depth = spec.depth;
     let pad_half = 0.5 * spec.pad_length;
@@ -1204,40 +1228,21 @@ pub fn classify(
     let mut heights: Vec<f64> = members.iter().map(|&e| centroids[e][2]).collect();
     heights.sort_by(f64::total_cmp);
     heights.dedup_by(|a, b| (*a - *b).abs() < 1e-9 * depth);
-    let row = |e: usize| {
-        heights
-            .iter()
-            .position(|&h| (h - centroids[e][2]).abs() < 1e-9 * depth)
-            .unwrap_or(0)
-    };
-    let rows: Vec<usize> = members.iter().map(|&e| row(e)).collect();
-    // The band's slope at time `t` (NaN: a row without an open element).
-    let slope_at = |t: f64| -> f64 {
-        let mut sums = vec![(0.0, 0usize); heights.len()];
+    let rows: Vec<usize> = members
+        .iter()
+        .map(|&e| {
+            heights
+                .iter()
+                .position(|&h| (h - centroids[e][2]).abs() < 1e-9 * depth)
+                .unwrap_or(0)
+        })
+        .collect();
+    let crossed_by = |t: f64| {
+        let mut open = vec![false; heights.len()];
         for (&e, &r) in members.iter().zip(&rows) {
-            if opened_at[e] <= t {
-                sums[r].0 += centroids[e][0];
-                sums[r].1 += 1;
-            }
+            open[r] |= opened_at[e] <= t;
         }
-        if heights.len() < 2 || sums.iter().any(|s| s.1 == 0) {
-            return f64::NAN;
-        }
-        let points: Vec<(f64, f64)> = heights
-            .iter()
-            .zip(&sums)
-            .map(|(&z, &(x, n))| (z, x / n as f64))
-            .collect();
-        let count = points.len() as f64;
-        let (mean_z, mean_x) = points
-            .iter()
-            .fold((0.0, 0.0), |(a, b), &(z, x)| (a + z / count, b + x / count));
-        let (mut covariance, mut variance) = (0.0, 0.0);
-        for &(z, x) in &points {
-            covariance += (z - mean_z) * (x - mean_x);
-            variance += (z - mean_z) * (z - mean_z);
-        }
-        covariance / variance
+        !open.is_empty() && open.iter().all(|&o| o)
     };
     let mut times: Vec<f64> = members
         .iter()
@@ -1246,8 +1251,20 @@ pub fn classify(
         .collect();
     times.sort_by(f64::total_cmp);
     times.dedup();
-    let shear_crack = times.iter().copied().find(|&t| slope_at(t) < SHEAR_SLOPE);
-    let shear_slope = slope_at(shear_crack.unwrap_or(f64::INFINITY));
+    let web_crossed = times.iter().copied().find(|&t| crossed_by(t));
+    let until = web_crossed.unwrap_or(f64::INFINITY);
+    let mut angles: Vec<f64> = members
+        .iter()
+        .filter(|&&e| opened_at[e] <= until && !crack_angle[e].is_nan())
+        .map(|&e| crack_angle[e])
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    let web_crack_angle = match angles.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => angles[n / 2],
+        n => 0.5 * (angles[n / 2 - 1] + angles[n / 2]),
+    };
+    let shear_crack = web_crossed.filter(|_| web_crack_angle > SHEAR_ANGLE);
     FailureMode {
         bottom_crack: first(&bottom, cracked_at),
         web_crack: first(&web, cracked_at),
@@ -1255,7 +1272,69 @@ pub fn classify(
         bottom_open: first(&bottom, opened_at),
         web_open: first(&web, opened_at),
         crushing_open: first(&under_pad, opened_at),
+        web_crossed,
+        web_crack_angle,
         shear_crack,
-        shear_slope,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec() -> DropWeightBeamSpec {
+        toml::from_str("steel_material = \"steel.toml\"\nimpact_velocity = 6.7").unwrap()
+    }
+
+    #[test]
+    fn the_principal_tension_gives_the_crack_inclination() {
+        // GOAL: the crack orientation read from the stress at cracking.
+        // SETUP: uniaxial tension along the beam (x), pure shear in the x-z plane, vertical
+        //        tension (z).
+        // REFERENCE: Mohr's circle: 0, 45 and 90 degrees.
+        assert_eq!(tension_angle(&[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]), 0.0);
+        assert!((tension_angle(&[0.0, 0.0, 0.0, 0.0, 0.0, 1.0]) - 45.0).abs() < 1e-12);
+        assert!((tension_angle(&[0.0, 0.0, 1.0, 0.0, 0.0, 0.0]) - 90.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn cracks_crossing_the_web_are_shear_if_inclined_and_bending_if_vertical() {
+        // GOAL: the failure-mode classification tells a diagonal shear crack from flexural
+        //       cracks.
+        // SETUP: the default beam (depth 0.34 m, pad 0.1 m); a column of web elements at
+        //        every 10 mm of height between 0.09 and 0.25 m, at x = 0.2 m, opening
+        //        bottom-up from 1 ms, one row per 0.1 ms; a bottom-fibre element opening at
+        //        0.5 ms. (a) cracked with principal tension at 45 degrees; (b) at 5 degrees.
+        // REFERENCE: (a) the web is crossed when its last row opens (2.6 ms), median 45 > 30:
+        //            shear; (b) the same crossing, median 5: bending (the bottom opened).
+        let spec = spec();
+        let mut centroids = vec![[0.0, 0.0, 0.01]];
+        let mut opened = vec![0.5e-3];
+        for k in 0..17 {
+            centroids.push([0.2, 0.0, 0.09 + 0.01 * k as f64]);
+            opened.push(1.0e-3 + 0.1e-3 * k as f64);
+        }
+        let concrete = vec![true; centroids.len()];
+        for (angle, mode) in [(45.0, "shear"), (5.0, "bending")] {
+            let angles = vec![angle; centroids.len()];
+            let result = classify(&spec, &centroids, &concrete, &opened, &opened, &angles);
+            assert_eq!(result.bottom_open, Some(0.5e-3));
+            assert!((result.web_crossed.unwrap() - 2.6e-3).abs() < 1e-15);
+            assert_eq!(result.web_crack_angle, angle);
+            assert_eq!(result.name(), mode);
+        }
+        // A web never crossed: no shear crack whatever the angle.
+        let mut partial = opened.clone();
+        partial[9] = f64::NAN;
+        let result = classify(
+            &spec,
+            &centroids,
+            &concrete,
+            &partial,
+            &partial,
+            &vec![45.0; centroids.len()],
+        );
+        assert_eq!(result.web_crossed, None);
+        assert_eq!(result.name(), "bending");
     }
 }
