@@ -807,6 +807,81 @@ fn an_rht_campaign_fits_concrete_constants_by_their_dotted_paths() {
     );
 }
 
+#[test]
+fn a_kc_campaign_fits_the_beam_concrete_by_its_dotted_paths() {
+    // GOAL: `stoss calibrate` takes K&C constants as fitted parameters (issue 19): the
+    //       campaign maps each candidate onto the K&C file's described scalars and scores the
+    //       drop-weight experiment with it; a path that is not a described constant (the
+    //       meridians are held) is refused at load with file, line and field.
+    // SETUP: a campaign over fixtures/experiments/rc-beam-drop-weight.toml shortened to
+    //        0.4 ms at a 20 mm mesh, its recording the first crack time (0.3 ms, seed 001
+    //        sec. 5.4), fitting the tensile strength; two candidates, 5.2 MPa (table 5.1) and
+    //        10.4 MPa.
+    // REFERENCE: both evaluate; doubling ft delays the first crack at the bottom fibre (the
+    //            bending stress must reach twice as much), so its predicted time is not
+    //            earlier; `parameters.maximum_surface` is refused naming `parameters`.
+    let dir = temporary("kc-campaign");
+    let experiment =
+        std::fs::read_to_string(fixtures().join("experiments/rc-beam-drop-weight.toml"))
+            .unwrap()
+            .replace("end_time = 0.02", "end_time = 4.0e-4\nelement_size = 0.02")
+            .replace("field_times = [6.0e-4]", "field_times = [2.0e-4]")
+            .replace("\"../", &format!("\"{}/", fixtures().display()))
+            .replace(
+                "\"rc-beam-drop-weight.csv\"",
+                &format!(
+                    "\"{}/experiments/rc-beam-drop-weight.csv\"",
+                    fixtures().display()
+                ),
+            );
+    std::fs::write(dir.join("beam.toml"), experiment).unwrap();
+    let campaign_text = format!(
+        "name = \"K&C beam\"\nmaterial = \"{}/materials/hpc-100-kc.toml\"\n\n[[models]]\nname = \
+         \"kc\"\n[models.parameters]\n\"parameters.tensile_strength\" = [3.0e6, 12.0e6]\n\n\
+         [[experiments]]\nfile = \"beam.toml\"\n\n[optimiser]\nbudget = 4\n",
+        fixtures().display()
+    );
+    let path = dir.join("campaign.toml");
+    std::fs::write(&path, &campaign_text).unwrap();
+    let campaign = Campaign::load(&path).unwrap();
+    let space = campaign.space(&campaign.file.models[0]);
+    let settings = SolverSettings::default();
+    let crack_time = |ft: f64| {
+        let evaluation = stoss::calibrate::evaluate(&campaign, &space, &[ft], &[0], &settings);
+        assert!(
+            matches!(evaluation.status, stoss::calibrate::Status::Ok),
+            "{:?}",
+            evaluation.status
+        );
+        assert!(evaluation.scores[0].is_some());
+        let (_, concrete) = space.material(&campaign.base, &[ft]).unwrap();
+        assert_eq!(concrete.kc().unwrap().parameters.tensile_strength, ft);
+        let outcome = campaign.experiments[0]
+            .simulate(&concrete, &settings)
+            .unwrap();
+        outcome
+            .summary
+            .iter()
+            .find(|(name, _)| name == "first_crack_time")
+            .unwrap()
+            .1
+    };
+    let (table, doubled) = (crack_time(5.2e6), crack_time(10.4e6));
+    eprintln!("first crack at the bottom fibre: ft 5.2 MPa {table:e} s, 10.4 MPa {doubled:e} s");
+    assert!(doubled >= table, "{doubled} < {table}");
+    std::fs::write(
+        &path,
+        campaign_text.replace("parameters.tensile_strength", "parameters.maximum_surface"),
+    )
+    .unwrap();
+    let error = Campaign::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains("campaign.toml:") && error.contains("maximum_surface"),
+        "{error}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// An executor that simulates a batch's candidates one at a time, last first, and reports them
 /// in that order: a cluster whose tasks finish in reverse.
 struct LastFirst;

@@ -36,18 +36,24 @@
 //! time_limit = "00:20:00"
 //! ```
 //!
-//! **RHT concrete.** When the campaign's `material` is an RHT file (`model = "rht"`), a model
-//! has no `strength`, and its parameter names are dotted paths into that file
-//! (`parameters.residual_b`, `parameters.damage_d1`, `eos.crush_pressure`, ...). The flow-stress
-//! constraints, flow-curve figures, cards and the diagnosis are for J2 metals and are skipped.
+//! **Concrete.** When the campaign's `material` is an RHT file (`model = "rht"`) or a K&C
+//! file (`model = "kc"`), a model has no `strength`, and its parameter names are dotted paths
+//! into that file (`parameters.residual_b`, `parameters.damage_d1`, `eos.crush_pressure`;
+//! for K&C the described scalars `parameters.compressive_strength`, `tensile_strength`,
+//! `biaxial_ratio`, `compression_damage_exponent`, `tension_damage_exponent`,
+//! `shear_modulus`; its meridians and damage table are held). The flow-stress constraints,
+//! flow-curve figures, cards and the diagnosis are for J2 metals and are skipped.
 
 use crate::experiment::Experiment;
-use crate::input::material::{self, AnyMaterialFile, RhtMaterialFile, StrengthSpec};
+use crate::input::material::{
+    self, AnyMaterialFile, KcMaterialFile, RhtMaterialFile, StrengthSpec,
+};
 use crate::input::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use stoss_kernel::eos::Polynomial;
+use stoss_kernel::kc::KcParameters;
 use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::parameters::Parameter;
 use stoss_kernel::rht::RhtParameters;
@@ -342,6 +348,21 @@ impl ModelSpace {
         Ok(strength)
     }
 
+    /// The K&C file `base` with `values` at the fitted constants' paths.
+    fn kc_with(&self, base: &KcMaterialFile, values: &[f64]) -> Result<KcMaterialFile, String> {
+        let mut file = base.clone();
+        for (name, value) in self.names.iter().zip(values) {
+            *file.constant_slot(name).ok_or_else(|| {
+                format!(
+                    "`{name}` is not a constant of the K&C file (`density`, \
+                     `parameters.<name>` such as `parameters.tension_damage_exponent`, or \
+                     `eos.<name>`)"
+                )
+            })? = *value;
+        }
+        Ok(file)
+    }
+
     /// The RHT file `base` with `values` at the fitted constants' paths.
     fn rht_with(&self, base: &RhtMaterialFile, values: &[f64]) -> Result<RhtMaterialFile, String> {
         let mut file = base.clone();
@@ -370,13 +391,7 @@ impl ModelSpace {
                 AnyMaterialFile::J2(file)
             }
             AnyMaterialFile::Rht(base) => AnyMaterialFile::Rht(self.rht_with(base, values)?),
-            AnyMaterialFile::Kc(_) => {
-                return Err(
-                    "K&C concrete constants cannot be fitted yet (their parameter \
-                            descriptions are not written); calibrate a J2 metal or RHT concrete"
-                        .into(),
-                )
-            }
+            AnyMaterialFile::Kc(base) => AnyMaterialFile::Kc(self.kc_with(base, values)?),
         };
         let material = file.material().map_err(|e| e.to_string())?;
         Ok((file, material))
@@ -392,7 +407,10 @@ impl ModelSpace {
                 (None, AnyMaterialFile::Rht(file)) => {
                     file.clone().constant_slot(name).map(|value| *value)
                 }
-                (None, AnyMaterialFile::J2(_) | AnyMaterialFile::Kc(_)) => None,
+                (None, AnyMaterialFile::Kc(file)) => {
+                    file.clone().constant_slot(name).map(|value| *value)
+                }
+                (None, AnyMaterialFile::J2(_)) => None,
             })
             .collect()
     }
@@ -407,16 +425,18 @@ impl ModelSpace {
                 if let Some((_, p)) = strength.iter().find(|(n, _)| n == name) {
                     return p.unit;
                 }
-                let AnyMaterialFile::Rht(file) = base else {
-                    return "?";
+                let (parameters, eos): (&'static [Parameter], _) = match base {
+                    AnyMaterialFile::Rht(file) => (RhtParameters::PARAMETERS, file.eos),
+                    AnyMaterialFile::Kc(file) => (KcParameters::PARAMETERS, file.eos),
+                    AnyMaterialFile::J2(_) => return "?",
                 };
                 let described = |parameters: &'static [Parameter], name: &str| {
                     parameters.iter().find(|p| p.name == name).map(|p| p.unit)
                 };
                 match name.split_once('.') {
                     None if name == "density" => Some("kg/m^3"),
-                    Some(("parameters", n)) => described(RhtParameters::PARAMETERS, n),
-                    Some(("eos", n)) => match (n.strip_prefix("solid."), file.eos) {
+                    Some(("parameters", n)) => described(parameters, n),
+                    Some(("eos", n)) => match (n.strip_prefix("solid."), eos) {
                         (Some(n), _) => described(Polynomial::PARAMETERS, n),
                         (None, eos) => described(eos.constants(), n),
                     },
@@ -614,12 +634,16 @@ impl Campaign {
                 .zip(&space.upper)
                 .map(|(l, u)| 0.5 * (l + u))
                 .collect();
-            if matches!(campaign.base, AnyMaterialFile::Rht(_)) && model.strength.is_some() {
+            if matches!(
+                campaign.base,
+                AnyMaterialFile::Rht(_) | AnyMaterialFile::Kc(_)
+            ) && model.strength.is_some()
+            {
                 return Err(error_at(
                     &["strength"],
                     format!(
-                        "model {}: an RHT concrete campaign has no flow-stress model; fit its \
-                         constants by their dotted paths in [models.parameters]",
+                        "model {}: a concrete campaign (RHT or K&C) has no flow-stress model; \
+                         fit its constants by their dotted paths in [models.parameters]",
                         model.name
                     ),
                 ));

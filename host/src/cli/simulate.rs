@@ -166,6 +166,17 @@ fn write_outputs(
         for (file, field) in &report.snapshots {
             std::fs::write(directory.join(file), vtk::render_hexahedral(field))?;
         }
+        for map in &report.maps {
+            plots::field_map(
+                &directory.join(&map.file),
+                &map.title,
+                &map.x_label,
+                &map.y_label,
+                &map.cells,
+                map.range,
+            )
+            .map_err(std::io::Error::other)?;
+        }
         for chart in &report.charts {
             plots::line_chart(
                 &directory.join(&chart.file),

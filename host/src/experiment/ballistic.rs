@@ -731,6 +731,7 @@ impl BallisticLimitSpec {
                 },
             ],
             snapshots: Vec::new(),
+            maps: Vec::new(),
         }
     }
 }

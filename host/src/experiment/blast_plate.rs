@@ -736,6 +736,7 @@ impl BlastPlateSpec {
                 series,
             }],
             snapshots: Vec::new(),
+            maps: Vec::new(),
         }
     }
 }

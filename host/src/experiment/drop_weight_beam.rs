@@ -1014,7 +1014,20 @@ impl DropWeightBeamSpec {
             "failure_mode_shear".into(),
             if mode.name() == "shear" { 1.0 } else { 0.0 },
         ));
-        let report = self.report(&built, &histories, &mode, &fields, energy.error_percent());
+        let final_field = HexFieldOutput {
+            mesh: mesh.clone(),
+            positions: run.positions,
+            states: run.states,
+            eroded: run.eroded,
+        };
+        let report = self.report(
+            &built,
+            &histories,
+            &mode,
+            &fields,
+            Some(&final_field),
+            energy.error_percent(),
+        );
         let states: Vec<StateHistory> = run
             .tracked
             .iter()
@@ -1030,12 +1043,7 @@ impl DropWeightBeamSpec {
             energy: Some(energy),
             states,
             field: None,
-            field_3d: Some(HexFieldOutput {
-                mesh: mesh.clone(),
-                positions: run.positions,
-                states: run.states,
-                eroded: run.eroded,
-            }),
+            field_3d: Some(final_field),
             element_cycles: run.element_cycles,
             report: Some(report),
         })
@@ -1047,6 +1055,7 @@ impl DropWeightBeamSpec {
         histories: &Histories,
         mode: &FailureMode,
         fields: &[(f64, HexFieldOutput)],
+        final_field: Option<&HexFieldOutput>,
         energy_error: f64,
     ) -> super::ExperimentReport {
         let mut text = String::new();
@@ -1085,6 +1094,23 @@ impl DropWeightBeamSpec {
                 at(&histories.strain_gauge) * 1e2
             );
         }
+        let peak_strain = histories
+            .strain_midspan
+            .iter()
+            .map(|p| p.1)
+            .fold(f64::NAN, f64::max);
+        let yield_strain = self.rebar.yield_stress / self.rebar.young_modulus;
+        let _ = writeln!(
+            text,
+            "bottom bars at mid-span: peak strain {:.3} % ({} at fy/E = {:.3} %)",
+            peak_strain * 1e2,
+            if peak_strain >= yield_strain {
+                "yielded"
+            } else {
+                "elastic: yield"
+            },
+            yield_strain * 1e2
+        );
         let ms = |t: Option<f64>| t.map_or("never".to_string(), |t| format!("{:.3} ms", t * 1e3));
         let _ = writeln!(
             text,
@@ -1164,15 +1190,58 @@ impl DropWeightBeamSpec {
                 ],
             },
         ];
-        let snapshots = fields
+        let snapshots: Vec<(String, HexFieldOutput)> = fields
             .iter()
             .map(|(time, field)| (format!("damage-{:.2}ms.vtu", time * 1e3), field.clone()))
+            .collect();
+        let maps = fields
+            .iter()
+            .map(|(time, field)| (*time, field))
+            .chain(final_field.map(|field| (self.end_time, field)))
+            .map(|(time, field)| super::FieldMap {
+                file: format!("damage-map-{:.2}ms.svg", time * 1e3),
+                title: format!(
+                    "Damage at mid-width, {:.2} ms (white: uncracked; yellow: at the peak \
+                     strength; red to black: open to fully softened)",
+                    time * 1e3
+                ),
+                x_label: "distance from mid-span (mm)".into(),
+                y_label: "height (mm)".into(),
+                cells: self.damage_section(field),
+                range: (CRACKED, 1.0),
+            })
             .collect();
         super::ExperimentReport {
             text,
             charts,
             snapshots,
+            maps,
         }
+    }
+
+    /// The damage of the concrete elements on the mid-width symmetry plane, within three
+    /// depths of mid-span, as map cells in mm (reference positions).
+    fn damage_section(&self, field: &HexFieldOutput) -> Vec<crate::report::plots::MapCell> {
+        let mesh = &field.mesh;
+        let reach = (3.0 * self.depth).min(0.5 * self.length);
+        (0..mesh.elements.len())
+            .filter_map(|e| {
+                let corners = mesh.elements[e].map(|n| mesh.nodes[n]);
+                let bound = |d: usize, f: fn(f64, f64) -> f64, start: f64| {
+                    corners.iter().map(|p| p[d]).fold(start, f)
+                };
+                let (x0, x1) = (bound(0, f64::min, f64::INFINITY), bound(0, f64::max, 0.0));
+                let (z0, z1) = (bound(2, f64::min, f64::INFINITY), bound(2, f64::max, 0.0));
+                let on_plane = bound(1, f64::min, f64::INFINITY) == 0.0;
+                let concrete = z1 <= self.depth * (1.0 + 1e-12);
+                (on_plane && concrete && x0 < reach).then(|| {
+                    (
+                        [x0 * 1e3, x1 * 1e3, z0 * 1e3, z1 * 1e3],
+                        field.states[e].damage,
+                    )
+                })
+            })
+            .collect()
     }
 }
 

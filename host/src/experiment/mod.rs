@@ -213,6 +213,25 @@ pub struct ExperimentReport {
     /// Fields at times during the run, written into the output folder as `.vtu` files
     /// (file name, field).
     pub snapshots: Vec<(String, HexFieldOutput)>,
+    /// Maps of a field over a section, written as `.svg` figures.
+    pub maps: Vec<FieldMap>,
+}
+
+/// A map of a scalar field over a section ([`crate::report::plots::field_map`]).
+#[derive(Clone, Debug)]
+pub struct FieldMap {
+    /// File name in the output folder (`.svg`).
+    pub file: String,
+    /// Title.
+    pub title: String,
+    /// Axis labels.
+    pub x_label: String,
+    /// Axis labels.
+    pub y_label: String,
+    /// The cells: rectangle `[x0, x1, y0, y1]` and value.
+    pub cells: Vec<crate::report::plots::MapCell>,
+    /// The value range of the colour scale (white below its start).
+    pub range: (f64, f64),
 }
 
 /// A line chart of an experiment's report ([`crate::report::plots::line_chart`]).

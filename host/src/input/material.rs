@@ -504,6 +504,17 @@ pub struct KcMaterialFile {
 }
 
 impl KcMaterialFile {
+    /// The constant at `path` (`density`, `parameters.<name>` of the described scalars, or
+    /// `eos.<name>`), mutably; `None` if there is none.
+    pub fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
+        match path.split_once('.') {
+            None if path == "density" => Some(&mut self.density),
+            Some(("parameters", name)) => self.parameters.named_slot(name),
+            Some(("eos", name)) => self.eos.slot(name),
+            _ => None,
+        }
+    }
+
     /// The kernel material, validated.
     pub fn material(&self) -> Result<KcMaterial, ParameterError> {
         let material = KcMaterial {

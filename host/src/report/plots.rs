@@ -433,3 +433,61 @@ mod tests {
         ));
     }
 }
+
+/// One cell of a [`field_map`]: its rectangle `[x0, x1, y0, y1]` and value.
+pub type MapCell = ([f64; 4], f64);
+
+/// A map of a scalar field over rectangular cells (a section of a 3D mesh), `width` pixels
+/// wide and as high as the cells' aspect ratio wants (at least 160): each cell filled by its
+/// value on a white-yellow-red-black scale from `low` to `high` (white below `low`).
+pub fn field_map(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    cells: &[MapCell],
+    (low, high): (f64, f64),
+) -> PlotResult {
+    let error = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let (x0, x1) = cells
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (r, _)| {
+            (a.min(r[0]), b.max(r[1]))
+        });
+    let (y0, y1) = cells
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (r, _)| {
+            (a.min(r[2]), b.max(r[3]))
+        });
+    if !(x1 > x0 && y1 > y0) {
+        return Err(error(&"no cells to draw"));
+    }
+    let width = 1100u32;
+    let plot_width = f64::from(width - 100);
+    let height = (plot_width * (y1 - y0) / (x1 - x0)) as u32 + 110;
+    let root = SVGBackend::new(path, (width, height.max(160))).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| error(&e))?;
+    let mut chart = frame(&root, title, x_label, y_label, (x0, x1), (y0, y1), &error)?;
+    let shade = |value: f64| -> RGBColor {
+        if value.is_nan() || value < low {
+            return WHITE;
+        }
+        let t = ((value - low) / (high - low)).clamp(0.0, 1.0);
+        let mix = |a: f64, b: f64, f: f64| (a + (b - a) * f).round() as u8;
+        if t < 0.5 {
+            let f = 2.0 * t;
+            RGBColor(255, mix(230.0, 40.0, f), mix(80.0, 20.0, f))
+        } else {
+            let f = 2.0 * (t - 0.5);
+            RGBColor(mix(255.0, 30.0, f), mix(40.0, 0.0, f), mix(20.0, 0.0, f))
+        }
+    };
+    chart
+        .draw_series(
+            cells.iter().map(|(r, value)| {
+                Rectangle::new([(r[0], r[2]), (r[1], r[3])], shade(*value).filled())
+            }),
+        )
+        .map_err(|e| error(&e))?;
+    root.present().map_err(|e| error(&e))
+}

@@ -217,6 +217,18 @@ pub struct KcParameters {
     pub crack_band: Option<CrackBand>,
 }
 
+crate::struct_constants!(
+    KcParameters,
+    [
+        shear_modulus = ("G", "Pa", crate::parameters::FIXED),
+        compressive_strength = ("fc", "Pa", crate::parameters::FIXED),
+        tensile_strength = ("ft", "Pa", crate::parameters::FIXED),
+        biaxial_ratio = ("fbc/fc", "-", crate::parameters::FIXED),
+        compression_damage_exponent = ("b1", "-", crate::parameters::FIXED),
+        tension_damage_exponent = ("b2", "-", crate::parameters::FIXED),
+    ]
+);
+
 /// Malvar et al.'s reference concrete, `fc` = 45.4 MPa (6.58 ksi), whose meridians the
 /// similarity rule of [`KcParameters::from_strength`] scales.
 const REFERENCE_STRENGTH: f64 = 45.4e6;
