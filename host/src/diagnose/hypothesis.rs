@@ -89,10 +89,13 @@ impl Hypothesis {
     /// that the library can add a term; other families keep their form.
     pub fn base(campaign: &Campaign, space: &ModelSpace, values: &[f64]) -> Result<Self, String> {
         let crate::input::material::AnyMaterialFile::J2(base) = &campaign.base else {
+            let family = match &campaign.base {
+                crate::input::material::AnyMaterialFile::Kc(_) => "K&C concrete",
+                _ => "RHT concrete",
+            };
             return Err(format!(
-                "the diagnosis is for J2 metals; {} is {}",
-                campaign.base.name(),
-                "RHT concrete"
+                "the diagnosis is for J2 metals; {} is {family}",
+                campaign.base.name()
             ));
         };
         let mut material = base.clone();

@@ -371,16 +371,24 @@ pub struct FailureMode {
     pub web_crack_angle: f64,
     /// The web was crossed by inclined cracks ([`SHEAR_ANGLE`]): a shear crack (s).
     pub shear_crack: Option<f64>,
+    /// First time open cracks ran through the whole depth under the pad (every element row
+    /// of the column under it holds an open element) (s).
+    pub punched: Option<f64>,
+    /// Whether the bottom bars at mid-span yielded: the beam bent.
+    pub bars_yielded: bool,
 }
 
 impl FailureMode {
     /// `shear` if a shear crack crossed the web near the load (it then governs, as in FOI's
-    /// simulation), else `bending` if the bottom fibre opened, else `none`.
+    /// simulation); else `punching` if cracks ran through the whole depth under the pad
+    /// while the bottom bars at mid-span stayed elastic (the striker went through the beam
+    /// without bending it); else `bending` if the bottom fibre opened; else `none`.
     pub fn name(&self) -> &'static str {
-        match (self.shear_crack, self.bottom_open) {
-            (Some(_), _) => "shear",
-            (None, Some(_)) => "bending",
-            (None, None) => "none",
+        match (self.shear_crack, self.punched, self.bottom_open) {
+            (Some(_), _, _) => "shear",
+            (None, Some(_), _) if !self.bars_yielded => "punching",
+            (None, _, Some(_)) => "bending",
+            (None, _, None) => "none",
         }
     }
 }
@@ -954,6 +962,11 @@ impl DropWeightBeamSpec {
             }
             ControlFlow::Continue(())
         })?;
+        let peak_bar_strain = histories
+            .strain_midspan
+            .iter()
+            .map(|p| p.1)
+            .fold(f64::NAN, f64::max);
         let mode = classify(
             self,
             &centroids,
@@ -961,6 +974,7 @@ impl DropWeightBeamSpec {
             &cracked_at,
             &opened_at,
             &crack_angle,
+            peak_bar_strain >= self.rebar.yield_stress / self.rebar.young_modulus,
         );
         let first_crack = mode.bottom_crack.unwrap_or(self.end_time);
         let predicted = recording
@@ -1006,10 +1020,12 @@ impl DropWeightBeamSpec {
             ("crushing_open_time", mode.crushing_open),
             ("web_crossed_time", mode.web_crossed),
             ("shear_crack_time", mode.shear_crack),
+            ("punched_time", mode.punched),
         ] {
             summary.push((name.into(), time.unwrap_or(f64::NAN)));
         }
         summary.push(("web_crack_angle".into(), mode.web_crack_angle));
+        summary.push(("bar_strain_midspan_peak".into(), peak_bar_strain));
         summary.push((
             "failure_mode_shear".into(),
             if mode.name() == "shear" { 1.0 } else { 0.0 },
@@ -1117,7 +1133,7 @@ impl DropWeightBeamSpec {
             "first cracked (damage >= {CRACKED}) / open (>= {OPEN}): bottom fibre {} / {}; web \
              near the load {} / {}; under the pad {} / {}\nweb near the load crossed by open \
              cracks: {}, their median inclination {:.0} degrees (a shear crack above \
-             {SHEAR_ANGLE})\nfailure mode: \
+             {SHEAR_ANGLE}); cracks through the depth under the pad: {}\nfailure mode: \
              {} (the test: bending, the first mode-I crack at about 0.3 ms, then crushing under \
              the striker; FOI's simulation: a shear crack 50 mm from the impact)",
             ms(mode.bottom_crack),
@@ -1128,6 +1144,7 @@ impl DropWeightBeamSpec {
             ms(mode.crushing_open),
             ms(mode.web_crossed),
             mode.web_crack_angle,
+            ms(mode.punched),
             mode.name()
         );
         let to_ms = |table: &[(f64, f64)], scale: f64| -> Vec<(f64, f64)> {
@@ -1274,6 +1291,7 @@ pub fn classify(
     cracked_at: &[f64],
     opened_at: &[f64],
     crack_angle: &[f64],
+    bars_yielded: bool,
 ) -> FailureMode {
     let depth = spec.depth;
     let pad_half = 0.5 * spec.pad_length;
@@ -1334,6 +1352,26 @@ pub fn classify(
         n => 0.5 * (angles[n / 2 - 1] + angles[n / 2]),
     };
     let shear_crack = web_crossed.filter(|_| web_crack_angle > SHEAR_ANGLE);
+    // The column under the pad: its rows and when each first held an open element.
+    let column: Vec<usize> = (0..centroids.len())
+        .filter(|&e| concrete[e] && centroids[e][0] < pad_half)
+        .collect();
+    let mut levels: Vec<f64> = column.iter().map(|&e| centroids[e][2]).collect();
+    levels.sort_by(f64::total_cmp);
+    levels.dedup_by(|a, b| (*a - *b).abs() < 1e-9 * depth);
+    let mut row_open = vec![f64::INFINITY; levels.len()];
+    for &e in &column {
+        if let Some(r) = levels
+            .iter()
+            .position(|&h| (h - centroids[e][2]).abs() < 1e-9 * depth)
+        {
+            if !opened_at[e].is_nan() {
+                row_open[r] = row_open[r].min(opened_at[e]);
+            }
+        }
+    }
+    let through = row_open.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let punched = (!row_open.is_empty() && through.is_finite()).then_some(through);
     FailureMode {
         bottom_crack: first(&bottom, cracked_at),
         web_crack: first(&web, cracked_at),
@@ -1344,6 +1382,8 @@ pub fn classify(
         web_crossed,
         web_crack_angle,
         shear_crack,
+        punched,
+        bars_yielded,
     }
 }
 
@@ -1376,6 +1416,8 @@ mod tests {
         //        0.5 ms. (a) cracked with principal tension at 45 degrees; (b) at 5 degrees.
         // REFERENCE: (a) the web is crossed when its last row opens (2.6 ms), median 45 > 30:
         //            shear; (b) the same crossing, median 5: bending (the bottom opened).
+        //            (c) a column under the pad opening row by row to the top (3.4 ms) with the
+        //            bars elastic: punching; with the bars yielded: bending.
         let spec = spec();
         let mut centroids = vec![[0.0, 0.0, 0.01]];
         let mut opened = vec![0.5e-3];
@@ -1386,7 +1428,9 @@ mod tests {
         let concrete = vec![true; centroids.len()];
         for (angle, mode) in [(45.0, "shear"), (5.0, "bending")] {
             let angles = vec![angle; centroids.len()];
-            let result = classify(&spec, &centroids, &concrete, &opened, &opened, &angles);
+            let result = classify(
+                &spec, &centroids, &concrete, &opened, &opened, &angles, true,
+            );
             assert_eq!(result.bottom_open, Some(0.5e-3));
             assert!((result.web_crossed.unwrap() - 2.6e-3).abs() < 1e-15);
             assert_eq!(result.web_crack_angle, angle);
@@ -1402,8 +1446,30 @@ mod tests {
             &partial,
             &partial,
             &vec![45.0; centroids.len()],
+            true,
         );
         assert_eq!(result.web_crossed, None);
         assert_eq!(result.name(), "bending");
+        // Cracks through the whole depth under the pad, the bars elastic: punching.
+        let column: Vec<[f64; 3]> = (0..34)
+            .map(|k| [0.01, 0.0, 0.005 + 0.01 * k as f64])
+            .collect();
+        let times: Vec<f64> = (0..34).map(|k| 1.0e-4 * (k + 1) as f64).collect();
+        let punching = classify(
+            &spec,
+            &column,
+            &vec![true; 34],
+            &times,
+            &times,
+            &vec![0.0; 34],
+            false,
+        );
+        assert!((punching.punched.unwrap() - 3.4e-3).abs() < 1e-15);
+        assert_eq!(punching.name(), "punching");
+        let bent = FailureMode {
+            bars_yielded: true,
+            ..punching
+        };
+        assert_eq!(bent.name(), "bending");
     }
 }

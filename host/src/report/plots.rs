@@ -482,12 +482,23 @@ pub fn field_map(
             RGBColor(mix(255.0, 30.0, f), mix(40.0, 0.0, f), mix(20.0, 0.0, f))
         }
     };
+    // White cells are the background: only the others are drawn.
     chart
         .draw_series(
-            cells.iter().map(|(r, value)| {
-                Rectangle::new([(r[0], r[2]), (r[1], r[3])], shade(*value).filled())
-            }),
+            cells
+                .iter()
+                .filter(|(_, value)| *value >= low)
+                .map(|(r, value)| {
+                    Rectangle::new([(r[0], r[2]), (r[1], r[3])], shade(*value).filled())
+                }),
         )
+        .map_err(|e| error(&e))?;
+    // The outline of the section.
+    chart
+        .draw_series(std::iter::once(Rectangle::new(
+            [(x0, y0), (x1, y1)],
+            BLACK.stroke_width(1),
+        )))
         .map_err(|e| error(&e))?;
     root.present().map_err(|e| error(&e))
 }
