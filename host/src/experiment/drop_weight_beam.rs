@@ -376,7 +376,14 @@ pub struct FailureMode {
     pub punched: Option<f64>,
     /// Whether the bottom bars at mid-span yielded: the beam bent.
     pub bars_yielded: bool,
+    /// How wide the open cracks in the web near the load are, in elements: the median length
+    /// of the runs of open elements along each of its rows (when it was crossed, else at the
+    /// end; NaN: nothing open). 1 is a crack localised in one element.
+    pub web_band_elements: f64,
 }
+
+/// Largest [`FailureMode::web_band_elements`] of damage localised within one element row.
+pub const ONE_ELEMENT: f64 = 1.5;
 
 impl FailureMode {
     /// `shear` if a shear crack crossed the web near the load (it then governs, as in FOI's
@@ -1026,6 +1033,7 @@ impl DropWeightBeamSpec {
         }
         summary.push(("web_crack_angle".into(), mode.web_crack_angle));
         summary.push(("bar_strain_midspan_peak".into(), peak_bar_strain));
+        summary.push(("web_band_elements".into(), mode.web_band_elements));
         summary.push((
             "failure_mode_shear".into(),
             if mode.name() == "shear" { 1.0 } else { 0.0 },
@@ -1133,7 +1141,7 @@ impl DropWeightBeamSpec {
             "first cracked (damage >= {CRACKED}) / open (>= {OPEN}): bottom fibre {} / {}; web \
              near the load {} / {}; under the pad {} / {}\nweb near the load crossed by open \
              cracks: {}, their median inclination {:.0} degrees (a shear crack above \
-             {SHEAR_ANGLE}); cracks through the depth under the pad: {}\nfailure mode: \
+             {SHEAR_ANGLE}), {:.1} elements wide; cracks through the depth under the pad: {}\nfailure mode: \
              {} (the test: bending, the first mode-I crack at about 0.3 ms, then crushing under \
              the striker; FOI's simulation: a shear crack 50 mm from the impact)",
             ms(mode.bottom_crack),
@@ -1144,6 +1152,7 @@ impl DropWeightBeamSpec {
             ms(mode.crushing_open),
             ms(mode.web_crossed),
             mode.web_crack_angle,
+            mode.web_band_elements,
             ms(mode.punched),
             mode.name()
         );
@@ -1352,6 +1361,32 @@ pub fn classify(
         n => 0.5 * (angles[n / 2 - 1] + angles[n / 2]),
     };
     let shear_crack = web_crossed.filter(|_| web_crack_angle > SHEAR_ANGLE);
+    // Runs of open elements along each web row, in x order.
+    let mut runs: Vec<usize> = Vec::new();
+    for r in 0..heights.len() {
+        let mut row: Vec<(f64, bool)> = members
+            .iter()
+            .zip(&rows)
+            .filter(|(_, &row)| row == r)
+            .map(|(&e, _)| (centroids[e][0], opened_at[e] <= until))
+            .collect();
+        row.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut length = 0;
+        for (_, open) in row.iter().chain([&(0.0, false)]) {
+            if *open {
+                length += 1;
+            } else if length > 0 {
+                runs.push(length);
+                length = 0;
+            }
+        }
+    }
+    runs.sort_unstable();
+    let web_band_elements = match runs.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => runs[n / 2] as f64,
+        n => 0.5 * (runs[n / 2 - 1] + runs[n / 2]) as f64,
+    };
     // The column under the pad: its rows and when each first held an open element.
     let column: Vec<usize> = (0..centroids.len())
         .filter(|&e| concrete[e] && centroids[e][0] < pad_half)
@@ -1384,6 +1419,7 @@ pub fn classify(
         shear_crack,
         punched,
         bars_yielded,
+        web_band_elements,
     }
 }
 
@@ -1434,6 +1470,7 @@ mod tests {
             assert_eq!(result.bottom_open, Some(0.5e-3));
             assert!((result.web_crossed.unwrap() - 2.6e-3).abs() < 1e-15);
             assert_eq!(result.web_crack_angle, angle);
+            assert_eq!(result.web_band_elements, 1.0, "one element per row");
             assert_eq!(result.name(), mode);
         }
         // A web never crossed: no shear crack whatever the angle.
