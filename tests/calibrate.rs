@@ -811,8 +811,9 @@ fn an_rht_campaign_fits_concrete_constants_by_their_dotted_paths() {
 fn a_kc_campaign_fits_the_beam_concrete_by_its_dotted_paths() {
     // GOAL: `stoss calibrate` takes K&C constants as fitted parameters (issue 19): the
     //       campaign maps each candidate onto the K&C file's described scalars and scores the
-    //       drop-weight experiment with it; a path that is not a described constant (the
-    //       meridians are held) is refused at load with file, line and field.
+    //       drop-weight experiment with it; the structural diagnosis reads where damage
+    //       localises; a path that is not a described constant (the meridians are held) is
+    //       refused at load with file, line and field.
     // SETUP: a campaign over fixtures/experiments/rc-beam-drop-weight.toml shortened to
     //        0.4 ms at a 20 mm mesh, its recording the first crack time (0.3 ms, seed 001
     //        sec. 5.4), fitting the tensile strength; two candidates, 5.2 MPa (table 5.1) and
@@ -869,6 +870,18 @@ fn a_kc_campaign_fits_the_beam_concrete_by_its_dotted_paths() {
     let (table, doubled) = (crack_time(5.2e6), crack_time(10.4e6));
     eprintln!("first crack at the bottom fibre: ft 5.2 MPa {table:e} s, 10.4 MPa {doubled:e} s");
     assert!(doubled >= table, "{doubled} < {table}");
+    // The structural diagnosis of the calibrated constants (issue 19): at 20 mm the open
+    // cracks in the web are several elements wide, so non-local regularisation is not
+    // offered, and the verdict says why.
+    let localisation =
+        stoss::diagnose::localisation::diagnose(&campaign, &space, &[5.2e6], &settings)
+            .expect("the structural diagnosis");
+    let beam = &localisation.experiments[0];
+    eprintln!("{}", localisation.report("K&C beam", "kc"));
+    assert!(beam.band_elements > stoss::experiment::drop_weight_beam::ONE_ELEMENT);
+    assert!(!localisation.offered && !localisation.accepted && beam.with_term.is_none());
+    assert!(localisation.verdict.contains("not offered"));
+    assert_eq!(beam.points, 2);
     std::fs::write(
         &path,
         campaign_text.replace("parameters.tensile_strength", "parameters.maximum_surface"),

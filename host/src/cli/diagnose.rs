@@ -126,6 +126,33 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     };
     let _lock = crate::run_lock::RunLock::acquire(&args.calibration)?;
     println!("campaign: {} (model {})", campaign.file.name, model.model);
+    if matches!(
+        campaign.base,
+        crate::input::material::AnyMaterialFile::Kc(_)
+    ) {
+        // K&C concrete: the structural diagnosis (where damage localises; non-local
+        // regularisation as the candidate term).
+        let settings = crate::solver::SolverSettings {
+            threads: Some(options.parallel),
+            ..crate::solver::SolverSettings::default()
+        };
+        let localisation = diagnose::localisation::diagnose(
+            &campaign,
+            &campaign.space(entry),
+            &model.selected.values,
+            &settings,
+        )?;
+        let text = localisation.report(&campaign.file.name, &model.model);
+        print!("\n{text}");
+        let report = args.calibration.join("diagnosis");
+        write_folder(&report, Leftovers::Clean, |folder| {
+            std::fs::create_dir_all(folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+            std::fs::write(folder.join("report.md"), &text)
+                .map_err(|e| format!("{}: {e}", folder.display()))
+        })?;
+        println!("report: {}", report.join("report.md").display());
+        return Ok(());
+    }
     let log = args.calibration.join("diagnosis.jsonl");
     // A line per stage, and within a stage the simulation counts at most every
     // PROGRESS_INTERVAL (a refit of penetration or blast experiments runs for minutes).

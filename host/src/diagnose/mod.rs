@@ -35,6 +35,7 @@ pub mod families;
 pub mod fit;
 pub mod hypothesis;
 pub mod likelihood_ratio;
+pub mod localisation;
 pub mod locate;
 pub mod report;
 pub mod score;

@@ -382,6 +382,9 @@ pub struct FailureMode {
     pub web_band_elements: f64,
 }
 
+/// The failure modes, by their code in an outcome's `failure_mode` summary value.
+pub const MODES: [&str; 4] = ["none", "bending", "shear", "punching"];
+
 /// Largest [`FailureMode::web_band_elements`] of damage localised within one element row.
 pub const ONE_ELEMENT: f64 = 1.5;
 
@@ -1035,8 +1038,8 @@ impl DropWeightBeamSpec {
         summary.push(("bar_strain_midspan_peak".into(), peak_bar_strain));
         summary.push(("web_band_elements".into(), mode.web_band_elements));
         summary.push((
-            "failure_mode_shear".into(),
-            if mode.name() == "shear" { 1.0 } else { 0.0 },
+            "failure_mode".into(),
+            MODES.iter().position(|&m| m == mode.name()).unwrap_or(0) as f64,
         ));
         let final_field = HexFieldOutput {
             mesh: mesh.clone(),
