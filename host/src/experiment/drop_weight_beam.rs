@@ -669,7 +669,7 @@ impl DropWeightBeamSpec {
             })
             .collect();
         let concrete_parts = sizes.len();
-        materials.push(steel.clone());
+        materials.push(*steel);
 
         // The pad on the top face, tied through its coincident nodes.
         let pad_xs: Vec<f64> = xs.iter().copied().filter(|&x| x <= pad_half).collect();
@@ -724,7 +724,7 @@ impl DropWeightBeamSpec {
                         steel.density() * head_volume
                     )));
                 }
-                let PartMaterial::J2(mut rigid) = steel.clone() else {
+                let PartMaterial::J2(mut rigid) = *steel else {
                     return Err(model_error(format!(
                         "the steel material `{}` must be a J2 metal (elastic steel), not {}",
                         self.steel_material,
@@ -887,8 +887,8 @@ impl DropWeightBeamSpec {
         let centroid = |e: usize| -> [f64; 3] {
             let mut c = [0.0; 3];
             for &n in &mesh.elements[e] {
-                for d in 0..3 {
-                    c[d] += 0.125 * mesh.nodes[n][d];
+                for (sum, coordinate) in c.iter_mut().zip(mesh.nodes[n]) {
+                    *sum += 0.125 * coordinate;
                 }
             }
             c
@@ -1498,7 +1498,7 @@ mod tests {
         let punching = classify(
             &spec,
             &column,
-            &vec![true; 34],
+            &[true; 34],
             &times,
             &times,
             &vec![0.0; 34],

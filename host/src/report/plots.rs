@@ -405,35 +405,6 @@ pub fn residual_chart(
     finish(&mut chart, &root, position, &error)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_legend_goes_to_the_corner_without_data() {
-        // GOAL: legends are placed off the data (issue 17). SETUP: a rising curve (empty upper
-        //   left and lower right), a falling one, and a flat curve near the top.
-        // REFERENCE: a corner the data leave empty.
-        let rising: Vec<(f64, f64)> = (0..=20).map(|i| (i as f64, i as f64)).collect();
-        assert!(matches!(
-            emptiest_corner(&[&rising], (0.0, 20.0), (0.0, 20.0)),
-            SeriesLabelPosition::UpperLeft | SeriesLabelPosition::LowerRight
-        ));
-        let falling: Vec<(f64, f64)> = (0..=20).map(|i| (i as f64, 20.0 - i as f64)).collect();
-        assert!(matches!(
-            emptiest_corner(&[&falling], (0.0, 20.0), (0.0, 20.0)),
-            SeriesLabelPosition::UpperRight | SeriesLabelPosition::LowerLeft
-        ));
-        let flat: Vec<(f64, f64)> = (0..=20)
-            .map(|i| (i as f64, 18.0 + 0.1 * i as f64))
-            .collect();
-        assert!(matches!(
-            emptiest_corner(&[&flat], (0.0, 20.0), (0.0, 20.0)),
-            SeriesLabelPosition::LowerRight | SeriesLabelPosition::LowerLeft
-        ));
-    }
-}
-
 /// One cell of a [`field_map`]: its rectangle `[x0, x1, y0, y1]` and value.
 pub type MapCell = ([f64; 4], f64);
 
@@ -501,4 +472,33 @@ pub fn field_map(
         )))
         .map_err(|e| error(&e))?;
     root.present().map_err(|e| error(&e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_legend_goes_to_the_corner_without_data() {
+        // GOAL: legends are placed off the data (issue 17). SETUP: a rising curve (empty upper
+        //   left and lower right), a falling one, and a flat curve near the top.
+        // REFERENCE: a corner the data leave empty.
+        let rising: Vec<(f64, f64)> = (0..=20).map(|i| (i as f64, i as f64)).collect();
+        assert!(matches!(
+            emptiest_corner(&[&rising], (0.0, 20.0), (0.0, 20.0)),
+            SeriesLabelPosition::UpperLeft | SeriesLabelPosition::LowerRight
+        ));
+        let falling: Vec<(f64, f64)> = (0..=20).map(|i| (i as f64, 20.0 - i as f64)).collect();
+        assert!(matches!(
+            emptiest_corner(&[&falling], (0.0, 20.0), (0.0, 20.0)),
+            SeriesLabelPosition::UpperRight | SeriesLabelPosition::LowerLeft
+        ));
+        let flat: Vec<(f64, f64)> = (0..=20)
+            .map(|i| (i as f64, 18.0 + 0.1 * i as f64))
+            .collect();
+        assert!(matches!(
+            emptiest_corner(&[&flat], (0.0, 20.0), (0.0, 20.0)),
+            SeriesLabelPosition::LowerRight | SeriesLabelPosition::LowerLeft
+        ));
+    }
 }
