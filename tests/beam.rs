@@ -633,7 +633,9 @@ fn the_drop_weight_test_keeps_its_energy_and_ignores_the_thread_count() {
     //        20 mm mesh, 1 ms after impact.
     // REFERENCE: the energy balance; bitwise equality of every prediction, summary value and
     //            final position; the striker's velocity below 6.7 m/s and its displacement
-    //            below 6.7 m/s x 1 ms; positive (tensile) strain in the bottom bar at mid-span.
+    //            below 6.7 m/s x 1 ms; positive (tensile) strain in the bottom bar at mid-span;
+    //            the same thread independence and energy bound with non-local damage over
+    //            25 mm.
     let (experiment, concrete) = drop_weight_experiment(0.02, 1.0e-3);
     let recording = vec![
         stoss::input::recording::RecordedPoint {
@@ -653,6 +655,28 @@ fn the_drop_weight_test_keeps_its_energy_and_ignores_the_thread_count() {
         recording,
         ..experiment
     };
+    // The non-local option's averaging is a parallel loop too: same check.
+    let mut nonlocal = experiment.clone();
+    if let stoss::experiment::Setup::DropWeightBeam(spec) = &mut nonlocal.file.setup {
+        spec.nonlocal_radius = Some(0.025);
+    }
+    let runs = |threads: usize| {
+        nonlocal
+            .simulate(
+                &concrete,
+                &SolverSettings {
+                    threads: Some(threads),
+                    ..SolverSettings::default()
+                },
+            )
+            .expect("the non-local drop-weight run")
+    };
+    let (a, b) = (runs(1), runs(2));
+    assert_eq!(
+        a.predicted.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+        b.predicted.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    );
+    assert!(a.energy.unwrap().error_percent().abs() <= 2.0);
     let run = |threads: usize| {
         experiment
             .simulate(
