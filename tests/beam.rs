@@ -723,3 +723,139 @@ fn the_drop_weight_test_keeps_its_energy_and_ignores_the_thread_count() {
     assert_eq!(report.snapshots.len(), 1, "the damage field at 0.5 ms");
     assert!(report.text.contains("failure mode:"));
 }
+
+#[test]
+fn an_elastic_striker_hands_its_momentum_to_an_equal_column_through_the_node_contact() {
+    // GOAL: the node-to-node contact of the striker head and its pad, on the classic impact of
+    //       two equal elastic bars: momentum, the contact's duration and its release.
+    // SETUP: two elastic steel columns (4340 elasticity, yield out of reach) 10 x 10 mm x
+    //        0.1 m, 1 x 1 x 50 hexes each, laterally held on every node (uniaxial strain),
+    //        one on the other, their touching faces meshed on the same planes and paired by
+    //        a frictionless node-to-node contact; the upper one moving down at 5 m/s, the
+    //        lower at rest, both free along z; 60 us.
+    // REFERENCE: 1D elastic waves (equal impedances): the contact lasts 2L/c_p = 34.2 us (5 %),
+    //            then the striker is at rest and the struck column moves at 5 m/s as a whole
+    //            (its mean velocity), the two separate; momentum kept to rounding; energy
+    //            error <= 1 %. The discrete bars ring: the striker's mean velocity after
+    //            release within 3 % of v0 of zero.
+    let mut strength = stoss_kernel::strength::JohnsonCook::STEEL_4340;
+    strength.yield_stress = 1.0e12;
+    let mut steel = stoss_kernel::Material::STEEL_4340.with_strength(strength);
+    steel.heating = stoss_kernel::Heating::Isothermal;
+    let (side, length, v0) = (0.01, 0.1, 5.0);
+    let mut mesh = HexMesh::block("target", 0, [side, side, length], [1, 1, 50]);
+    let mut striker = HexMesh::block("striker", 0, [side, side, length], [1, 1, 50]);
+    for p in &mut striker.nodes {
+        p[2] += length;
+    }
+    let first_striker_node = mesh.nodes.len();
+    mesh.append(striker);
+    let pairs: Vec<[usize; 2]> = mesh.node_sets["target.z1"]
+        .iter()
+        .zip(&mesh.node_sets["striker.z0"])
+        .map(|(&a, &b)| [a, b])
+        .collect();
+    assert!(pairs.iter().all(|&[a, b]| mesh.nodes[a] == mesh.nodes[b]));
+    let node_count = mesh.nodes.len();
+    let every: Vec<usize> = (0..node_count).collect();
+    let held = |dof: usize| VelocityConstraint {
+        nodes: every.clone(),
+        dof,
+        velocity: Amplitude::constant(0.0),
+    };
+    let model = ExplicitModel::<HexMesh, stoss_kernel::Material> {
+        mesh,
+        materials: vec![steel],
+        initial_temperature: 293.0,
+        initial_velocity: (0..node_count)
+            .map(|n| {
+                if n >= first_striker_node {
+                    [0.0, 0.0, -v0]
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect(),
+        constraints: vec![held(0), held(1)],
+        walls: Vec::new(),
+        contacts: Vec::new(),
+        eroding_contact: None,
+        rigid_parts: Vec::new(),
+        pressure_loads: Vec::new(),
+        body_acceleration: None,
+        trusses: Vec::new(),
+        node_contacts: vec![stoss::solver::NodeToNodeContact {
+            pairs,
+            normal: vec![0.0, 0.0, 1.0],
+            friction: 0.0,
+        }],
+        settings: SolverSettings {
+            end_time: 60.0e-6,
+            output_interval: 0.5e-6,
+            threads: Some(1),
+            ..SolverSettings::default()
+        },
+        tracked_elements: Vec::new(),
+    };
+    let bulk = 159.0e9;
+    let wave_speed = ((bulk + 4.0 / 3.0 * steel.shear_modulus) / steel.density).sqrt();
+    let duration = 2.0 * length / wave_speed;
+    let mut gaps = Vec::new();
+    let mut masses = vec![0.0; node_count];
+    let run = model
+        .run_observed(&mut |snapshot| {
+            let gap = snapshot.positions[first_striker_node][2]
+                - snapshot.positions[model.node_contacts[0].pairs[0][0]][2];
+            gaps.push((snapshot.time, gap));
+            ControlFlow::Continue(())
+        })
+        .expect("two columns");
+    // Lumped masses: each column's nodes share its mass rho A L equally per element layer.
+    let column_mass = steel.density * side * side * length;
+    for (n, mass) in masses.iter_mut().enumerate() {
+        let layer = (n % (node_count / 2)) / 4;
+        *mass = column_mass / 50.0
+            * if layer == 0 || layer == 50 {
+                0.125
+            } else {
+                0.25
+            };
+    }
+    let mean = |range: std::ops::Range<usize>| {
+        range
+            .clone()
+            .map(|n| masses[n] * run.velocities[n][2])
+            .sum::<f64>()
+            / range.map(|n| masses[n]).sum::<f64>()
+    };
+    let (target, striker) = (
+        mean(0..first_striker_node),
+        mean(first_striker_node..node_count),
+    );
+    let momentum = column_mass * (target + striker);
+    let released = gaps
+        .iter()
+        .find(|(_, gap)| *gap > 1e-9)
+        .map_or(f64::NAN, |g| g.0);
+    eprintln!(
+        "two equal columns: contact released at {:.2} us (2L/c_p {:.2} us); after: striker \
+         {striker:.4} m/s, target {target:.4} m/s; momentum {momentum:.6} against {:.6}; energy \
+         error {:.3} %",
+        released * 1e6,
+        duration * 1e6,
+        -column_mass * v0,
+        run.energy().error_percent()
+    );
+    assert!(
+        (released / duration - 1.0).abs() < 0.05,
+        "{released} vs {duration}"
+    );
+    assert!(striker.abs() < 0.03 * v0, "{striker}");
+    assert!((target + v0).abs() < 0.03 * v0, "{target}");
+    assert!((momentum + column_mass * v0).abs() < 1e-9 * column_mass * v0);
+    assert!(
+        run.energy().error_percent().abs() <= 1.0,
+        "{}",
+        run.energy().report()
+    );
+}
