@@ -483,6 +483,22 @@ fn reinforcement_stiffens_the_beam_as_the_transformed_section_says() {
     assert!(ratio < 0.99, "the bars must stiffen the beam: {ratio}");
 }
 
+/// 4340 elasticity (G of the 4340 set, K 159 GPa) with a yield stress out of reach: an
+/// elastic steel.
+fn elastic_steel() -> stoss_kernel::Material {
+    let mut strength = stoss_kernel::strength::JohnsonCook::STEEL_4340;
+    strength.yield_stress = 1.0e12;
+    let mut steel = stoss_kernel::Material::STEEL_4340.with_strength(strength);
+    steel.heating = stoss_kernel::Heating::Isothermal;
+    steel
+}
+
+/// The uniaxial-strain (constrained) wave speed of [`elastic_steel`]: `sqrt((K + 4G/3)/rho)`.
+fn uniaxial_strain_wave_speed(steel: &stoss_kernel::Material) -> f64 {
+    let bulk = 159.0e9;
+    ((bulk + 4.0 / 3.0 * steel.shear_modulus) / steel.density).sqrt()
+}
+
 #[test]
 fn a_drop_weight_decelerates_on_an_elastic_column_by_the_impedance_law() {
     // GOAL: the moving rigid wall with mass (the drop weight's striker, LS-DYNA
@@ -498,13 +514,8 @@ fn a_drop_weight_decelerates_on_an_elastic_column_by_the_impedance_law() {
     //            (Timoshenko & Goodier, Theory of Elasticity, sec. 154): within 2 % at 25, 50
     //            and 100 us (tau = M/Z = 110 us, 2L/c_p = 173 us); energy error <= 1 %.
     //            (b) displacement v0 t + g t^2 / 2 to 1e-9 of it; energy error 1e-9.
-    let mut strength = stoss_kernel::strength::JohnsonCook::STEEL_4340;
-    strength.yield_stress = 1.0e12;
-    let mut steel = stoss_kernel::Material::STEEL_4340.with_strength(strength);
-    steel.heating = stoss_kernel::Heating::Isothermal;
-    let bulk = 159.0e9;
-    let constrained = bulk + 4.0 / 3.0 * steel.shear_modulus;
-    let wave_speed = (constrained / steel.density).sqrt();
+    let steel = elastic_steel();
+    let wave_speed = uniaxial_strain_wave_speed(&steel);
     let (side, length, v0, wall_mass) = (0.01, 0.5, 5.0, 0.5);
     let impedance = steel.density * wave_speed * side * side;
     let mesh = HexMesh::block("column", 0, [side, side, length], [1, 1, 200]);
@@ -738,10 +749,7 @@ fn an_elastic_striker_hands_its_momentum_to_an_equal_column_through_the_node_con
     //            (its mean velocity), the two separate; momentum kept to rounding; energy
     //            error <= 1 %. The discrete bars ring: the striker's mean velocity after
     //            release within 3 % of v0 of zero.
-    let mut strength = stoss_kernel::strength::JohnsonCook::STEEL_4340;
-    strength.yield_stress = 1.0e12;
-    let mut steel = stoss_kernel::Material::STEEL_4340.with_strength(strength);
-    steel.heating = stoss_kernel::Heating::Isothermal;
+    let steel = elastic_steel();
     let (side, length, v0) = (0.01, 0.1, 5.0);
     let mut mesh = HexMesh::block("target", 0, [side, side, length], [1, 1, 50]);
     let mut striker = HexMesh::block("striker", 0, [side, side, length], [1, 1, 50]);
@@ -797,8 +805,7 @@ fn an_elastic_striker_hands_its_momentum_to_an_equal_column_through_the_node_con
         },
         tracked_elements: Vec::new(),
     };
-    let bulk = 159.0e9;
-    let wave_speed = ((bulk + 4.0 / 3.0 * steel.shear_modulus) / steel.density).sqrt();
+    let wave_speed = uniaxial_strain_wave_speed(&steel);
     let duration = 2.0 * length / wave_speed;
     let mut gaps = Vec::new();
     let mut masses = vec![0.0; node_count];
