@@ -144,45 +144,55 @@ pub fn diagnose(
             ));
         }
     }
-    let points: usize = experiments.iter().map(|e| e.points).sum();
-    let before: f64 = experiments.iter().map(|e| e.chi_square).sum();
-    let after: Option<f64> = experiments
-        .iter()
-        .map(|e| e.with_term.as_ref().map(|t| t.3))
-        .sum();
-    let price = bic_price(points);
-    let accepted = after.is_some_and(|after| before - after > price);
-    let verdict = match after {
-        None => format!(
-            "damage does not localise within one element row (open cracks at least {} \
-             elements wide): {TERM} is not offered; the misfit (chi-square {before:.1} over \
-             {points} points) is not a crack localised in one element",
-            experiments
-                .iter()
-                .map(|e| e.band_elements)
-                .fold(f64::NAN, f64::min)
-        ),
-        Some(after) if accepted => format!(
-            "damage localises within one element row; {TERM} explains the recordings better: \
-             chi-square {before:.1} -> {after:.1} over {points} points, a drop above the \
-             {price:.1} one more constant costs: accepted"
-        ),
-        Some(after) => format!(
-            "damage localises within one element row, so {TERM} was tried, but it does not \
-             explain the recordings better: chi-square {before:.1} -> {after:.1} over {points} \
-             points (a drop of more than {price:.1} is needed): rejected; the model misses \
-             something else"
-        ),
-    };
-    Ok(Localisation {
-        experiments,
-        offered,
-        accepted,
-        verdict,
-    })
+    Ok(Localisation::judged(experiments, offered))
 }
 
 impl Localisation {
+    /// The verdict on `experiments` (each with the term's run when `offered`): the term is
+    /// accepted when the recordings' total chi-square drops by more than [`bic_price`].
+    pub fn judged(experiments: Vec<ExperimentLocalisation>, offered: bool) -> Self {
+        let points: usize = experiments.iter().map(|e| e.points).sum();
+        let before: f64 = experiments.iter().map(|e| e.chi_square).sum();
+        let after: Option<f64> = if offered {
+            experiments
+                .iter()
+                .map(|e| e.with_term.as_ref().map(|t| t.3))
+                .sum()
+        } else {
+            None
+        };
+        let price = bic_price(points);
+        let accepted = after.is_some_and(|after| before - after > price);
+        let verdict = match after {
+            None => format!(
+                "damage does not localise within one element row (open cracks at least {} \
+                 elements wide): {TERM} is not offered; the misfit (chi-square {before:.1} over \
+                 {points} points) is not a crack localised in one element",
+                experiments
+                    .iter()
+                    .map(|e| e.band_elements)
+                    .fold(f64::NAN, f64::min)
+            ),
+            Some(after) if accepted => format!(
+                "damage localises within one element row; {TERM} explains the recordings \
+                 better: chi-square {before:.1} -> {after:.1} over {points} points, a drop above \
+                 the {price:.1} one more constant costs: accepted"
+            ),
+            Some(after) => format!(
+                "damage localises within one element row, so {TERM} was tried, but it does not \
+                 explain the recordings better: chi-square {before:.1} -> {after:.1} over \
+                 {points} points (a drop of more than {price:.1} is needed): rejected; the model \
+                 misses something else"
+            ),
+        };
+        Self {
+            experiments,
+            offered,
+            accepted,
+            verdict,
+        }
+    }
+
     /// The report in Markdown.
     pub fn report(&self, campaign: &str, model: &str) -> String {
         let mut md = String::new();
@@ -205,5 +215,46 @@ impl Localisation {
             );
         }
         md
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn beam(band: f64, chi_square: f64, with_term: Option<f64>) -> ExperimentLocalisation {
+        ExperimentLocalisation {
+            name: "beam".into(),
+            mode: "shear".into(),
+            band_elements: band,
+            chi_square,
+            points: 4,
+            with_term: with_term.map(|after| (0.025, "bending".to_string(), 3.0, after)),
+        }
+    }
+
+    #[test]
+    fn the_term_is_accepted_only_when_the_fit_pays_for_its_constant() {
+        // GOAL: the structural term's acceptance rule.
+        // SETUP: two beams of 4 recorded points each (n = 8, ln n = 2.08), chi-square 10 and
+        //        6 (16 in all): (a) not localised; (b) localised, with the term 3 + 2 = 5; (c)
+        //        localised, with the term 8 + 7 = 15.
+        // REFERENCE: (a) not offered; (b) a drop of 11 > 2.08: accepted; (c) a drop of 1 <
+        //            2.08: rejected, "misses something else".
+        let judged = Localisation::judged(vec![beam(4.0, 10.0, None), beam(3.0, 6.0, None)], false);
+        assert!(!judged.offered && !judged.accepted);
+        assert!(judged.verdict.contains("at least 3 elements wide"));
+        let accepted = Localisation::judged(
+            vec![beam(1.0, 10.0, Some(3.0)), beam(2.0, 6.0, Some(2.0))],
+            true,
+        );
+        assert!(accepted.accepted, "{}", accepted.verdict);
+        let rejected = Localisation::judged(
+            vec![beam(1.0, 10.0, Some(8.0)), beam(2.0, 6.0, Some(7.0))],
+            true,
+        );
+        assert!(!rejected.accepted);
+        assert!(rejected.verdict.contains("misses something else"));
+        assert!((bic_price(8) - 8f64.ln()).abs() < 1e-15);
     }
 }
