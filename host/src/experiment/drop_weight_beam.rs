@@ -31,7 +31,7 @@
 //! figure 5.1); its contact with the pad is a kinematic node-to-node constraint, not a
 //! penalty surface-to-surface contact (the faces slide little); the pad is tied, not in
 //! frictional contact with the beam; the longitudinal bars are trusses, not beams (their
-//! bending stiffness, `E pi d^4/64` per bar, is 0.05 % of the section's).
+//! bending stiffness, `E pi d^4/64`, is 0.001 % of the section's per bar).
 //!
 //! Quantities: `striker_displacement` (m) and `striker_velocity` (m/s) at `position` = time
 //! after impact (s); `beam_acceleration` (m/s^2, vertical, positive up) of the bottom face at
