@@ -553,6 +553,25 @@ fn cases() -> Vec<Case> {
             with_value(&beam, "impact_velocity", "\"24 km/h\""),
             "impact_velocity",
         ),
+        (
+            "records every nanosecond",
+            with_value(&beam, "output_interval", "1e-9"),
+            "output_interval",
+        ),
+        (
+            "stirrups a micrometre apart",
+            with_value(
+                &with_value(&beam, "stirrup_spacing", "1e-6"),
+                "first_stirrup",
+                "0.5",
+            ),
+            "stirrup_spacing",
+        ),
+        (
+            "element size in mm",
+            with_value(&beam, "element_size", "1e-5"),
+            "end_time",
+        ),
     ] {
         cases.push(Case {
             name: format!("drop-weight beam: {name}"),
@@ -563,6 +582,18 @@ fn cases() -> Vec<Case> {
             line: true,
         });
     }
+    // A bar 0.5 mm above the bottom face: a sliver element that would set a runaway step.
+    cases.push(Case {
+        name: "drop-weight beam: a sliver element under the bottom bars".into(),
+        files: beam_files(
+            &with_value(&beam, "bottom_bar_cover", "0.0005"),
+            &beam_material,
+        ),
+        args: simulate_args(),
+        file: "experiment.toml".into(),
+        field: "element_size".into(),
+        line: false,
+    });
     let non_monotone = beam_material.replace(
         "lambda = [0.0, 5.5e-6, 1.4e-5,",
         "lambda = [0.0, 1.4e-5, 5.5e-6,",

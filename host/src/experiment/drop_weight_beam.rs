@@ -385,6 +385,12 @@ pub struct FailureMode {
 /// The failure modes, by their code in an outcome's `failure_mode` summary value.
 pub const MODES: [&str; 4] = ["none", "bending", "shear", "punching"];
 
+/// Most history records a run keeps (`end_time / output_interval`): each scans every element.
+pub const MAXIMUM_RECORDS: f64 = 1.0e5;
+
+/// Most damage fields a run writes besides the final one.
+pub const MAXIMUM_FIELDS: usize = 20;
+
 /// Largest [`FailureMode::web_band_elements`] of damage localised within one element row.
 pub const ONE_ELEMENT: f64 = 1.5;
 
@@ -566,14 +572,93 @@ impl DropWeightBeamSpec {
             "needs density, young_modulus, yield_stress > 0, tensile_strength > yield_stress \
              and stirrup_hardening_modulus > 0 (SI)",
         )?;
-        // A size in mm entered as m is a runaway: refuse it before anything is built.
+        // Sizes that would run away, refused before anything is built: the records and
+        // fields kept in memory, and the stirrups (each forces a node plane).
+        check(
+            "output_interval",
+            self.end_time / self.output_interval <= MAXIMUM_RECORDS,
+            &format!(
+                "gives {:.0} records of every element over end_time; at most {MAXIMUM_RECORDS:.0} \
+                 (s)",
+                self.end_time / self.output_interval
+            ),
+        )?;
+        check(
+            "field_times",
+            self.field_times.len() <= MAXIMUM_FIELDS,
+            &format!("at most {MAXIMUM_FIELDS} damage fields (each a copy of the model)"),
+        )?;
+        check(
+            "stirrup_spacing",
+            self.stirrup_count <= 1 || self.stirrup_spacing >= self.element_size,
+            "stirrups closer than element_size would each force their own element (m)",
+        )?;
+        // A size in mm entered as m: refused from the nominal mesh before any plane is laid.
         let columns = self.fine_length / self.element_size
-            + (half - self.fine_length) / self.end_element_size.max(self.element_size)
+            + (half - self.fine_length) / self.end_element_size
                 * libm::log(self.end_element_size / self.element_size).max(1.0);
         let section = (0.5 * self.width / self.element_size) * (self.depth / self.element_size);
-        let step = 0.9 * 0.7 * self.element_size / 5000.0;
-        super::check_run_budget(check, self.end_time, step, columns * section)?;
+        let nominal_step = super::undeformed_time_step(self.element_size, false) / 3f64.sqrt();
+        super::check_run_budget(check, self.end_time, nominal_step, columns * section)?;
+        // The mesh as it will be built: its smallest element sets the time step. Two required
+        // planes a sliver apart are refused, not run.
+        let planes = self.beam_planes();
+        let smallest_gap = |p: &[f64]| {
+            p.windows(2)
+                .map(|w| w[1] - w[0])
+                .fold(f64::INFINITY, f64::min)
+        };
+        let smallest = planes
+            .iter()
+            .map(|p| smallest_gap(p))
+            .fold(self.pad_thickness.min(self.element_size), f64::min)
+            .min(self.head_length.min(self.element_size));
+        check(
+            "element_size",
+            smallest >= 0.1 * self.element_size,
+            &format!(
+                "two required node planes (bar covers, stirrups, the support, the pad's edge, \
+                 the gauge or accelerometer position) or the pad's thickness leave an element \
+                 {smallest:.3e} m thin, under a tenth of element_size: move them apart (m)"
+            ),
+        )?;
+        let elements = planes.iter().map(|p| p.len() as f64 - 1.0).product::<f64>();
+        let step = super::undeformed_time_step(smallest, false) / 3f64.sqrt();
+        super::check_run_budget(check, self.end_time, step, 1.2 * elements)?;
         Ok(())
+    }
+
+    /// The beam's node planes along x (from mid-span), y (from mid-width) and z (from the
+    /// bottom): graded along the beam from `element_size` over `fine_length` to
+    /// `end_element_size` at the support, `element_size` across the section, through every
+    /// bar, stirrup, the support, the pad's edge, the gauge and the accelerometer.
+    fn beam_planes(&self) -> [Vec<f64>; 3] {
+        let half = 0.5 * self.length;
+        let support = half - self.support_inset;
+        let (fine, coarse) = (self.element_size, self.end_element_size);
+        let grown = (support - self.fine_length).max(f64::MIN_POSITIVE);
+        let along = |x: f64| {
+            if x <= self.fine_length {
+                fine
+            } else {
+                fine + (coarse - fine) * ((x - self.fine_length) / grown).min(1.0)
+            }
+        };
+        let mut fixed_x = vec![0.0, 0.5 * self.pad_length, self.fine_length, support, half];
+        fixed_x.extend(self.stirrup_positions());
+        if self.gauge_offset > 0.0 {
+            fixed_x.push(self.gauge_offset);
+        }
+        if self.accelerometer_offset > 0.0 {
+            fixed_x.push(self.accelerometer_offset);
+        }
+        let bar_y = 0.5 * self.width - self.bar_side_cover;
+        let top_bar = self.depth - self.top_bar_cover;
+        [
+            HexMesh::planes_through(&fixed_x, along),
+            HexMesh::planes_through(&[0.0, bar_y, 0.5 * self.width], |_| fine),
+            HexMesh::planes_through(&[0.0, self.bottom_bar_cover, top_bar, self.depth], |_| fine),
+        ]
     }
 
     /// Build the quarter model with `concrete` (K&C: its crack band is set per element size)
@@ -594,29 +679,11 @@ impl DropWeightBeamSpec {
         let half = 0.5 * self.length;
         let support = half - self.support_inset;
         let pad_half = 0.5 * self.pad_length;
-        let (fine, coarse) = (self.element_size, self.end_element_size);
-        let grown = (support - self.fine_length).max(f64::MIN_POSITIVE);
-        let along = |x: f64| {
-            if x <= self.fine_length {
-                fine
-            } else {
-                fine + (coarse - fine) * ((x - self.fine_length) / grown).min(1.0)
-            }
-        };
-        let mut fixed_x = vec![0.0, pad_half, self.fine_length, support, half];
-        fixed_x.extend(self.stirrup_positions());
-        if self.gauge_offset > 0.0 {
-            fixed_x.push(self.gauge_offset);
-        }
-        if self.accelerometer_offset > 0.0 {
-            fixed_x.push(self.accelerometer_offset);
-        }
-        let xs = HexMesh::planes_through(&fixed_x, along);
+        let fine = self.element_size;
+        let [xs, ys, zs] = self.beam_planes();
         let bar_y = 0.5 * self.width - self.bar_side_cover;
-        let ys = HexMesh::planes_through(&[0.0, bar_y, 0.5 * self.width], |_| fine);
         let bottom_bar = self.bottom_bar_cover;
         let top_bar = self.depth - self.top_bar_cover;
-        let zs = HexMesh::planes_through(&[0.0, bottom_bar, top_bar, self.depth], |_| fine);
         let mut mesh = HexMesh::block_on_planes("beam", 0, [&xs, &ys, &zs]);
         let plane = |planes: &[f64], value: f64| {
             planes
