@@ -568,6 +568,11 @@ fn cases() -> Vec<Case> {
             "stirrup_spacing",
         ),
         (
+            "non-local radius of many elements",
+            with_value(&beam, "nonlocal_radius", "0.08"),
+            "nonlocal_radius",
+        ),
+        (
             "element size in mm",
             with_value(&beam, "element_size", "1e-5"),
             "end_time",

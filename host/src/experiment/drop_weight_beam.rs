@@ -458,8 +458,9 @@ impl DropWeightBeamSpec {
             positive("nonlocal_radius", radius, "m")?;
             check(
                 "nonlocal_radius",
-                radius < 0.25 * self.depth,
-                "must be below a quarter of the depth (m)",
+                radius < 0.25 * self.depth && radius <= 5.0 * self.element_size,
+                "must be below a quarter of the depth and at most 5 element sizes (each element \
+                 averages over the neighbours within it: about 500 at 5 sizes) (m)",
             )?;
         }
         positive("drop_mass", self.drop_mass, "kg")?;
