@@ -671,24 +671,7 @@ fn the_drop_weight_test_keeps_its_energy_and_ignores_the_thread_count() {
     if let stoss::experiment::Setup::DropWeightBeam(spec) = &mut nonlocal.file.setup {
         spec.nonlocal_radius = Some(0.025);
     }
-    let runs = |threads: usize| {
-        nonlocal
-            .simulate(
-                &concrete,
-                &SolverSettings {
-                    threads: Some(threads),
-                    ..SolverSettings::default()
-                },
-            )
-            .expect("the non-local drop-weight run")
-    };
-    let (a, b) = (runs(1), runs(2));
-    assert_eq!(
-        a.predicted.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
-        b.predicted.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
-    );
-    assert!(a.energy.unwrap().error_percent().abs() <= 2.0);
-    let run = |threads: usize| {
+    let run_on = |experiment: &stoss::experiment::Experiment, threads: usize| {
         experiment
             .simulate(
                 &concrete,
@@ -699,6 +682,13 @@ fn the_drop_weight_test_keeps_its_energy_and_ignores_the_thread_count() {
             )
             .expect("the drop-weight run")
     };
+    let (a, b) = (run_on(&nonlocal, 1), run_on(&nonlocal, 2));
+    assert_eq!(
+        a.predicted.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+        b.predicted.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    );
+    assert!(a.energy.unwrap().error_percent().abs() <= 2.0);
+    let run = |threads: usize| run_on(&experiment, threads);
     let (one, two) = (run(1), run(2));
     let bits = |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&one.predicted), bits(&two.predicted));
