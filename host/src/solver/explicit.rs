@@ -586,6 +586,11 @@ impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {
             )?),
             None => None,
         };
+        if let Some(surfaces) = eroding.as_mut() {
+            for constraint in &self.constraints {
+                surfaces.prescribe(&constraint.nodes, constraint.dof);
+            }
+        }
         let stretch_windows: Vec<Option<StretchWindow>> = self
             .materials
             .iter()
