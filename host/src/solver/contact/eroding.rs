@@ -623,7 +623,11 @@ impl ErodingSurfaces {
             return;
         }
         let stops = std::mem::take(&mut self.stops);
-        for stop in (0..STOP_SWEEPS).flat_map(|_| &stops) {
+        // Each sweep takes the surface nodes first, then the free mass points, so that the
+        // debris meets the surfaces as the interface has left them.
+        let surface = stops.iter().filter(|stop| stop.limit > 0.0);
+        let debris = stops.iter().filter(|stop| stop.limit <= 0.0);
+        for stop in (0..STOP_SWEEPS).flat_map(|_| surface.clone().chain(debris.clone())) {
             let Stop { nodes, hit, limit } = *stop;
             let [s, a, b] = nodes;
             if mass[s] <= 0.0 || mass[a] <= 0.0 || mass[b] <= 0.0 {
