@@ -22,9 +22,9 @@
 //!
 //! **Eroded mass (LS-DYNA ENMASS).** With `keep_eroded_mass` (the default), a node whose
 //! elements have all eroded keeps its mass and momentum and becomes a free mass point that
-//! still meets the other parts' surfaces as a slave node (through the kinematic stop below); its kinetic energy stays in the
-//! balance's kinetic energy. Without it, the node's mass is removed and its kinetic energy is
-//! booked as eroded.
+//! still meets the other parts' surfaces as a slave node (through the kinematic stop below);
+//! its kinetic energy stays in the balance's kinetic energy. Without it, the node's mass is
+//! removed and its kinetic energy is booked as eroded.
 //!
 //! **Penetrations found on exposure (LS-DYNA `IGNORE = 1` style).** When a node's penetration
 //! grows by more than the relative normal approach of the step can explain (twice `v_n dt`),
@@ -346,7 +346,9 @@ impl ErodingSurfaces {
         Ok(surfaces)
     }
 
-    /// Mark degree of freedom `dof` of `nodes` as prescribed by a velocity constraint.
+    /// Mark degree of freedom `dof` of `nodes` as prescribed by a velocity constraint (the
+    /// stop takes the prescribed velocity at its value of the last step, exact for the
+    /// constant ones: the axis, a clamped rim, a driven body).
     pub(crate) fn prescribe(&mut self, nodes: &[usize], dof: usize) {
         if dof < 2 {
             for &n in nodes {
@@ -584,6 +586,8 @@ impl ErodingSurfaces {
             }
             hit.gap = -acting;
             if free {
+                self.statistics.largest_free_node_penetration =
+                    self.statistics.largest_free_node_penetration.max(acting);
                 self.stops.push(Stop {
                     nodes: [s, a, b],
                     hit,
@@ -680,10 +684,6 @@ impl ErodingSurfaces {
                 let sign = if slip > 0.0 { -1.0 } else { 1.0 };
                 f[0] += sign * magnitude * t[0];
                 f[1] += sign * magnitude * t[1];
-            }
-            if self.live_around[s] == 0 {
-                self.statistics.largest_free_node_penetration =
-                    self.statistics.largest_free_node_penetration.max(-hit.gap);
             }
             distribute(&mut self.forces, nodes, xi, f);
             self.touched.extend_from_slice(&nodes);
