@@ -69,7 +69,9 @@
 //! interfaces carry pressures of tens of GPa. Its work is booked as it is done, so the energy
 //! balance stays exact.
 
-use super::{absorbed_work, distribute, penetrating_nearest, project, Hit, PenaltyLaw};
+use super::{
+    absorbed_work, add_coulomb, distribute, penetrating_nearest, project, Hit, PenaltyLaw,
+};
 use crate::solver::explicit::Vector;
 use crate::solver::SolverError;
 use std::collections::HashMap;
@@ -676,14 +678,20 @@ impl ErodingSurfaces {
             let normal_force = (allowed - approach) / (normal_compliance * dt);
             let mut f = [normal_force * n[0], normal_force * n[1]];
             let friction = self.law.friction;
-            let tangential_compliance = compliance(t);
-            if friction > 0.0 && tangential_compliance > 0.0 {
-                let slip = relative[0] * t[0] + relative[1] * t[1];
-                let stick = slip.abs() / (tangential_compliance * dt);
-                let magnitude = (friction * normal_force).min(stick);
-                let sign = if slip > 0.0 { -1.0 } else { 1.0 };
-                f[0] += sign * magnitude * t[0];
-                f[1] += sign * magnitude * t[1];
+            if friction > 0.0 {
+                let tangential_compliance = compliance(t);
+                if tangential_compliance > 0.0 {
+                    let slip = relative[0] * t[0] + relative[1] * t[1];
+                    add_coulomb(
+                        &mut f,
+                        friction,
+                        normal_force,
+                        slip,
+                        tangential_compliance,
+                        dt,
+                        t,
+                    );
+                }
             }
             distribute(&mut self.forces, nodes, xi, f);
             self.touched.extend_from_slice(&nodes);

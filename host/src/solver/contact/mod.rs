@@ -256,14 +256,37 @@ impl PenaltyLaw {
                 core::array::from_fn(|d| v[s][d] - (1.0 - xi) * v[a][d] - xi * v[b][d]);
             let slip = relative[0] * t[0] + relative[1] * t[1];
             let inverse_mass = 1.0 / m_s + (1.0 - xi) * (1.0 - xi) / m_a + xi * xi / m_b;
-            let stick = slip.abs() / (inverse_mass * dt);
-            let magnitude = (self.friction * normal_force).min(stick);
-            let sign = if slip > 0.0 { -1.0 } else { 1.0 };
-            f[0] += sign * magnitude * t[0];
-            f[1] += sign * magnitude * t[1];
+            add_coulomb(
+                &mut f,
+                self.friction,
+                normal_force,
+                slip,
+                inverse_mass,
+                dt,
+                t,
+            );
         }
         Some(f)
     }
+}
+
+/// Add to contact force `f` its Coulomb share along tangent `t`: `mu f_n` against the slip
+/// velocity `slip`, but never more than the force that stops the slip over `dt` through the
+/// tangential compliance `t . M^-1 t` at the contact point (so friction never reverses it).
+pub(crate) fn add_coulomb(
+    f: &mut [f64; 2],
+    friction: f64,
+    normal_force: f64,
+    slip: f64,
+    compliance: f64,
+    dt: f64,
+    t: [f64; 2],
+) {
+    let stick = slip.abs() / (compliance * dt);
+    let magnitude = (friction * normal_force).min(stick);
+    let sign = if slip > 0.0 { -1.0 } else { 1.0 };
+    f[0] += sign * magnitude * t[0];
+    f[1] += sign * magnitude * t[1];
 }
 
 /// Energy absorbed over a step by contact forces `forces` on `nodes` (the negative of their
