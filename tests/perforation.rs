@@ -9,7 +9,7 @@ use std::sync::Mutex;
 use stoss::experiment::{Experiment, Setup};
 use stoss::input::material;
 use stoss::mesh::{Grading, QuadMesh};
-use stoss::solver::{Amplitude, ExplicitModel, SolverSettings, VelocityConstraint};
+use stoss::solver::{Amplitude, BulkViscosity, ExplicitModel, SolverSettings, VelocityConstraint};
 use stoss_kernel::drivers::{uniaxial_strain, UniaxialStrainLoading};
 use stoss_kernel::rht::{self, RhtMaterial};
 use stoss_kernel::tensor::Matrix6;
@@ -134,8 +134,10 @@ fn rht_through_the_solver_is_the_kernel_update_bit_for_bit() {
         node_contacts: Vec::new(),
         settings: SolverSettings {
             end_time,
-            linear_viscosity: 0.0,
-            quadratic_viscosity: 0.0,
+            bulk_viscosity: BulkViscosity {
+                quadratic: 0.0,
+                linear: 0.0,
+            },
             hourglass_coefficient: 0.0,
             output_interval: end_time,
             threads: Some(1),

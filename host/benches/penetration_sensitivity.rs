@@ -26,7 +26,7 @@ use stoss::analytic::penetration::depth_at;
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
 use stoss::input::material::{self, MaterialFile};
 use stoss::measure::interpolate;
-use stoss::solver::SolverSettings;
+use stoss::solver::{BulkViscosity, SolverSettings};
 use stoss_kernel::material::Heating;
 use stoss_kernel::Material;
 
@@ -96,8 +96,10 @@ fn main() {
             rod_erosion: 1.5,
             target_erosion: 1.5,
             edit: |_, s| {
-                s.linear_viscosity = 0.0;
-                s.quadratic_viscosity = 0.0
+                s.bulk_viscosity = BulkViscosity {
+                    quadratic: 0.0,
+                    linear: 0.0,
+                }
             },
         },
         Case {

@@ -35,6 +35,7 @@ pub use loads::{
 };
 pub use moving_wall::{WallMotion, WallState};
 pub use nonlocal::NonlocalAveraging;
+use serde::{Deserialize, Serialize};
 pub use truss::{Truss, TrussMaterial};
 
 /// Default time-step safety factor: LS-DYNA's TSSFAC and OpenRadioss' /DT default, 0.9.
@@ -65,6 +66,59 @@ pub enum HourglassControl {
     Stiffness,
 }
 
+/// Linear and quadratic bulk viscosity (von Neumann-Richtmyer / Landshoff), in the form LS-DYNA
+/// (`*CONTROL_BULK_VISCOSITY` Q1, Q2) and Autodyn (quadratic and linear viscosity) share:
+/// `q = rho L (C0 L d_v^2 - C1 c d_v)` while compressing (`d_v < 0`), else 0, with `L` the
+/// element length, `c` the wave speed and `d_v` the volumetric strain rate.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BulkViscosity {
+    /// Quadratic coefficient `C0` (LS-DYNA Q1, default 1.5; Autodyn's default 1.0).
+    pub quadratic: f64,
+    /// Linear coefficient `C1` (LS-DYNA Q2, default 0.06; Autodyn's default 0.2).
+    pub linear: f64,
+}
+
+impl Default for BulkViscosity {
+    /// LS-DYNA's defaults, Q1 = 1.5 and Q2 = 0.06.
+    fn default() -> Self {
+        Self {
+            quadratic: 1.5,
+            linear: 0.06,
+        }
+    }
+}
+
+impl BulkViscosity {
+    /// The viscous pressure `q = rho L (C0 L d_v^2 - C1 c d_v)` for `d_v < 0`, else 0.
+    pub fn pressure(
+        &self,
+        density: f64,
+        length: f64,
+        volumetric_rate: f64,
+        wave_speed: f64,
+    ) -> f64 {
+        if volumetric_rate < 0.0 {
+            density
+                * length
+                * (self.quadratic * length * volumetric_rate * volumetric_rate
+                    - self.linear * wave_speed * volumetric_rate)
+        } else {
+            0.0
+        }
+    }
+
+    /// The speed the viscosity adds to the stable-step formula, `Q = C1 c + C0 L |d_v|` while
+    /// compressing, else 0 (LS-DYNA's form).
+    pub fn time_step_speed(&self, length: f64, wave_speed: f64, volumetric_rate: f64) -> f64 {
+        if volumetric_rate < 0.0 {
+            self.linear * wave_speed + self.quadratic * length * volumetric_rate.abs()
+        } else {
+            0.0
+        }
+    }
+}
+
 /// Numerical settings of a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverSettings {
@@ -74,10 +128,8 @@ pub struct SolverSettings {
     /// default [`DEFAULT_TIME_STEP_SAFETY`]). A model with an eroding contact runs at most at
     /// [`ERODING_CONTACT_TIME_STEP_SAFETY`].
     pub time_step_safety: f64,
-    /// Linear bulk-viscosity coefficient (LS-DYNA Q2, default 0.06).
-    pub linear_viscosity: f64,
-    /// Quadratic bulk-viscosity coefficient (LS-DYNA Q1, default 1.5).
-    pub quadratic_viscosity: f64,
+    /// Bulk-viscosity coefficients (LS-DYNA's defaults unless an experiment names others).
+    pub bulk_viscosity: BulkViscosity,
     /// Hourglass coefficient (LS-DYNA QH, default 0.1), of the form `hourglass`.
     pub hourglass_coefficient: f64,
     /// Form of the hourglass control (default viscous).
@@ -139,8 +191,7 @@ impl RunProgress {
 }
 
 impl SolverSettings {
-    /// Bulk-viscosity pressure (compression only, LS-DYNA form):
-    /// `q = rho L (C0 L d_v^2 - C1 c d_v)` for `d_v < 0`, else 0; `L` the element length.
+    /// Bulk-viscosity pressure of an element (see [`BulkViscosity::pressure`]).
     pub fn bulk_viscosity(
         &self,
         density: f64,
@@ -148,14 +199,8 @@ impl SolverSettings {
         volumetric_rate: f64,
         wave_speed: f64,
     ) -> f64 {
-        if volumetric_rate < 0.0 {
-            density
-                * length
-                * (self.quadratic_viscosity * length * volumetric_rate * volumetric_rate
-                    - self.linear_viscosity * wave_speed * volumetric_rate)
-        } else {
-            0.0
-        }
+        self.bulk_viscosity
+            .pressure(density, length, volumetric_rate, wave_speed)
     }
 
     /// The safety factor a model runs at: [`Self::time_step_safety`], at most
@@ -186,12 +231,9 @@ impl SolverSettings {
     /// `L / (Q + sqrt(Q^2 + c^2))`, `Q = C1 c + C0 L |d_v|` while compressing (LS-DYNA's form
     /// with bulk viscosity).
     pub fn stable_time_step(&self, length: f64, wave_speed: f64, volumetric_rate: f64) -> f64 {
-        let q = if volumetric_rate < 0.0 {
-            self.linear_viscosity * wave_speed
-                + self.quadratic_viscosity * length * volumetric_rate.abs()
-        } else {
-            0.0
-        };
+        let q = self
+            .bulk_viscosity
+            .time_step_speed(length, wave_speed, volumetric_rate);
         length / (q + (q * q + wave_speed * wave_speed).sqrt())
     }
 }
@@ -201,8 +243,7 @@ impl Default for SolverSettings {
         Self {
             end_time: 1e-4,
             time_step_safety: DEFAULT_TIME_STEP_SAFETY,
-            linear_viscosity: 0.06,
-            quadratic_viscosity: 1.5,
+            bulk_viscosity: BulkViscosity::default(),
             hourglass_coefficient: 0.1,
             hourglass: HourglassControl::Viscous,
             damping: None,
