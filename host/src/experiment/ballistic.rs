@@ -46,7 +46,9 @@ use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::mesh::QuadMesh;
 use crate::report::plots::{Series, Style};
-use crate::solver::{EnergyBalance, HourglassControl, Snapshot, SolverError, SolverSettings};
+use crate::solver::{
+    BulkViscosity, EnergyBalance, HourglassControl, Snapshot, SolverError, SolverSettings,
+};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -146,6 +148,10 @@ pub struct BallisticLimitSpec {
     /// `"viscous"`).
     #[serde(default = "default_hourglass")]
     pub hourglass: HourglassControl,
+    /// Bulk-viscosity coefficients (as the penetration kind's; absent: LS-DYNA's 1.5 and
+    /// 0.06). Seed 001's Autodyn models used a linear coefficient of 0.2 (its table 4.5).
+    #[serde(default)]
+    pub bulk_viscosity: Option<BulkViscosity>,
     /// Impact velocities of the sweep (m/s, increasing); needed only when the recording asks
     /// for the `ballistic_limit` (shots recorded at fixed velocities are fired at those).
     #[serde(default)]
@@ -272,6 +278,8 @@ impl BallisticLimitSpec {
                 "gap" => "gap",
                 "friction" => "friction",
                 "end_time" => "end_time",
+                "bulk_viscosity.quadratic" => "bulk_viscosity.quadratic",
+                "bulk_viscosity.linear" => "bulk_viscosity.linear",
                 "temperature" => "temperature",
                 _ => "setup",
             }
@@ -307,6 +315,7 @@ impl BallisticLimitSpec {
             self_contact: false,
             rigid_rod: self.projectile_rigid,
             hourglass: self.hourglass,
+            bulk_viscosity: self.bulk_viscosity,
             end_time: self.end_time,
             temperature: self.temperature,
             rod: self.projectile.clone(),

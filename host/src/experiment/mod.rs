@@ -524,6 +524,44 @@ pub(crate) fn check_positive(
     )
 }
 
+/// Largest quadratic bulk-viscosity coefficient an experiment may ask for (LS-DYNA's default is
+/// 1.5, Autodyn's 1.0): beyond it a shock is smeared over many elements.
+pub(crate) const MAXIMUM_QUADRATIC_VISCOSITY: f64 = 4.0;
+
+/// Largest linear bulk-viscosity coefficient an experiment may ask for (LS-DYNA's default is
+/// 0.06, Autodyn's 0.2): at 1 the stable step is already 0.41 of the inviscid one.
+pub(crate) const MAXIMUM_LINEAR_VISCOSITY: f64 = 1.0;
+
+/// Check an experiment's bulk-viscosity coefficients: finite, `0 <= quadratic <=`
+/// [`MAXIMUM_QUADRATIC_VISCOSITY`], `0 <= linear <=` [`MAXIMUM_LINEAR_VISCOSITY`].
+pub(crate) fn check_bulk_viscosity(
+    check: &Check,
+    viscosity: Option<&crate::solver::BulkViscosity>,
+) -> Result<(), InputError> {
+    let Some(viscosity) = viscosity else {
+        return Ok(());
+    };
+    for (field, value, largest) in [
+        (
+            "bulk_viscosity.quadratic",
+            viscosity.quadratic,
+            MAXIMUM_QUADRATIC_VISCOSITY,
+        ),
+        (
+            "bulk_viscosity.linear",
+            viscosity.linear,
+            MAXIMUM_LINEAR_VISCOSITY,
+        ),
+    ] {
+        check(
+            field,
+            (0.0..=largest).contains(&value),
+            &format!("must be in [0, {largest}] (-)"),
+        )?;
+    }
+    Ok(())
+}
+
 /// Largest number of time steps a run may need (estimated at the undeformed stable step).
 pub(crate) const MAXIMUM_STEPS: f64 = 1.0e6;
 

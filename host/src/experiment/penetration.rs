@@ -35,8 +35,8 @@
 
 use super::default_temperature;
 use super::{
-    check_positive, check_run_budget, undeformed_time_step, Check, FieldOutput, Outcome,
-    SimulationError,
+    check_bulk_viscosity, check_positive, check_run_budget, undeformed_time_step, Check,
+    FieldOutput, Outcome, SimulationError,
 };
 use crate::analytic::penetration::{
     tate_history, tate_resistance_estimate, walker_anderson_history, PenetrationSample, RodTarget,
@@ -47,8 +47,8 @@ use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory};
 use crate::mesh::{pointed_rod, PointedRod, QuadMesh};
 use crate::solver::{
-    Amplitude, ErodingContact, ExplicitModel, ExplicitRun, HourglassControl, Snapshot, SolverError,
-    SolverSettings, VelocityConstraint,
+    Amplitude, BulkViscosity, ErodingContact, ExplicitModel, ExplicitRun, HourglassControl,
+    Snapshot, SolverError, SolverSettings, VelocityConstraint,
 };
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -202,6 +202,11 @@ pub struct PenetrationSpec {
     /// or `"stiffness"` (`IHQ = 4`), with the solver's coefficient 0.1.
     #[serde(default = "default_hourglass")]
     pub hourglass: HourglassControl,
+    /// Bulk-viscosity coefficients, `[setup.bulk_viscosity]` with `quadratic` and `linear`
+    /// (LS-DYNA `*CONTROL_BULK_VISCOSITY` Q1 and Q2; Autodyn's quadratic and linear
+    /// viscosity); absent: the run's settings (LS-DYNA's 1.5 and 0.06).
+    #[serde(default)]
+    pub bulk_viscosity: Option<BulkViscosity>,
     /// End of the simulated time after impact (s).
     pub end_time: f64,
     /// Initial temperature (K).
@@ -355,6 +360,7 @@ impl PenetrationSpec {
                  units (m)"
             ),
         )?;
+        check_bulk_viscosity(check, self.bulk_viscosity.as_ref())?;
         check_run_budget(check, self.end_time, self.undeformed_time_step(), elements)
     }
 
@@ -362,18 +368,22 @@ impl PenetrationSpec {
     /// pointed nose, the O-grid's smallest, whose edges are at least a fifth of the rod's
     /// element size) (s).
     fn undeformed_time_step(&self) -> f64 {
+        let viscosity = self
+            .bulk_viscosity
+            .map_or(1.0, |viscosity| viscosity.linear_step_factor());
         if self.rigid_rod {
-            return undeformed_time_step(self.element_size, true);
+            return viscosity * undeformed_time_step(self.element_size, true);
         }
         let tip = if self.nose_length() > 0.0 {
             0.2 * self.rod_element_size()
         } else {
             self.rod_element_size()
         };
-        undeformed_time_step(
-            self.element_size.min(self.rod_element_size()).min(tip),
-            true,
-        )
+        viscosity
+            * undeformed_time_step(
+                self.element_size.min(self.rod_element_size()).min(tip),
+                true,
+            )
     }
 
     /// Rough element count of the mesh (for the size guard).
@@ -562,6 +572,7 @@ impl PenetrationSpec {
             settings: SolverSettings {
                 end_time,
                 hourglass: self.hourglass,
+                bulk_viscosity: self.bulk_viscosity.unwrap_or(settings.bulk_viscosity),
                 damping: None,
                 output_interval: SAMPLING,
                 ..settings.clone()
@@ -944,6 +955,7 @@ mod tests {
             self_contact: false,
             rigid_rod: false,
             hourglass: default_hourglass(),
+            bulk_viscosity: None,
             end_time: 1.0e-6,
             temperature: 298.0,
             rod: None,

@@ -108,6 +108,13 @@ impl BulkViscosity {
         }
     }
 
+    /// The stable step of a compressing element over the inviscid one, from the linear term
+    /// alone: `1 / (C1 + sqrt(C1^2 + 1))` (the quadratic term shortens it further with the
+    /// strain rate).
+    pub fn linear_step_factor(&self) -> f64 {
+        1.0 / (self.linear + (self.linear * self.linear + 1.0).sqrt())
+    }
+
     /// The speed the viscosity adds to the stable-step formula, `Q = C1 c + C0 L |d_v|` while
     /// compressing, else 0 (LS-DYNA's form).
     pub fn time_step_speed(&self, length: f64, wave_speed: f64, volumetric_rate: f64) -> f64 {
