@@ -270,8 +270,12 @@ impl Discretisation for QuadMesh {
             })?;
         // Bulk viscosity (compression only), as a pressure added to the forces.
         let density = material.density() / input.relative_volume;
-        let viscous_pressure =
-            settings.bulk_viscosity(density, new.area.sqrt(), volumetric_rate, output.wave_speed);
+        let viscous_pressure = settings.bulk_viscosity.pressure(
+            density,
+            new.area.sqrt(),
+            volumetric_rate,
+            output.wave_speed,
+        );
         let mid_volume = 0.5 * (state.relative_volume + input.relative_volume) * reference_volume;
         let viscous_work = -viscous_pressure * volumetric_rate * dt * mid_volume;
         let s = next.stress;

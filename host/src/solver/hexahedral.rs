@@ -253,7 +253,7 @@ impl Discretisation for HexMesh {
                 error,
             })?;
         let density = material.density() / input.relative_volume;
-        let viscous_pressure = settings.bulk_viscosity(
+        let viscous_pressure = settings.bulk_viscosity.pressure(
             density,
             libm::cbrt(new.volume),
             volumetric_rate,

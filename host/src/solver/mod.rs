@@ -198,18 +198,6 @@ impl RunProgress {
 }
 
 impl SolverSettings {
-    /// Bulk-viscosity pressure of an element (see [`BulkViscosity::pressure`]).
-    pub fn bulk_viscosity(
-        &self,
-        density: f64,
-        length: f64,
-        volumetric_rate: f64,
-        wave_speed: f64,
-    ) -> f64 {
-        self.bulk_viscosity
-            .pressure(density, length, volumetric_rate, wave_speed)
-    }
-
     /// The safety factor a model runs at: [`Self::time_step_safety`], at most
     /// [`ERODING_CONTACT_TIME_STEP_SAFETY`] with an eroding contact.
     pub fn effective_time_step_safety(&self, eroding_contact: bool) -> f64 {
