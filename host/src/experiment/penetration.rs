@@ -918,7 +918,8 @@ mod tests {
     #[test]
     fn a_tangent_ogive_meets_the_shank_smoothly_and_its_mesh_has_the_profile_volume() {
         // GOAL: the ogive profile is a tangent ogive of the stated caliber radius head, and
-        //       the mapped rod mesh has positive areas and the volume of the blunted profile.
+        //       the mapped rod mesh has positive areas and the volume of the blunted profile;
+        //       the model runs with the experiment's bulk viscosity when it names one.
         // SETUP: D 4 mm, CRH 3 (L_n = D sqrt(CRH - 1/4)), tip radius 0.4 mm, 0.2 mm elements.
         // REFERENCE: tangent ogive geometry: r(0) = 0, r(L_n) = a with zero slope, ogive radius
         //   S = (L_n^2 + a^2) / 2a = CRH D; volume = integral of pi R(y)^2 dy by Simpson's
@@ -1001,5 +1002,22 @@ mod tests {
             (volume / expected - 1.0).abs() < 0.01,
             "mesh volume {volume:e} against {expected:e}"
         );
+        // The experiment's bulk viscosity reaches the run; without one, the caller's does.
+        assert_eq!(
+            built.model.settings.bulk_viscosity,
+            BulkViscosity::default()
+        );
+        let autodyn = BulkViscosity {
+            quadratic: 1.0,
+            linear: 0.2,
+        };
+        let viscous = PenetrationSpec {
+            bulk_viscosity: Some(autodyn),
+            ..spec
+        };
+        let built = viscous
+            .model(&material, &material, &SolverSettings::default())
+            .unwrap();
+        assert_eq!(built.model.settings.bulk_viscosity, autodyn);
     }
 }
