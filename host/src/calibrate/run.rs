@@ -101,11 +101,18 @@ impl ModelResult {
         let error =
             |e: Option<f64>| e.map_or("- (a simulation failed)".into(), |e| format!("{e:.4}"));
         let mut text = format!(
-            "{}: the starting constants score fit error {}, held-out error {}",
+            "{}: the starting constants score fit error {}",
             self.model,
             error(baseline.fit_error),
-            error(baseline.holdout_error)
         );
+        // Without a held-out score for the calibrated constants (nothing held out) there is
+        // nothing to compare the starting constants' with.
+        if self.holdout_error.is_some() {
+            let _ = std::fmt::Write::write_fmt(
+                &mut text,
+                format_args!(", held-out error {}", error(baseline.holdout_error)),
+            );
+        }
         match (baseline.holdout_error, self.holdout_error) {
             (Some(start), Some(fitted)) if start < fitted => {
                 let _ = std::fmt::Write::write_fmt(
