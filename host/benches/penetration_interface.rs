@@ -18,42 +18,19 @@
 //! cavity pressure `2/3 Y (1 + ln(E / (3 (1 - nu) Y)))` (5.0 GPa, 3.45 Y) and Walker &
 //! Anderson's `7/3 Y ln(alpha)` (Walker & Anderson, IJIE 17 (1995) 19-48).
 //!
-//! Run: `cargo bench -p stoss --bench penetration_interface` (about 3 minutes on 2 cores; 7 with
+//! Run: `cargo bench -p stoss --bench penetration_interface` (about 3 minutes on 2 cores; 20 with
 //! `STOSS_FINE=1`). The figures are in docs/solver.md ("Accuracy").
 
-use std::path::PathBuf;
+mod semi_infinite;
+
+use semi_infinite::{perfectly_plastic, shot};
 use std::time::Instant;
-use stoss::experiment::{Experiment, Setup};
-use stoss::input::material::{self, MaterialFile};
 use stoss::measure::interpolate;
 use stoss::solver::SolverSettings;
-use stoss_kernel::material::Heating;
-use stoss_kernel::Material;
-
-/// The material file made elastic-perfectly plastic at `yield_stress` and isothermal.
-fn perfectly_plastic(mut file: MaterialFile, yield_stress: f64) -> Material {
-    for (name, value) in [
-        ("strength.yield_stress", yield_stress),
-        ("strength.hardening_modulus", 0.0),
-        ("strength.rate_sensitivity", 0.0),
-    ] {
-        file.set_constant(name, value).expect("a Johnson-Cook file");
-    }
-    file.heating = Heating::Isothermal;
-    file.material().expect("valid material")
-}
 
 fn main() {
-    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
-    let experiment = Experiment::load(&fixtures.join("experiments/penetration-hzb-1250.toml"))
-        .expect("fixture loads");
-    let Setup::Penetration(base) = &experiment.file.setup else {
-        panic!("not a penetration experiment");
-    };
-    let (target_file, _) = material::load(&experiment.default_material_path().expect("material"))
-        .expect("target loads");
-    let (rod_file, _) = material::load(&fixtures.join("materials/wha-jc.toml")).expect("rod loads");
-    let (rod_density, target_density) = (rod_file.density, target_file.density);
+    let shot = shot();
+    let (rod_density, target_density) = (shot.rod.density, shot.target.density);
     let mut elements = vec![0.4e-3, 0.2e-3];
     if std::env::var_os("STOSS_FINE").is_some() {
         elements.push(0.1e-3);
@@ -72,14 +49,12 @@ fn main() {
     for (label, rod_yield, target_yield) in cases {
         for &element in &elements {
             let started = Instant::now();
-            let mut spec = base.clone();
+            let mut spec = shot.spec.clone();
             spec.element_size = element;
-            spec.target_thickness = 80.0e-3;
-            spec.end_time = 30.0e-6;
             spec.rod = Some(Box::new(
-                perfectly_plastic(rod_file.clone(), rod_yield).into(),
+                perfectly_plastic(shot.rod.clone(), rod_yield, None).into(),
             ));
-            let target = perfectly_plastic(target_file.clone(), target_yield);
+            let target = perfectly_plastic(shot.target.clone(), target_yield, None);
             let settings = SolverSettings {
                 threads: Some(2),
                 ..SolverSettings::default()

@@ -20,33 +20,14 @@
 //! Run: `cargo bench -p stoss --bench penetration_sensitivity` (about 12 minutes on 2 cores).
 //! The figures are in docs/solver.md ("Accuracy").
 
-use std::path::PathBuf;
+mod semi_infinite;
+
+use semi_infinite::{perfectly_plastic, shot};
 use std::time::Instant;
 use stoss::analytic::penetration::depth_at;
-use stoss::experiment::{Experiment, PenetrationSpec, Setup};
-use stoss::input::material::{self, MaterialFile};
+use stoss::experiment::PenetrationSpec;
 use stoss::measure::interpolate;
 use stoss::solver::{BulkViscosity, SolverSettings};
-use stoss_kernel::material::Heating;
-use stoss_kernel::Material;
-
-/// The material file made elastic-perfectly plastic at `yield_stress` and isothermal, its
-/// geometric erosion strain set to `erosion` (elasticity and EoS unchanged).
-fn perfectly_plastic(mut file: MaterialFile, yield_stress: f64, erosion: f64) -> Material {
-    for (name, value) in [
-        ("strength.yield_stress", yield_stress),
-        ("strength.hardening_modulus", 0.0),
-        ("strength.rate_sensitivity", 0.0),
-    ] {
-        file.set_constant(name, value).expect("a Johnson-Cook file");
-    }
-    file.heating = Heating::Isothermal;
-    file.failure
-        .as_mut()
-        .expect("the fixture erodes")
-        .erosion_geometric_strain = Some(erosion);
-    file.material().expect("valid material")
-}
 
 /// One case: what it changes against the default.
 struct Case {
@@ -58,15 +39,7 @@ struct Case {
 }
 
 fn main() {
-    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
-    let experiment = Experiment::load(&fixtures.join("experiments/penetration-hzb-1250.toml"))
-        .expect("fixture loads");
-    let Setup::Penetration(base) = &experiment.file.setup else {
-        panic!("not a penetration experiment");
-    };
-    let (target_file, _) = material::load(&experiment.default_material_path().expect("material"))
-        .expect("target loads");
-    let (rod_file, _) = material::load(&fixtures.join("materials/wha-jc.toml")).expect("rod loads");
+    let shot = shot();
     let same = |_: &mut PenetrationSpec, _: &mut SolverSettings| {};
     let cases = [
         Case {
@@ -177,15 +150,13 @@ fn main() {
     println!("|---|---|---|---|---|");
     for case in &cases {
         let started = Instant::now();
-        let rod = perfectly_plastic(rod_file.clone(), 1.5e9, case.rod_erosion);
-        let target = perfectly_plastic(target_file.clone(), 1.45e9, case.target_erosion);
+        let rod = perfectly_plastic(shot.rod.clone(), 1.5e9, Some(case.rod_erosion));
+        let target = perfectly_plastic(shot.target.clone(), 1.45e9, Some(case.target_erosion));
         let mut ratios = Vec::new();
         for velocity in [1244.0, 1247.0, 1250.0, 1253.0, 1256.0] {
-            let mut spec = base.clone();
+            let mut spec = shot.spec.clone();
             spec.velocity = velocity;
             spec.element_size = case.element;
-            spec.target_thickness = 80.0e-3;
-            spec.end_time = 30.0e-6;
             spec.rod = Some(Box::new(rod.into()));
             let mut settings = SolverSettings {
                 threads: Some(2),
