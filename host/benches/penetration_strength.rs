@@ -18,26 +18,17 @@
 //! Run: `cargo bench -p stoss --bench penetration_strength` (about 2 minutes on 2 cores).
 //! The figures are in docs/solver.md ("Accuracy").
 
-use std::path::PathBuf;
+mod semi_infinite;
+
+use semi_infinite::shot;
 use std::time::Instant;
 use stoss::analytic::penetration::depth_at;
-use stoss::experiment::{Experiment, Setup};
-use stoss::input::material;
 use stoss::measure::interpolate;
 use stoss::solver::SolverSettings;
 
 fn main() {
-    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
-    let path = fixtures.join("experiments/penetration-hzb-1250.toml");
-    let experiment = Experiment::load(&path).expect("fixture loads");
-    let (file, _) = material::load(&experiment.default_material_path().expect("material"))
-        .expect("material loads");
-    let Setup::Penetration(spec) = &experiment.file.setup else {
-        panic!("not a penetration experiment");
-    };
-    let mut spec = spec.clone();
-    spec.target_thickness = 80.0e-3;
-    spec.end_time = 30.0e-6;
+    let shot = shot();
+    let (spec, file) = (shot.spec, shot.target);
     println!(
         "| target A (GPa) | safety | P(10 us) FE / WA (mm) | P(30 us) FE / WA (mm) | rate 10-30 us FE / WA (mm/us) | FE / WA | rod length at 30 us (mm) | largest tolerated exposure / element | energy error | wall (s) |"
     );

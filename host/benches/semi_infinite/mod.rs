@@ -2,6 +2,8 @@
 //! (`fixtures/experiments/penetration-hzb-1250.toml`) into an 80 mm, semi-infinite HzB-W target
 //! to 30 us, with both materials made elastic-perfectly plastic and isothermal so that Tate's
 //! and Walker–Anderson's strengths are the materials' own.
+// Each bench that includes this module uses only part of it.
+#![allow(dead_code)]
 
 use std::path::PathBuf;
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
