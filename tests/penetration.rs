@@ -7,7 +7,7 @@ use stoss::analytic::penetration::walker_anderson_quasi_steady_penetration_veloc
 use stoss::experiment::penetration::Nose;
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
 use stoss::input::material;
-use stoss::solver::{Amplitude, HourglassControl, SolverError, SolverSettings, VelocityConstraint};
+use stoss::solver::{HourglassControl, SolverError, SolverSettings};
 use stoss_kernel::eos::Eos;
 use stoss_kernel::{Material, PartMaterial};
 
@@ -359,19 +359,18 @@ fn driven_rigid_rod(
     if nose == Nose::Ogive {
         spec.nose_length = Some(2.5e-3 * 11f64.sqrt()); // CRH 3
     }
-    spec.rigid_rod = true;
     spec.hourglass = hourglass;
     spec.target_thickness = 40.0e-3;
     spec.target_radius = 30.0e-3;
     spec.end_time = depth / speed;
-    let built = spec
-        .model(
+    let (resistance, run, built) = spec
+        .run_driven(
             &PartMaterial::from(target),
-            spec.rod.as_deref().unwrap(),
             &SolverSettings::default(),
+            1.0e-3,
         )
         .unwrap();
-    let mut model = built.model;
+    let model = built.model;
     let mut rod_nodes: Vec<usize> = built
         .rod_elements
         .iter()
@@ -383,23 +382,6 @@ fn driven_rigid_rod(
         .iter()
         .map(|&n| model.mesh.nodes[n][1])
         .fold(f64::INFINITY, f64::min);
-    model.constraints.push(VelocityConstraint {
-        nodes: rod_nodes.clone(),
-        dof: 1,
-        velocity: Amplitude::constant(-speed),
-    });
-    let drive = model.constraints.len() - 1;
-    let run = model.run(&mut |_, _| {}).unwrap();
-    let mut resistance = Vec::new();
-    let (mut sum, mut count, mut from) = (0.0, 0, 0.0);
-    for &(time, force) in &run.constraint_forces[drive] {
-        sum += force;
-        count += 1;
-        if time - from >= 1.0e-3 / speed {
-            resistance.push((speed * time - tip, -sum / count as f64));
-            (sum, count, from) = (0.0, 0, time);
-        }
-    }
     // Live target nodes inside the rod's cylinder, behind its nose.
     let shank = tip - speed * run.energy().time + spec.nose_length.unwrap_or(0.0);
     let mut live = vec![false; run.positions.len()];

@@ -675,6 +675,62 @@ impl PenetrationSpec {
         Ok((result, run, built))
     }
 
+    /// A constant-velocity penetration: the rod, made rigid, is pushed at the striking
+    /// velocity for the whole run, and the target's axial resistance is read off the drive's
+    /// reaction. This is the set-up of cavity-expansion resistance checks (Forrestal, Okajima &
+    /// Luk, J. Appl. Mech. 55 (1988) 755): the target's side of a penetration without the
+    /// rod's. Returns the resistance `(nose depth, force)` averaged over every `window` of
+    /// travel (m), the run and the model.
+    pub fn run_driven(
+        &self,
+        target: &PartMaterial,
+        settings: &SolverSettings,
+        window: f64,
+    ) -> Result<(Vec<(f64, f64)>, ExplicitRun, PenetrationModel), SolverError> {
+        let rod = self.rod.as_deref().copied().ok_or_else(|| {
+            SolverError::Model(format!(
+                "the rod material `{}` was not loaded",
+                self.rod_material
+            ))
+        })?;
+        let speed = self.velocity;
+        let driven = Self {
+            rigid_rod: true,
+            ..self.clone()
+        };
+        let mut built = driven.model(target, &rod, settings)?;
+        let model = &mut built.model;
+        let mut rod_nodes: Vec<usize> = built
+            .rod_elements
+            .iter()
+            .flat_map(|&e| model.mesh.elements[e])
+            .collect();
+        rod_nodes.sort_unstable();
+        rod_nodes.dedup();
+        let tip = rod_nodes
+            .iter()
+            .map(|&n| model.mesh.nodes[n][1])
+            .fold(f64::INFINITY, f64::min);
+        model.constraints.push(VelocityConstraint {
+            nodes: rod_nodes,
+            dof: 1,
+            velocity: Amplitude::constant(-speed),
+        });
+        let drive = model.constraints.len() - 1;
+        let run = model.run(&mut |_, _| {})?;
+        let mut resistance = Vec::new();
+        let (mut sum, mut count, mut from) = (0.0, 0, 0.0);
+        for &(time, force) in &run.constraint_forces[drive] {
+            sum += force;
+            count += 1;
+            if time - from >= window / speed {
+                resistance.push((speed * time - tip, -sum / f64::from(count)));
+                (sum, count, from) = (0.0, 0, time);
+            }
+        }
+        Ok((resistance, run, built))
+    }
+
     pub(super) fn simulate(
         &self,
         material: &PartMaterial,
