@@ -24,8 +24,11 @@
 //!   at a constant `u` (`PenetrationSpec::run_driven`) into the same target (1.45 GPa, eroding
 //!   at its 150 % geometric strain); the mean face pressure over 10-14 mm against Forrestal's
 //!   `sigma_s + N* B rho u^2` (`N*` = 1/2 for a hemisphere, `B` 1 to 3/2; Forrestal, Okajima &
-//!   Luk, J. Appl. Mech. 55 (1988) 755), and the rate a Bernoulli rod at the striking velocity
-//!   would reach against that face pressure.
+//!   Luk, J. Appl. Mech. 55 (1988) 755). With the FE's own `B` and Hill's `sigma_s`, the
+//!   pressure at the nose's apex, where the normal velocity is `u`, is `sigma_s + B rho u^2`:
+//!   the rate a Bernoulli rod at the striking velocity would reach against that centreline
+//!   pressure is the target's side of Tate's balance alone, for comparison with
+//!   Walker–Anderson's rate (380 m/s for this near-fluid rod).
 //! - **The rod on a rigid wall.** The near-fluid rod against the target made a rigid body: a
 //!   jet on a wall, whose force in the steady state is the momentum flux `rho_p A v^2` (the
 //!   rod's material leaves along the wall). The force is the rod's momentum loss from 10 to
@@ -134,13 +137,13 @@ fn target_under_a_rigid_nose(shot: &Shot, elements: &[f64]) {
         * (1.0 + (young / (3.0 * (1.0 - poisson) * TARGET_YIELD)).ln());
     let rod_density = shot.rod.density;
     println!(
-        "Target under a rigid hemisphere: Hill's sigma_s = {:.2} GPa; a Bernoulli rod at the striking {:.0} m/s (a near-fluid rod does not slow) against the FE face pressure",
+        "Target under a rigid hemisphere: Hill's sigma_s = {:.2} GPa; a Bernoulli rod at the striking {:.0} m/s (a near-fluid rod does not slow) against the centreline pressure",
         hill / 1e9, shot.spec.velocity
     );
     println!(
-        "| u (m/s) | element | FE face pressure (GPa) | Forrestal, B 1 to 3/2 (GPa) | (FE - rho u^2 / 2) / sigma_s | Bernoulli rod's rate against it (m/s) | wall (s) |"
+        "| u (m/s) | element | FE face pressure (GPa) | Forrestal, B 1 to 3/2 (GPa) | (FE - rho u^2 / 2) / sigma_s | B = (FE - sigma_s) / (rho u^2 / 2) | Bernoulli rod's rate against sigma_s + B rho u^2 (m/s) | wall (s) |"
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
     for speed in [380.0, 455.0, 520.0] {
         for &element in elements {
             let started = Instant::now();
@@ -166,15 +169,17 @@ fn target_under_a_rigid_nose(shot: &Shot, elements: &[f64]) {
                 .collect();
             let face = late.iter().sum::<f64>() / late.len() as f64;
             let inertia = 0.5 * target.density * speed * speed;
-            // The rate u' at which 1/2 rho_p (v - u')^2 = face pressure (its own inertia term
-            // taken at u' by scaling: sigma_s + k rho_t u'^2 / 2 with k from this run).
+            // The FE's dynamic coefficient B in the mean face pressure sigma_s + B rho u^2 / 2
+            // (N* = 1/2); at the nose's apex, where the normal velocity is u, cavity-expansion
+            // theory's pressure is sigma_s + B rho u^2. The rate u' at which a Bernoulli rod's
+            // stagnation pressure 1/2 rho_p (v - u')^2 meets that centreline pressure.
             let k = (face - hill) / inertia;
             let v = shot.spec.velocity;
             let (mut low, mut high) = (0.0, v);
             for _ in 0..60 {
                 let u = 0.5 * (low + high);
                 let rod_side = 0.5 * rod_density * (v - u).powi(2);
-                let target_side = hill + k * 0.5 * target.density * u * u;
+                let target_side = hill + k * target.density * u * u;
                 if rod_side > target_side {
                     low = u;
                 } else {
@@ -182,7 +187,7 @@ fn target_under_a_rigid_nose(shot: &Shot, elements: &[f64]) {
                 }
             }
             println!(
-                "| {speed:.0} | {:.1} mm | {:.2} | {:.2}-{:.2} | {:.3} | {:.0} | {:.0} |",
+                "| {speed:.0} | {:.1} mm | {:.2} | {:.2}-{:.2} | {:.3} | {k:.2} | {:.0} | {:.0} |",
                 element * 1e3,
                 face / 1e9,
                 (hill + inertia) / 1e9,
