@@ -363,13 +363,14 @@ fn driven_rigid_rod(
     spec.target_thickness = 40.0e-3;
     spec.target_radius = 30.0e-3;
     spec.end_time = depth / speed;
-    let (resistance, run, built) = spec
+    let driven = spec
         .run_driven(
             &PartMaterial::from(target),
             &SolverSettings::default(),
             1.0e-3,
         )
         .unwrap();
+    let (resistance, run, built) = (driven.resistance, driven.run, driven.model);
     let model = built.model;
     let mut rod_nodes: Vec<usize> = built
         .rod_elements

@@ -132,9 +132,8 @@ fn target_under_a_rigid_nose(shot: &Shot, elements: &[f64]) {
         )
     };
     let (young, poisson) = young;
-    let hill = 2.0 / 3.0
-        * TARGET_YIELD
-        * (1.0 + (young / (3.0 * (1.0 - poisson) * TARGET_YIELD)).ln());
+    let hill =
+        2.0 / 3.0 * TARGET_YIELD * (1.0 + (young / (3.0 * (1.0 - poisson) * TARGET_YIELD)).ln());
     let rod_density = shot.rod.density;
     println!(
         "Target under a rigid hemisphere: Hill's sigma_s = {:.2} GPa; a Bernoulli rod at the striking {:.0} m/s (a near-fluid rod does not slow) against the centreline pressure",
@@ -156,13 +155,13 @@ fn target_under_a_rigid_nose(shot: &Shot, elements: &[f64]) {
             spec.rod = Some(Box::new(
                 perfectly_plastic(shot.rod.clone(), NEAR_FLUID, None).into(),
             ));
-            let outcome =
-                spec.run_driven(&PartMaterial::from(target), &settings(), 1.0e-3);
-            let Ok((resistance, _, _)) = outcome else {
+            let outcome = spec.run_driven(&PartMaterial::from(target), &settings(), 1.0e-3);
+            let Ok(driven) = outcome else {
                 println!("| {speed:.0} | {:.1} mm | failed |", element * 1e3);
                 continue;
             };
-            let late: Vec<f64> = resistance
+            let late: Vec<f64> = driven
+                .resistance
                 .iter()
                 .filter(|(depth, _)| *depth >= 10.0e-3)
                 .map(|(_, force)| force / area)
@@ -269,7 +268,11 @@ fn rod_on_a_rigid_wall(shot: &Shot, elements: &[f64]) {
             let initial: f64 = rod_nodes.iter().map(|&n| mass[n]).sum::<f64>() * spec.velocity;
             println!(
                 "| {} | {:.1} mm | {:.3} | {:.2} | {:.3} | {:.0} |",
-                if self_contact { "single surface" } else { "two-way (default)" },
+                if self_contact {
+                    "single surface"
+                } else {
+                    "two-way (default)"
+                },
                 element * 1e3,
                 force / flux,
                 eroded_mass * 1e3,

@@ -247,6 +247,17 @@ pub struct PenetrationModel {
     pub smallest_element: f64,
 }
 
+/// A constant-velocity penetration ([`PenetrationSpec::run_driven`]).
+pub struct DrivenPenetration {
+    /// The target's mean axial resistance `(nose depth (m), force (N))` over each window of
+    /// travel.
+    pub resistance: Vec<(f64, f64)>,
+    /// The run.
+    pub run: ExplicitRun,
+    /// The model, its rod made rigid and driven.
+    pub model: PenetrationModel,
+}
+
 impl PenetrationSpec {
     pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
         let positive =
@@ -679,14 +690,13 @@ impl PenetrationSpec {
     /// velocity for the whole run, and the target's axial resistance is read off the drive's
     /// reaction. This is the set-up of cavity-expansion resistance checks (Forrestal, Okajima &
     /// Luk, J. Appl. Mech. 55 (1988) 755): the target's side of a penetration without the
-    /// rod's. Returns the resistance `(nose depth, force)` averaged over every `window` of
-    /// travel (m), the run and the model.
+    /// rod's. The resistance is averaged over every `window` of travel (m).
     pub fn run_driven(
         &self,
         target: &PartMaterial,
         settings: &SolverSettings,
         window: f64,
-    ) -> Result<(Vec<(f64, f64)>, ExplicitRun, PenetrationModel), SolverError> {
+    ) -> Result<DrivenPenetration, SolverError> {
         let rod = self.rod.as_deref().copied().ok_or_else(|| {
             SolverError::Model(format!(
                 "the rod material `{}` was not loaded",
@@ -728,7 +738,11 @@ impl PenetrationSpec {
                 (sum, count, from) = (0.0, 0, time);
             }
         }
-        Ok((resistance, run, built))
+        Ok(DrivenPenetration {
+            resistance,
+            run,
+            model: built,
+        })
     }
 
     pub(super) fn simulate(
