@@ -371,18 +371,9 @@ fn driven_rigid_rod(
         )
         .unwrap();
     let (resistance, run, built) = (driven.resistance, driven.run, driven.model);
+    let rod_nodes = built.rod_nodes();
+    let tip = built.rod_tip();
     let model = built.model;
-    let mut rod_nodes: Vec<usize> = built
-        .rod_elements
-        .iter()
-        .flat_map(|&e| model.mesh.elements[e])
-        .collect();
-    rod_nodes.sort_unstable();
-    rod_nodes.dedup();
-    let tip = rod_nodes
-        .iter()
-        .map(|&n| model.mesh.nodes[n][1])
-        .fold(f64::INFINITY, f64::min);
     // Live target nodes inside the rod's cylinder, behind its nose.
     let shank = tip - speed * run.energy().time + spec.nose_length.unwrap_or(0.0);
     let mut live = vec![false; run.positions.len()];

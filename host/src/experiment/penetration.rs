@@ -258,6 +258,28 @@ pub struct DrivenPenetration {
     pub model: PenetrationModel,
 }
 
+impl PenetrationModel {
+    /// The rod's nodes, in increasing order.
+    pub fn rod_nodes(&self) -> Vec<usize> {
+        let mut nodes: Vec<usize> = self
+            .rod_elements
+            .iter()
+            .flat_map(|&e| self.model.mesh.elements[e])
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+
+    /// Axial position of the rod's tip in the reference configuration (m).
+    pub fn rod_tip(&self) -> f64 {
+        self.rod_nodes()
+            .iter()
+            .map(|&n| self.model.mesh.nodes[n][1])
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
 impl PenetrationSpec {
     pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
         let positive =
@@ -709,18 +731,9 @@ impl PenetrationSpec {
             ..self.clone()
         };
         let mut built = driven.model(target, &rod, settings)?;
+        let rod_nodes = built.rod_nodes();
+        let tip = built.rod_tip();
         let model = &mut built.model;
-        let mut rod_nodes: Vec<usize> = built
-            .rod_elements
-            .iter()
-            .flat_map(|&e| model.mesh.elements[e])
-            .collect();
-        rod_nodes.sort_unstable();
-        rod_nodes.dedup();
-        let tip = rod_nodes
-            .iter()
-            .map(|&n| model.mesh.nodes[n][1])
-            .fold(f64::INFINITY, f64::min);
         model.constraints.push(VelocityConstraint {
             nodes: rod_nodes,
             dof: 1,
