@@ -496,3 +496,20 @@ fn a_rigid_blunt_nose_at_the_eroding_rods_rate_meets_forrestals_dynamic_resistan
     );
     assert!(run.energy().error_percent().abs() <= 1.0);
 }
+
+#[test]
+fn a_driven_run_refuses_a_runaway_size_before_it_starts() {
+    // GOAL: a spec edited in code gets the same up-front size checks as a file.
+    // SETUP: the seed experiment's spec with a 1 um element (about 1e11 elements), and with a
+    //        zero averaging window.
+    // REFERENCE: an error naming the field, returned without running.
+    let (_, mut spec, _) = seed_experiment();
+    let target = PartMaterial::from(perfectly_plastic("hzb-w-jc.toml", 1.5e9));
+    let settings = SolverSettings::default();
+    spec.element_size = 1.0e-6;
+    let error = spec.run_driven(&target, &settings, 1.0e-3).err().unwrap();
+    assert!(error.to_string().contains("element_size"), "{error}");
+    let (_, spec, _) = seed_experiment();
+    let error = spec.run_driven(&target, &settings, 0.0).err().unwrap();
+    assert!(error.to_string().contains("window"), "{error}");
+}

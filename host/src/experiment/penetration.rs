@@ -712,7 +712,9 @@ impl PenetrationSpec {
     /// velocity for the whole run, and the target's axial resistance is read off the drive's
     /// reaction. This is the set-up of cavity-expansion resistance checks (Forrestal, Okajima &
     /// Luk, J. Appl. Mech. 55 (1988) 755): the target's side of a penetration without the
-    /// rod's. The resistance is averaged over every `window` of travel (m).
+    /// rod's. The resistance is averaged over every `window` of travel (m). The spec is
+    /// checked first as a file's would be (sizes, run budget), so that a spec edited in code
+    /// is refused with the field named instead of running away.
     pub fn run_driven(
         &self,
         target: &PartMaterial,
@@ -730,6 +732,21 @@ impl PenetrationSpec {
             rigid_rod: true,
             ..self.clone()
         };
+        let check = |field: &str, ok: bool, message: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(InputError::Field {
+                    path: "driven penetration".into(),
+                    line: None,
+                    field: field.into(),
+                    message: message.into(),
+                })
+            }
+        };
+        check_positive(&check, "window", window, "m")
+            .and_then(|()| driven.validate(&check))
+            .map_err(|error| SolverError::Model(error.to_string()))?;
         let mut built = driven.model(target, &rod, settings)?;
         let rod_nodes = built.rod_nodes();
         let tip = built.rod_tip();
