@@ -3,7 +3,9 @@
 //! penetration` (docs/solver.md), not here.
 
 use std::path::{Path, PathBuf};
-use stoss::analytic::penetration::walker_anderson_quasi_steady_penetration_velocity;
+use stoss::analytic::penetration::{
+    spherical_cavity_pressure, walker_anderson_quasi_steady_penetration_velocity,
+};
 use stoss::experiment::penetration::Nose;
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
 use stoss::input::material;
@@ -394,18 +396,14 @@ fn driven_rigid_rod(
 }
 
 /// Forrestal's static resistance of a penetrator of radius `a` into an elastic-perfectly
-/// plastic target, `pi a^2 sigma_s`, with Hill's spherical cavity pressure
-/// `sigma_s = 2/3 Y [1 + ln(E / (3 (1 - nu) Y))]` (the target's E and nu from its K and G).
+/// plastic target, `pi a^2 sigma_s`, with Hill's spherical cavity pressure (the target's
+/// moduli, its yield stress 1.5 GPa).
 fn cavity_expansion_resistance(target: &Material, radius: f64) -> f64 {
     let Eos::MieGruneisen(eos) = target.eos else {
         panic!("the HzB-W file has a Mie-Grüneisen EoS");
     };
     let bulk = eos.reference_density * eos.sound_speed * eos.sound_speed;
-    let shear = target.shear_modulus;
-    let young = 9.0 * bulk * shear / (3.0 * bulk + shear);
-    let poisson = (3.0 * bulk - 2.0 * shear) / (2.0 * (3.0 * bulk + shear));
-    let strength = 1.5e9;
-    let hill = 2.0 / 3.0 * strength * (1.0 + (young / (3.0 * (1.0 - poisson) * strength)).ln());
+    let hill = spherical_cavity_pressure(1.5e9, bulk, target.shear_modulus);
     std::f64::consts::PI * radius * radius * hill
 }
 

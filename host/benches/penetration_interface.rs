@@ -43,6 +43,7 @@ use semi_infinite::{perfectly_plastic, shot, Shot};
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
 use std::time::Instant;
+use stoss::analytic::penetration::spherical_cavity_pressure;
 use stoss::experiment::penetration::Nose;
 use stoss::measure::interpolate;
 use stoss::solver::{Discretisation, SolverSettings};
@@ -120,20 +121,11 @@ fn target_under_a_rigid_nose(shot: &Shot, elements: &[f64]) {
     let target = perfectly_plastic(shot.target.clone(), TARGET_YIELD, None);
     let radius = 0.5 * shot.spec.rod_diameter;
     let area = PI * radius * radius;
-    let young = {
-        let stoss_kernel::eos::Eos::MieGruneisen(eos) = target.eos else {
-            panic!("the HzB-W file has a Mie-Grüneisen EoS");
-        };
-        let bulk = eos.reference_density * eos.sound_speed * eos.sound_speed;
-        let shear = target.shear_modulus;
-        (
-            9.0 * bulk * shear / (3.0 * bulk + shear),
-            (3.0 * bulk - 2.0 * shear) / (2.0 * (3.0 * bulk + shear)),
-        )
+    let stoss_kernel::eos::Eos::MieGruneisen(eos) = target.eos else {
+        panic!("the HzB-W file has a Mie-Grüneisen EoS");
     };
-    let (young, poisson) = young;
-    let hill =
-        2.0 / 3.0 * TARGET_YIELD * (1.0 + (young / (3.0 * (1.0 - poisson) * TARGET_YIELD)).ln());
+    let bulk = eos.reference_density * eos.sound_speed * eos.sound_speed;
+    let hill = spherical_cavity_pressure(TARGET_YIELD, bulk, target.shear_modulus);
     let rod_density = shot.rod.density;
     println!(
         "Target under a rigid hemisphere: Hill's sigma_s = {:.2} GPa; a Bernoulli rod at the striking {:.0} m/s (a near-fluid rod does not slow) against the centreline pressure",

@@ -472,6 +472,20 @@ pub fn tate_history(
 }
 
 // ------------------------------------------------------------------------------------------
+// Cavity expansion.
+
+/// Hill's quasi-static pressure to expand a spherical cavity from zero radius in an
+/// elastic-perfectly plastic solid, `sigma_s = 2/3 Y [1 + ln(E / (3 (1 - nu) Y))]` (Hill, The
+/// Mathematical Theory of Plasticity, 1950; Forrestal's static term), with `E` and `nu` from
+/// the bulk and shear moduli (Pa).
+pub fn spherical_cavity_pressure(yield_stress: f64, bulk_modulus: f64, shear_modulus: f64) -> f64 {
+    let young = 9.0 * bulk_modulus * shear_modulus / (3.0 * bulk_modulus + shear_modulus);
+    let poisson =
+        (3.0 * bulk_modulus - 2.0 * shear_modulus) / (2.0 * (3.0 * bulk_modulus + shear_modulus));
+    2.0 / 3.0 * yield_stress * (1.0 + libm::log(young / (3.0 * (1.0 - poisson) * yield_stress)))
+}
+
+// ------------------------------------------------------------------------------------------
 // Walker–Anderson.
 
 /// Crater radius of the `awcsc` code's `CalcAW` default: R = Rp (1 + 2.87e-4 V0 + 1.48e-7 V0²)
@@ -1287,5 +1301,16 @@ mod tests {
         }
         .to_string();
         assert_eq!(text, "rod density must be positive, got 0");
+    }
+
+    #[test]
+    fn hills_spherical_cavity_pressure_is_four_thirds_y_when_the_logarithm_is_one() {
+        // GOAL: the moduli reach Hill's formula as E and nu.
+        // SETUP: Y 1, nu 0.25 and E = 3 (1 - nu) Y e, i.e. K = E / (3 (1 - 2 nu)) = 1.5 e and
+        //        G = E / (2 (1 + nu)) = 0.9 e, so that ln(E / (3 (1 - nu) Y)) = 1.
+        // REFERENCE: sigma_s = 2/3 Y (1 + 1) = 4/3.
+        let e = core::f64::consts::E;
+        let pressure = spherical_cavity_pressure(1.0, 1.5 * e, 0.9 * e);
+        assert!((pressure - 4.0 / 3.0).abs() < 1e-12, "{pressure}");
     }
 }
