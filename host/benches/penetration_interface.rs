@@ -34,6 +34,12 @@
 //!   rod's material leaves along the wall). The force is the rod's momentum loss from 10 to
 //!   28 us, its eroded mass included; the eroded material leaving backwards is the excess.
 //!
+//! A fourth takes the eroding interface whole (near-fluid or strong rod, strong target): the
+//! force on the rod over 10-30 us (its momentum loss, eroded mass included), the radius `R` of
+//! its head (the widest live rod node within one rod radius of the nose), the force per unit
+//! head area `F / (pi R^2)` against Forrestal's face pressure at the FE's rate, and the final
+//! axial velocity `w` of the eroded rod material from `F = Y_p A + rho_p A (v - u) (v - w)`.
+//!
 //! Run: `cargo bench -p stoss --bench penetration_interface` (about 5 minutes on 2 cores; 25
 //! with `STOSS_FINE=1`). The figures are in docs/solver.md ("Accuracy").
 
@@ -44,10 +50,10 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 use std::time::Instant;
 use stoss::analytic::penetration::spherical_cavity_pressure;
-use stoss::experiment::penetration::Nose;
+use stoss::experiment::penetration::{Nose, PenetrationModel};
 use stoss::measure::interpolate;
 use stoss::solver::{Discretisation, SolverSettings};
-use stoss_kernel::PartMaterial;
+use stoss_kernel::{Material, PartMaterial};
 
 const NEAR_FLUID: f64 = 0.02e9;
 const TARGET_YIELD: f64 = 1.45e9;
@@ -113,6 +119,8 @@ fn main() {
     target_under_a_rigid_nose(&shot, &elements);
     println!();
     rod_on_a_rigid_wall(&shot, &elements);
+    println!();
+    eroding_rod_momentum(&shot, &elements);
 }
 
 /// The first one-sided table: the target's face pressure under a rigid hemisphere pushed at
@@ -121,11 +129,7 @@ fn target_under_a_rigid_nose(shot: &Shot, elements: &[f64]) {
     let target = perfectly_plastic(shot.target.clone(), TARGET_YIELD, None);
     let radius = 0.5 * shot.spec.rod_diameter;
     let area = PI * radius * radius;
-    let stoss_kernel::eos::Eos::MieGruneisen(eos) = target.eos else {
-        panic!("the HzB-W file has a Mie-Grüneisen EoS");
-    };
-    let bulk = eos.reference_density * eos.sound_speed * eos.sound_speed;
-    let hill = spherical_cavity_pressure(TARGET_YIELD, bulk, target.shear_modulus);
+    let hill = static_cavity_pressure(&target);
     let rod_density = shot.rod.density;
     println!(
         "Target under a rigid hemisphere: Hill's sigma_s = {:.2} GPa; a Bernoulli rod at the striking {:.0} m/s (a near-fluid rod does not slow) against the centreline pressure",
@@ -191,6 +195,29 @@ fn target_under_a_rigid_nose(shot: &Shot, elements: &[f64]) {
     }
 }
 
+/// Hill's static spherical-cavity pressure of the perfectly plastic target (Pa).
+fn static_cavity_pressure(target: &Material) -> f64 {
+    let stoss_kernel::eos::Eos::MieGruneisen(eos) = target.eos else {
+        panic!("the HzB-W file has a Mie-Grüneisen EoS");
+    };
+    let bulk = eos.reference_density * eos.sound_speed * eos.sound_speed;
+    spherical_cavity_pressure(TARGET_YIELD, bulk, target.shear_modulus)
+}
+
+/// The rod's lumped nodal masses (whole ring, kg; zero off the rod) and its nodes.
+fn rod_masses(built: &PenetrationModel, density: f64) -> (Vec<f64>, Vec<usize>) {
+    let mesh = &built.model.mesh;
+    let reference = mesh.reference_positions();
+    let mut mass = vec![0.0; reference.len()];
+    for &e in &built.rod_elements {
+        let volume = mesh.element_volume(e, &reference);
+        for &n in mesh.element_nodes(e) {
+            mass[n] += 2.0 * PI * density * volume / 4.0;
+        }
+    }
+    (mass, built.rod_nodes())
+}
+
 /// The second one-sided table: the near-fluid rod on the target made rigid, a jet on a wall.
 fn rod_on_a_rigid_wall(shot: &Shot, elements: &[f64]) {
     println!(
@@ -215,17 +242,7 @@ fn rod_on_a_rigid_wall(shot: &Shot, elements: &[f64]) {
             };
             built.model.rigid_parts = vec![0];
             let mesh = &built.model.mesh;
-            let reference = mesh.reference_positions();
-            let mut mass = vec![0.0; reference.len()];
-            let mut in_rod = vec![false; reference.len()];
-            for &e in &built.rod_elements {
-                let volume = mesh.element_volume(e, &reference);
-                for &n in mesh.element_nodes(e) {
-                    mass[n] += 2.0 * PI * rod.density * volume / 4.0;
-                    in_rod[n] = true;
-                }
-            }
-            let rod_nodes: Vec<usize> = (0..mass.len()).filter(|&n| in_rod[n]).collect();
+            let (mass, rod_nodes) = rod_masses(&built, rod.density);
             let (start, end) = (built.impact_time + 10.0e-6, built.impact_time + 28.0e-6);
             let mut momentum: Vec<(f64, f64)> = Vec::new();
             let outcome = built.model.run_observed(&mut |snapshot| {
@@ -269,6 +286,104 @@ fn rod_on_a_rigid_wall(shot: &Shot, elements: &[f64]) {
                 force / flux,
                 eroded_mass * 1e3,
                 backward / initial,
+                started.elapsed().as_secs_f64()
+            );
+        }
+    }
+}
+
+/// The eroding interface as a whole: the force the target exerts on the rod (its momentum
+/// loss, eroded mass included), the radius of the rod's head, and the force per unit head
+/// area against the face pressure a rigid nose meets at the same rate (Forrestal's
+/// `sigma_s + N* B rho u^2`). The eroded rod material's final axial velocity `w` follows from
+/// the rod's momentum balance `F = Y_p A + m' (v - w)`, with `m' = rho_p A (v - u)` the
+/// erosion rate: `w = 0` is material left at rest on the crater wall.
+fn eroding_rod_momentum(shot: &Shot, elements: &[f64]) {
+    let target = perfectly_plastic(shot.target.clone(), TARGET_YIELD, None);
+    let hill = static_cavity_pressure(&target);
+    let radius = 0.5 * shot.spec.rod_diameter;
+    let area = PI * radius * radius;
+    println!(
+        "The eroding rod as a whole, 10-30 us: force on the rod F (its momentum loss), head radius R (widest live rod node within one rod radius of the nose)"
+    );
+    println!(
+        "| rod | element | u (m/s) | v (m/s) | F (kN) | R (mm) | F / (pi R^2) (GPa) | Forrestal at u, B 1 to 3/2 (GPa) | eroded rod's final velocity w (m/s) | wall (s) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for (label, rod_yield) in [("near-fluid", NEAR_FLUID), ("strong", 1.5e9)] {
+        for &element in elements {
+            let started = Instant::now();
+            let mut spec = shot.spec.clone();
+            spec.element_size = element;
+            let rod = perfectly_plastic(shot.rod.clone(), rod_yield, None);
+            let Ok(built) = spec.model(&target.into(), &rod.into(), &settings()) else {
+                println!("| {label} | {:.1} mm | failed to build |", element * 1e3);
+                continue;
+            };
+            let (mass, rod_nodes) = rod_masses(&built, rod.density);
+            let mesh = &built.model.mesh;
+            let (start, end) = (built.impact_time + 10.0e-6, built.impact_time + 30.0e-6);
+            // Per snapshot: time, rod momentum, rod mass-averaged live velocity, nose, head.
+            let mut history: Vec<[f64; 5]> = Vec::new();
+            let outcome = built.model.run_observed(&mut |snapshot| {
+                let momentum: f64 = rod_nodes
+                    .iter()
+                    .map(|&n| mass[n] * snapshot.velocities[n][1])
+                    .sum();
+                let live = built
+                    .rod_elements
+                    .iter()
+                    .filter(|&&e| !snapshot.eroded[e])
+                    .flat_map(|&e| mesh.element_nodes(e).iter().copied());
+                let nose = live
+                    .clone()
+                    .map(|n| snapshot.positions[n][1])
+                    .fold(f64::INFINITY, f64::min);
+                let (mut head, mut live_mass, mut live_momentum) = (0.0f64, 0.0, 0.0);
+                for n in live {
+                    let p = snapshot.positions[n];
+                    if p[1] < nose + radius {
+                        head = head.max(p[0]);
+                    }
+                    live_mass += mass[n];
+                    live_momentum += mass[n] * snapshot.velocities[n][1];
+                }
+                let velocity = if live_mass > 0.0 {
+                    -live_momentum / live_mass
+                } else {
+                    0.0
+                };
+                history.push([snapshot.time, momentum, velocity, nose, head]);
+                ControlFlow::Continue(())
+            });
+            if outcome.is_err() {
+                println!("| {label} | {:.1} mm | failed |", element * 1e3);
+                continue;
+            }
+            let column =
+                |k: usize| -> Vec<(f64, f64)> { history.iter().map(|h| (h[0], h[k])).collect() };
+            let (momentum, velocity, nose) = (column(1), column(2), column(3));
+            let force =
+                (interpolate(&momentum, end) - interpolate(&momentum, start)) / (end - start);
+            let u = (interpolate(&nose, start) - interpolate(&nose, end)) / (end - start);
+            let v = 0.5 * (interpolate(&velocity, start) + interpolate(&velocity, end));
+            let window: Vec<f64> = history
+                .iter()
+                .filter(|h| h[0] >= start && h[0] <= end)
+                .map(|h| h[4])
+                .collect();
+            let head = window.iter().sum::<f64>() / window.len() as f64;
+            let inertia = 0.5 * target.density * u * u;
+            let erosion_rate = rod.density * area * (v - u);
+            let w = v - (force - rod_yield * area) / erosion_rate;
+            println!(
+                "| {label} | {:.1} mm | {u:.0} | {v:.0} | {:.0} | {:.2} | {:.2} | {:.2}-{:.2} | {w:.0} | {:.0} |",
+                element * 1e3,
+                force / 1e3,
+                head * 1e3,
+                force / (PI * head * head) / 1e9,
+                (hill + inertia) / 1e9,
+                (hill + 1.5 * inertia) / 1e9,
                 started.elapsed().as_secs_f64()
             );
         }
