@@ -280,6 +280,23 @@ impl PenetrationModel {
     }
 }
 
+/// The check of a spec built in code rather than read from a file: the error names `what`
+/// and the field, without a line.
+fn in_code(what: &str) -> impl Fn(&str, bool, &str) -> Result<(), InputError> + '_ {
+    move |field, ok, message| {
+        if ok {
+            Ok(())
+        } else {
+            Err(InputError::Field {
+                path: what.into(),
+                line: None,
+                field: field.into(),
+                message: message.into(),
+            })
+        }
+    }
+}
+
 impl PenetrationSpec {
     pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
         let positive =
@@ -536,6 +553,10 @@ impl PenetrationSpec {
         rod: &PartMaterial,
         settings: &SolverSettings,
     ) -> Result<PenetrationModel, SolverError> {
+        // Every run path builds here, so a spec edited in code gets a file's up-front checks
+        // (sizes, run budget) and is refused with the field named instead of running away.
+        self.validate(&in_code("penetration spec"))
+            .map_err(|error| SolverError::Model(error.to_string()))?;
         let h = self.element_size;
         let radius = 0.5 * self.rod_diameter;
         let thickness = self.target_thickness;
@@ -712,9 +733,8 @@ impl PenetrationSpec {
     /// velocity for the whole run, and the target's axial resistance is read off the drive's
     /// reaction. This is the set-up of cavity-expansion resistance checks (Forrestal, Okajima &
     /// Luk, J. Appl. Mech. 55 (1988) 755): the target's side of a penetration without the
-    /// rod's. The resistance is averaged over every `window` of travel (m). The spec is
-    /// checked first as a file's would be (sizes, run budget), so that a spec edited in code
-    /// is refused with the field named instead of running away.
+    /// rod's. The resistance is averaged over every `window` of travel (m). The spec and
+    /// the window are checked before anything runs ([`Self::model`]).
     pub fn run_driven(
         &self,
         target: &PartMaterial,
@@ -732,20 +752,7 @@ impl PenetrationSpec {
             rigid_rod: true,
             ..self.clone()
         };
-        let check = |field: &str, ok: bool, message: &str| {
-            if ok {
-                Ok(())
-            } else {
-                Err(InputError::Field {
-                    path: "driven penetration".into(),
-                    line: None,
-                    field: field.into(),
-                    message: message.into(),
-                })
-            }
-        };
-        check_positive(&check, "window", window, "m")
-            .and_then(|()| driven.validate(&check))
+        check_positive(&in_code("driven penetration"), "window", window, "m")
             .map_err(|error| SolverError::Model(error.to_string()))?;
         let mut built = driven.model(target, &rod, settings)?;
         let rod_nodes = built.rod_nodes();
