@@ -8,6 +8,7 @@ pub mod blast;
 pub mod calibrate;
 pub mod cli;
 pub mod diagnose;
+pub mod euler;
 pub mod experiment;
 pub mod hash;
 pub mod history;

@@ -302,6 +302,7 @@ impl BallisticLimitSpec {
             target_thickness: self.plate_thickness,
             target_radius: self.plate_radius,
             target_rim: self.plate_rim,
+            solver: super::penetration::PenetrationSolver::Lagrange,
             element_size: self.element_size,
             rod_element_size: Some(self.projectile_element_size),
             nose: self.nose,

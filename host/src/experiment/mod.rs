@@ -258,6 +258,9 @@ pub enum SimulationError {
     /// The kernel driver failed.
     #[error(transparent)]
     Driver(stoss_kernel::drivers::DriverError),
+    /// The Eulerian solver failed.
+    #[error(transparent)]
+    Euler(#[from] crate::euler::EulerError),
     /// The material's model family is not one this experiment kind can use.
     #[error("a {kind} experiment needs {needs} material, not {given}")]
     Family {

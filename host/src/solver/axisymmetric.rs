@@ -70,7 +70,7 @@ fn geometry(p: [Vector; 4]) -> Geometry {
 }
 
 /// Jaumann rotation of the stress over one step with in-plane spin `w = (dv_r/dz - dv_z/dr)/2`.
-fn rotate_jaumann(stress: &mut [f64; 6], spin: f64, dt: f64) {
+pub(crate) fn rotate_jaumann(stress: &mut [f64; 6], spin: f64, dt: f64) {
     let (rr, zz, rz) = (stress[0], stress[1], stress[3]);
     let wdt = spin * dt;
     stress[0] = rr + 2.0 * wdt * rz;

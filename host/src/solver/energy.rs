@@ -19,6 +19,9 @@ pub struct EnergyBalance {
     pub damping: f64,
     /// Internal and kinetic energy carried away by eroded elements.
     pub eroded: f64,
+    /// Kinetic energy dissipated by an Eulerian run's remap of nodal momentum (0 in
+    /// Lagrangian runs; [`crate::euler`]).
+    pub remap: f64,
     /// Work done on the model by prescribed velocities.
     pub external_work: f64,
     /// Total energy at the start.
@@ -26,7 +29,7 @@ pub struct EnergyBalance {
 }
 
 impl EnergyBalance {
-    /// `kinetic + internal + hourglass + viscous + contact + damping + eroded`.
+    /// `kinetic + internal + hourglass + viscous + contact + damping + eroded + remap`.
     pub fn total(&self) -> f64 {
         self.kinetic
             + self.internal
@@ -35,6 +38,7 @@ impl EnergyBalance {
             + self.contact
             + self.damping
             + self.eroded
+            + self.remap
     }
 
     /// Energy error in percent: `(total - initial - external work) / reference`, with the
@@ -46,8 +50,13 @@ impl EnergyBalance {
 
     /// A human-readable report.
     pub fn report(&self) -> String {
+        let remap = if self.remap != 0.0 {
+            format!("\n  remap        {:>14.6e}", self.remap)
+        } else {
+            String::new()
+        };
         format!(
-            "energy balance at t = {:.4e} s (J)\n  kinetic      {:>14.6e}\n  internal     {:>14.6e}\n  hourglass    {:>14.6e}\n  viscous      {:>14.6e}\n  contact      {:>14.6e}\n  damping      {:>14.6e}\n  eroded       {:>14.6e}\n  external     {:>14.6e}\n  initial      {:>14.6e}\n  energy error {:>+13.3}%",
+            "energy balance at t = {:.4e} s (J)\n  kinetic      {:>14.6e}\n  internal     {:>14.6e}\n  hourglass    {:>14.6e}\n  viscous      {:>14.6e}\n  contact      {:>14.6e}\n  damping      {:>14.6e}\n  eroded       {:>14.6e}{}\n  external     {:>14.6e}\n  initial      {:>14.6e}\n  energy error {:>+13.3}%",
             self.time,
             self.kinetic,
             self.internal,
@@ -56,6 +65,7 @@ impl EnergyBalance {
             self.contact,
             self.damping,
             self.eroded,
+            remap,
             self.external_work,
             self.initial,
             self.error_percent()

@@ -33,6 +33,8 @@
 //! - Tracked states (seed 000 sec. 5): the target elements of two columns, one on the axis and
 //!   one at the rod's outer radius, at up to 24 depths each.
 
+pub mod euler;
+
 use super::default_temperature;
 use super::{
     check_bulk_viscosity, check_positive, check_run_budget, undeformed_time_step, Check,
@@ -71,6 +73,17 @@ const MAXIMUM_ELEMENTS: f64 = 2.0e6;
 
 /// Tracked target elements per column, at most.
 const TRACKED_PER_COLUMN: usize = 24;
+
+/// The solver a penetration runs on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PenetrationSolver {
+    /// The eroding Lagrangian model ([`crate::solver`], eroding contact).
+    #[default]
+    Lagrange,
+    /// The multi-material Eulerian model ([`crate::euler`]; [`euler`]).
+    Euler,
+}
 
 /// Boundary condition of the target's outer rim.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -153,6 +166,11 @@ pub struct PenetrationSpec {
     /// Rim condition.
     #[serde(default)]
     pub target_rim: Rim,
+    /// The solver: `"lagrange"` (eroding Lagrangian) or `"euler"` (multi-material Eulerian;
+    /// `element_size` is then its cell size, and the Lagrangian mesh and contact fields are
+    /// not used).
+    #[serde(default)]
+    pub solver: PenetrationSolver,
     /// Element edge in the rod and the cavity zone (m): 0.4 mm for calibration, 0.2 mm as in
     /// seed 000.
     #[serde(default = "default_element_size")]
@@ -788,6 +806,9 @@ impl PenetrationSpec {
         settings: &SolverSettings,
         recording: &[RecordedPoint],
     ) -> Result<Outcome, SimulationError> {
+        if self.solver == PenetrationSolver::Euler {
+            return self.simulate_euler(material, settings, recording);
+        }
         let (result, run, built) = self.run(material, settings)?;
         let predicted = recording
             .iter()
@@ -1050,6 +1071,7 @@ mod tests {
             target_thickness: 10.0e-3,
             target_radius: 20.0e-3,
             target_rim: Rim::Clamped,
+            solver: PenetrationSolver::Lagrange,
             element_size: 0.2e-3,
             rod_element_size: None,
             nose: Nose::Ogive,

@@ -1,0 +1,729 @@
+//! A multi-material Eulerian solver for solids with strength on a fixed 2D grid, axisymmetric
+//! `(r, z)` or planar: the Lagrange-plus-remap scheme of CTH (McGlaun, Thompson & Elrick,
+//! IJIE 10 (1990) 351), PAGOSA and Autodyn-Euler, as surveyed by Benson, CMAME 99 (1992) 235.
+//! The method, its references, its verification table and its validation are in
+//! docs/euler.md.
+//!
+//! Each cycle:
+//! 1. **Lagrange step** ([`lagrange`]) on the grid's rectangles: staggered velocities at the
+//!    nodes, stresses at the cells; the nodal forces of the one-point axisymmetric quad
+//!    (volume-weighted, as the Lagrangian solver's, `crate::solver::axisymmetric`), viscous
+//!    hourglass control and linear + quadratic bulk viscosity; the velocities advance, and the
+//!    strain increments and each face's swept volume follow from them. The volume change of a
+//!    mixed cell is shared among its materials by the closure of [`closure`]; **every material
+//!    update goes through the kernel** (any [`PointModel`]: J2 metals, RHT, K&C).
+//! 2. **Remap** ([`remap`]): the same swept volumes, directionally split (the order alternates
+//!    each cycle), carry each material's volume, mass and state (internal energy, stress,
+//!    plastic strain and rate, temperature, damage, EoS history) between cells; each
+//!    material's share of a face's volume is cut from the donor cell by Youngs' PLIC
+//!    interface with nested dissection ([`interface`]); nodal momentum moves with the cell mass
+//!    fluxes averaged onto the nodal control volumes (consistent with the nodal masses, so
+//!    momentum is conserved exactly), with van Leer's limited upwind velocity.
+//!
+//! Void is a phase of its own (the last, without mass): free surfaces and the crater are its
+//! interfaces. Erosion is not needed; failed material (damage 1) carries no shear and no
+//! tension.
+//!
+//! Cells and nodes are updated in parallel with no reductions other than exact maxima and
+//! sums in a fixed order, so results do not depend on the thread count.
+
+pub mod closure;
+pub mod interface;
+pub mod lagrange;
+pub mod remap;
+
+use crate::blast::euler::{Geometry, Grid};
+use crate::solver::BulkViscosity;
+use stoss_kernel::{MaterialState, PointModel, StepInput};
+
+/// Most materials a model may hold (besides void).
+pub const MAX_MATERIALS: usize = 3;
+
+/// Phases of a cell: the materials and void.
+pub const MAX_PHASES: usize = MAX_MATERIALS + 1;
+
+/// Volume fraction below which a material does not take part in a cell's Lagrange step (its
+/// state is carried unchanged) and above `1 -` which a cell counts as pure.
+pub const ACTIVE_FRACTION: f64 = 1e-6;
+
+/// Why the Eulerian solver stopped.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EulerError {
+    /// The set-up is not valid (named field).
+    #[error("Eulerian solver set-up: {0}")]
+    Setup(String),
+    /// The kernel refused a material's update.
+    #[error(
+        "Eulerian solver: the {material} material in cell ({i}, {j}) at r = {r:.4e} m, \
+         z = {z:.4e} m, t = {time:.4e} s, relative volume V/V0 = {relative_volume:.4}: {error}"
+    )]
+    Update {
+        /// Material name.
+        material: String,
+        /// Cell column.
+        i: usize,
+        /// Cell row.
+        j: usize,
+        /// Cell centre (m).
+        r: f64,
+        /// Cell centre (m).
+        z: f64,
+        /// Time (s).
+        time: f64,
+        /// `V/V0` the step asked for.
+        relative_volume: f64,
+        /// The kernel's error.
+        #[source]
+        error: stoss_kernel::UpdateError,
+    },
+    /// A cell's state or a node's velocity became non-finite.
+    #[error(
+        "Eulerian solver: cell ({i}, {j}) holding {materials} became non-finite at \
+         t = {time:.4e} s"
+    )]
+    NonFinite {
+        /// Cell column.
+        i: usize,
+        /// Cell row.
+        j: usize,
+        /// The materials in the cell.
+        materials: String,
+        /// Time (s).
+        time: f64,
+    },
+    /// The time step collapsed.
+    #[error("Eulerian solver: time step collapsed to {time_step:.3e} s at t = {time:.4e} s")]
+    TimeStepCollapse {
+        /// Time (s).
+        time: f64,
+        /// Time step (s).
+        time_step: f64,
+    },
+}
+
+/// What a grid edge does to the material next to it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wall {
+    /// Both velocity components zero (a clamped rim).
+    Fixed,
+    /// Normal velocity zero, tangential free (a symmetry plane, a frictionless wall).
+    Slip,
+}
+
+/// The outer edges of the grid (`r = 0` is the axis in axisymmetric grids, a slip wall in
+/// planar ones).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Walls {
+    /// `r = cells_r spacing_r`.
+    pub outer: Wall,
+    /// The lowest edge.
+    pub bottom: Wall,
+    /// The highest edge.
+    pub top: Wall,
+}
+
+/// Numerical settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EulerSettings {
+    /// Courant number on `min(h) / (c + |v|)` (default 0.5).
+    pub courant: f64,
+    /// Bulk viscosity (LS-DYNA's 1.5 / 0.06 by default).
+    pub bulk_viscosity: BulkViscosity,
+    /// Viscous hourglass coefficient (LS-DYNA QH, default 0.1).
+    pub hourglass_coefficient: f64,
+    /// Worker threads (`None`: rayon's default). Results do not depend on it.
+    pub threads: Option<usize>,
+    /// Smallest time step accepted before the run stops (s).
+    pub minimum_time_step: f64,
+}
+
+impl Default for EulerSettings {
+    fn default() -> Self {
+        Self {
+            courant: 0.5,
+            bulk_viscosity: BulkViscosity::default(),
+            hourglass_coefficient: 0.1,
+            threads: None,
+            minimum_time_step: 1e-14,
+        }
+    }
+}
+
+/// A region of the initial state: where a material sits and how it moves.
+pub struct Region<'a> {
+    /// Index into the model's materials.
+    pub material: usize,
+    /// `true` for the points `(r, z)` inside it. Earlier regions win where two overlap.
+    pub inside: &'a dyn Fn([f64; 2]) -> bool,
+    /// Initial velocity `(v_r, v_z)` (m/s).
+    pub velocity: [f64; 2],
+    /// Initial temperature (K).
+    pub temperature: f64,
+}
+
+/// A material of the model.
+#[derive(Clone, Debug)]
+pub struct EulerMaterial<P> {
+    /// Name (for messages and output).
+    pub name: String,
+    /// The constitutive model (any kernel model).
+    pub model: P,
+}
+
+/// The energy booked by an Eulerian run, per the whole body (J, 2 pi per radian).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EulerEnergy {
+    /// Kinetic energy of the nodes.
+    pub kinetic: f64,
+    /// Internal energy of every material.
+    pub internal: f64,
+    /// Work of the bulk viscosity (dissipated, not added to the internal energy).
+    pub viscous: f64,
+    /// Work of the hourglass control.
+    pub hourglass: f64,
+    /// Kinetic energy lost by the remap of nodal momentum (its numerical dissipation).
+    pub remap: f64,
+    /// Kinetic energy the walls' constraints removed (nonzero only where material meets a
+    /// wall).
+    pub walls: f64,
+    /// Total at the start.
+    pub initial: f64,
+}
+
+impl EulerEnergy {
+    /// Relative energy error `(K + I + viscous + hourglass + remap + walls - initial) /
+    /// initial`.
+    pub fn relative_error(&self) -> f64 {
+        (self.kinetic + self.internal + self.viscous + self.hourglass + self.remap + self.walls
+            - self.initial)
+            / self.initial.abs().max(f64::MIN_POSITIVE)
+    }
+}
+
+/// The state of an Eulerian calculation.
+#[derive(Clone, Debug)]
+pub struct EulerSolver<P> {
+    /// The grid (its lower-left corner at `(0, origin_z)`).
+    pub grid: Grid,
+    /// `z` of the grid's lowest edge (m).
+    pub origin_z: f64,
+    /// The edges.
+    pub walls: Walls,
+    /// The materials.
+    pub materials: Vec<EulerMaterial<P>>,
+    /// Settings.
+    pub settings: EulerSettings,
+    /// Phase volumes per cell (per radian in axisymmetric grids, per unit depth in planar
+    /// ones), `cell * MAX_PHASES + phase`, void last (`MAX_PHASES - 1`).
+    pub volume: Vec<f64>,
+    /// Material masses per cell, `cell * MAX_MATERIALS + material`.
+    pub mass: Vec<f64>,
+    /// Material states per cell, `cell * MAX_MATERIALS + material`.
+    pub state: Vec<MaterialState>,
+    /// Each material's last longitudinal wave speed per cell (m/s).
+    pub wave_speed: Vec<f64>,
+    /// Bulk-viscosity pressure of each cell from the last step (Pa).
+    pub viscous_pressure: Vec<f64>,
+    /// Nodal velocities `(v_r, v_z)`, node `(i, j)` at `j (cells_r + 1) + i`.
+    pub velocity: Vec<[f64; 2]>,
+    /// Time (s).
+    pub time: f64,
+    /// Cycles taken.
+    pub cycles: u64,
+    /// Energy booking.
+    pub energy: EulerEnergy,
+    /// Material-cell updates done by the kernel (for performance figures).
+    pub material_updates: u64,
+}
+
+impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
+    /// A solver on `grid` (lowest edge at `origin_z`) holding `regions` of `materials`,
+    /// void elsewhere. Each cell's phase volumes are sampled on a 16 x 16 sub-grid
+    /// (volume-weighted in `r`).
+    pub fn new(
+        grid: Grid,
+        origin_z: f64,
+        walls: Walls,
+        materials: Vec<EulerMaterial<P>>,
+        regions: &[Region<'_>],
+        settings: EulerSettings,
+    ) -> Result<Self, EulerError> {
+        check_setup(&grid, origin_z, &materials, regions, &settings)?;
+        let cells = grid.cell_count();
+        let nodes = (grid.cells_r + 1) * (grid.cells_z + 1);
+        let mut solver = Self {
+            grid,
+            origin_z,
+            walls,
+            settings,
+            volume: vec![0.0; cells * MAX_PHASES],
+            mass: vec![0.0; cells * MAX_MATERIALS],
+            state: vec![MaterialState::initial(293.0); cells * MAX_MATERIALS],
+            wave_speed: vec![0.0; cells * MAX_MATERIALS],
+            viscous_pressure: vec![0.0; cells],
+            velocity: vec![[0.0; 2]; nodes],
+            time: 0.0,
+            cycles: 0,
+            energy: EulerEnergy::default(),
+            material_updates: 0,
+            materials,
+        };
+        solver.fill(regions)?;
+        solver.energy.initial = solver.kinetic_energy() + solver.internal_energy();
+        solver.energy.kinetic = solver.kinetic_energy();
+        solver.energy.internal = solver.internal_energy();
+        Ok(solver)
+    }
+
+    /// Number of nodes along `r`.
+    pub fn nodes_r(&self) -> usize {
+        self.grid.cells_r + 1
+    }
+
+    /// Whether the grid is axisymmetric.
+    pub fn axisymmetric(&self) -> bool {
+        self.grid.geometry == Geometry::Axisymmetric
+    }
+
+    /// The volume weight of radius `r`: `r` (axisymmetric, per radian) or 1 (planar).
+    pub fn weight(&self, r: f64) -> f64 {
+        if self.axisymmetric() {
+            r
+        } else {
+            1.0
+        }
+    }
+
+    /// Volume of a cell of column `i`.
+    pub fn cell_volume(&self, i: usize) -> f64 {
+        self.grid.spacing_r
+            * self.grid.spacing_z
+            * self.weight((i as f64 + 0.5) * self.grid.spacing_r)
+    }
+
+    /// Lower-left corner of cell `(i, j)`.
+    pub fn corner(&self, i: usize, j: usize) -> [f64; 2] {
+        [
+            i as f64 * self.grid.spacing_r,
+            self.origin_z + j as f64 * self.grid.spacing_z,
+        ]
+    }
+
+    /// Volume fraction of `phase` in cell `c` (of the cell's current total).
+    pub fn fraction(&self, c: usize, phase: usize) -> f64 {
+        let v = &self.volume[c * MAX_PHASES..(c + 1) * MAX_PHASES];
+        let total: f64 = v.iter().sum();
+        if total > 0.0 {
+            v[phase] / total
+        } else {
+            0.0
+        }
+    }
+
+    /// Kinetic energy of the nodes (J, whole body).
+    pub fn kinetic_energy(&self) -> f64 {
+        let masses = self.node_masses();
+        let sum: f64 = masses
+            .iter()
+            .zip(&self.velocity)
+            .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
+            .sum();
+        sum * self.body_factor()
+    }
+
+    /// Internal energy of every material (J, whole body).
+    pub fn internal_energy(&self) -> f64 {
+        let mut sum = 0.0;
+        for c in 0..self.grid.cell_count() {
+            for (k, material) in self.materials.iter().enumerate() {
+                let m = self.mass[c * MAX_MATERIALS + k];
+                if m > 0.0 {
+                    sum += m / material.model.density()
+                        * self.state[c * MAX_MATERIALS + k].internal_energy;
+                }
+            }
+        }
+        sum * self.body_factor()
+    }
+
+    /// Total mass of `material` (kg, whole body).
+    pub fn material_mass(&self, material: usize) -> f64 {
+        (0..self.grid.cell_count())
+            .map(|c| self.mass[c * MAX_MATERIALS + material])
+            .sum::<f64>()
+            * self.body_factor()
+    }
+
+    /// Total volume of `phase` (m^3, whole body).
+    pub fn phase_volume(&self, phase: usize) -> f64 {
+        (0..self.grid.cell_count())
+            .map(|c| self.volume[c * MAX_PHASES + phase])
+            .sum::<f64>()
+            * self.body_factor()
+    }
+
+    /// Momentum of the nodes `(p_r, p_z)` (per radian or unit depth).
+    pub fn momentum(&self) -> [f64; 2] {
+        let masses = self.node_masses();
+        let mut p = [0.0; 2];
+        for (m, v) in masses.iter().zip(&self.velocity) {
+            p[0] += m * v[0];
+            p[1] += m * v[1];
+        }
+        p
+    }
+
+    /// `2 pi` for axisymmetric grids (quantities are kept per radian), 1 for planar ones.
+    pub fn body_factor(&self) -> f64 {
+        if self.axisymmetric() {
+            2.0 * std::f64::consts::PI
+        } else {
+            1.0
+        }
+    }
+
+    /// Lumped nodal masses: a quarter of each adjacent cell's mass.
+    pub fn node_masses(&self) -> Vec<f64> {
+        let nr = self.nodes_r();
+        let cells_r = self.grid.cells_r;
+        let cells_z = self.grid.cells_z;
+        let cell_mass: Vec<f64> = (0..self.grid.cell_count())
+            .map(|c| {
+                self.mass[c * MAX_MATERIALS..(c + 1) * MAX_MATERIALS]
+                    .iter()
+                    .sum()
+            })
+            .collect();
+        (0..nr * (cells_z + 1))
+            .map(|n| {
+                let (i, j) = (n % nr, n / nr);
+                let mut m = 0.0;
+                for (ci, cj) in [
+                    (i.wrapping_sub(1), j.wrapping_sub(1)),
+                    (i, j.wrapping_sub(1)),
+                    (i.wrapping_sub(1), j),
+                    (i, j),
+                ] {
+                    if ci < cells_r && cj < cells_z {
+                        m += cell_mass[cj * cells_r + ci];
+                    }
+                }
+                0.25 * m
+            })
+            .collect()
+    }
+
+    /// Phase volumes, masses, states and nodal velocities of the initial regions.
+    fn fill(&mut self, regions: &[Region<'_>]) -> Result<(), EulerError> {
+        const SUB: usize = 16;
+        let (hr, hz) = (self.grid.spacing_r, self.grid.spacing_z);
+        let cells_r = self.grid.cells_r;
+        let nr = self.nodes_r();
+        let mut momentum = vec![[0.0; 2]; self.velocity.len()];
+        let mut node_mass = vec![0.0; self.velocity.len()];
+        for j in 0..self.grid.cells_z {
+            for i in 0..cells_r {
+                let c = j * cells_r + i;
+                let corner = self.corner(i, j);
+                let mut share = [0.0; MAX_PHASES];
+                let mut region_share = vec![0.0; regions.len()];
+                for a in 0..SUB {
+                    for b in 0..SUB {
+                        let p = [
+                            corner[0] + (a as f64 + 0.5) * hr / SUB as f64,
+                            corner[1] + (b as f64 + 0.5) * hz / SUB as f64,
+                        ];
+                        let w = self.weight(p[0]);
+                        match regions.iter().position(|region| (region.inside)(p)) {
+                            Some(k) => {
+                                share[regions[k].material] += w;
+                                region_share[k] += w;
+                            }
+                            None => share[MAX_PHASES - 1] += w,
+                        }
+                    }
+                }
+                let total: f64 = share.iter().sum();
+                let volume = self.cell_volume(i);
+                for (phase, s) in share.iter().enumerate() {
+                    self.volume[c * MAX_PHASES + phase] = volume * s / total;
+                }
+                let corners = [
+                    j * nr + i,
+                    j * nr + i + 1,
+                    (j + 1) * nr + i,
+                    (j + 1) * nr + i + 1,
+                ];
+                for (k, region) in regions.iter().enumerate() {
+                    if region_share[k] == 0.0 {
+                        continue;
+                    }
+                    let model = &self.materials[region.material].model;
+                    let m = model.density() * volume * region_share[k] / total;
+                    let slot = c * MAX_MATERIALS + region.material;
+                    self.mass[slot] += m;
+                    let mut state = model.initial_state(region.temperature);
+                    state.relative_volume = 1.0;
+                    self.state[slot] = state;
+                    for &n in &corners {
+                        node_mass[n] += 0.25 * m;
+                        momentum[n][0] += 0.25 * m * region.velocity[0];
+                        momentum[n][1] += 0.25 * m * region.velocity[1];
+                    }
+                }
+                for k in 0..self.materials.len() {
+                    let slot = c * MAX_MATERIALS + k;
+                    if self.mass[slot] > 0.0 {
+                        self.wave_speed[slot] =
+                            rest_wave_speed(&self.materials[k], &self.state[slot])?;
+                    }
+                }
+            }
+        }
+        for (n, v) in self.velocity.iter_mut().enumerate() {
+            if node_mass[n] > 0.0 {
+                *v = [momentum[n][0] / node_mass[n], momentum[n][1] / node_mass[n]];
+            }
+        }
+        lagrange::apply_walls(self);
+        Ok(())
+    }
+
+    /// Advance one cycle; returns the time step taken.
+    pub fn step(&mut self) -> Result<f64, EulerError> {
+        let dt = self.stable_time_step();
+        if !(dt >= self.settings.minimum_time_step) {
+            return Err(EulerError::TimeStepCollapse {
+                time: self.time,
+                time_step: dt,
+            });
+        }
+        let fluxes = lagrange::step(self, dt)?;
+        let kinetic_before = self.kinetic_energy();
+        remap::remap(self, &fluxes, dt);
+        let kinetic_after = self.kinetic_energy();
+        self.energy.remap += kinetic_before - kinetic_after;
+        self.time += dt;
+        self.cycles += 1;
+        self.energy.kinetic = kinetic_after;
+        self.energy.internal = self.internal_energy();
+        self.check_finite()?;
+        Ok(dt)
+    }
+
+    /// Run until `end_time`, calling `observe` after every cycle whose time crossed a
+    /// multiple of `interval` (and at the start); `observe` may stop the run early.
+    pub fn run(
+        &mut self,
+        end_time: f64,
+        interval: f64,
+        observe: &mut (dyn FnMut(&Self) -> std::ops::ControlFlow<()> + Send),
+    ) -> Result<(), EulerError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.settings.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| EulerError::Setup(format!("thread pool: {e}")))?;
+        pool.install(|| {
+            if observe(self).is_break() {
+                return Ok(());
+            }
+            let mut next_output = interval;
+            while self.time < end_time {
+                self.step()?;
+                if self.time >= next_output || self.time >= end_time {
+                    while next_output <= self.time {
+                        next_output += interval;
+                    }
+                    if observe(self).is_break() {
+                        break;
+                    }
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// `courant * min(h) / (c + |v|)` over cells holding material.
+    pub fn stable_time_step(&self) -> f64 {
+        use rayon::prelude::*;
+        let h = self.grid.spacing_r.min(self.grid.spacing_z);
+        let cells_r = self.grid.cells_r;
+        let nr = self.nodes_r();
+        let largest = (0..self.grid.cell_count())
+            .into_par_iter()
+            .map(|c| {
+                let (i, j) = (c % cells_r, c / cells_r);
+                let mut c_max = 0.0_f64;
+                for k in 0..self.materials.len() {
+                    if self.mass[c * MAX_MATERIALS + k] > 0.0 {
+                        c_max = c_max.max(self.wave_speed[c * MAX_MATERIALS + k]);
+                    }
+                }
+                if c_max == 0.0 {
+                    return 0.0;
+                }
+                let mut v_max = 0.0_f64;
+                for n in [
+                    j * nr + i,
+                    j * nr + i + 1,
+                    (j + 1) * nr + i,
+                    (j + 1) * nr + i + 1,
+                ] {
+                    let v = self.velocity[n];
+                    v_max = v_max.max(v[0].abs()).max(v[1].abs());
+                }
+                c_max + v_max
+            })
+            .reduce(|| 0.0, f64::max);
+        if largest > 0.0 {
+            self.settings.courant * h / largest
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    fn check_finite(&self) -> Result<(), EulerError> {
+        let cells_r = self.grid.cells_r;
+        for c in 0..self.grid.cell_count() {
+            let bad = (0..self.materials.len()).any(|k| {
+                let s = &self.state[c * MAX_MATERIALS + k];
+                !(self.mass[c * MAX_MATERIALS + k].is_finite() && s.is_finite())
+            }) || !self.volume[c * MAX_PHASES..(c + 1) * MAX_PHASES]
+                .iter()
+                .all(|v| v.is_finite());
+            if bad {
+                return Err(self.non_finite(c % cells_r, c / cells_r));
+            }
+        }
+        let nr = self.nodes_r();
+        if let Some(n) = self
+            .velocity
+            .iter()
+            .position(|v| !(v[0].is_finite() && v[1].is_finite()))
+        {
+            let (i, j) = (
+                (n % nr).min(cells_r - 1),
+                (n / nr).min(self.grid.cells_z - 1),
+            );
+            return Err(self.non_finite(i, j));
+        }
+        Ok(())
+    }
+
+    fn non_finite(&self, i: usize, j: usize) -> EulerError {
+        let c = j * self.grid.cells_r + i;
+        let names: Vec<&str> = self
+            .materials
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| self.mass[c * MAX_MATERIALS + k] != 0.0)
+            .map(|(_, m)| m.name.as_str())
+            .collect();
+        EulerError::NonFinite {
+            i,
+            j,
+            materials: if names.is_empty() {
+                "void".into()
+            } else {
+                names.join(", ")
+            },
+            time: self.time,
+        }
+    }
+}
+
+/// The longitudinal wave speed of a material at rest in `state` (one zero-strain kernel
+/// step).
+fn rest_wave_speed<P: PointModel>(
+    material: &EulerMaterial<P>,
+    state: &MaterialState,
+) -> Result<f64, EulerError> {
+    let mut probe = *state;
+    material
+        .model
+        .update(
+            &mut probe,
+            &StepInput {
+                strain_increment: [0.0; 6],
+                dt: 1e-9,
+                relative_volume: state.relative_volume,
+            },
+        )
+        .map(|output| output.wave_speed)
+        .map_err(|error| EulerError::Update {
+            material: material.name.clone(),
+            i: 0,
+            j: 0,
+            r: 0.0,
+            z: 0.0,
+            time: 0.0,
+            relative_volume: state.relative_volume,
+            error,
+        })
+}
+
+fn check_setup<P: PointModel>(
+    grid: &Grid,
+    origin_z: f64,
+    materials: &[EulerMaterial<P>],
+    regions: &[Region<'_>],
+    settings: &EulerSettings,
+) -> Result<(), EulerError> {
+    let setup = |message: String| Err(EulerError::Setup(message));
+    if grid.cells_r < 2 || grid.cells_z < 2 {
+        return setup(format!(
+            "the grid needs at least 2 x 2 cells (has {} x {})",
+            grid.cells_r, grid.cells_z
+        ));
+    }
+    if !(grid.spacing_r > 0.0 && grid.spacing_z > 0.0)
+        || !grid.spacing_r.is_finite()
+        || !grid.spacing_z.is_finite()
+        || !origin_z.is_finite()
+    {
+        return setup(format!(
+            "cell sizes must be finite and positive (spacing_r {:e} m, spacing_z {:e} m)",
+            grid.spacing_r, grid.spacing_z
+        ));
+    }
+    if materials.is_empty() || materials.len() > MAX_MATERIALS {
+        return setup(format!(
+            "a model holds 1 to {MAX_MATERIALS} materials (has {})",
+            materials.len()
+        ));
+    }
+    for material in materials {
+        material
+            .model
+            .validate()
+            .map_err(|e| EulerError::Setup(format!("material {}: {e}", material.name)))?;
+    }
+    for region in regions {
+        if region.material >= materials.len() {
+            return setup(format!(
+                "a region names material {} of {}",
+                region.material,
+                materials.len()
+            ));
+        }
+        if !(region.velocity[0].is_finite() && region.velocity[1].is_finite()) {
+            return setup("a region's velocity is not finite".into());
+        }
+        if !(region.temperature > 0.0 && region.temperature.is_finite()) {
+            return setup(format!(
+                "a region's temperature must be positive (is {} K)",
+                region.temperature
+            ));
+        }
+    }
+    if !(settings.courant > 0.0 && settings.courant <= 1.0) {
+        return setup(format!(
+            "the Courant number must be in (0, 1] (is {})",
+            settings.courant
+        ));
+    }
+    if !(settings.hourglass_coefficient >= 0.0 && settings.hourglass_coefficient.is_finite()) {
+        return setup("the hourglass coefficient must be finite and non-negative".into());
+    }
+    Ok(())
+}

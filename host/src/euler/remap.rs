@@ -1,0 +1,611 @@
+//! The remap of the Eulerian cycle: the material the Lagrange step moved across the fixed
+//! faces is carried back, one direction at a time (Strang-like alternation: `r` then `z` on
+//! even cycles, `z` then `r` on odd ones).
+//!
+//! - **Cell-centred**: a face's swept volume is cut from its donor (upwind) cell as the strip
+//!   next to the face holding that share of the donor's volume; each phase's part of it is the
+//!   strip clipped against the phase's region of the donor's PLIC reconstruction
+//!   ([`super::interface`]), scaled so the phases' parts sum to the swept volume. Mass moves
+//!   with the donor material's density; internal energy, stress, plastic strain and its rate,
+//!   temperature, damage and EoS history move with the mass (mass-weighted averages, donor
+//!   values: first order within a material; the interfaces are second order through PLIC).
+//! - **Node-centred momentum** (Benson 1992 sec. 5.3): each nodal control volume exchanges
+//!   with its neighbour along the sweep the quarter-sums of the four cell faces' mass fluxes it
+//!   straddles, which change the nodal masses exactly as the cell masses change; the velocity
+//!   carried is the donor node's with van Leer's limited slope. Momentum is conserved exactly;
+//!   the kinetic energy lost is booked ([`super::EulerEnergy::remap`]).
+
+use super::interface::{line_level, youngs_normal, Interface, Polygon};
+use super::lagrange::{apply_walls, FaceFluxes};
+use super::{EulerSolver, MAX_MATERIALS, MAX_PHASES};
+use rayon::prelude::*;
+use stoss_kernel::{MaterialState, PointModel, StateFlags};
+
+/// Fraction of a cell below which a phase is left out of its reconstruction (it moves with
+/// no flux until it grows).
+const PRESENT_FRACTION: f64 = 1e-10;
+
+/// A direction of the split remap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// Along `r`.
+    R,
+    /// Along `z`.
+    Z,
+}
+
+/// The reconstruction of a cell: its present phases in dissection order and the interfaces
+/// of all but the last.
+#[derive(Clone, Copy, Debug)]
+struct Reconstruction {
+    phases: [usize; MAX_PHASES],
+    count: usize,
+    lines: [Interface; MAX_PHASES],
+}
+
+/// What one face carries: its donor cell and each phase's volume and mass.
+#[derive(Clone, Copy, Debug, Default)]
+struct Transfer {
+    donor: usize,
+    volume: [f64; MAX_PHASES],
+    mass: [f64; MAX_MATERIALS],
+}
+
+/// Remap the material moved by `fluxes` (the swept volumes of the Lagrange step).
+pub fn remap<P: PointModel + Sync + Send + Clone>(
+    s: &mut EulerSolver<P>,
+    fluxes: &FaceFluxes,
+    _dt: f64,
+) {
+    let order = if s.cycles % 2 == 0 {
+        [Direction::R, Direction::Z]
+    } else {
+        [Direction::Z, Direction::R]
+    };
+    for direction in order {
+        sweep(s, fluxes, direction);
+    }
+    finish(s);
+}
+
+impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
+    /// Youngs' PLIC with nested dissection of every cell holding more than one phase.
+    fn reconstruct(&self) -> Vec<Reconstruction> {
+        let cells_r = self.grid.cells_r;
+        let cells_z = self.grid.cells_z;
+        let (h_r, h_z) = (self.grid.spacing_r, self.grid.spacing_z);
+        let planar = !self.axisymmetric();
+        let phases_in_use: Vec<usize> = (0..self.materials.len())
+            .chain(std::iter::once(MAX_PHASES - 1))
+            .collect();
+        (0..self.grid.cell_count())
+            .into_par_iter()
+            .map(|c| {
+                let mut r = Reconstruction {
+                    phases: [0; MAX_PHASES],
+                    count: 0,
+                    lines: [Interface {
+                        normal: [0.0, 1.0],
+                        level: 0.0,
+                    }; MAX_PHASES],
+                };
+                for &p in &phases_in_use {
+                    if self.fraction(c, p) > PRESENT_FRACTION {
+                        r.phases[r.count] = p;
+                        r.count += 1;
+                    }
+                }
+                if r.count < 2 {
+                    return r;
+                }
+                let (i, j) = (c % cells_r, c / cells_r);
+                let corner = self.corner(i, j);
+                let mut remaining =
+                    Polygon::rectangle(corner[0], corner[0] + h_r, corner[1], corner[1] + h_z);
+                let rectangle_volume = remaining.volume(planar);
+                for slot in 0..r.count - 1 {
+                    let p = r.phases[slot];
+                    let mut block = [[0.0; 3]; 3];
+                    for (dz, row) in block.iter_mut().enumerate() {
+                        for (dr, value) in row.iter_mut().enumerate() {
+                            let (ni, nj) = ((i + dr).wrapping_sub(1), (j + dz).wrapping_sub(1));
+                            *value = if ni < cells_r && nj < cells_z {
+                                self.fraction(nj * cells_r + ni, p)
+                            } else if ni >= cells_r && i == 0 && nj < cells_z {
+                                // Across the axis (or a symmetry edge): the mirror cell.
+                                self.fraction(nj * cells_r + i, p)
+                            } else {
+                                self.fraction(c, p)
+                            };
+                        }
+                    }
+                    let normal = youngs_normal(block, h_r, h_z).unwrap_or([0.0, 1.0]);
+                    let level = line_level(
+                        &remaining,
+                        normal,
+                        self.fraction(c, p) * rectangle_volume,
+                        planar,
+                    );
+                    r.lines[slot] = Interface { normal, level };
+                    remaining = remaining.clip_outside(normal, level);
+                }
+                r
+            })
+            .collect()
+    }
+
+    /// What the face with swept volume `swept` (positive along the sweep) between cells
+    /// `low` and `high` carries.
+    fn transfer(
+        &self,
+        reconstruction: &[Reconstruction],
+        direction: Direction,
+        low: usize,
+        high: usize,
+        swept: f64,
+    ) -> Transfer {
+        let donor = if swept > 0.0 { low } else { high };
+        let mut t = Transfer {
+            donor,
+            ..Default::default()
+        };
+        if swept == 0.0 {
+            return t;
+        }
+        let amount = swept.abs();
+        let volumes = &self.volume[donor * MAX_PHASES..(donor + 1) * MAX_PHASES];
+        let total: f64 = volumes.iter().sum();
+        if total <= 0.0 {
+            return t;
+        }
+        let recon = &reconstruction[donor];
+        let mut shares = [0.0; MAX_PHASES];
+        if recon.count == 1 {
+            shares[recon.phases[0]] = 1.0;
+        } else {
+            let planar = !self.axisymmetric();
+            let cells_r = self.grid.cells_r;
+            let (i, j) = (donor % cells_r, donor / cells_r);
+            let (h_r, h_z) = (self.grid.spacing_r, self.grid.spacing_z);
+            let corner = self.corner(i, j);
+            let cell = Polygon::rectangle(corner[0], corner[0] + h_r, corner[1], corner[1] + h_z);
+            let fraction = (amount / total).min(1.0);
+            let strip_volume = fraction * cell.volume(planar);
+            // The strip next to the face, on the donor's downstream side.
+            let (normal, cut, keep_high) = match direction {
+                Direction::R => {
+                    let (r_w, r_e) = (corner[0], corner[0] + h_r);
+                    if swept > 0.0 {
+                        let cut = if planar {
+                            r_e - fraction * h_r
+                        } else {
+                            libm::sqrt((r_e * r_e - 2.0 * strip_volume / h_z).max(0.0))
+                        };
+                        ([1.0, 0.0], cut, true)
+                    } else {
+                        let cut = if planar {
+                            r_w + fraction * h_r
+                        } else {
+                            libm::sqrt(r_w * r_w + 2.0 * strip_volume / h_z)
+                        };
+                        ([1.0, 0.0], cut, false)
+                    }
+                }
+                Direction::Z => {
+                    if swept > 0.0 {
+                        ([0.0, 1.0], corner[1] + h_z - fraction * h_z, true)
+                    } else {
+                        ([0.0, 1.0], corner[1] + fraction * h_z, false)
+                    }
+                }
+            };
+            let mut remaining = cell;
+            for slot in 0..recon.count {
+                let region = if slot + 1 < recon.count {
+                    let line = recon.lines[slot];
+                    let region = remaining.clip(line.normal, line.level);
+                    remaining = remaining.clip_outside(line.normal, line.level);
+                    region
+                } else {
+                    remaining
+                };
+                let in_strip = if keep_high {
+                    region.clip_outside(normal, cut)
+                } else {
+                    region.clip(normal, cut)
+                };
+                shares[recon.phases[slot]] = in_strip.volume(planar).max(0.0);
+            }
+        }
+        let sum: f64 = shares.iter().sum();
+        if sum <= 0.0 {
+            return t;
+        }
+        for p in 0..MAX_PHASES {
+            t.volume[p] = (amount * shares[p] / sum).min(volumes[p]);
+        }
+        for k in 0..self.materials.len() {
+            if t.volume[k] > 0.0 && volumes[k] > 0.0 {
+                t.mass[k] = self.mass[donor * MAX_MATERIALS + k] * (t.volume[k] / volumes[k]);
+            }
+        }
+        t
+    }
+}
+
+/// Mass-weighted blend of the carried state variables: `state` holds `kept` of its own mass
+/// and receives `added` of `from`'s.
+fn blend(sum: &mut [f64; 10], state: &MaterialState, mass: f64) {
+    let values = [
+        state.stress[0],
+        state.stress[1],
+        state.stress[2],
+        state.stress[3],
+        state.plastic_strain,
+        state.plastic_strain_rate,
+        state.temperature,
+        state.damage,
+        state.internal_energy,
+        state.eos_history,
+    ];
+    for (s, v) in sum.iter_mut().zip(values) {
+        *s += mass * v;
+    }
+}
+
+/// One directional sweep.
+fn sweep<P: PointModel + Sync + Send + Clone>(
+    s: &mut EulerSolver<P>,
+    fluxes: &FaceFluxes,
+    direction: Direction,
+) {
+    let cells_r = s.grid.cells_r;
+    let cells_z = s.grid.cells_z;
+    let nodes_r = s.nodes_r();
+    let reconstruction = s.reconstruct();
+    // Faces along the sweep: for R, `(cells_r + 1) x cells_z`; for Z, `cells_r x (cells_z + 1)`.
+    let (face_count, face_cells): (
+        usize,
+        Box<dyn Fn(usize) -> (Option<usize>, Option<usize>, f64) + Sync>,
+    ) = match direction {
+        Direction::R => (
+            nodes_r * cells_z,
+            Box::new(move |f: usize| {
+                let (i, j) = (f % nodes_r, f / nodes_r);
+                let low = (i > 0).then(|| j * cells_r + i - 1);
+                let high = (i < cells_r).then(|| j * cells_r + i);
+                (low, high, fluxes.r[f])
+            }),
+        ),
+        Direction::Z => (
+            cells_r * (cells_z + 1),
+            Box::new(move |f: usize| {
+                let (i, j) = (f % cells_r, f / cells_r);
+                let low = (j > 0).then(|| (j - 1) * cells_r + i);
+                let high = (j < cells_z).then(|| j * cells_r + i);
+                (low, high, fluxes.z[f])
+            }),
+        ),
+    };
+    let solver = &*s;
+    let transfers: Vec<Transfer> = (0..face_count)
+        .into_par_iter()
+        .map(|f| match face_cells(f) {
+            (Some(low), Some(high), swept) => {
+                solver.transfer(&reconstruction, direction, low, high, swept)
+            }
+            _ => Transfer::default(),
+        })
+        .collect();
+    // The faces below and above each cell along the sweep.
+    let faces_of = |c: usize| -> (usize, usize) {
+        let (i, j) = (c % cells_r, c / cells_r);
+        match direction {
+            Direction::R => (j * nodes_r + i, j * nodes_r + i + 1),
+            Direction::Z => (j * cells_r + i, (j + 1) * cells_r + i),
+        }
+    };
+    let old_mass = s.mass.clone();
+    let old_state = s.state.clone();
+    let old_wave = s.wave_speed.clone();
+    let material_count = s.materials.len();
+    let densities: Vec<f64> = s.materials.iter().map(|m| m.model.density()).collect();
+    s.volume
+        .par_chunks_mut(MAX_PHASES)
+        .zip(s.mass.par_chunks_mut(MAX_MATERIALS))
+        .zip(s.state.par_chunks_mut(MAX_MATERIALS))
+        .zip(s.wave_speed.par_chunks_mut(MAX_MATERIALS))
+        .enumerate()
+        .for_each(|(c, (((volumes, masses), states), waves))| {
+            let (below, above) = faces_of(c);
+            let faces = [&transfers[below], &transfers[above]];
+            let mut kept = [0.0; MAX_MATERIALS];
+            for k in 0..material_count {
+                kept[k] = old_mass[c * MAX_MATERIALS + k];
+            }
+            for t in faces {
+                if t.donor == c {
+                    for p in 0..MAX_PHASES {
+                        volumes[p] -= t.volume[p];
+                    }
+                    for k in 0..material_count {
+                        kept[k] -= t.mass[k];
+                    }
+                }
+            }
+            for k in 0..material_count {
+                let own = &old_state[c * MAX_MATERIALS + k];
+                let mut sum = [0.0; 10];
+                let kept_mass = kept[k].max(0.0);
+                let mut total = kept_mass;
+                blend(&mut sum, own, kept_mass);
+                let mut wave = if kept_mass > 0.0 {
+                    old_wave[c * MAX_MATERIALS + k]
+                } else {
+                    0.0
+                };
+                let mut template = if kept_mass > 0.0 { Some(*own) } else { None };
+                for t in faces {
+                    if t.donor != c && t.mass[k] > 0.0 {
+                        let from = &old_state[t.donor * MAX_MATERIALS + k];
+                        blend(&mut sum, from, t.mass[k]);
+                        total += t.mass[k];
+                        wave = wave.max(old_wave[t.donor * MAX_MATERIALS + k]);
+                        template.get_or_insert(*from);
+                    }
+                }
+                for t in faces {
+                    if t.donor != c {
+                        volumes[k] += t.volume[k];
+                    }
+                }
+                masses[k] = total;
+                waves[k] = wave;
+                if let Some(mut state) = template {
+                    if total > 0.0 {
+                        let inverse = 1.0 / total;
+                        state.stress = [
+                            sum[0] * inverse,
+                            sum[1] * inverse,
+                            sum[2] * inverse,
+                            sum[3] * inverse,
+                            0.0,
+                            0.0,
+                        ];
+                        state.plastic_strain = (sum[4] * inverse).max(0.0);
+                        state.plastic_strain_rate = (sum[5] * inverse).max(0.0);
+                        state.temperature = sum[6] * inverse;
+                        state.damage = (sum[7] * inverse).clamp(0.0, 1.0);
+                        state.internal_energy = sum[8] * inverse;
+                        state.eos_history = sum[9] * inverse;
+                        if state.damage >= 1.0 {
+                            state.flags.insert(StateFlags::FAILED);
+                        } else {
+                            state.flags.remove(StateFlags::FAILED);
+                        }
+                        if volumes[k] > 0.0 {
+                            state.relative_volume = densities[k] * volumes[k] / total;
+                        }
+                    }
+                    states[k] = state;
+                }
+            }
+            for t in faces {
+                if t.donor != c {
+                    volumes[MAX_PHASES - 1] += t.volume[MAX_PHASES - 1];
+                }
+            }
+        });
+    remap_momentum(s, &transfers, &old_mass, direction);
+}
+
+/// Carry nodal momentum with the cell mass fluxes of one sweep.
+fn remap_momentum<P: PointModel + Sync + Send + Clone>(
+    s: &mut EulerSolver<P>,
+    transfers: &[Transfer],
+    old_mass: &[f64],
+    direction: Direction,
+) {
+    let cells_r = s.grid.cells_r;
+    let cells_z = s.grid.cells_z;
+    let nodes_r = s.nodes_r();
+    let nodes_z = cells_z + 1;
+    // Signed mass flux through each face along the sweep.
+    let face_mass: Vec<f64> = transfers
+        .iter()
+        .enumerate()
+        .map(|(f, t)| {
+            let m: f64 = t.mass.iter().sum();
+            if m == 0.0 {
+                return 0.0;
+            }
+            let positive = match direction {
+                Direction::R => {
+                    let i = f % nodes_r;
+                    i > 0 && t.donor == (f / nodes_r) * cells_r + i - 1
+                }
+                Direction::Z => {
+                    let j = f / cells_r;
+                    j > 0 && t.donor == (j - 1) * cells_r + (f % cells_r)
+                }
+            };
+            if positive {
+                m
+            } else {
+                -m
+            }
+        })
+        .collect();
+    let cell_mass: Vec<f64> = old_mass
+        .chunks(MAX_MATERIALS)
+        .map(|m| m.iter().sum())
+        .collect();
+    let node_mass: Vec<f64> = (0..nodes_r * nodes_z)
+        .map(|n| {
+            let (i, j) = (n % nodes_r, n / nodes_r);
+            let mut m = 0.0;
+            for (ci, cj) in [
+                (i.wrapping_sub(1), j.wrapping_sub(1)),
+                (i, j.wrapping_sub(1)),
+                (i.wrapping_sub(1), j),
+                (i, j),
+            ] {
+                if ci < cells_r && cj < cells_z {
+                    m += cell_mass[cj * cells_r + ci];
+                }
+            }
+            0.25 * m
+        })
+        .collect();
+    // Flux from node n to its neighbour along the sweep (n, n + stride): the quarter-sum of
+    // the four faces it straddles.
+    let (stride, along, count_along) = match direction {
+        Direction::R => (1, along_r as fn(usize, usize) -> usize, nodes_r),
+        Direction::Z => (nodes_r, along_z as fn(usize, usize) -> usize, nodes_z),
+    };
+    let node_flux = |n: usize| -> f64 {
+        let (i, j) = (n % nodes_r, n / nodes_r);
+        let mut sum = 0.0;
+        match direction {
+            Direction::R => {
+                // Faces i and i + 1 (of constant r) in rows j - 1 and j.
+                for row in [j.wrapping_sub(1), j] {
+                    if row < cells_z {
+                        for face in [i, i + 1] {
+                            if face < nodes_r {
+                                sum += face_mass[row * nodes_r + face];
+                            }
+                        }
+                    }
+                }
+            }
+            Direction::Z => {
+                for column in [i.wrapping_sub(1), i] {
+                    if column < cells_r {
+                        for face in [j, j + 1] {
+                            if face < nodes_z {
+                                sum += face_mass[face * cells_r + column];
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        0.25 * sum
+    };
+    let velocity = s.velocity.clone();
+    let upwind = |a: usize, b: usize, flux: f64| -> [f64; 2] {
+        // Flux from a to b (> 0) or back; the donor's velocity with a limited slope.
+        let (donor, sign) = if flux > 0.0 { (a, 1.0) } else { (b, -1.0) };
+        let m = node_mass[donor];
+        let courant = if m > 0.0 {
+            (flux.abs() / m).min(1.0)
+        } else {
+            1.0
+        };
+        let position = along(donor, nodes_r);
+        let mut v = velocity[donor];
+        if position > 0 && position + 1 < count_along {
+            let (prev, next) = (donor - stride, donor + stride);
+            if node_mass[prev] > 0.0 && node_mass[next] > 0.0 {
+                for d in 0..2 {
+                    let slope = van_leer(
+                        velocity[donor][d] - velocity[prev][d],
+                        velocity[next][d] - velocity[donor][d],
+                    );
+                    v[d] += sign * 0.5 * (1.0 - courant) * slope;
+                }
+            }
+        }
+        v
+    };
+    s.velocity.par_iter_mut().enumerate().for_each(|(n, v)| {
+        let position = along(n, nodes_r);
+        let mut mass = node_mass[n];
+        let mut momentum = [mass * velocity[n][0], mass * velocity[n][1]];
+        if position > 0 {
+            let flux = node_flux(n - stride);
+            if flux != 0.0 {
+                let carried = upwind(n - stride, n, flux);
+                mass += flux;
+                momentum[0] += flux * carried[0];
+                momentum[1] += flux * carried[1];
+            }
+        }
+        if position + 1 < count_along {
+            let flux = node_flux(n);
+            if flux != 0.0 {
+                let carried = upwind(n, n + stride, flux);
+                mass -= flux;
+                momentum[0] -= flux * carried[0];
+                momentum[1] -= flux * carried[1];
+            }
+        }
+        *v = if mass > 0.0 {
+            [momentum[0] / mass, momentum[1] / mass]
+        } else {
+            [0.0; 2]
+        };
+    });
+    apply_walls(s);
+}
+
+/// A node's position along `r`.
+fn along_r(n: usize, nodes_r: usize) -> usize {
+    n % nodes_r
+}
+
+/// A node's position along `z`.
+fn along_z(n: usize, nodes_r: usize) -> usize {
+    n / nodes_r
+}
+
+/// van Leer's harmonic limiter of the one-sided differences `a` and `b`.
+fn van_leer(a: f64, b: f64) -> f64 {
+    if a * b > 0.0 {
+        2.0 * a * b / (a + b)
+    } else {
+        0.0
+    }
+}
+
+/// After both sweeps: each cell's phases fill it exactly (void takes the round-off; an
+/// overfull cell's materials are scaled to fit), and each material's relative volume is its
+/// reference density over its density.
+fn finish<P: PointModel + Sync + Send + Clone>(s: &mut EulerSolver<P>) {
+    let cells_r = s.grid.cells_r;
+    let material_count = s.materials.len();
+    let densities: Vec<f64> = s.materials.iter().map(|m| m.model.density()).collect();
+    let cell_volumes: Vec<f64> = (0..cells_r).map(|i| s.cell_volume(i)).collect();
+    s.volume
+        .par_chunks_mut(MAX_PHASES)
+        .zip(s.mass.par_chunks_mut(MAX_MATERIALS))
+        .zip(s.state.par_chunks_mut(MAX_MATERIALS))
+        .enumerate()
+        .for_each(|(c, ((volumes, masses), states))| {
+            let cell = cell_volumes[c % cells_r];
+            for k in 0..material_count {
+                if masses[k] <= 0.0 || volumes[k] <= 0.0 {
+                    masses[k] = masses[k].max(0.0);
+                    if masses[k] == 0.0 {
+                        volumes[k] = 0.0;
+                    }
+                }
+            }
+            let materials: f64 = volumes[..material_count].iter().sum();
+            if materials > cell {
+                let scale = cell / materials;
+                for v in volumes[..material_count].iter_mut() {
+                    *v *= scale;
+                }
+                volumes[MAX_PHASES - 1] = 0.0;
+            } else {
+                volumes[MAX_PHASES - 1] = cell - materials;
+            }
+            for k in 0..material_count {
+                if masses[k] > 0.0 && volumes[k] > 0.0 {
+                    states[k].relative_volume = densities[k] * volumes[k] / masses[k];
+                }
+            }
+        });
+}
