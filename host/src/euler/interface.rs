@@ -115,22 +115,57 @@ impl Polygon {
     }
 }
 
-/// Bisection steps of the line search: the bracket shrinks below 1e-15 of the cell.
-const LINE_ITERATIONS: usize = 60;
+/// Largest number of steps of the line search.
+const LINE_ITERATIONS: usize = 100;
+
+/// Relative volume error at which the line search stops.
+const LINE_TOLERANCE: f64 = 1e-13;
 
 /// The level `d` of the line `normal . x = d` whose half plane `normal . x <= d` holds
-/// `volume` of `polygon` (bisection on the clipped volume, monotone in `d`).
+/// `volume` of `polygon`: the Illinois variant of regula falsi on the clipped volume, which
+/// is monotone (and piecewise cubic) in `d`, to [`LINE_TOLERANCE`] of the polygon's volume.
 pub fn line_level(polygon: &Polygon, normal: [f64; 2], volume: f64, planar: bool) -> f64 {
     let (mut low, mut high) = polygon.extent(normal);
+    let total = polygon.volume(planar);
+    let tolerance = LINE_TOLERANCE * total.abs();
+    let (mut f_low, mut f_high) = (-volume, total - volume);
+    if f_low >= 0.0 {
+        return low;
+    }
+    if f_high <= 0.0 {
+        return high;
+    }
+    let mut level = 0.5 * (low + high);
+    let mut side = 0;
     for _ in 0..LINE_ITERATIONS {
-        let mid = 0.5 * (low + high);
-        if polygon.clip(normal, mid).volume(planar) < volume {
-            low = mid;
+        level = (low * f_high - high * f_low) / (f_high - f_low);
+        if !(level > low && level < high) {
+            level = 0.5 * (low + high);
+        }
+        let f = polygon.clip(normal, level).volume(planar) - volume;
+        if f.abs() <= tolerance {
+            return level;
+        }
+        if f > 0.0 {
+            high = level;
+            f_high = f;
+            if side == -1 {
+                f_low *= 0.5;
+            }
+            side = -1;
         } else {
-            high = mid;
+            low = level;
+            f_low = f;
+            if side == 1 {
+                f_high *= 0.5;
+            }
+            side = 1;
+        }
+        if high - low <= f64::EPSILON * (low.abs() + high.abs()) {
+            break;
         }
     }
-    0.5 * (low + high)
+    level
 }
 
 /// The reconstructed interface of one material in a mixed cell: the half plane

@@ -219,7 +219,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     }
 
     /// The volumes the faces sweep over `dt` at the current velocities.
-    fn face_fluxes(&self, dt: f64) -> FaceFluxes {
+    pub(super) fn face_fluxes(&self, dt: f64) -> FaceFluxes {
         let (h_r, h_z) = (self.grid.spacing_r, self.grid.spacing_z);
         let cells_r = self.grid.cells_r;
         let cells_z = self.grid.cells_z;

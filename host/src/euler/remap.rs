@@ -43,12 +43,37 @@ struct Reconstruction {
     lines: [Interface; MAX_PHASES],
 }
 
-/// What one face carries: its donor cell and each phase's volume and mass.
+/// What one face carries: its donor cell, each phase's volume and mass, and the donor
+/// materials' carried variables (see [`carried`]) and wave speeds.
 #[derive(Clone, Copy, Debug, Default)]
 struct Transfer {
     donor: usize,
     volume: [f64; MAX_PHASES],
     mass: [f64; MAX_MATERIALS],
+    values: [[f64; CARRIED]; MAX_MATERIALS],
+    flags: [u32; MAX_MATERIALS],
+    wave: [f64; MAX_MATERIALS],
+}
+
+/// Number of state variables the remap carries with the mass.
+const CARRIED: usize = 10;
+
+/// The state variables carried with the mass: stress `rr zz tt rz`, plastic strain and rate,
+/// temperature, damage, internal energy (per reference volume: with one reference density
+/// per material, a mass average) and EoS history.
+fn carried(state: &MaterialState) -> [f64; CARRIED] {
+    [
+        state.stress[0],
+        state.stress[1],
+        state.stress[2],
+        state.stress[3],
+        state.plastic_strain,
+        state.plastic_strain_rate,
+        state.temperature,
+        state.damage,
+        state.internal_energy,
+        state.eos_history,
+    ]
 }
 
 /// Remap the material moved by `fluxes` (the swept volumes of the Lagrange step).
@@ -78,6 +103,21 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         let phases_in_use: Vec<usize> = (0..self.materials.len())
             .chain(std::iter::once(MAX_PHASES - 1))
             .collect();
+        let fractions: Vec<[f64; MAX_PHASES]> = self
+            .volume
+            .par_chunks(MAX_PHASES)
+            .map(|v| {
+                let total: f64 = v.iter().sum();
+                let mut f = [0.0; MAX_PHASES];
+                if total > 0.0 {
+                    for p in 0..MAX_PHASES {
+                        f[p] = v[p] / total;
+                    }
+                }
+                f
+            })
+            .collect();
+        let fraction = |c: usize, p: usize| fractions[c][p];
         (0..self.grid.cell_count())
             .into_par_iter()
             .map(|c| {
@@ -90,7 +130,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                     }; MAX_PHASES],
                 };
                 for &p in &phases_in_use {
-                    if self.fraction(c, p) > PRESENT_FRACTION {
+                    if fraction(c, p) > PRESENT_FRACTION {
                         r.phases[r.count] = p;
                         r.count += 1;
                     }
@@ -110,12 +150,12 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                         for (dr, value) in row.iter_mut().enumerate() {
                             let (ni, nj) = ((i + dr).wrapping_sub(1), (j + dz).wrapping_sub(1));
                             *value = if ni < cells_r && nj < cells_z {
-                                self.fraction(nj * cells_r + ni, p)
+                                fraction(nj * cells_r + ni, p)
                             } else if ni >= cells_r && i == 0 && nj < cells_z {
                                 // Across the axis (or a symmetry edge): the mirror cell.
-                                self.fraction(nj * cells_r + i, p)
+                                fraction(nj * cells_r + i, p)
                             } else {
-                                self.fraction(c, p)
+                                fraction(c, p)
                             };
                         }
                     }
@@ -123,7 +163,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                     let level = line_level(
                         &remaining,
                         normal,
-                        self.fraction(c, p) * rectangle_volume,
+                        fraction(c, p) * rectangle_volume,
                         planar,
                     );
                     r.lines[slot] = Interface { normal, level };
@@ -226,30 +266,14 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         }
         for k in 0..self.materials.len() {
             if t.volume[k] > 0.0 && volumes[k] > 0.0 {
-                t.mass[k] = self.mass[donor * MAX_MATERIALS + k] * (t.volume[k] / volumes[k]);
+                let slot = donor * MAX_MATERIALS + k;
+                t.mass[k] = self.mass[slot] * (t.volume[k] / volumes[k]);
+                t.values[k] = carried(&self.state[slot]);
+                t.flags[k] = self.state[slot].flags.0;
+                t.wave[k] = self.wave_speed[slot];
             }
         }
         t
-    }
-}
-
-/// Mass-weighted blend of the carried state variables: `state` holds `kept` of its own mass
-/// and receives `added` of `from`'s.
-fn blend(sum: &mut [f64; 10], state: &MaterialState, mass: f64) {
-    let values = [
-        state.stress[0],
-        state.stress[1],
-        state.stress[2],
-        state.stress[3],
-        state.plastic_strain,
-        state.plastic_strain_rate,
-        state.temperature,
-        state.damage,
-        state.internal_energy,
-        state.eos_history,
-    ];
-    for (s, v) in sum.iter_mut().zip(values) {
-        *s += mass * v;
     }
 }
 
@@ -305,11 +329,14 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
             Direction::Z => (j * cells_r + i, (j + 1) * cells_r + i),
         }
     };
-    let old_mass = s.mass.clone();
-    let old_state = s.state.clone();
-    let old_wave = s.wave_speed.clone();
     let material_count = s.materials.len();
     let densities: Vec<f64> = s.materials.iter().map(|m| m.model.density()).collect();
+    let old_mass: Vec<f64> = s
+        .mass
+        .par_chunks(MAX_MATERIALS)
+        .map(|m| m.iter().sum())
+        .collect();
+    // In place: a cell reads only its own state and the faces' transfers.
     s.volume
         .par_chunks_mut(MAX_PHASES)
         .zip(s.mass.par_chunks_mut(MAX_MATERIALS))
@@ -319,84 +346,91 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
         .for_each(|(c, (((volumes, masses), states), waves))| {
             let (below, above) = faces_of(c);
             let faces = [&transfers[below], &transfers[above]];
-            let mut kept = [0.0; MAX_MATERIALS];
-            for k in 0..material_count {
-                kept[k] = old_mass[c * MAX_MATERIALS + k];
+            if faces.iter().all(|t| t.volume.iter().all(|&v| v == 0.0)) {
+                return;
             }
             for t in faces {
-                if t.donor == c {
-                    for p in 0..MAX_PHASES {
-                        volumes[p] -= t.volume[p];
-                    }
-                    for k in 0..material_count {
-                        kept[k] -= t.mass[k];
-                    }
+                let sign = if t.donor == c { -1.0 } else { 1.0 };
+                for p in 0..MAX_PHASES {
+                    volumes[p] += sign * t.volume[p];
                 }
             }
             for k in 0..material_count {
-                let own = &old_state[c * MAX_MATERIALS + k];
-                let mut sum = [0.0; 10];
-                let kept_mass = kept[k].max(0.0);
-                let mut total = kept_mass;
-                blend(&mut sum, own, kept_mass);
-                let mut wave = if kept_mass > 0.0 {
-                    old_wave[c * MAX_MATERIALS + k]
+                let mut kept = masses[k];
+                let mut inflow = false;
+                for t in faces {
+                    if t.donor == c {
+                        kept -= t.mass[k];
+                    } else if t.mass[k] > 0.0 {
+                        inflow = true;
+                    }
+                }
+                let kept = kept.max(0.0);
+                masses[k] = kept;
+                if !inflow {
+                    continue;
+                }
+                let mut sum = [0.0; CARRIED];
+                let mut total = kept;
+                let own = carried(&states[k]);
+                for (s, v) in sum.iter_mut().zip(own) {
+                    *s += kept * v;
+                }
+                let mut wave = if kept > 0.0 { waves[k] } else { 0.0 };
+                let mut flags = if kept > 0.0 {
+                    Some(states[k].flags)
                 } else {
-                    0.0
+                    None
                 };
-                let mut template = if kept_mass > 0.0 { Some(*own) } else { None };
                 for t in faces {
                     if t.donor != c && t.mass[k] > 0.0 {
-                        let from = &old_state[t.donor * MAX_MATERIALS + k];
-                        blend(&mut sum, from, t.mass[k]);
+                        for (s, v) in sum.iter_mut().zip(t.values[k]) {
+                            *s += t.mass[k] * v;
+                        }
                         total += t.mass[k];
-                        wave = wave.max(old_wave[t.donor * MAX_MATERIALS + k]);
-                        template.get_or_insert(*from);
+                        wave = wave.max(t.wave[k]);
+                        flags.get_or_insert(StateFlags(t.flags[k]));
                     }
                 }
-                for t in faces {
-                    if t.donor != c {
-                        volumes[k] += t.volume[k];
-                    }
+                let state = &mut states[k];
+                if kept == 0.0 {
+                    // A material new to the cell: no stored yield check.
+                    *state = MaterialState::initial(1.0);
                 }
+                state.flags = flags.unwrap_or_default();
                 masses[k] = total;
                 waves[k] = wave;
-                if let Some(mut state) = template {
-                    if total > 0.0 {
-                        let inverse = 1.0 / total;
-                        state.stress = [
-                            sum[0] * inverse,
-                            sum[1] * inverse,
-                            sum[2] * inverse,
-                            sum[3] * inverse,
-                            0.0,
-                            0.0,
-                        ];
-                        state.plastic_strain = (sum[4] * inverse).max(0.0);
-                        state.plastic_strain_rate = (sum[5] * inverse).max(0.0);
-                        state.temperature = sum[6] * inverse;
-                        state.damage = (sum[7] * inverse).clamp(0.0, 1.0);
-                        state.internal_energy = sum[8] * inverse;
-                        state.eos_history = sum[9] * inverse;
-                        if state.damage >= 1.0 {
-                            state.flags.insert(StateFlags::FAILED);
-                        } else {
-                            state.flags.remove(StateFlags::FAILED);
-                        }
-                        if volumes[k] > 0.0 {
-                            state.relative_volume = densities[k] * volumes[k] / total;
-                        }
-                    }
-                    states[k] = state;
-                }
-            }
-            for t in faces {
-                if t.donor != c {
-                    volumes[MAX_PHASES - 1] += t.volume[MAX_PHASES - 1];
+                set_blend(state, &sum, total);
+                if volumes[k] > 0.0 {
+                    state.relative_volume = densities[k] * volumes[k] / total;
                 }
             }
         });
     remap_momentum(s, &transfers, &old_mass, direction);
+}
+
+/// Set the carried variables of `state` to the mass-weighted averages `sum / total`.
+fn set_blend(state: &mut MaterialState, sum: &[f64; CARRIED], total: f64) {
+    let inverse = 1.0 / total;
+    state.stress = [
+        sum[0] * inverse,
+        sum[1] * inverse,
+        sum[2] * inverse,
+        sum[3] * inverse,
+        0.0,
+        0.0,
+    ];
+    state.plastic_strain = (sum[4] * inverse).max(0.0);
+    state.plastic_strain_rate = (sum[5] * inverse).max(0.0);
+    state.temperature = sum[6] * inverse;
+    state.damage = (sum[7] * inverse).clamp(0.0, 1.0);
+    state.internal_energy = sum[8] * inverse;
+    state.eos_history = sum[9] * inverse;
+    if state.damage >= 1.0 {
+        state.flags.insert(StateFlags::FAILED);
+    } else {
+        state.flags.remove(StateFlags::FAILED);
+    }
 }
 
 /// Carry nodal momentum with the cell mass fluxes of one sweep.
@@ -406,6 +440,7 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
     old_mass: &[f64],
     direction: Direction,
 ) {
+    // `old_mass`: each cell's total mass before the sweep.
     let cells_r = s.grid.cells_r;
     let cells_z = s.grid.cells_z;
     let nodes_r = s.nodes_r();
@@ -436,10 +471,7 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
             }
         })
         .collect();
-    let cell_mass: Vec<f64> = old_mass
-        .chunks(MAX_MATERIALS)
-        .map(|m| m.iter().sum())
-        .collect();
+    let cell_mass = old_mass;
     let node_mass: Vec<f64> = (0..nodes_r * nodes_z)
         .map(|n| {
             let (i, j) = (n % nodes_r, n / nodes_r);
@@ -519,35 +551,51 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
         }
         v
     };
-    s.velocity.par_iter_mut().enumerate().for_each(|(n, v)| {
-        let position = along(n, nodes_r);
-        let mut mass = node_mass[n];
-        let mut momentum = [mass * velocity[n][0], mass * velocity[n][1]];
-        if position > 0 {
-            let flux = node_flux(n - stride);
-            if flux != 0.0 {
-                let carried = upwind(n - stride, n, flux);
-                mass += flux;
-                momentum[0] += flux * carried[0];
-                momentum[1] += flux * carried[1];
+    let new_mass: Vec<f64> = s
+        .velocity
+        .par_iter_mut()
+        .enumerate()
+        .map(|(n, v)| {
+            let position = along(n, nodes_r);
+            let mut mass = node_mass[n];
+            let mut momentum = [mass * velocity[n][0], mass * velocity[n][1]];
+            if position > 0 {
+                let flux = node_flux(n - stride);
+                if flux != 0.0 {
+                    let carried = upwind(n - stride, n, flux);
+                    mass += flux;
+                    momentum[0] += flux * carried[0];
+                    momentum[1] += flux * carried[1];
+                }
             }
-        }
-        if position + 1 < count_along {
-            let flux = node_flux(n);
-            if flux != 0.0 {
-                let carried = upwind(n, n + stride, flux);
-                mass -= flux;
-                momentum[0] -= flux * carried[0];
-                momentum[1] -= flux * carried[1];
+            if position + 1 < count_along {
+                let flux = node_flux(n);
+                if flux != 0.0 {
+                    let carried = upwind(n, n + stride, flux);
+                    mass -= flux;
+                    momentum[0] -= flux * carried[0];
+                    momentum[1] -= flux * carried[1];
+                }
             }
-        }
-        *v = if mass > 0.0 {
-            [momentum[0] / mass, momentum[1] / mass]
-        } else {
-            [0.0; 2]
-        };
-    });
+            *v = if mass > 0.0 {
+                [momentum[0] / mass, momentum[1] / mass]
+            } else {
+                [0.0; 2]
+            };
+            mass
+        })
+        .collect();
     apply_walls(s);
+    // Kinetic energy lost by the sweep (summed in node order: independent of the threads).
+    let kinetic = |masses: &[f64], velocity: &[[f64; 2]]| -> f64 {
+        masses
+            .iter()
+            .zip(velocity)
+            .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
+            .sum()
+    };
+    let lost = kinetic(&node_mass, &velocity) - kinetic(&new_mass, &s.velocity);
+    s.energy.remap += lost * s.body_factor();
 }
 
 /// A node's position along `r`.
