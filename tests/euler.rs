@@ -375,3 +375,99 @@ fn an_elastic_plastic_plate_impact_sends_the_hugoniot_elastic_limit_ahead_of_the
     );
     let _ = fixture;
 }
+
+/// A rod of `rod` at `velocity` into a semi-infinite-like plate of `target` on an
+/// axisymmetric grid of `h` cells: the nose depth history.
+fn penetrate(
+    rod: Material,
+    target: Material,
+    radius: f64,
+    velocity: f64,
+    h: f64,
+    end_time: f64,
+) -> Vec<(f64, f64)> {
+    let (thickness, length, width) = (40e-3, 40e-3, 30e-3);
+    let below = 2e-3;
+    let grid = Grid {
+        cells_r: (width / h).round() as usize,
+        cells_z: ((below + thickness + length + 2.0 * h) / h).ceil() as usize,
+        spacing_r: h,
+        spacing_z: h,
+        geometry: Geometry::Axisymmetric,
+    };
+    let origin = -thickness - below;
+    let in_rod = move |p: [f64; 2]| p[0] < radius && (0.0..length).contains(&p[1]);
+    let in_target = move |p: [f64; 2]| (-thickness..0.0).contains(&p[1]);
+    let regions = [
+        Region {
+            material: 0,
+            inside: &in_rod,
+            velocity: [0.0, -velocity],
+            temperature: 293.0,
+        },
+        Region {
+            material: 1,
+            inside: &in_target,
+            velocity: [0.0, 0.0],
+            temperature: 293.0,
+        },
+    ];
+    let mut solver = EulerSolver::new(
+        grid,
+        origin,
+        Walls {
+            outer: Wall::Fixed,
+            bottom: Wall::Slip,
+            top: Wall::Slip,
+        },
+        vec![named("rod", rod), named("target", target)],
+        &regions,
+        EulerSettings::default(),
+    )
+    .unwrap();
+    let mut depth = Vec::new();
+    solver
+        .run(end_time, 0.5e-6, &mut |s| {
+            let (nose, _) = stoss::experiment::penetration::euler::rod_extent(s, 0);
+            depth.push((s.time, -nose));
+            std::ops::ControlFlow::Continue(())
+        })
+        .unwrap();
+    let energy = solver.energy.relative_error();
+    assert!(energy.abs() < 0.02, "energy error {energy}");
+    depth
+}
+
+/// Least-squares slope of `(t, y)` for `t` in `[from, to]`.
+fn slope(history: &[(f64, f64)], from: f64, to: f64) -> f64 {
+    let points: Vec<_> = history
+        .iter()
+        .filter(|p| p.0 >= from && p.0 <= to)
+        .collect();
+    let n = points.len() as f64;
+    let (mt, my) = (
+        points.iter().map(|p| p.0).sum::<f64>() / n,
+        points.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = points.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mt) * (p.0 - mt)).sum();
+    sxy / sxx
+}
+
+#[test]
+fn near_fluid_rod_and_target_penetrate_at_bernoullis_rate() {
+    // GOAL: both materials near-fluid: the steady penetration rate is Bernoulli's,
+    // (1/2) rho_p (v - u)^2 = (1/2) rho_t u^2, u = v / (1 + sqrt(rho_t / rho_p)), within 2 %.
+    // SETUP: a 10 mm tungsten-density rod at 1250 m/s into steel-density target, 1 MPa
+    // strength each; 0.5 mm cells; the rate fitted over 6-20 us (after the impact shock).
+    let rod = perfectly_plastic(17600.0, 145e9, 285e9, 1e6);
+    let target = perfectly_plastic(7850.0, 80e9, 160e9, 1e6);
+    let depth = penetrate(rod, target, 5e-3, 1250.0, 0.5e-3, 20e-6);
+    let rate = slope(&depth, 6e-6, 20e-6);
+    let bernoulli = 1250.0 / (1.0 + (7850.0_f64 / 17600.0).sqrt());
+    eprintln!("near-fluid rate {rate:.1} m/s against Bernoulli {bernoulli:.1} m/s");
+    assert!(
+        (rate / bernoulli - 1.0).abs() < 0.02,
+        "rate {rate} against {bernoulli}"
+    );
+}

@@ -17,7 +17,6 @@ use super::{PenetrationResult, PenetrationSpec, SAMPLING};
 use crate::blast::euler::{Geometry, Grid};
 use crate::euler::{
     EulerError, EulerMaterial, EulerSettings, EulerSolver, Region, Wall, Walls, MAX_MATERIALS,
-    MAX_PHASES,
 };
 use crate::measure::StateHistory;
 use crate::solver::SolverSettings;
@@ -158,12 +157,9 @@ impl PenetrationSpec {
         let tracked_cells = self.tracked_cells(&solver);
         let mut tracked: Vec<StateHistory> = tracked_cells
             .iter()
-            .map(|&(c, ref label)| {
-                let _ = c;
-                StateHistory {
-                    label: label.clone(),
-                    samples: Vec::new(),
-                }
+            .map(|(_, label)| StateHistory {
+                label: label.clone(),
+                samples: Vec::new(),
             })
             .collect();
         let mut result = PenetrationResult::default();
@@ -171,7 +167,7 @@ impl PenetrationSpec {
         let progress = settings.progress.clone();
         solver.run(end, SAMPLING, &mut |s| {
             let time = s.time - impact_time;
-            let (nose, tail) = rod_extent(s);
+            let (nose, tail) = rod_extent(s, ROD);
             result.nose_depth.push((time, -nose));
             result.rod_length.push((time, tail - nose));
             let (velocity, mass) =
@@ -231,10 +227,13 @@ impl PenetrationSpec {
 /// The rod's lowest and highest points on the axis column: at the lowest (highest) cell at
 /// least half full of rod, the fraction read as a length from that cell's far edge, and the
 /// rod material beyond it added as length.
-pub fn rod_extent(s: &EulerSolver<PartMaterial>) -> (f64, f64) {
+pub fn rod_extent<P: PointModel + Sync + Send + Clone>(
+    s: &EulerSolver<P>,
+    rod: usize,
+) -> (f64, f64) {
     let h = s.grid.spacing_z;
     let cells_r = s.grid.cells_r;
-    let fraction = |j: usize| s.fraction(j * cells_r, ROD);
+    let fraction = |j: usize| s.fraction(j * cells_r, rod);
     let rows = s.grid.cells_z;
     let Some(low) = (0..rows).find(|&j| fraction(j) >= 0.5) else {
         return (f64::NAN, f64::NAN);
@@ -289,7 +288,6 @@ pub fn rod_body(
     } else {
         0.0
     };
-    let _ = MAX_PHASES;
     (velocity, body_mass * s.body_factor())
 }
 
@@ -309,12 +307,6 @@ impl EulerPenetration {
             ..Default::default()
         }
     }
-}
-
-/// The rod's wave speed check uses `PointModel`.
-#[allow(dead_code)]
-fn _uses(p: &PartMaterial) -> f64 {
-    p.density()
 }
 
 impl PenetrationSpec {
