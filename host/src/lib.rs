@@ -9,6 +9,7 @@ pub mod calibrate;
 pub mod cli;
 pub mod diagnose;
 pub mod experiment;
+pub mod figure;
 pub mod fit;
 pub mod hash;
 pub mod history;
