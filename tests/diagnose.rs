@@ -375,7 +375,7 @@ fn every_library_term_gives_back_the_current_model_at_its_null() {
     // REFERENCE: the base model's predictions, bit for bit, for every experiment.
     use stoss::calibrate::Campaign;
     use stoss::diagnose::candidates::{library, Visited};
-    use stoss::diagnose::hypothesis::Hypothesis;
+    use stoss::fit::Hypothesis;
     use stoss::solver::SolverSettings;
     let settings = SolverSettings {
         threads: Some(1),
@@ -391,7 +391,7 @@ fn every_library_term_gives_back_the_current_model_at_its_null() {
             .zip(&space.upper)
             .map(|(l, u)| 0.5 * (l + u))
             .collect();
-        let base = Hypothesis::base(&campaign, &space, &start).unwrap();
+        let base = Hypothesis::base(&campaign.base, &space, &start).unwrap();
         let values = base.values().unwrap();
         let realised = base.realise(&values).unwrap();
         let reference: Vec<Vec<f64>> = campaign

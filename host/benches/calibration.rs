@@ -9,9 +9,7 @@
 
 use std::path::Path;
 use stoss::calibrate::{evaluate, score, Campaign};
-use stoss::diagnose::engine::Engine;
-use stoss::diagnose::fit::levenberg_marquardt;
-use stoss::diagnose::hypothesis::Hypothesis;
+use stoss::fit::{levenberg_marquardt, Engine, Hypothesis};
 use stoss::optimise::{AskTell, BayesianOptimiser, Bounds, CmaEs, OptimiserSettings, RandomSearch};
 use stoss::solver::SolverSettings;
 
@@ -181,12 +179,13 @@ fn main() {
             missed += 1;
             continue;
         };
-        let hypothesis = Hypothesis::base(&campaign, &space, &start).expect("hypothesis");
+        let hypothesis = Hypothesis::base(&campaign.base, &space, &start).expect("hypothesis");
         let start_values = hypothesis.values().expect("values");
         let mut found = None;
         for iterations in 1..=6 {
-            let mut quiet = |_: stoss::diagnose::Progress<'_>| {};
-            let mut engine = Engine::new(&campaign, 2, None, &mut quiet).expect("engine");
+            let mut quiet = |_: stoss::fit::Progress<'_>| {};
+            let mut engine =
+                Engine::new(&campaign.experiments, 2, None, &mut quiet).expect("engine");
             let Ok(fit) =
                 levenberg_marquardt(&mut engine, &hypothesis, &start_values, &fitted, iterations)
             else {

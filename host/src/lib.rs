@@ -10,6 +10,8 @@ pub mod cli;
 pub mod diagnose;
 pub mod euler;
 pub mod experiment;
+pub mod figure;
+pub mod fit;
 pub mod hash;
 pub mod history;
 pub mod input;

@@ -45,19 +45,12 @@
 //! flow-curve figures, cards and the diagnosis are for J2 metals and are skipped.
 
 use crate::experiment::Experiment;
-use crate::input::material::{
-    self, AnyMaterialFile, KcMaterialFile, RhtMaterialFile, StrengthSpec,
-};
+use crate::fit::ModelSpace;
+use crate::input::material::{self, AnyMaterialFile, StrengthSpec};
 use crate::input::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use stoss_kernel::eos::Polynomial;
-use stoss_kernel::kc::KcParameters;
-use stoss_kernel::parameters::ConstantPaths;
-use stoss_kernel::parameters::Parameter;
-use stoss_kernel::rht::RhtParameters;
-use stoss_kernel::PartMaterial;
 
 fn one() -> f64 {
     1.0
@@ -312,145 +305,6 @@ pub struct Campaign {
     pub base: AnyMaterialFile,
     /// The experiments, in the file's order.
     pub experiments: Vec<Experiment>,
-}
-
-/// A model of the campaign, resolved: its strength and the names and bounds of its fitted
-/// constants.
-#[derive(Clone, Debug)]
-pub struct ModelSpace {
-    /// Model name.
-    pub name: String,
-    /// Starting strength (fitted constants are overwritten); `None` for RHT concrete, whose
-    /// constants are edited in the base file itself.
-    pub strength: Option<StrengthSpec>,
-    /// Fitted constant names.
-    pub names: Vec<String>,
-    /// Lower bounds.
-    pub lower: Vec<f64>,
-    /// Upper bounds.
-    pub upper: Vec<f64>,
-}
-
-impl ModelSpace {
-    /// The strength with `values` for the fitted constants (J2 metals).
-    pub fn strength_with(&self, values: &[f64]) -> Result<StrengthSpec, String> {
-        let mut strength = self.strength.ok_or_else(|| {
-            format!(
-                "model {} has no flow-stress model (RHT concrete)",
-                self.name
-            )
-        })?;
-        for (name, value) in self.names.iter().zip(values) {
-            strength
-                .set(name, *value)
-                .ok_or_else(|| format!("`{name}` is not a constant of this model"))?;
-        }
-        Ok(strength)
-    }
-
-    /// The K&C file `base` with `values` at the fitted constants' paths.
-    fn kc_with(&self, base: &KcMaterialFile, values: &[f64]) -> Result<KcMaterialFile, String> {
-        let mut file = base.clone();
-        for (name, value) in self.names.iter().zip(values) {
-            *file.constant_slot(name).ok_or_else(|| {
-                format!(
-                    "`{name}` is not a constant of the K&C file (`density`, \
-                     `parameters.<name>` such as `parameters.tension_damage_exponent`, or \
-                     `eos.<name>`)"
-                )
-            })? = *value;
-        }
-        Ok(file)
-    }
-
-    /// The RHT file `base` with `values` at the fitted constants' paths.
-    fn rht_with(&self, base: &RhtMaterialFile, values: &[f64]) -> Result<RhtMaterialFile, String> {
-        let mut file = base.clone();
-        for (name, value) in self.names.iter().zip(values) {
-            *file.constant_slot(name).ok_or_else(|| {
-                format!(
-                    "`{name}` is not a constant of the RHT file (`density`, \
-                     `parameters.<name>` such as `parameters.residual_b`, or `eos.<name>`)"
-                )
-            })? = *value;
-        }
-        Ok(file)
-    }
-
-    /// The kernel material: the campaign's base material with this model's constants, and
-    /// the material file that says so.
-    pub fn material(
-        &self,
-        base: &AnyMaterialFile,
-        values: &[f64],
-    ) -> Result<(AnyMaterialFile, PartMaterial), String> {
-        let file = match base {
-            AnyMaterialFile::J2(base) => {
-                let mut file = base.clone();
-                file.strength = self.strength_with(values)?;
-                AnyMaterialFile::J2(file)
-            }
-            AnyMaterialFile::Rht(base) => AnyMaterialFile::Rht(self.rht_with(base, values)?),
-            AnyMaterialFile::Kc(base) => AnyMaterialFile::Kc(self.kc_with(base, values)?),
-        };
-        let material = file.material().map_err(|e| e.to_string())?;
-        Ok((file, material))
-    }
-
-    /// The starting values of the fitted constants: what the model's strength (or the base
-    /// material file) holds before any fit. `None` if a name is not found.
-    pub fn starting_values(&self, base: &AnyMaterialFile) -> Option<Vec<f64>> {
-        self.names
-            .iter()
-            .map(|name| match (&self.strength, base) {
-                (Some(strength), _) => strength.get(name),
-                (None, AnyMaterialFile::Rht(file)) => {
-                    file.clone().constant_slot(name).map(|value| *value)
-                }
-                (None, AnyMaterialFile::Kc(file)) => {
-                    file.clone().constant_slot(name).map(|value| *value)
-                }
-                (None, AnyMaterialFile::J2(_)) => None,
-            })
-            .collect()
-    }
-
-    /// The SI unit of each fitted constant, from the model's descriptions (`?` for a name
-    /// no description covers; the campaign refuses those when it loads).
-    pub fn units(&self, base: &AnyMaterialFile) -> Vec<&'static str> {
-        let strength = self.strength.map(|s| s.constants()).unwrap_or_default();
-        self.names
-            .iter()
-            .map(|name| {
-                if let Some((_, p)) = strength.iter().find(|(n, _)| n == name) {
-                    return p.unit;
-                }
-                let (parameters, eos): (&'static [Parameter], _) = match base {
-                    AnyMaterialFile::Rht(file) => (RhtParameters::PARAMETERS, file.eos),
-                    AnyMaterialFile::Kc(file) => (KcParameters::PARAMETERS, file.eos),
-                    AnyMaterialFile::J2(_) => return "?",
-                };
-                let described = |parameters: &'static [Parameter], name: &str| {
-                    parameters.iter().find(|p| p.name == name).map(|p| p.unit)
-                };
-                match name.split_once('.') {
-                    None if name == "density" => Some("kg/m^3"),
-                    Some(("parameters", n)) => described(parameters, n),
-                    Some(("eos", n)) => match (n.strip_prefix("solid."), eos) {
-                        (Some(n), _) => described(Polynomial::PARAMETERS, n),
-                        (None, eos) => described(eos.constants(), n),
-                    },
-                    _ => None,
-                }
-                .unwrap_or("?")
-            })
-            .collect()
-    }
-
-    /// Dimension of the search space.
-    pub fn dimension(&self) -> usize {
-        self.names.len()
-    }
 }
 
 impl Campaign {

@@ -13,5 +13,6 @@ pub mod proposer;
 pub mod run;
 pub mod uncertainty;
 
-pub use campaign::{Campaign, ModelSpace};
+pub use crate::fit::ModelSpace;
+pub use campaign::Campaign;
 pub use objective::{evaluate, score, Evaluation, Score, Status};

@@ -6,7 +6,8 @@
 //! fitted experiments. Reported beside it: the uncertainty-weighted RMS
 //! `sqrt(mean(((predicted - recorded) / uncertainty)^2))` (1 = at the noise floor).
 
-use super::campaign::{Campaign, Constraints, ModelSpace};
+use super::campaign::{Campaign, Constraints};
+use crate::fit::ModelSpace;
 use crate::input::recording::RecordedPoint;
 use crate::solver::SolverSettings;
 use serde::{Deserialize, Serialize};

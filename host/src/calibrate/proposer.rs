@@ -1,8 +1,8 @@
 //! The calibration's optimiser: the batch Bayesian optimiser of [`crate::optimise`] over a
 //! model's box of constants.
 
-use super::campaign::ModelSpace;
 use super::run::Proposer;
+use crate::fit::ModelSpace;
 use crate::optimise::{AskTell, BayesianOptimiser, Bounds, OptimiserSettings};
 
 struct Bayesian(BayesianOptimiser);

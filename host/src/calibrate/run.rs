@@ -4,11 +4,14 @@
 //! campaign's models. Batches of candidates are simulated in parallel; every result is logged
 //! as it ends, and a resumed run replays the log instead of simulating again.
 
-use super::campaign::{Campaign, LeaveOneOut, ModelSpace, UncertaintyFor};
+use super::campaign::{Campaign, LeaveOneOut, UncertaintyFor};
 use super::executor::{Batch, Candidate, Executor, Origin};
 use super::log::{Entry, Key, LogError, SimulationLog};
 use super::objective::{Evaluation, Status};
 use super::polish::NelderMead;
+use crate::fit::space::constants_at_bounds;
+use crate::fit::unit_cube;
+use crate::fit::ModelSpace;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -200,38 +203,6 @@ impl ModelResult {
             ));
         }
         lines
-    }
-}
-
-/// Fraction of a search range within which a fitted constant counts as at its bound.
-pub const AT_BOUND: f64 = 0.005;
-
-/// The constants of `values` within [`AT_BOUND`] of the search range of a bound, described
-/// (`n = 1.000e0 at its upper bound 1.000e0`).
-pub fn constants_at_bounds(space: &ModelSpace, values: &[f64]) -> Vec<String> {
-    space
-        .names
-        .iter()
-        .zip(values)
-        .zip(space.lower.iter().zip(&space.upper))
-        .filter_map(|((name, value), (lower, upper))| at_bound(name, *value, *lower, *upper))
-        .collect()
-}
-
-/// `name = value` described if it lies within [`AT_BOUND`] of the range `[lower, upper]` of a
-/// bound (`n = 1.000e0 at its upper bound 1.000e0`), else `None`.
-pub fn at_bound(name: &str, value: f64, lower: f64, upper: f64) -> Option<String> {
-    let margin = AT_BOUND * (upper - lower);
-    if value <= lower + margin {
-        Some(format!(
-            "{name} = {value:.4e} at its lower bound {lower:.4e}"
-        ))
-    } else if value >= upper - margin {
-        Some(format!(
-            "{name} = {value:.4e} at its upper bound {upper:.4e}"
-        ))
-    } else {
-        None
     }
 }
 
@@ -527,7 +498,7 @@ impl Runner<'_> {
 
     /// The constants (in the model space's order) that `iterations` of the bounded
     /// Levenberg-Marquardt fit reach from `start` on the whitened residuals of `experiments`
-    /// ([`crate::diagnose::fit::levenberg_marquardt`]), its simulations logged to
+    /// ([`crate::fit::levenberg_marquardt`]), its simulations logged to
     /// `least-squares-<model>-<fold>-<instance>.jsonl` in the output folder (a resumed run
     /// replays them). `None` when the model is not a J2 metal or the fit fails: the finish is
     /// then skipped, not the calibration.
@@ -540,8 +511,8 @@ impl Runner<'_> {
         start: &[f64],
         iterations: usize,
     ) -> Result<Option<Vec<f64>>, CalibrateError> {
-        use crate::diagnose::{engine::Engine, fit::levenberg_marquardt, hypothesis::Hypothesis};
-        let Ok(hypothesis) = Hypothesis::base(self.campaign, space, start) else {
+        use crate::fit::{levenberg_marquardt, Engine, Hypothesis, Progress};
+        let Ok(hypothesis) = Hypothesis::base(&self.campaign.base, space, start) else {
             return Ok(None);
         };
         let Ok(values) = hypothesis.values() else {
@@ -556,8 +527,9 @@ impl Runner<'_> {
             "least-squares-{}-{fold_name}-{instance}.jsonl",
             space.name
         ));
-        let mut quiet = |_: crate::diagnose::Progress<'_>| {};
-        let mut engine = Engine::new(self.campaign, self.batch.max(1), Some(&log), &mut quiet)
+        let mut quiet = |_: Progress<'_>| {};
+        let simulated = &self.campaign.experiments;
+        let mut engine = Engine::new(simulated, self.batch.max(1), Some(&log), &mut quiet)
             .map_err(|e| CalibrateError::LeastSquares(e.to_string()))?;
         Ok(
             levenberg_marquardt(&mut engine, &hypothesis, &values, experiments, iterations)
@@ -687,17 +659,11 @@ impl Runner<'_> {
             tally.best.as_ref().map(|(e, v)| (e.values.clone(), *v)),
             polish > 0,
         ) {
-            let span: Vec<f64> = space
-                .lower
-                .iter()
-                .zip(&space.upper)
-                .map(|(l, u)| u - l)
-                .collect();
+            let bounds = space.lower.iter().zip(&space.upper);
             let unit: Vec<f64> = start
                 .iter()
-                .zip(&space.lower)
-                .zip(&span)
-                .map(|((x, l), s)| (x - l) / s)
+                .zip(bounds.clone())
+                .map(|(x, (l, u))| unit_cube::to_unit(*x, *l, *u))
                 .collect();
             let mut simplex = NelderMead::new(&unit, start_value, 0.05);
             for _ in 0..polish {
@@ -709,9 +675,8 @@ impl Runner<'_> {
                 let point: Vec<f64> = simplex
                     .ask()
                     .iter()
-                    .zip(&space.lower)
-                    .zip(&span)
-                    .map(|((u, l), s)| l + u * s)
+                    .zip(bounds.clone())
+                    .map(|(u, (l, h))| unit_cube::from_unit(*u, *l, *h))
                     .collect();
                 let value = self.score_one(&place, &mut index, &point, &mut tally, seen)?;
                 simplex.tell(value);
@@ -1087,25 +1052,5 @@ mod tests {
             .check_against(&space(&["yield_stress"]))
             .unwrap_err()
             .contains("holds 2 constants, the campaign fits 1"));
-    }
-
-    #[test]
-    fn constants_within_half_a_percent_of_a_bound_are_flagged() {
-        // GOAL: a fit that ends at a bound says so.
-        // SETUP: bounds [0, 1] for two constants; values 0.004, 0.5, 0.996, 0.006.
-        // REFERENCE: 0.5 % of the range: 0.004 (lower) and 0.996 (upper) flagged, not 0.006.
-        let space = ModelSpace {
-            name: "jc".into(),
-            strength: None,
-            names: vec!["n".into(), "C".into()],
-            lower: vec![0.0, 0.0],
-            upper: vec![1.0, 1.0],
-        };
-        let flagged = constants_at_bounds(&space, &[0.004, 0.5]);
-        assert_eq!(flagged.len(), 1);
-        assert!(flagged[0].starts_with("n = 4.0000e-3 at its lower bound"));
-        let flagged = constants_at_bounds(&space, &[0.996, 0.006]);
-        assert_eq!(flagged.len(), 1);
-        assert!(flagged[0].contains("at its upper bound"));
     }
 }

@@ -17,7 +17,8 @@
 //! (A-B-n) the constants can sit several half-widths from the truth while the fit is at the
 //! noise floor. Read them as the recordings' information near the selected point.
 
-use super::campaign::{Campaign, ModelSpace};
+use super::campaign::Campaign;
+use crate::fit::ModelSpace;
 use crate::solver::SolverSettings;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

@@ -10,7 +10,7 @@
 //! constants that reproduce the current fitted flow stress, by least squares on relative
 //! differences, at the material states the experiments visit (the plastic samples of every
 //! tracked point: strain, rate, temperature). That match costs closed-form evaluations only;
-//! the refit from it (bounded Levenberg-Marquardt on the simulations, [`super::fit`]) is
+//! the refit from it (bounded Levenberg-Marquardt on the simulations, [`crate::fit::least_squares`]) is
 //! where the data decide. A family that reproduces the current model to 1e-6 contains it and
 //! is not an alternative.
 //!
@@ -20,9 +20,9 @@
 //! offered: the two-rate Johnson-Cook family (its second rate regime is the `high-rate-upturn`
 //! term of the library).
 
-use super::hypothesis::{Hypothesis, Parameter};
-use super::stats::solve_damped;
 use crate::experiment::Outcome;
+use crate::fit::hypothesis::{Hypothesis, Parameter};
+use crate::fit::linear::{gram, solve_damped, transpose_times};
 use crate::input::material::StrengthSpec;
 use stoss_kernel::parameters::Parameter as Described;
 use stoss_kernel::strength::{
@@ -273,8 +273,8 @@ fn closest_match(
                     r.iter().zip(&residuals).map(|(a, b)| (a - b) / h).collect()
                 })
                 .collect();
-            let normal = super::stats::gram(&columns);
-            let gradient: Vec<f64> = super::stats::transpose_times(&columns, &residuals)
+            let normal = gram(&columns);
+            let gradient: Vec<f64> = transpose_times(&columns, &residuals)
                 .iter()
                 .map(|g| -g)
                 .collect();

@@ -13,7 +13,7 @@
 //!    finite step from its null, its variance from an AR(1) noise model per recording. Ranked
 //!    by p-value (Bonferroni over the library; one-sided chi-bar-square for terms bounded at
 //!    their null).
-//! 4. **Refit** ([`fit`]): the significant terms in rank order (at most `max_refits`), each
+//! 4. **Refit** ([`crate::fit::least_squares`]): the significant terms in rank order (at most `max_refits`), each
 //!    with every constant refitted; a term earns its constant when the Bayesian information
 //!    criterion drops and so does the held-out error (approximate leave-one-out over the
 //!    fitted experiments plus the campaign's held-out experiments); of those that do, the one
@@ -30,10 +30,7 @@
 //!    and a plain-language verdict that says when the model still misses.
 
 pub mod candidates;
-pub mod engine;
 pub mod families;
-pub mod fit;
-pub mod hypothesis;
 pub mod likelihood_ratio;
 pub mod localisation;
 pub mod locate;
@@ -44,11 +41,11 @@ pub mod stats;
 
 use crate::calibrate::run::ModelResult;
 use crate::calibrate::{score as error_score, Campaign, Score};
+use crate::fit::least_squares::{self, levenberg_marquardt, Fit};
+use crate::fit::linear;
+pub use crate::fit::Progress;
+use crate::fit::{Engine, FitError, Hypothesis};
 use candidates::{Candidate, NotApplicable};
-use engine::Engine;
-pub use engine::Progress;
-use fit::{levenberg_marquardt, Fit};
-use hypothesis::Hypothesis;
 use locate::ExperimentMisfit;
 use score::ScoreTest;
 use serde::{Deserialize, Serialize};
@@ -73,6 +70,16 @@ pub enum DiagnoseError {
     /// A simulation the diagnosis cannot do without failed.
     #[error("simulation failed: {0}")]
     Simulation(String),
+}
+
+impl From<FitError> for DiagnoseError {
+    fn from(error: FitError) -> Self {
+        match error {
+            FitError::Io(e) => Self::Io(e),
+            FitError::Threads(e) => Self::Threads(e),
+            FitError::Simulation(e) => Self::Simulation(e),
+        }
+    }
 }
 
 /// Settings of a diagnosis.
@@ -223,14 +230,14 @@ pub fn selected<'r>(
 
 /// Row ranges of each fitted experiment in the concatenated residual vector.
 pub(super) fn row_ranges(
-    campaign: &Campaign,
+    all: &[crate::experiment::Experiment],
     experiments: &[usize],
 ) -> Vec<std::ops::Range<usize>> {
     let mut start = 0;
     experiments
         .iter()
         .map(|&e| {
-            let n = campaign.experiments[e].recording.len();
+            let n = all[e].recording.len();
             let range = start..start + n;
             start += n;
             range
@@ -242,12 +249,12 @@ pub(super) fn row_ranges(
 /// approximate leave-one-out held-out error (one Gauss-Newton step from the full fit without
 /// the experiment's rows, then a real simulation of the left-out experiment).
 fn assess(
+    campaign: &Campaign,
     engine: &mut Engine,
     hypothesis: &Hypothesis,
     fit: &Fit,
     fitted: &[usize],
 ) -> Result<(Assessment, Vec<Vec<f64>>), DiagnoseError> {
-    let campaign = engine.campaign;
     let all: Vec<usize> = (0..campaign.experiments.len()).collect();
     let predictions = engine
         .predict(hypothesis, std::slice::from_ref(&fit.values), &all)?
@@ -265,7 +272,7 @@ fn assess(
         .map(|&i| scores[i].map_or(f64::NAN, |s| s.error) * weight(i))
         .sum();
     // Approximate leave-one-out.
-    let ranges = row_ranges(campaign, fitted);
+    let ranges = row_ranges(&campaign.experiments, fitted);
     let mut fold_points: Vec<Vec<f64>> = Vec::new();
     if fitted.len() >= 2 && !fit.unit.is_empty() {
         for range in &ranges {
@@ -288,11 +295,11 @@ fn assess(
                 .filter(|(i, _)| keep(*i))
                 .map(|(_, x)| *x)
                 .collect();
-            let gradient: Vec<f64> = stats::transpose_times(&columns, &residuals)
+            let gradient: Vec<f64> = linear::transpose_times(&columns, &residuals)
                 .iter()
                 .map(|g| -g)
                 .collect();
-            let step = stats::solve_damped(&stats::gram(&columns), &gradient, 1e-3)
+            let step = linear::solve_damped(&linear::gram(&columns), &gradient, 1e-3)
                 .unwrap_or_else(|| vec![0.0; fit.unit.len()]);
             let unit: Vec<f64> = fit
                 .unit
@@ -300,7 +307,7 @@ fn assess(
                 .zip(&step)
                 .map(|(u, s)| (u + s).clamp(0.0, 1.0))
                 .collect();
-            fold_points.push(fit::to_si(hypothesis, &unit));
+            fold_points.push(least_squares::to_si(hypothesis, &unit));
         }
     } else if fitted.len() >= 2 {
         fold_points = vec![fit.values.clone(); fitted.len()];
@@ -351,7 +358,7 @@ fn assess(
             .parameters
             .iter()
             .zip(&fit.values)
-            .filter_map(|(p, v)| crate::calibrate::run::at_bound(&p.name, *v, p.lower, p.upper))
+            .filter_map(|(p, v)| crate::fit::space::at_bound(&p.name, *v, p.lower, p.upper))
             .collect(),
     };
     Ok((assessment, predictions))
@@ -414,6 +421,7 @@ type Alternatives = (Vec<Refit>, Option<(usize, Vec<Vec<f64>>)>);
 /// every family tried and the winner's index with its predictions.
 #[allow(clippy::too_many_arguments)]
 fn try_alternatives(
+    campaign: &Campaign,
     engine: &mut Engine,
     base: &Hypothesis,
     states: &[families::FlowState],
@@ -456,7 +464,7 @@ fn try_alternatives(
             .with_values(&refit.values)
             .map_err(DiagnoseError::Calibration)?;
         hypothesis.label = alternative.name.clone();
-        let (assessment, predictions) = assess(engine, &hypothesis, &refit, fitted)?;
+        let (assessment, predictions) = assess(campaign, engine, &hypothesis, &refit, fitted)?;
         cost.stages.push((stage_name, engine.points - mark));
         // A different family is a larger claim than one more term: it needs strong evidence
         // on the BIC scale.
@@ -515,7 +523,6 @@ fn simulate_outcomes(
         .realise(&values)
         .map_err(DiagnoseError::Calibration)?;
     Ok(engine
-        .campaign
         .experiments
         .iter()
         .map(|e| realised.outcome(e, engine.settings()).ok())
@@ -530,12 +537,11 @@ fn locate_all(
     fitted: &[usize],
     alpha: f64,
 ) -> Vec<ExperimentMisfit> {
-    let campaign = engine.campaign;
-    let refs: Vec<&crate::experiment::Experiment> = campaign.experiments.iter().collect();
+    let experiments = engine.experiments;
+    let refs: Vec<&crate::experiment::Experiment> = experiments.iter().collect();
     let windows = locate::window_count(&refs).max(1);
-    let count = campaign.experiments.len().max(1);
-    campaign
-        .experiments
+    let count = experiments.len().max(1);
+    experiments
         .iter()
         .enumerate()
         .map(|(i, e)| {
@@ -572,6 +578,7 @@ type FittedTerm = (Vec<Vec<f64>>, Fit);
 /// and fit.
 #[allow(clippy::too_many_arguments)]
 fn refit_candidate(
+    campaign: &Campaign,
     engine: &mut Engine,
     candidate: &Candidate,
     base_fit: &Fit,
@@ -604,7 +611,7 @@ fn refit_candidate(
         .with_values(&refit.values)
         .map_err(DiagnoseError::Calibration)?;
     hypothesis.label = candidate.name.clone();
-    let (mut assessment, predictions) = assess(engine, &hypothesis, &refit, fitted)?;
+    let (mut assessment, predictions) = assess(campaign, engine, &hypothesis, &refit, fitted)?;
     if candidate.switches_rate_treatment {
         // The switch is a constant of the model too.
         let n = assessment.residuals as f64;
@@ -679,11 +686,11 @@ pub fn diagnose(
         ))
     })?;
     let space = campaign.space(entry);
-    let base = Hypothesis::base(campaign, &space, &model.selected.values)
+    let base = Hypothesis::base(&campaign.base, &space, &model.selected.values)
         .map_err(DiagnoseError::Calibration)?;
     let start = base.values().map_err(DiagnoseError::Calibration)?;
     let fitted = campaign.fitted();
-    let mut engine = Engine::new(campaign, options.parallel, log, progress)?;
+    let mut engine = Engine::new(&campaign.experiments, options.parallel, log, progress)?;
     let mut cost = Cost::default();
     let stage = |engine: &Engine, name: &str, before: usize, cost: &mut Cost| {
         cost.stages.push((name.into(), engine.points - before));
@@ -695,7 +702,7 @@ pub fn diagnose(
     let base = base
         .with_values(&base_fit.values)
         .map_err(DiagnoseError::Calibration)?;
-    let (before, predictions_before) = assess(&mut engine, &base, &base_fit, &fitted)?;
+    let (before, predictions_before) = assess(campaign, &mut engine, &base, &base_fit, &fitted)?;
     stage(&engine, "refit of the calibrated model", mark, &mut cost);
 
     engine.stage("locate");
@@ -730,7 +737,7 @@ pub fn diagnose(
     // Two stages: the significant terms in rank order; then, if none was accepted, the
     // best-ranked admissible terms the score test under-rates, each also judged by the drop
     // its refit achieves (a likelihood-ratio test at the same level, `likelihood_ratio`).
-    let ranges = row_ranges(campaign, &fitted);
+    let ranges = row_ranges(&campaign.experiments, &fitted);
     let terms = tests.len().max(1) as f64;
     for by_ratio in [false, true] {
         if by_ratio && accepted.is_some() {
@@ -752,6 +759,7 @@ pub fn diagnose(
                 continue;
             };
             let (mut refit, fitted_term) = refit_candidate(
+                campaign,
                 &mut engine,
                 candidate,
                 &base_fit,
@@ -839,6 +847,7 @@ pub fn diagnose(
             .unwrap_or_else(|| "the calibrated model".into());
         let states = families::plastic_states(&outcomes);
         let (tried, winner) = try_alternatives(
+            campaign,
             &mut engine,
             &base,
             &states,

@@ -38,10 +38,11 @@
 //! terms.
 
 use super::candidates::Candidate;
-use super::engine::Engine;
-use super::fit::{residuals_at, Fit};
-use super::stats::{chi_square_upper_tail, dot, project_out, Ar1};
+use super::stats::{chi_square_upper_tail, Ar1};
 use super::DiagnoseError;
+use crate::fit::least_squares::{residuals_at, Fit};
+use crate::fit::linear::{dot, project_out};
+use crate::fit::Engine;
 use serde::{Deserialize, Serialize};
 
 /// The score test of one candidate.
@@ -87,7 +88,7 @@ pub fn score_tests(
 ) -> Result<Vec<ScoreTest>, DiagnoseError> {
     let n = fit.residuals.len();
     let p = fit.values.len();
-    let ranges = super::row_ranges(engine.campaign, fitted);
+    let ranges = super::row_ranges(engine.experiments, fitted);
     let dof = n as f64 - p as f64 - 1.0;
     let inflation = if dof > 0.0 { n as f64 / dof } else { 1.0 };
     let projected_residuals = project_out(&fit.jacobian, &fit.residuals);

@@ -42,10 +42,10 @@ use super::{
     SimulationError,
 };
 use crate::analytic::ballistic::{fit_lambert_jonas, LambertJonas, Shot};
+use crate::figure::{Series, Style};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::mesh::QuadMesh;
-use crate::report::plots::{Series, Style};
 use crate::solver::{
     BulkViscosity, EnergyBalance, HourglassControl, Snapshot, SolverError, SolverSettings,
 };

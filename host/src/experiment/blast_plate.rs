@@ -26,11 +26,11 @@ use super::{check_positive, default_temperature, Chart, ExperimentReport};
 use super::{check_run_budget, undeformed_time_step, Check, FieldOutput, Outcome, SimulationError};
 use crate::blast::cache;
 use crate::blast::near_field::{Air, Charge, EulerSettings, NearFieldBlast};
+use crate::figure::{Series, Style};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::interpolate;
 use crate::mesh::{Grading, QuadMesh};
-use crate::report::plots::{Series, Style};
 use crate::solver::{
     shared, Amplitude, AxisymmetricModel, NodalDamping, PressureHistory, PressureLoad,
     SharedPressure, SolverError, SolverSettings, VelocityConstraint,

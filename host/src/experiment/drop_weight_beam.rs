@@ -41,11 +41,11 @@
 //! the bottom fibre ([`classify`]).
 
 use super::{Check, HexFieldOutput, Outcome, SimulationError};
+use crate::figure::{Series, Style};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory};
 use crate::mesh::{HexMesh, Part};
-use crate::report::plots::{Series, Style};
 use crate::solver::{
     Amplitude, ExplicitModel, NodeToNodeContact, NonlocalAveraging, RigidWall, SolverSettings,
     Truss, TrussMaterial, VelocityConstraint, WallMotion,
@@ -1318,7 +1318,7 @@ impl DropWeightBeamSpec {
 
     /// The damage of the concrete elements on the mid-width symmetry plane, within three
     /// depths of mid-span, as map cells in mm (reference positions).
-    fn damage_section(&self, field: &HexFieldOutput) -> Vec<crate::report::plots::MapCell> {
+    fn damage_section(&self, field: &HexFieldOutput) -> Vec<crate::figure::MapCell> {
         let mesh = &field.mesh;
         let reach = (3.0 * self.depth).min(0.5 * self.length);
         (0..mesh.elements.len())

@@ -28,14 +28,15 @@ pub mod taylor;
 pub mod tension;
 pub mod uniaxial;
 
+// The data an outcome carries for figures and VTK: defined in `figure`, drawn by `report`.
+pub use crate::figure::{Chart, ExperimentReport, FieldMap, FieldOutput, HexFieldOutput};
 use crate::input::recording::{self, RecordedPoint};
 use crate::input::{self, InputError};
 use crate::measure::StateHistory;
-use crate::mesh::QuadMesh;
 use crate::solver::{EnergyBalance, SolverError, SolverSettings};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use stoss_kernel::{Material, MaterialState, PartMaterial};
+use stoss_kernel::{Material, PartMaterial};
 
 pub use ballistic::BallisticLimitSpec;
 pub use blast_plate::BlastPlateSpec;
@@ -155,32 +156,6 @@ pub struct Experiment {
     pub recording: Vec<RecordedPoint>,
 }
 
-/// Fields of the final state for visualisation (VTK).
-#[derive(Clone, Debug)]
-pub struct FieldOutput {
-    /// The mesh (reference configuration).
-    pub mesh: QuadMesh,
-    /// Final nodal positions.
-    pub positions: Vec<[f64; 3]>,
-    /// Final element states.
-    pub states: Vec<MaterialState>,
-    /// Eroded elements.
-    pub eroded: Vec<bool>,
-}
-
-/// The final state of a 3D (hexahedral) run, for its VTK file.
-#[derive(Clone, Debug)]
-pub struct HexFieldOutput {
-    /// The mesh (reference configuration).
-    pub mesh: crate::mesh::HexMesh,
-    /// Final nodal positions.
-    pub positions: Vec<[f64; 3]>,
-    /// Final element states.
-    pub states: Vec<MaterialState>,
-    /// Eroded elements.
-    pub eroded: Vec<bool>,
-}
-
 /// What a simulation of an experiment produced.
 #[derive(Clone, Debug)]
 pub struct Outcome {
@@ -201,52 +176,6 @@ pub struct Outcome {
     /// A protocol's own report (e.g. the ballistic-limit table and fit), printed by
     /// `stoss simulate` and written beside its other outputs.
     pub report: Option<ExperimentReport>,
-}
-
-/// The text and figures of an experiment's own report.
-#[derive(Clone, Debug, Default)]
-pub struct ExperimentReport {
-    /// Printed after the comparison with the recording.
-    pub text: String,
-    /// Figures written into the output folder.
-    pub charts: Vec<Chart>,
-    /// Fields at times during the run, written into the output folder as `.vtu` files
-    /// (file name, field).
-    pub snapshots: Vec<(String, HexFieldOutput)>,
-    /// Maps of a field over a section, written as `.svg` figures.
-    pub maps: Vec<FieldMap>,
-}
-
-/// A map of a scalar field over a section ([`crate::report::plots::field_map`]).
-#[derive(Clone, Debug)]
-pub struct FieldMap {
-    /// File name in the output folder (`.svg`).
-    pub file: String,
-    /// Title.
-    pub title: String,
-    /// Axis labels.
-    pub x_label: String,
-    /// Axis labels.
-    pub y_label: String,
-    /// The cells: rectangle `[x0, x1, y0, y1]` and value.
-    pub cells: Vec<crate::report::plots::MapCell>,
-    /// The value range of the colour scale (white below its start).
-    pub range: (f64, f64),
-}
-
-/// A line chart of an experiment's report ([`crate::report::plots::line_chart`]).
-#[derive(Clone, Debug)]
-pub struct Chart {
-    /// File name in the output folder (`.svg`).
-    pub file: String,
-    /// Title.
-    pub title: String,
-    /// Axis labels.
-    pub x_label: String,
-    /// Axis labels.
-    pub y_label: String,
-    /// The series.
-    pub series: Vec<crate::report::plots::Series>,
 }
 
 /// Why a simulation failed.

@@ -190,7 +190,7 @@ impl Bounds {
     pub fn from_unit(&self, unit: &[f64]) -> Vec<f64> {
         unit.iter()
             .zip(self.lower.iter().zip(&self.upper))
-            .map(|(&u, (&l, &h))| (l + u * (h - l)).clamp(l, h))
+            .map(|(&u, (&l, &h))| crate::fit::unit_cube::from_unit(u, l, h).clamp(l, h))
             .collect()
     }
 
@@ -198,7 +198,7 @@ impl Bounds {
     pub fn to_unit(&self, x: &[f64]) -> Vec<f64> {
         x.iter()
             .zip(self.lower.iter().zip(&self.upper))
-            .map(|(&v, (&l, &h))| ((v - l) / (h - l)).clamp(0.0, 1.0))
+            .map(|(&v, (&l, &h))| crate::fit::unit_cube::to_unit(v, l, h).clamp(0.0, 1.0))
             .collect()
     }
 

@@ -4,27 +4,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// How a series is drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Style {
-    /// A line through the points.
-    Line,
-    /// Markers at the points.
-    Markers,
-}
-
-/// One series of a line chart.
-#[derive(Clone, Debug)]
-pub struct Series {
-    /// Legend label.
-    pub label: String,
-    /// `(x, y)` points.
-    pub points: Vec<(f64, f64)>,
-    /// Drawing style.
-    pub style: Style,
-    /// Palette index.
-    pub colour: usize,
-}
+pub use crate::figure::{MapCell, Series, Style};
 
 /// An error while drawing, with the file it concerns.
 pub type PlotResult = Result<(), String>;
@@ -404,9 +384,6 @@ pub fn residual_chart(
     let position = emptiest_corner(&all, (x0, x1), (y0, y1));
     finish(&mut chart, &root, position, &error)
 }
-
-/// One cell of a [`field_map`]: its rectangle `[x0, x1, y0, y1]` and value.
-pub type MapCell = ([f64; 4], f64);
 
 /// A map of a scalar field over rectangular cells (a section of a 3D mesh), `width` pixels
 /// wide and as high as the cells' aspect ratio wants (at least 160): each cell filled by its

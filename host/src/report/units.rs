@@ -44,6 +44,7 @@ pub fn display_units(quantity: &str) -> DisplayUnits {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::units::{recorded_dimensions, Dimension};
 
     #[test]
     fn every_experiment_quantity_has_display_units() {
@@ -56,6 +57,23 @@ mod tests {
             assert_ne!(units.value.0, "value (SI)", "{quantity}");
             if quantity.ends_with("_stress") {
                 assert_eq!(units.value, ("stress (MPa)", 1e-6), "{quantity}");
+            }
+        }
+    }
+
+    #[test]
+    fn recorded_quantities_agree_with_their_display_units() {
+        // GOAL: the dimensions of recorded quantities (input) and the report's display units
+        //   (output) describe the same quantities. SETUP: every experiment kind's QUANTITIES.
+        // REFERENCE: lengths are shown in mm (factor 1e3), stresses in MPa (1e-6).
+        let kinds = crate::experiment::QUANTITIES_OF_EVERY_KIND;
+        for quantity in kinds.iter().flat_map(|k| k.iter()) {
+            let (_, value) = recorded_dimensions(quantity).unwrap_or_else(|| panic!("{quantity}"));
+            let shown = display_units(quantity).value.1;
+            match value {
+                Dimension::Length => assert_eq!(shown, 1e3, "{quantity}"),
+                Dimension::Stress => assert_eq!(shown, 1e-6, "{quantity}"),
+                _ => {}
             }
         }
     }

@@ -3,7 +3,7 @@
 //! displacements: an axisymmetric run's deformed `(r, z)` mesh as quads in the x-y plane, a 3D
 //! run's hexahedra as they are. ParaView opens it directly.
 
-use crate::experiment::{FieldOutput, HexFieldOutput};
+use crate::figure::{FieldOutput, HexFieldOutput};
 use std::fmt::Write as _;
 use stoss_kernel::MaterialState;
 

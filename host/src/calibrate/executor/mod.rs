@@ -15,10 +15,11 @@ pub mod task;
 pub use settings::{ExecutorEntry, ExecutorKind, SlurmMode};
 pub use task::Origin;
 
-use super::campaign::{Campaign, ModelSpace};
+use super::campaign::Campaign;
 use super::log::Key;
 use super::objective::{evaluate, Evaluation};
 use super::run::CalibrateError;
+use crate::fit::ModelSpace;
 use crate::solver::SolverSettings;
 use rayon::prelude::*;
 

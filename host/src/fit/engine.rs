@@ -1,4 +1,4 @@
-//! Runs the simulations of the diagnosis: batches of candidate constants in parallel (one
+//! Runs the simulations of a least-squares fit (the diagnosis, the calibration's finish): batches of candidate constants in parallel (one
 //! thread per simulation, so results do not depend on the thread count), every result appended
 //! to the [`Journal`] `diagnosis.jsonl` as it ends; a rerun over the same folder replays the log
 //! instead of simulating again, so a killed diagnosis loses nothing.
@@ -8,8 +8,8 @@
 //! file; a changed calibration therefore never reuses stale results.
 
 use super::hypothesis::Hypothesis;
-use super::DiagnoseError;
-use crate::calibrate::Campaign;
+use super::FitError;
+use crate::experiment::Experiment;
 use crate::hash::fnv1a;
 use crate::journal::Journal;
 use crate::solver::SolverSettings;
@@ -44,10 +44,10 @@ pub enum Progress<'s> {
     },
 }
 
-/// The simulation engine of one diagnosis.
+/// The simulation engine of one diagnosis or least-squares fit.
 pub struct Engine<'a> {
-    /// The campaign whose experiments are simulated.
-    pub campaign: &'a Campaign,
+    /// The experiments simulated (a campaign's, in its order).
+    pub experiments: &'a [Experiment],
     /// Where stages and simulation counts are reported.
     progress: &'a mut dyn FnMut(Progress<'_>),
     pool: rayon::ThreadPool,
@@ -66,24 +66,24 @@ impl<'a> Engine<'a> {
     /// An engine with `parallel` simulations at once, logging to `log` (replaying what it
     /// already holds).
     pub fn new(
-        campaign: &'a Campaign,
+        experiments: &'a [Experiment],
         parallel: usize,
         log: Option<&Path>,
         progress: &'a mut dyn FnMut(Progress<'_>),
-    ) -> Result<Self, DiagnoseError> {
+    ) -> Result<Self, FitError> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(parallel.max(1))
             .build()
-            .map_err(|e| DiagnoseError::Threads(e.to_string()))?;
+            .map_err(|e| FitError::Threads(e.to_string()))?;
         let mut known = HashMap::new();
         let log = match log {
             None => None,
             Some(path) => {
                 let (journal, lines) = Journal::open(path)
-                    .map_err(|e| DiagnoseError::Io(format!("{}: {e}", path.display())))?;
+                    .map_err(|e| FitError::Io(format!("{}: {e}", path.display())))?;
                 for (index, line) in lines.iter().enumerate() {
                     let entry: LogEntry = serde_json::from_str(line).map_err(|e| {
-                        DiagnoseError::Io(format!("{}:{}: {e}", path.display(), index + 1))
+                        FitError::Io(format!("{}:{}: {e}", path.display(), index + 1))
                     })?;
                     let value = match (entry.predicted, entry.error) {
                         (Some(p), _) => Ok(p),
@@ -96,7 +96,7 @@ impl<'a> Engine<'a> {
             }
         };
         Ok(Self {
-            campaign,
+            experiments,
             progress,
             pool,
             settings: SolverSettings {
@@ -121,8 +121,8 @@ impl<'a> Engine<'a> {
         });
         let text = format!(
             "{realised:?}|{}|{:?}",
-            self.campaign.experiments[experiment].path.display(),
-            self.campaign.experiments[experiment].file.setup
+            self.experiments[experiment].path.display(),
+            self.experiments[experiment].file.setup
         );
         format!("{:016x}", fnv1a(&text))
     }
@@ -133,7 +133,7 @@ impl<'a> Engine<'a> {
         hypothesis: &Hypothesis,
         points: &[Vec<f64>],
         experiments: &[usize],
-    ) -> Result<Vec<Predictions>, DiagnoseError> {
+    ) -> Result<Vec<Predictions>, FitError> {
         self.points += points.len();
         let jobs: Vec<(&[f64], usize)> = points
             .iter()
@@ -153,17 +153,17 @@ impl<'a> Engine<'a> {
         &mut self,
         hypothesis: &Hypothesis,
         jobs: &[(&[f64], usize)],
-    ) -> Result<Vec<Result<Vec<f64>, String>>, DiagnoseError> {
+    ) -> Result<Vec<Result<Vec<f64>, String>>, FitError> {
         let keys: Vec<String> = jobs
             .iter()
             .map(|(values, e)| self.key(hypothesis, values, *e))
             .collect();
-        let campaign = self.campaign;
+        let experiments = self.experiments;
         let settings = &self.settings;
         let known = &self.known;
         // Each new simulation is appended to the journal as soon as it finishes.
         let journal = std::sync::Mutex::new(&mut self.log);
-        let fresh: Vec<Option<Result<Prediction, DiagnoseError>>> = self.pool.install(|| {
+        let fresh: Vec<Option<Result<Prediction, FitError>>> = self.pool.install(|| {
             jobs.par_iter()
                 .zip(&keys)
                 .map(|((values, e), key)| {
@@ -172,7 +172,7 @@ impl<'a> Engine<'a> {
                     }
                     let result = hypothesis
                         .realise(values)
-                        .and_then(|r| r.predict(&campaign.experiments[*e], settings));
+                        .and_then(|r| r.predict(&experiments[*e], settings));
                     let mut journal = journal
                         .lock()
                         .unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -215,7 +215,7 @@ impl<'a> Engine<'a> {
             .iter()
             .zip(predictions)
             .flat_map(|(&e, predicted)| {
-                self.campaign.experiments[e]
+                self.experiments[e]
                     .recording
                     .iter()
                     .zip(predicted)
@@ -234,11 +234,7 @@ impl<'a> Engine<'a> {
 type Prediction = Result<Vec<f64>, String>;
 
 /// Append one simulation's result to the journal, if there is one.
-fn append(
-    journal: Option<&mut Journal>,
-    key: &str,
-    result: &Prediction,
-) -> Result<(), DiagnoseError> {
+fn append(journal: Option<&mut Journal>, key: &str, result: &Prediction) -> Result<(), FitError> {
     let Some(journal) = journal else {
         return Ok(());
     };
@@ -249,5 +245,5 @@ fn append(
     };
     journal
         .append(&entry)
-        .map_err(|e| DiagnoseError::Io(format!("{}: {e}", journal.path().display())))
+        .map_err(|e| FitError::Io(format!("{}: {e}", journal.path().display())))
 }

@@ -1,4 +1,4 @@
-//! Least-squares refits of a hypothesis: bounded Levenberg-Marquardt (Marquardt 1963, with
+//! Least-squares fits of a hypothesis (the diagnosis' refits, the calibration's finish): bounded Levenberg-Marquardt (Marquardt 1963, with
 //! Marquardt's diagonal scaling) on the whitened residuals of the fitted experiments, in unit
 //! coordinates of the bounds, with forward-difference Jacobians. It starts from the calibrated
 //! constants (and an added term at its null value), so it is the local recalibration that a
@@ -7,8 +7,8 @@
 
 use super::engine::Engine;
 use super::hypothesis::Hypothesis;
-use super::stats::{dot, gram, solve_damped, transpose_times};
-use super::DiagnoseError;
+use super::linear::{dot, gram, solve_damped, transpose_times};
+use super::FitError;
 use serde::{Deserialize, Serialize};
 
 /// Forward-difference step in unit coordinates (1 % of each constant's range).
@@ -47,7 +47,7 @@ pub fn residuals_at(
     hypothesis: &Hypothesis,
     units: &[Vec<f64>],
     experiments: &[usize],
-) -> Result<Vec<Result<Vec<f64>, String>>, DiagnoseError> {
+) -> Result<Vec<Result<Vec<f64>, String>>, FitError> {
     let points: Vec<Vec<f64>> = units.iter().map(|u| to_si(hypothesis, u)).collect();
     let predictions = engine.predict(hypothesis, &points, experiments)?;
     Ok(predictions
@@ -64,7 +64,7 @@ pub fn jacobian(
     unit: &[f64],
     residuals: &[f64],
     experiments: &[usize],
-) -> Result<Vec<Vec<f64>>, DiagnoseError> {
+) -> Result<Vec<Vec<f64>>, FitError> {
     let steps: Vec<f64> = unit
         .iter()
         .map(|u| {
@@ -103,7 +103,7 @@ pub fn levenberg_marquardt(
     start: &[f64],
     experiments: &[usize],
     iterations: usize,
-) -> Result<Fit, DiagnoseError> {
+) -> Result<Fit, FitError> {
     let mut unit: Vec<f64> = hypothesis
         .parameters
         .iter()
@@ -112,7 +112,7 @@ pub fn levenberg_marquardt(
         .collect();
     let mut residuals = residuals_at(engine, hypothesis, std::slice::from_ref(&unit), experiments)?
         .remove(0)
-        .map_err(|e| DiagnoseError::Simulation(format!("{}: {e}", hypothesis.label)))?;
+        .map_err(|e| FitError::Simulation(format!("{}: {e}", hypothesis.label)))?;
     let mut chi_square = dot(&residuals, &residuals);
     let mut damping = 1e-3;
     let mut taken = 0;

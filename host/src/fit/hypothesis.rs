@@ -12,9 +12,10 @@
 //! - [`EROSION_INTENSITY`]: `gamma = 1 / eps_f`, elements erode at plastic strain `eps_f`
 //!   (`gamma = 0`: no failure).
 
-use crate::calibrate::campaign::{Campaign, ModelSpace};
+use super::space::ModelSpace;
+use super::unit_cube;
 use crate::experiment::{Experiment, Setup};
-use crate::input::material::{MaterialFile, StrengthSpec};
+use crate::input::material::{AnyMaterialFile, MaterialFile, StrengthSpec};
 use crate::solver::SolverSettings;
 use serde::{Deserialize, Serialize};
 use stoss_kernel::damage::Failure;
@@ -41,12 +42,12 @@ pub struct Parameter {
 impl Parameter {
     /// `value` in unit coordinates of the bounds.
     pub fn to_unit(&self, value: f64) -> f64 {
-        (value - self.lower) / (self.upper - self.lower)
+        unit_cube::to_unit(value, self.lower, self.upper)
     }
 
     /// Unit coordinate `unit` in SI.
     pub fn from_unit(&self, unit: f64) -> f64 {
-        self.lower + unit * (self.upper - self.lower)
+        unit_cube::from_unit(unit, self.lower, self.upper)
     }
 }
 
@@ -84,18 +85,23 @@ pub struct Realisation {
 }
 
 impl Hypothesis {
-    /// The calibrated model of a campaign as the diagnosis's base hypothesis: a Johnson-Cook
+    /// The calibrated model of a campaign (its base material file `campaign_base`, the
+    /// model's `space` at `values`) as the diagnosis's base hypothesis: a Johnson-Cook
     /// strength is rewritten as its composed terms (the same kernel model, bit for bit) so
     /// that the library can add a term; other families keep their form.
-    pub fn base(campaign: &Campaign, space: &ModelSpace, values: &[f64]) -> Result<Self, String> {
-        let crate::input::material::AnyMaterialFile::J2(base) = &campaign.base else {
-            let family = match &campaign.base {
-                crate::input::material::AnyMaterialFile::Kc(_) => "K&C concrete",
+    pub fn base(
+        campaign_base: &AnyMaterialFile,
+        space: &ModelSpace,
+        values: &[f64],
+    ) -> Result<Self, String> {
+        let AnyMaterialFile::J2(base) = campaign_base else {
+            let family = match campaign_base {
+                AnyMaterialFile::Kc(_) => "K&C concrete",
                 _ => "RHT concrete",
             };
             return Err(format!(
                 "the diagnosis is for J2 metals; {} is {family}",
-                campaign.base.name()
+                campaign_base.name()
             ));
         };
         let mut material = base.clone();

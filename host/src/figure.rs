@@ -1,0 +1,104 @@
+//! What the results show, as data: line charts and their series, maps of a field over a
+//! section, the final fields of a run (for VTK), and an experiment's own report. Experiments
+//! fill these in; `report` draws and writes them (plotters, VTK), so no experiment depends on
+//! how a figure is drawn.
+
+use crate::mesh::{HexMesh, QuadMesh};
+use stoss_kernel::MaterialState;
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// A line through the points.
+    Line,
+    /// Markers at the points.
+    Markers,
+}
+
+/// One series of a line chart.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// `(x, y)` points.
+    pub points: Vec<(f64, f64)>,
+    /// Drawing style.
+    pub style: Style,
+    /// Palette index.
+    pub colour: usize,
+}
+
+/// One cell of a [`FieldMap`]: its rectangle `[x0, x1, y0, y1]` and value.
+pub type MapCell = ([f64; 4], f64);
+
+/// Fields of the final state for visualisation (VTK).
+#[derive(Clone, Debug)]
+pub struct FieldOutput {
+    /// The mesh (reference configuration).
+    pub mesh: QuadMesh,
+    /// Final nodal positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Final element states.
+    pub states: Vec<MaterialState>,
+    /// Eroded elements.
+    pub eroded: Vec<bool>,
+}
+
+/// The final state of a 3D (hexahedral) run, for its VTK file.
+#[derive(Clone, Debug)]
+pub struct HexFieldOutput {
+    /// The mesh (reference configuration).
+    pub mesh: HexMesh,
+    /// Final nodal positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Final element states.
+    pub states: Vec<MaterialState>,
+    /// Eroded elements.
+    pub eroded: Vec<bool>,
+}
+
+/// The text and figures of an experiment's own report.
+#[derive(Clone, Debug, Default)]
+pub struct ExperimentReport {
+    /// Printed after the comparison with the recording.
+    pub text: String,
+    /// Figures written into the output folder.
+    pub charts: Vec<Chart>,
+    /// Fields at times during the run, written into the output folder as `.vtu` files
+    /// (file name, field).
+    pub snapshots: Vec<(String, HexFieldOutput)>,
+    /// Maps of a field over a section, written as `.svg` figures.
+    pub maps: Vec<FieldMap>,
+}
+
+/// A map of a scalar field over a section (drawn by `report::plots::field_map`).
+#[derive(Clone, Debug)]
+pub struct FieldMap {
+    /// File name in the output folder (`.svg`).
+    pub file: String,
+    /// Title.
+    pub title: String,
+    /// Axis labels.
+    pub x_label: String,
+    /// Axis labels.
+    pub y_label: String,
+    /// The cells: rectangle `[x0, x1, y0, y1]` and value.
+    pub cells: Vec<MapCell>,
+    /// The value range of the colour scale (white below its start).
+    pub range: (f64, f64),
+}
+
+/// A line chart of an experiment's report (drawn by `report::plots::line_chart`).
+#[derive(Clone, Debug)]
+pub struct Chart {
+    /// File name in the output folder (`.svg`).
+    pub file: String,
+    /// Title.
+    pub title: String,
+    /// Axis labels.
+    pub x_label: String,
+    /// Axis labels.
+    pub y_label: String,
+    /// The series.
+    pub series: Vec<Series>,
+}

@@ -1,0 +1,42 @@
+//! The fitting layer under `calibrate` and `diagnose`: what both need to turn named, bounded
+//! constants into simulations and fit them, and nothing of either.
+//!
+//! - [`space`]: a model's search space (names, search bounds, the strength they are written
+//!   into) and the at-a-bound check;
+//! - [`unit_cube`]: the one map between bounds and unit coordinates;
+//! - [`hypothesis`]: a material with experiment-level settings and fitted constants, and its
+//!   realisation (the kernel material the simulations run);
+//! - [`engine`]: batches of simulations in parallel, journalled and replayed on a rerun;
+//! - [`least_squares`]: the bounded Levenberg-Marquardt fit on whitened residuals;
+//! - [`linear`]: the small dense least-squares algebra it needs.
+//!
+//! It may import the experiment layer and everything below it (experiment, solver, input,
+//! journal, hash, the kernel); it imports neither `calibrate` nor `diagnose`
+//! (`docs/architecture.md`).
+
+pub mod engine;
+pub mod hypothesis;
+pub mod least_squares;
+pub mod linear;
+pub mod space;
+pub mod unit_cube;
+
+pub use engine::{Engine, Progress};
+pub use hypothesis::{Hypothesis, Parameter};
+pub use least_squares::{levenberg_marquardt, Fit};
+pub use space::ModelSpace;
+
+/// Why a fit (or a batch of its simulations) stopped. The messages are those the diagnosis
+/// has always reported (the diagnosis' error converts variant for variant).
+#[derive(Debug, thiserror::Error)]
+pub enum FitError {
+    /// Reading or writing the journal failed.
+    #[error("{0}")]
+    Io(String),
+    /// The thread pool could not be built.
+    #[error("thread pool: {0}")]
+    Threads(String),
+    /// A simulation the fit cannot do without failed.
+    #[error("simulation failed: {0}")]
+    Simulation(String),
+}

@@ -1,0 +1,207 @@
+//! The search space of a model: its fitted constants by name with their search bounds
+//! (SI), and the strength or concrete file they are written into. Built by a campaign
+//! (`Campaign::space` in the calibration) and read by both the calibration and the
+//! diagnosis; bounds map to unit coordinates through [`super::unit_cube`].
+
+use crate::input::material::{AnyMaterialFile, KcMaterialFile, RhtMaterialFile, StrengthSpec};
+use stoss_kernel::eos::Polynomial;
+use stoss_kernel::kc::KcParameters;
+use stoss_kernel::parameters::{ConstantPaths, Parameter};
+use stoss_kernel::rht::RhtParameters;
+use stoss_kernel::PartMaterial;
+
+/// A model of a campaign, resolved: its strength and the names and bounds of its fitted
+/// constants.
+#[derive(Clone, Debug)]
+pub struct ModelSpace {
+    /// Model name.
+    pub name: String,
+    /// Starting strength (fitted constants are overwritten); `None` for RHT concrete, whose
+    /// constants are edited in the base file itself.
+    pub strength: Option<StrengthSpec>,
+    /// Fitted constant names.
+    pub names: Vec<String>,
+    /// Lower bounds.
+    pub lower: Vec<f64>,
+    /// Upper bounds.
+    pub upper: Vec<f64>,
+}
+
+impl ModelSpace {
+    /// The strength with `values` for the fitted constants (J2 metals).
+    pub fn strength_with(&self, values: &[f64]) -> Result<StrengthSpec, String> {
+        let mut strength = self.strength.ok_or_else(|| {
+            format!(
+                "model {} has no flow-stress model (RHT concrete)",
+                self.name
+            )
+        })?;
+        for (name, value) in self.names.iter().zip(values) {
+            strength
+                .set(name, *value)
+                .ok_or_else(|| format!("`{name}` is not a constant of this model"))?;
+        }
+        Ok(strength)
+    }
+
+    /// The K&C file `base` with `values` at the fitted constants' paths.
+    fn kc_with(&self, base: &KcMaterialFile, values: &[f64]) -> Result<KcMaterialFile, String> {
+        let mut file = base.clone();
+        for (name, value) in self.names.iter().zip(values) {
+            *file.constant_slot(name).ok_or_else(|| {
+                format!(
+                    "`{name}` is not a constant of the K&C file (`density`, \
+                     `parameters.<name>` such as `parameters.tension_damage_exponent`, or \
+                     `eos.<name>`)"
+                )
+            })? = *value;
+        }
+        Ok(file)
+    }
+
+    /// The RHT file `base` with `values` at the fitted constants' paths.
+    fn rht_with(&self, base: &RhtMaterialFile, values: &[f64]) -> Result<RhtMaterialFile, String> {
+        let mut file = base.clone();
+        for (name, value) in self.names.iter().zip(values) {
+            *file.constant_slot(name).ok_or_else(|| {
+                format!(
+                    "`{name}` is not a constant of the RHT file (`density`, \
+                     `parameters.<name>` such as `parameters.residual_b`, or `eos.<name>`)"
+                )
+            })? = *value;
+        }
+        Ok(file)
+    }
+
+    /// The kernel material: the campaign's base material with this model's constants, and
+    /// the material file that says so.
+    pub fn material(
+        &self,
+        base: &AnyMaterialFile,
+        values: &[f64],
+    ) -> Result<(AnyMaterialFile, PartMaterial), String> {
+        let file = match base {
+            AnyMaterialFile::J2(base) => {
+                let mut file = base.clone();
+                file.strength = self.strength_with(values)?;
+                AnyMaterialFile::J2(file)
+            }
+            AnyMaterialFile::Rht(base) => AnyMaterialFile::Rht(self.rht_with(base, values)?),
+            AnyMaterialFile::Kc(base) => AnyMaterialFile::Kc(self.kc_with(base, values)?),
+        };
+        let material = file.material().map_err(|e| e.to_string())?;
+        Ok((file, material))
+    }
+
+    /// The starting values of the fitted constants: what the model's strength (or the base
+    /// material file) holds before any fit. `None` if a name is not found.
+    pub fn starting_values(&self, base: &AnyMaterialFile) -> Option<Vec<f64>> {
+        self.names
+            .iter()
+            .map(|name| match (&self.strength, base) {
+                (Some(strength), _) => strength.get(name),
+                (None, AnyMaterialFile::Rht(file)) => {
+                    file.clone().constant_slot(name).map(|value| *value)
+                }
+                (None, AnyMaterialFile::Kc(file)) => {
+                    file.clone().constant_slot(name).map(|value| *value)
+                }
+                (None, AnyMaterialFile::J2(_)) => None,
+            })
+            .collect()
+    }
+
+    /// The SI unit of each fitted constant, from the model's descriptions (`?` for a name
+    /// no description covers; the campaign refuses those when it loads).
+    pub fn units(&self, base: &AnyMaterialFile) -> Vec<&'static str> {
+        let strength = self.strength.map(|s| s.constants()).unwrap_or_default();
+        self.names
+            .iter()
+            .map(|name| {
+                if let Some((_, p)) = strength.iter().find(|(n, _)| n == name) {
+                    return p.unit;
+                }
+                let (parameters, eos): (&'static [Parameter], _) = match base {
+                    AnyMaterialFile::Rht(file) => (RhtParameters::PARAMETERS, file.eos),
+                    AnyMaterialFile::Kc(file) => (KcParameters::PARAMETERS, file.eos),
+                    AnyMaterialFile::J2(_) => return "?",
+                };
+                let described = |parameters: &'static [Parameter], name: &str| {
+                    parameters.iter().find(|p| p.name == name).map(|p| p.unit)
+                };
+                match name.split_once('.') {
+                    None if name == "density" => Some("kg/m^3"),
+                    Some(("parameters", n)) => described(parameters, n),
+                    Some(("eos", n)) => match (n.strip_prefix("solid."), eos) {
+                        (Some(n), _) => described(Polynomial::PARAMETERS, n),
+                        (None, eos) => described(eos.constants(), n),
+                    },
+                    _ => None,
+                }
+                .unwrap_or("?")
+            })
+            .collect()
+    }
+
+    /// Dimension of the search space.
+    pub fn dimension(&self) -> usize {
+        self.names.len()
+    }
+}
+
+/// Fraction of a search range within which a fitted constant counts as at its bound.
+pub const AT_BOUND: f64 = 0.005;
+
+/// The constants of `values` within [`AT_BOUND`] of the search range of a bound, described
+/// (`n = 1.000e0 at its upper bound 1.000e0`).
+pub fn constants_at_bounds(space: &ModelSpace, values: &[f64]) -> Vec<String> {
+    space
+        .names
+        .iter()
+        .zip(values)
+        .zip(space.lower.iter().zip(&space.upper))
+        .filter_map(|((name, value), (lower, upper))| at_bound(name, *value, *lower, *upper))
+        .collect()
+}
+
+/// `name = value` described if it lies within [`AT_BOUND`] of the range `[lower, upper]` of a
+/// bound (`n = 1.000e0 at its upper bound 1.000e0`), else `None`.
+pub fn at_bound(name: &str, value: f64, lower: f64, upper: f64) -> Option<String> {
+    let margin = AT_BOUND * (upper - lower);
+    if value <= lower + margin {
+        Some(format!(
+            "{name} = {value:.4e} at its lower bound {lower:.4e}"
+        ))
+    } else if value >= upper - margin {
+        Some(format!(
+            "{name} = {value:.4e} at its upper bound {upper:.4e}"
+        ))
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constants_within_half_a_percent_of_a_bound_are_flagged() {
+        // GOAL: a fit that ends at a bound says so.
+        // SETUP: bounds [0, 1] for two constants; values 0.004, 0.5, 0.996, 0.006.
+        // REFERENCE: 0.5 % of the range: 0.004 (lower) and 0.996 (upper) flagged, not 0.006.
+        let space = ModelSpace {
+            name: "jc".into(),
+            strength: None,
+            names: vec!["n".into(), "C".into()],
+            lower: vec![0.0, 0.0],
+            upper: vec![1.0, 1.0],
+        };
+        let flagged = constants_at_bounds(&space, &[0.004, 0.5]);
+        assert_eq!(flagged.len(), 1);
+        assert!(flagged[0].starts_with("n = 4.0000e-3 at its lower bound"));
+        let flagged = constants_at_bounds(&space, &[0.996, 0.006]);
+        assert_eq!(flagged.len(), 1);
+        assert!(flagged[0].contains("at its upper bound"));
+    }
+}
