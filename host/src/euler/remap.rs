@@ -17,7 +17,7 @@
 
 use super::interface::{line_level, youngs_normal, Interface, Polygon};
 use super::lagrange::{apply_walls, FaceFluxes};
-use super::{EulerSolver, MAX_MATERIALS, MAX_PHASES};
+use super::{EulerSolver, ACTIVE_FRACTION, MAX_MATERIALS, MAX_PHASES};
 use rayon::prelude::*;
 use stoss_kernel::{MaterialState, PointModel, StateFlags};
 
@@ -264,16 +264,62 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         for p in 0..MAX_PHASES {
             t.volume[p] = (amount * shares[p] / sum).min(volumes[p]);
         }
+        // The cells upstream of the donor and downstream of the face, for the slopes.
+        let (upstream, downstream) = if swept > 0.0 {
+            (self.neighbour(donor, direction, -1), Some(high))
+        } else {
+            (self.neighbour(donor, direction, 1), Some(low))
+        };
         for k in 0..self.materials.len() {
             if t.volume[k] > 0.0 && volumes[k] > 0.0 {
                 let slot = donor * MAX_MATERIALS + k;
-                t.mass[k] = self.mass[slot] * (t.volume[k] / volumes[k]);
-                t.values[k] = carried(&self.state[slot]);
+                let mass = self.mass[slot];
+                let density = mass / volumes[k];
+                let mut values = carried(&self.state[slot]);
+                let mut face_density = density;
+                // Second order inside a material (van Leer 1977, MUSCL): where the donor and
+                // both neighbours along the sweep are full of it, the density and the carried
+                // variables at the face are the donor's plus half its limited slope over the
+                // part of the cell not swept.
+                if let (Some(up), Some(down)) = (upstream, downstream) {
+                    let full = |c: usize| {
+                        self.fraction(c, k) >= 1.0 - ACTIVE_FRACTION
+                            && self.mass[c * MAX_MATERIALS + k] > 0.0
+                    };
+                    if full(donor) && full(up) && full(down) {
+                        let courant = (t.volume[k] / volumes[k]).min(1.0);
+                        let weight = 0.5 * (1.0 - courant);
+                        let rho = |c: usize| {
+                            self.mass[c * MAX_MATERIALS + k] / self.volume[c * MAX_PHASES + k]
+                        };
+                        face_density =
+                            density + weight * van_leer(density - rho(up), rho(down) - density);
+                        let before = carried(&self.state[up * MAX_MATERIALS + k]);
+                        let after = carried(&self.state[down * MAX_MATERIALS + k]);
+                        for ((v, b), a) in values.iter_mut().zip(before).zip(after) {
+                            *v += weight * van_leer(*v - b, a - *v);
+                        }
+                    }
+                }
+                t.mass[k] = (face_density * t.volume[k]).min(mass);
+                t.values[k] = values;
                 t.flags[k] = self.state[slot].flags.0;
                 t.wave[k] = self.wave_speed[slot];
             }
         }
         t
+    }
+
+    /// The cell `step` (+1 or -1) cells from `c` along `direction`, if inside the grid.
+    fn neighbour(&self, c: usize, direction: Direction, step: isize) -> Option<usize> {
+        let cells_r = self.grid.cells_r;
+        let (i, j) = ((c % cells_r) as isize, (c / cells_r) as isize);
+        let (i, j) = match direction {
+            Direction::R => (i + step, j),
+            Direction::Z => (i, j + step),
+        };
+        (i >= 0 && j >= 0 && (i as usize) < cells_r && (j as usize) < self.grid.cells_z)
+            .then(|| j as usize * cells_r + i as usize)
     }
 }
 
@@ -356,54 +402,68 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
                 }
             }
             for k in 0..material_count {
-                let mut kept = masses[k];
-                let mut inflow = false;
-                for t in faces {
-                    if t.donor == c {
-                        kept -= t.mass[k];
-                    } else if t.mass[k] > 0.0 {
-                        inflow = true;
-                    }
-                }
-                let kept = kept.max(0.0);
-                masses[k] = kept;
-                if !inflow {
+                let moved = faces.iter().any(|t| t.mass[k] > 0.0);
+                if !moved {
                     continue;
                 }
-                let mut sum = [0.0; CARRIED];
-                let mut total = kept;
+                // Mass-weighted: sum = m v - sum_out m_out v_out + sum_in m_in v_in.
                 let own = carried(&states[k]);
+                let mut sum = [0.0; CARRIED];
                 for (s, v) in sum.iter_mut().zip(own) {
-                    *s += kept * v;
+                    *s = masses[k] * v;
                 }
-                let mut wave = if kept > 0.0 { waves[k] } else { 0.0 };
-                let mut flags = if kept > 0.0 {
-                    Some(states[k].flags)
-                } else {
-                    None
+                let mut total = masses[k];
+                // Bounds of the blended values: every contributor's (round-off in a nearly
+                // emptied cell cannot leave them).
+                let mut low = [f64::INFINITY; CARRIED];
+                let mut high = [f64::NEG_INFINITY; CARRIED];
+                let mut bound = |values: &[f64; CARRIED]| {
+                    for ((l, h), v) in low.iter_mut().zip(high.iter_mut()).zip(values) {
+                        *l = l.min(*v);
+                        *h = h.max(*v);
+                    }
                 };
+                if masses[k] > 0.0 {
+                    bound(&own);
+                }
                 for t in faces {
-                    if t.donor != c && t.mass[k] > 0.0 {
-                        for (s, v) in sum.iter_mut().zip(t.values[k]) {
-                            *s += t.mass[k] * v;
-                        }
-                        total += t.mass[k];
+                    if t.mass[k] > 0.0 {
+                        bound(&t.values[k]);
+                    }
+                }
+                let mut wave = if masses[k] > 0.0 { waves[k] } else { 0.0 };
+                let mut flags = (masses[k] > 0.0).then_some(states[k].flags);
+                for t in faces {
+                    if t.mass[k] <= 0.0 {
+                        continue;
+                    }
+                    let sign = if t.donor == c { -1.0 } else { 1.0 };
+                    for (s, v) in sum.iter_mut().zip(t.values[k]) {
+                        *s += sign * t.mass[k] * v;
+                    }
+                    total += sign * t.mass[k];
+                    if t.donor != c {
                         wave = wave.max(t.wave[k]);
                         flags.get_or_insert(StateFlags(t.flags[k]));
                     }
                 }
                 let state = &mut states[k];
-                if kept == 0.0 {
+                if total <= 0.0 || volumes[k] <= 0.0 {
+                    masses[k] = 0.0;
+                    continue;
+                }
+                if masses[k] == 0.0 {
                     // A material new to the cell: no stored yield check.
                     *state = MaterialState::initial(1.0);
                 }
                 state.flags = flags.unwrap_or_default();
                 masses[k] = total;
                 waves[k] = wave;
-                set_blend(state, &sum, total);
-                if volumes[k] > 0.0 {
-                    state.relative_volume = densities[k] * volumes[k] / total;
+                for ((s, l), h) in sum.iter_mut().zip(low).zip(high) {
+                    *s = (*s / total).clamp(l, h) * total;
                 }
+                set_blend(state, &sum, total);
+                state.relative_volume = densities[k] * volumes[k] / total;
             }
         });
     remap_momentum(s, &transfers, &old_mass, direction);
