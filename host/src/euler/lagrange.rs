@@ -175,6 +175,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     fn accelerate(&mut self, dt: f64) -> f64 {
         let forces = self.cell_forces();
         let masses = self.node_masses();
+
         let cells_r = self.grid.cells_r;
         let cells_z = self.grid.cells_z;
         let nodes_r = self.nodes_r();
@@ -283,7 +284,7 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
     let materials = &s.materials;
     let settings = &s.settings;
     let origin_z = s.origin_z;
-    let results: Vec<Result<CellWork, EulerError>> = s
+    let results: Vec<Result<CellWork, Box<EulerError>>> = s
         .state
         .par_chunks_mut(MAX_MATERIALS)
         .zip(s.volume.par_chunks_mut(MAX_PHASES))
@@ -351,15 +352,17 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
                             relative_volume,
                         },
                     )
-                    .map_err(|error| EulerError::Update {
-                        material: materials[k].name.clone(),
-                        i,
-                        j,
-                        r: r_c,
-                        z: origin_z + (j as f64 + 0.5) * h_z,
-                        time,
-                        relative_volume,
-                        error,
+                    .map_err(|error| {
+                        Box::new(EulerError::Update {
+                            material: materials[k].name.clone(),
+                            i,
+                            j,
+                            r: r_c,
+                            z: origin_z + (j as f64 + 0.5) * h_z,
+                            time,
+                            relative_volume,
+                            error,
+                        })
                     })?;
                 states[k] = next;
                 waves[k] = output.wave_speed;
@@ -388,7 +391,7 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
         .collect();
     let mut viscous = 0.0;
     for result in results {
-        let work = result?;
+        let work = result.map_err(|e| *e)?;
         viscous += work.viscous;
         s.material_updates += work.updates;
     }

@@ -234,6 +234,8 @@ pub struct EulerSolver<P> {
     pub energy: EulerEnergy,
     /// Material-cell updates done by the kernel (for performance figures).
     pub material_updates: u64,
+    /// The remap's work buffers.
+    workspace: remap::Workspace,
 }
 
 impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
@@ -266,6 +268,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             cycles: 0,
             energy: EulerEnergy::default(),
             material_updates: 0,
+            workspace: remap::Workspace::default(),
             materials,
         };
         solver.fill(regions)?;
@@ -384,17 +387,17 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
 
     /// Lumped nodal masses: a quarter of each adjacent cell's mass.
     pub fn node_masses(&self) -> Vec<f64> {
+        use rayon::prelude::*;
         let nr = self.nodes_r();
         let cells_r = self.grid.cells_r;
         let cells_z = self.grid.cells_z;
-        let cell_mass: Vec<f64> = (0..self.grid.cell_count())
-            .map(|c| {
-                self.mass[c * MAX_MATERIALS..(c + 1) * MAX_MATERIALS]
-                    .iter()
-                    .sum()
-            })
+        let cell_mass: Vec<f64> = self
+            .mass
+            .par_chunks(MAX_MATERIALS)
+            .map(|m| m.iter().sum())
             .collect();
         (0..nr * (cells_z + 1))
+            .into_par_iter()
             .map(|n| {
                 let (i, j) = (n % nr, n / nr);
                 let mut m = 0.0;

@@ -43,6 +43,25 @@ struct Reconstruction {
     lines: [Interface; MAX_PHASES],
 }
 
+/// The remap's work buffers (their contents between sweeps mean nothing).
+#[derive(Clone, Debug, Default)]
+pub struct Workspace {
+    transfers: Vec<Transfer>,
+}
+
+/// [`Reconstructions::single`] of a cell holding more than one phase.
+const MIXED: u8 = u8::MAX;
+
+/// The reconstruction of every cell: a pure cell's phase, or its interfaces.
+struct Reconstructions {
+    /// The cell's only phase, or [`MIXED`].
+    single: Vec<u8>,
+    /// Index into `cells` of a mixed cell.
+    index: Vec<u32>,
+    /// The mixed cells' reconstructions.
+    cells: Vec<Reconstruction>,
+}
+
 /// What one face carries: its donor cell, each phase's volume and mass, and the donor
 /// materials' carried variables (see [`carried`]) and wave speeds.
 #[derive(Clone, Copy, Debug, Default)]
@@ -95,7 +114,7 @@ pub fn remap<P: PointModel + Sync + Send + Clone>(
 
 impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     /// Youngs' PLIC with nested dissection of every cell holding more than one phase.
-    fn reconstruct(&self) -> Vec<Reconstruction> {
+    fn reconstruct(&self) -> Reconstructions {
         let cells_r = self.grid.cells_r;
         let cells_z = self.grid.cells_z;
         let (h_r, h_z) = (self.grid.spacing_r, self.grid.spacing_z);
@@ -118,9 +137,24 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             })
             .collect();
         let fraction = |c: usize, p: usize| fractions[c][p];
-        (0..self.grid.cell_count())
+        // Each cell's only phase, or MIXED.
+        let single: Vec<u8> = (0..self.grid.cell_count())
             .into_par_iter()
             .map(|c| {
+                let mut present = phases_in_use
+                    .iter()
+                    .filter(|&&p| fraction(c, p) > PRESENT_FRACTION);
+                match (present.next(), present.next()) {
+                    (Some(&p), None) => p as u8,
+                    (None, _) => (MAX_PHASES - 1) as u8,
+                    _ => MIXED,
+                }
+            })
+            .collect();
+        let mixed: Vec<usize> = (0..single.len()).filter(|&c| single[c] == MIXED).collect();
+        let cells: Vec<Reconstruction> = mixed
+            .par_iter()
+            .map(|&c| {
                 let mut r = Reconstruction {
                     phases: [0; MAX_PHASES],
                     count: 0,
@@ -171,38 +205,47 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                 }
                 r
             })
-            .collect()
+            .collect();
+        let mut index = vec![u32::MAX; single.len()];
+        for (k, &c) in mixed.iter().enumerate() {
+            index[c] = k as u32;
+        }
+        Reconstructions {
+            single,
+            index,
+            cells,
+        }
     }
 
     /// What the face with swept volume `swept` (positive along the sweep) between cells
     /// `low` and `high` carries.
     fn transfer(
         &self,
-        reconstruction: &[Reconstruction],
+        reconstruction: &Reconstructions,
         direction: Direction,
-        low: usize,
-        high: usize,
-        swept: f64,
-    ) -> Transfer {
+        (low, high, swept): (usize, usize, f64),
+        t: &mut Transfer,
+    ) {
         let donor = if swept > 0.0 { low } else { high };
-        let mut t = Transfer {
-            donor,
-            ..Default::default()
-        };
+        // Only the volumes and masses are reset: the carried values of a material are read
+        // only where it moves.
+        t.donor = donor;
+        t.volume = [0.0; MAX_PHASES];
+        t.mass = [0.0; MAX_MATERIALS];
         if swept == 0.0 {
-            return t;
+            return;
         }
         let amount = swept.abs();
         let volumes = &self.volume[donor * MAX_PHASES..(donor + 1) * MAX_PHASES];
         let total: f64 = volumes.iter().sum();
         if total <= 0.0 {
-            return t;
+            return;
         }
-        let recon = &reconstruction[donor];
         let mut shares = [0.0; MAX_PHASES];
-        if recon.count == 1 {
-            shares[recon.phases[0]] = 1.0;
+        if reconstruction.single[donor] != MIXED {
+            shares[reconstruction.single[donor] as usize] = 1.0;
         } else {
+            let recon = &reconstruction.cells[reconstruction.index[donor] as usize];
             let planar = !self.axisymmetric();
             let cells_r = self.grid.cells_r;
             let (i, j) = (donor % cells_r, donor / cells_r);
@@ -259,7 +302,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         }
         let sum: f64 = shares.iter().sum();
         if sum <= 0.0 {
-            return t;
+            return;
         }
         for p in 0..MAX_PHASES {
             t.volume[p] = (amount * shares[p] / sum).min(volumes[p]);
@@ -307,7 +350,6 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                 t.wave[k] = self.wave_speed[slot];
             }
         }
-        t
     }
 
     /// The cell `step` (+1 or -1) cells from `c` along `direction`, if inside the grid.
@@ -357,16 +399,22 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
             }),
         ),
     };
+    let mut transfers = std::mem::take(&mut s.workspace.transfers);
+    transfers.resize(face_count, Transfer::default());
     let solver = &*s;
-    let transfers: Vec<Transfer> = (0..face_count)
-        .into_par_iter()
-        .map(|f| match face_cells(f) {
+    transfers
+        .par_iter_mut()
+        .enumerate()
+        .for_each(|(f, t)| match face_cells(f) {
             (Some(low), Some(high), swept) => {
-                solver.transfer(&reconstruction, direction, low, high, swept)
+                solver.transfer(&reconstruction, direction, (low, high, swept), t)
             }
-            _ => Transfer::default(),
-        })
-        .collect();
+            _ => {
+                t.volume = [0.0; MAX_PHASES];
+                t.mass = [0.0; MAX_MATERIALS];
+                t.donor = usize::MAX;
+            }
+        });
     // The faces below and above each cell along the sweep.
     let faces_of = |c: usize| -> (usize, usize) {
         let (i, j) = (c % cells_r, c / cells_r);
@@ -467,6 +515,7 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
             }
         });
     remap_momentum(s, &transfers, &old_mass, direction);
+    s.workspace.transfers = transfers;
 }
 
 /// Set the carried variables of `state` to the mass-weighted averages `sum / total`.

@@ -23,6 +23,9 @@ use crate::solver::SolverSettings;
 use std::ops::ControlFlow;
 use stoss_kernel::{PartMaterial, PointModel};
 
+/// Largest Eulerian grid accepted (cells).
+const MAXIMUM_CELLS: f64 = 4.0e6;
+
 /// The rod's material index in the Eulerian model.
 pub const ROD: usize = 0;
 /// The target's material index.
@@ -42,6 +45,60 @@ pub struct EulerPenetration {
 }
 
 impl PenetrationSpec {
+    /// The checks of an Eulerian run: the options that only the Lagrangian model has are
+    /// refused rather than ignored, and the grid must stay affordable.
+    pub(super) fn validate_euler(
+        &self,
+        check: &crate::experiment::Check,
+    ) -> Result<(), crate::input::InputError> {
+        let lagrangian_only = "applies to the Lagrangian solver only (solver = \"lagrange\")";
+        check(
+            "rigid_rod",
+            !self.rigid_rod,
+            &format!("a rigid rod {lagrangian_only}: the Eulerian solver has no rigid bodies"),
+        )?;
+        check(
+            "friction",
+            self.friction == 0.0,
+            &format!("friction {lagrangian_only}: the Eulerian solver has no contact"),
+        )?;
+        check(
+            "self_contact",
+            !self.self_contact,
+            &format!("self_contact {lagrangian_only}: the Eulerian solver has no contact"),
+        )?;
+        check(
+            "rod_element_size",
+            self.rod_element_size.is_none(),
+            &format!(
+                "a separate rod mesh {lagrangian_only}: one grid of element_size holds both parts"
+            ),
+        )?;
+        check(
+            "hourglass",
+            self.hourglass == crate::solver::HourglassControl::Viscous,
+            "the Eulerian solver's hourglass control is the viscous form",
+        )?;
+        let (cells_r, cells_z) = self.euler_cells();
+        let cells = (cells_r * cells_z) as f64;
+        check(
+            "element_size",
+            cells <= MAXIMUM_CELLS,
+            &format!(
+                "gives an Eulerian grid of {cells_r} x {cells_z} cells (more than \
+                 {MAXIMUM_CELLS:.0}): check the units (m)"
+            ),
+        )?;
+        crate::experiment::check_bulk_viscosity(check, self.bulk_viscosity.as_ref())?;
+        crate::experiment::check_run_budget(
+            check,
+            self.end_time,
+            EulerSettings::default().courant
+                * crate::experiment::undeformed_time_step(self.element_size, true),
+            cells,
+        )
+    }
+
     /// The void layer below the target's rear face (m).
     fn void_below(&self) -> f64 {
         (0.2 * self.target_thickness).max(8.0 * self.element_size)

@@ -416,6 +416,9 @@ impl PenetrationSpec {
             self.friction >= 0.0 && self.friction.is_finite(),
             "must be >= 0",
         )?;
+        if self.solver == PenetrationSolver::Euler {
+            return self.validate_euler(check);
+        }
         // A run must stay affordable: the element count at the given size, and the steps to
         // `end_time` at the undeformed stable step (distortion near the erosion strain makes
         // the real count several times larger).
