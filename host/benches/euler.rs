@@ -1,0 +1,247 @@
+//! The Eulerian penetration solver (host/src/euler) against the recordings and the analytic
+//! models, and its speed. The figures are in docs/euler.md.
+//!
+//! GOAL / SETUP / REFERENCE per section:
+//! - `shots`: seed 000's two long-rod shots (fixtures/experiments/penetration-hzb-*.toml) on
+//!   the Eulerian solver at the calibration cell (0.4 mm; 0.2 mm too with `fine`): final nose
+//!   depth against the radiograph (Anderson et al. 1995) and Walker–Anderson, energy error,
+//!   wall time, cell-cycles per second.
+//! - `strength`: the 1250 m/s rod into a semi-infinite (80 mm) target made elastic-perfectly
+//!   plastic at A = 0.5 ... 4 GPa, to 30 us: the penetration rate 10-30 us against
+//!   Walker–Anderson's (IJIE 17 (1995) 19), and the crater radius one rod diameter above the
+//!   nose against Walker–Anderson's fit (1.59 a at 1250 m/s).
+//! - `smooth`: the final depth of the 1250 m/s shot at 1244 / 1250 / 1256 m/s and at the
+//!   target's A times 0.99 / 1 / 1.01: monotone, and the largest deviation from the straight
+//!   line through the ends.
+//! - `threads`: the 1250 m/s shot to 20 us on 1 and 2 threads: speed-up and identical depth.
+//!
+//! Run: `cargo bench -p stoss --bench euler` (about 10 minutes on 2 cores); choose sections
+//! with `STOSS_EULER_BENCH=shots,fine`.
+
+mod semi_infinite;
+
+use semi_infinite::{perfectly_plastic, shot};
+use std::path::PathBuf;
+use std::time::Instant;
+use stoss::analytic::penetration::{default_crater_radius, depth_at};
+use stoss::euler::MAX_PHASES;
+use stoss::experiment::penetration::euler::{EulerPenetration, TARGET};
+use stoss::experiment::penetration::PenetrationSolver;
+use stoss::experiment::{Experiment, PenetrationSpec, Setup};
+use stoss::input::material;
+use stoss::measure::interpolate;
+use stoss::solver::SolverSettings;
+use stoss_kernel::PartMaterial;
+
+fn sections() -> String {
+    std::env::var("STOSS_EULER_BENCH").unwrap_or_else(|_| "shots,strength,smooth,threads".into())
+}
+
+fn fixture(name: &str) -> (PenetrationSpec, PartMaterial) {
+    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+    let experiment =
+        Experiment::load(&fixtures.join(format!("experiments/{name}"))).expect("fixture loads");
+    let Setup::Penetration(spec) = &experiment.file.setup else {
+        panic!("not a penetration experiment");
+    };
+    let (_, target) =
+        material::load(&experiment.default_material_path().expect("material")).expect("target");
+    let mut spec = spec.clone();
+    spec.solver = PenetrationSolver::Euler;
+    (spec, target.into())
+}
+
+fn settings(threads: usize) -> SolverSettings {
+    SolverSettings {
+        threads: Some(threads),
+        ..SolverSettings::default()
+    }
+}
+
+/// The crater radius one rod diameter above the nose: the distance from the axis to the
+/// first cell at least half full of target in that row.
+fn crater_radius(run: &EulerPenetration, nose: f64, diameter: f64) -> f64 {
+    let s = &run.solver;
+    let row = ((nose + diameter - s.origin_z) / s.grid.spacing_z) as usize;
+    (0..s.grid.cells_r)
+        .find(|&i| s.fraction(row * s.grid.cells_r + i, TARGET) >= 0.5)
+        .map_or(f64::NAN, |i| i as f64 * s.grid.spacing_r)
+}
+
+fn shots(cells: &[f64]) {
+    println!("| shot | cell (mm) | nose depth (mm) | recorded (mm) | Walker–Anderson (mm) | FE / recorded | energy error | cells | cycles | wall (s) | material-cell updates / s |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for name in ["penetration-hzb-1250.toml", "penetration-hzb-1700.toml"] {
+        let (base, target) = fixture(name);
+        let recorded = if name.contains("1250") { 23.2 } else { 45.6 };
+        for &h in cells {
+            let spec = PenetrationSpec {
+                element_size: h,
+                ..base.clone()
+            };
+            let started = Instant::now();
+            let run = spec.run_euler(&target, &settings(2));
+            let wall = started.elapsed().as_secs_f64();
+            match run {
+                Ok(run) => {
+                    let depth = run.result.nose_depth.last().unwrap().1 * 1e3;
+                    let wa = spec
+                        .cross_check(target.j2().unwrap())
+                        .map(|c| depth_at(&c.walker_anderson, spec.end_time) * 1e3)
+                        .unwrap_or(f64::NAN);
+                    let s = &run.solver;
+                    println!(
+                        "| {} m/s | {:.2} | {depth:.2} | {recorded:.1} | {wa:.2} | {:.3} | {:+.2} % | {} | {} | {wall:.1} | {:.2e} |",
+                        spec.velocity,
+                        h * 1e3,
+                        depth / recorded,
+                        run.energy().error_percent(),
+                        s.grid.cell_count(),
+                        s.cycles,
+                        s.material_updates as f64 / wall,
+                    );
+                }
+                Err(error) => println!(
+                    "| {} m/s | {:.2} | failed: {error} |",
+                    spec.velocity,
+                    h * 1e3
+                ),
+            }
+        }
+    }
+}
+
+fn strength() {
+    let shot = shot();
+    let mut spec = shot.spec;
+    spec.solver = PenetrationSolver::Euler;
+    spec.rod = Some(Box::new(
+        perfectly_plastic(shot.rod.clone(), 1.506e9, None).into(),
+    ));
+    println!("| target A (GPa) | P(10 us) FE / WA (mm) | P(30 us) FE / WA (mm) | rate 10-30 us FE / WA (mm/us) | FE / WA | crater radius / a (FE, WA) | energy error | wall (s) |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for a in [0.5, 1.0, 1.5, 2.0, 3.0, 4.0] {
+        let target = perfectly_plastic(shot.target.clone(), a * 1e9, None);
+        let check = spec.cross_check(&target).expect("cross-check");
+        let started = Instant::now();
+        match spec.run_euler(&target.into(), &settings(2)) {
+            Ok(run) => {
+                let fe = |t: f64| interpolate(&run.result.nose_depth, t) * 1e3;
+                let wa = |t: f64| depth_at(&check.walker_anderson, t) * 1e3;
+                let fe_rate = (fe(30e-6) - fe(10e-6)) / 20.0;
+                let wa_rate = (wa(30e-6) - wa(10e-6)) / 20.0;
+                let nose = -fe(30e-6) * 1e-3;
+                let radius =
+                    crater_radius(&run, nose, spec.rod_diameter) / (0.5 * spec.rod_diameter);
+                let wa_radius = default_crater_radius(spec.rod_diameter, spec.velocity)
+                    .expect("crater radius")
+                    / (0.5 * spec.rod_diameter);
+                println!(
+                    "| {a:.1} | {:.2} / {:.2} | {:.2} / {:.2} | {fe_rate:.3} / {wa_rate:.3} | {:.3} | {radius:.2}, {wa_radius:.2} | {:+.2} % | {:.1} |",
+                    fe(10e-6),
+                    wa(10e-6),
+                    fe(30e-6),
+                    wa(30e-6),
+                    fe_rate / wa_rate,
+                    run.energy().error_percent(),
+                    started.elapsed().as_secs_f64()
+                );
+            }
+            Err(error) => println!("| {a:.1} | failed: {error} | | | | | | |"),
+        }
+    }
+}
+
+fn smooth() {
+    let (base, target) = fixture("penetration-hzb-1250.toml");
+    let depth = |spec: &PenetrationSpec, target: &PartMaterial| -> f64 {
+        let run = spec.run_euler(target, &settings(2)).expect("run");
+        run.result.nose_depth.last().unwrap().1 * 1e3
+    };
+    let line = |values: &[(f64, f64)]| -> (bool, f64) {
+        let monotone = values.windows(2).all(|w| w[1].1 > w[0].1)
+            || values.windows(2).all(|w| w[1].1 < w[0].1);
+        let (x0, y0) = values[0];
+        let (x1, y1) = values[values.len() - 1];
+        let worst = values
+            .iter()
+            .map(|&(x, y)| ((y - (y0 + (y1 - y0) * (x - x0) / (x1 - x0))) / y).abs())
+            .fold(0.0, f64::max);
+        (monotone, worst)
+    };
+    let mut by_velocity = Vec::new();
+    for v in [1244.0, 1250.0, 1256.0] {
+        let spec = PenetrationSpec {
+            velocity: v,
+            ..base.clone()
+        };
+        by_velocity.push((v, depth(&spec, &target)));
+    }
+    println!("striking velocity (m/s) -> final depth (mm): {by_velocity:?}");
+    let (monotone, worst) = line(&by_velocity);
+    println!(
+        "monotone {monotone}, largest deviation from the line {:.3} %",
+        worst * 100.0
+    );
+    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+    let (file, _) = material::load(&fixtures.join("materials/hzb-w-jc.toml")).expect("target");
+    let mut by_strength = Vec::new();
+    for factor in [0.99, 1.0, 1.01] {
+        let mut file = file.clone();
+        file.set_constant("strength.yield_stress", 1.5e9 * factor)
+            .expect("a Johnson-Cook target");
+        let m = file.material().expect("valid");
+        by_strength.push((factor, depth(&base, &PartMaterial::J2(m))));
+    }
+    println!("A factor -> final depth (mm): {by_strength:?}");
+    let (monotone, worst) = line(&by_strength);
+    println!(
+        "monotone {monotone}, largest deviation from the line {:.3} %",
+        worst * 100.0
+    );
+}
+
+fn threads() {
+    let (base, target) = fixture("penetration-hzb-1250.toml");
+    let spec = PenetrationSpec {
+        end_time: 20e-6,
+        ..base
+    };
+    let mut depths = Vec::new();
+    let mut walls = Vec::new();
+    for threads in [1, 2] {
+        let started = Instant::now();
+        let run = spec.run_euler(&target, &settings(threads)).expect("run");
+        walls.push(started.elapsed().as_secs_f64());
+        depths.push(run.result.nose_depth.last().unwrap().1);
+    }
+    println!(
+        "threads 1 / 2: {:.1} s / {:.1} s, speed-up {:.2}; depths identical: {}",
+        walls[0],
+        walls[1],
+        walls[0] / walls[1],
+        depths[0].to_bits() == depths[1].to_bits()
+    );
+    let _ = MAX_PHASES;
+}
+
+fn main() {
+    let sections = sections();
+    if sections.contains("shots") {
+        let cells: &[f64] = if sections.contains("fine") {
+            &[0.4e-3, 0.2e-3]
+        } else {
+            &[0.4e-3]
+        };
+        shots(cells);
+    }
+    if sections.contains("strength") {
+        strength();
+    }
+    if sections.contains("smooth") {
+        smooth();
+    }
+    if sections.contains("threads") {
+        threads();
+    }
+}
