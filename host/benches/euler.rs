@@ -24,7 +24,6 @@ use semi_infinite::{perfectly_plastic, shot};
 use std::path::PathBuf;
 use std::time::Instant;
 use stoss::analytic::penetration::{default_crater_radius, depth_at};
-use stoss::euler::MAX_PHASES;
 use stoss::experiment::penetration::euler::{EulerPenetration, TARGET};
 use stoss::experiment::penetration::PenetrationSolver;
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
@@ -222,7 +221,6 @@ fn threads() {
         walls[0] / walls[1],
         depths[0].to_bits() == depths[1].to_bits()
     );
-    let _ = MAX_PHASES;
 }
 
 fn main() {

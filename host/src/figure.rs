@@ -42,6 +42,8 @@ pub struct FieldOutput {
     pub states: Vec<MaterialState>,
     /// Eroded elements.
     pub eroded: Vec<bool>,
+    /// Further per-element arrays by name (an Eulerian run's volume fractions and density).
+    pub cell_data: Vec<(String, Vec<f64>)>,
 }
 
 /// The final state of a 3D (hexahedral) run, for its VTK file.

@@ -126,10 +126,12 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                 let mut wave = 0.0_f64;
                 for k in 0..self.materials.len() {
                     let slot = c * MAX_MATERIALS + k;
-                    if self.mass[slot] <= 0.0 {
+                    let f = self.volume[c * MAX_PHASES + k] / volume;
+                    // A material below the active fraction takes no part in the Lagrange
+                    // step: its (unupdated) stress acts on no node.
+                    if self.mass[slot] <= 0.0 || f < super::ACTIVE_FRACTION {
                         continue;
                     }
-                    let f = self.volume[c * MAX_PHASES + k] / volume;
                     let s = &self.state[slot].stress;
                     stress[0] += f * s[0];
                     stress[1] += f * s[1];

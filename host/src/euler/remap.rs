@@ -299,6 +299,15 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                 };
                 shares[recon.phases[slot]] = in_strip.volume(planar).max(0.0);
             }
+            // Phases too thin to reconstruct leave in proportion to their volume, so no
+            // sliver is stranded in a cell.
+            let strip = fraction * total;
+            for p in 0..MAX_PHASES {
+                if shares[p] == 0.0 && volumes[p] > 0.0 && !recon.phases[..recon.count].contains(&p)
+                {
+                    shares[p] = volumes[p] / total * strip * (cell.volume(planar) / total);
+                }
+            }
         }
         let sum: f64 = shares.iter().sum();
         if sum <= 0.0 {

@@ -406,6 +406,7 @@ impl BallisticLimitSpec {
                 positions: run.positions,
                 states: run.states,
                 eroded: run.eroded,
+                cell_data: Vec::new(),
             },
         })
     }

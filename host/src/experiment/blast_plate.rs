@@ -623,6 +623,7 @@ impl BlastPlateSpec {
                 positions: run.positions,
                 states: run.states,
                 eroded: run.eroded,
+                cell_data: Vec::new(),
             }),
         })
     }

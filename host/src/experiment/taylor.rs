@@ -292,6 +292,7 @@ impl TaylorSpec {
                 positions: run.positions,
                 states: run.states,
                 eroded: run.eroded,
+                cell_data: Vec::new(),
             }),
         })
     }

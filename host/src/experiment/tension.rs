@@ -328,6 +328,7 @@ impl TensionSpec {
                 positions: run.positions,
                 states: run.states,
                 eroded: run.eroded,
+                cell_data: Vec::new(),
             }),
         })
     }

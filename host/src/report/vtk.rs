@@ -23,6 +23,7 @@ pub fn render(field: &FieldOutput) -> String {
         VTK_QUAD,
         &field.states,
         &field.eroded,
+        &field.cell_data,
     )
 }
 
@@ -36,6 +37,7 @@ pub fn render_hexahedral(field: &HexFieldOutput) -> String {
         VTK_HEXAHEDRON,
         &field.states,
         &field.eroded,
+        &[],
     )
 }
 
@@ -47,6 +49,7 @@ fn grid(
     cell_type: u8,
     states: &[MaterialState],
     eroded: &[bool],
+    cell_data: &[(String, Vec<f64>)],
 ) -> String {
     let mut text = String::new();
     let _ = writeln!(text, "<?xml version=\"1.0\"?>");
@@ -136,6 +139,9 @@ fn grid(
         "eroded",
         &mut eroded.iter().map(|&e| f64::from(u8::from(e))),
     );
+    for (name, values) in cell_data {
+        scalar(&mut text, name, &mut values.iter().copied());
+    }
     let _ = writeln!(text, "</CellData>");
     let _ = writeln!(text, "<PointData Vectors=\"displacement\"><DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">");
     for (p, p0) in current.iter().zip(reference) {

@@ -406,7 +406,92 @@ impl PenetrationSpec {
             states: run.tracked.clone(),
             element_cycles: s.material_updates,
             report: None,
-            field: None,
+            field: Some(field(&run.solver)),
         })
+    }
+}
+
+/// The grid as a ParaView field: one quad per cell (part `rod`, `target` or `void` by the
+/// phase with the most volume), the state of its heaviest material, void cells flagged as
+/// eroded (so a threshold on `eroded` hides them), and per-cell volume fractions and density.
+pub fn field(s: &EulerSolver<PartMaterial>) -> crate::figure::FieldOutput {
+    use crate::euler::MAX_PHASES;
+    use crate::mesh::{Part, QuadMesh};
+    let nodes_r = s.nodes_r();
+    let (h_r, h_z) = (s.grid.spacing_r, s.grid.spacing_z);
+    let nodes: Vec<[f64; 2]> = (0..nodes_r * (s.grid.cells_z + 1))
+        .map(|n| {
+            [
+                (n % nodes_r) as f64 * h_r,
+                s.origin_z + (n / nodes_r) as f64 * h_z,
+            ]
+        })
+        .collect();
+    let cells = s.grid.cell_count();
+    let names = ["rod", "target"];
+    let mut elements = Vec::with_capacity(cells);
+    let mut element_part = Vec::with_capacity(cells);
+    let mut states = Vec::with_capacity(cells);
+    let mut eroded = Vec::with_capacity(cells);
+    let mut fractions = vec![Vec::with_capacity(cells); 3];
+    let mut density = Vec::with_capacity(cells);
+    for c in 0..cells {
+        let (i, j) = (c % s.grid.cells_r, c / s.grid.cells_r);
+        let n0 = j * nodes_r + i;
+        elements.push([n0, n0 + 1, n0 + 1 + nodes_r, n0 + nodes_r]);
+        let f = [
+            s.fraction(c, ROD),
+            s.fraction(c, TARGET),
+            s.fraction(c, MAX_PHASES - 1),
+        ];
+        let part = (0..3).fold(0, |best, k| if f[k] > f[best] { k } else { best });
+        element_part.push(part);
+        let heaviest = (0..2).fold(0, |best, k| {
+            if s.mass[c * MAX_MATERIALS + k] > s.mass[c * MAX_MATERIALS + best] {
+                k
+            } else {
+                best
+            }
+        });
+        let mass: f64 = (0..2).map(|k| s.mass[c * MAX_MATERIALS + k]).sum();
+        states.push(if mass > 0.0 {
+            s.state[c * MAX_MATERIALS + heaviest]
+        } else {
+            stoss_kernel::MaterialState::initial(293.0)
+        });
+        eroded.push(mass == 0.0);
+        for k in 0..3 {
+            fractions[k].push(f[k]);
+        }
+        density.push(mass / s.cell_volume(i));
+    }
+    let mut cell_data: Vec<(String, Vec<f64>)> = names
+        .iter()
+        .chain(&["void"])
+        .zip(fractions)
+        .map(|(name, values)| (format!("fraction_{name}"), values))
+        .collect();
+    cell_data.push(("density".into(), density));
+    let positions = nodes.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    crate::figure::FieldOutput {
+        mesh: QuadMesh {
+            nodes,
+            elements,
+            element_part,
+            parts: ["rod", "target", "void"]
+                .iter()
+                .enumerate()
+                .map(|(k, name)| Part {
+                    name: (*name).into(),
+                    material: k,
+                })
+                .collect(),
+            node_sets: Default::default(),
+            element_sets: Default::default(),
+        },
+        positions,
+        states,
+        eroded,
+        cell_data,
     }
 }

@@ -884,6 +884,7 @@ impl PenetrationSpec {
                 positions: run.positions,
                 states: run.states,
                 eroded: run.eroded,
+                cell_data: Vec::new(),
             }),
         })
     }

@@ -391,6 +391,7 @@ impl ShpbSpec {
                 positions: run.positions,
                 states: run.states,
                 eroded: run.eroded,
+                cell_data: Vec::new(),
             }),
         })
     }
