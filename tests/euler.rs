@@ -147,6 +147,9 @@ fn shape_error(
     error / perimeter / h
 }
 
+/// A region of the plane.
+type Shape = Box<dyn Fn([f64; 2]) -> bool>;
+
 fn advection_grid() -> Grid {
     Grid {
         cells_r: 64,
@@ -225,7 +228,7 @@ fn two_material_advection_of_a_translating_and_a_rotating_shape_holds_volume_and
             (after - volume).abs() <= 1e-12 * volume,
             "{case}: volume {after} against {volume}"
         );
-        let (exact, perimeter): (Box<dyn Fn([f64; 2]) -> bool>, f64) = if case == "translation" {
+        let (exact, perimeter): (Shape, f64) = if case == "translation" {
             (
                 Box::new(|p: [f64; 2]| (p[0] - 0.6).powi(2) + (p[1] - 0.6).powi(2) < 0.15 * 0.15),
                 2.0 * std::f64::consts::PI * 0.15,
@@ -464,7 +467,7 @@ fn slope(history: &[(f64, f64)], from: f64, to: f64) -> f64 {
 }
 
 #[test]
-#[ignore = "not met yet (docs/euler.md, Verification): 686 m/s against Bernoulli's 750"]
+#[ignore = "not met yet (docs/euler.md, Verification): 662 m/s against Bernoulli's 750"]
 fn near_fluid_rod_and_target_penetrate_at_bernoullis_rate() {
     // GOAL: both materials near-fluid: the steady penetration rate is Bernoulli's,
     // (1/2) rho_p (v - u)^2 = (1/2) rho_t u^2, u = v / (1 + sqrt(rho_t / rho_p)), within 2 %.

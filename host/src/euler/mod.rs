@@ -531,7 +531,8 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     /// Advance one cycle; returns the time step taken.
     pub fn step(&mut self) -> Result<f64, EulerError> {
         let dt = self.stable_time_step();
-        if !(dt >= self.settings.minimum_time_step) {
+        let usable = dt >= self.settings.minimum_time_step;
+        if !usable {
             return Err(EulerError::TimeStepCollapse {
                 time: self.time,
                 time_step: dt,
@@ -757,11 +758,8 @@ fn check_setup<P: PointModel>(
             grid.cells_r, grid.cells_z
         ));
     }
-    if !(grid.spacing_r > 0.0 && grid.spacing_z > 0.0)
-        || !grid.spacing_r.is_finite()
-        || !grid.spacing_z.is_finite()
-        || !origin_z.is_finite()
-    {
+    let usable = |x: f64| x > 0.0 && x.is_finite();
+    if !(usable(grid.spacing_r) && usable(grid.spacing_z) && origin_z.is_finite()) {
         return setup(format!(
             "cell sizes must be finite and positive (spacing_r {:e} m, spacing_z {:e} m)",
             grid.spacing_r, grid.spacing_z

@@ -15,6 +15,9 @@
 //!   carried is the donor node's with van Leer's limited slope. Momentum is conserved exactly;
 //!   the kinetic energy lost is booked ([`super::EulerEnergy::remap`]).
 
+// Cells hold fixed-size arrays per phase, indexed together across several of them.
+#![allow(clippy::needless_range_loop)]
+
 use super::interface::{line_level, youngs_normal, Interface, Polygon};
 use super::lagrange::{apply_walls, FaceFluxes};
 use super::{EulerSolver, ACTIVE_FRACTION, MAX_MATERIALS, MAX_PHASES};
@@ -101,7 +104,7 @@ pub fn remap<P: PointModel + Sync + Send + Clone>(
     fluxes: &FaceFluxes,
     _dt: f64,
 ) {
-    let order = if s.cycles % 2 == 0 {
+    let order = if s.cycles.is_multiple_of(2) {
         [Direction::R, Direction::Z]
     } else {
         [Direction::Z, Direction::R]
@@ -374,6 +377,9 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     }
 }
 
+/// A face's cells below and above along the sweep (if inside the grid) and its swept volume.
+type FaceCells<'a> = dyn Fn(usize) -> (Option<usize>, Option<usize>, f64) + Sync + 'a;
+
 /// One directional sweep.
 fn sweep<P: PointModel + Sync + Send + Clone>(
     s: &mut EulerSolver<P>,
@@ -385,10 +391,7 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
     let nodes_r = s.nodes_r();
     let reconstruction = s.reconstruct();
     // Faces along the sweep: for R, `(cells_r + 1) x cells_z`; for Z, `cells_r x (cells_z + 1)`.
-    let (face_count, face_cells): (
-        usize,
-        Box<dyn Fn(usize) -> (Option<usize>, Option<usize>, f64) + Sync>,
-    ) = match direction {
+    let (face_count, face_cells): (usize, Box<FaceCells<'_>>) = match direction {
         Direction::R => (
             nodes_r * cells_z,
             Box::new(move |f: usize| {

@@ -264,7 +264,7 @@ impl PenetrationSpec {
             ),
         ];
         let rows = (self.target_thickness / h).floor() as usize;
-        let count = rows.min(super::TRACKED_PER_COLUMN).max(1);
+        let count = rows.clamp(1, super::TRACKED_PER_COLUMN.max(1));
         let mut cells = Vec::new();
         for (i, name) in columns {
             for k in 0..count {
@@ -433,7 +433,7 @@ pub fn field(s: &EulerSolver<PartMaterial>) -> crate::figure::FieldOutput {
     let mut element_part = Vec::with_capacity(cells);
     let mut states = Vec::with_capacity(cells);
     let mut eroded = Vec::with_capacity(cells);
-    let mut fractions = vec![Vec::with_capacity(cells); 3];
+    let mut fractions: Vec<Vec<f64>> = (0..3).map(|_| Vec::with_capacity(cells)).collect();
     let mut density = Vec::with_capacity(cells);
     for c in 0..cells {
         let (i, j) = (c % s.grid.cells_r, c / s.grid.cells_r);
