@@ -189,19 +189,15 @@ pub struct EulerEnergy {
     pub hourglass: f64,
     /// Kinetic energy lost by the remap of nodal momentum (its numerical dissipation).
     pub remap: f64,
-    /// Kinetic energy the walls' constraints removed (nonzero only where material meets a
-    /// wall).
-    pub walls: f64,
     /// Total at the start.
     pub initial: f64,
 }
 
 impl EulerEnergy {
-    /// Relative energy error `(K + I + viscous + hourglass + remap + walls - initial) /
-    /// initial`.
+    /// Relative energy error `(K + I + viscous + hourglass + remap - initial) / initial`
+    /// (fixed walls do no work).
     pub fn relative_error(&self) -> f64 {
-        (self.kinetic + self.internal + self.viscous + self.hourglass + self.remap + self.walls
-            - self.initial)
+        (self.kinetic + self.internal + self.viscous + self.hourglass + self.remap - self.initial)
             / self.initial.abs().max(f64::MIN_POSITIVE)
     }
 }

@@ -349,7 +349,7 @@ pub fn rod_body(
 }
 
 impl EulerPenetration {
-    /// The run's energy balance in the Lagrangian solver's form (walls booked as contact).
+    /// The run's energy balance in the Lagrangian solver's form.
     pub fn energy(&self) -> crate::solver::EnergyBalance {
         let e = self.solver.energy;
         crate::solver::EnergyBalance {
@@ -358,7 +358,6 @@ impl EulerPenetration {
             internal: e.internal,
             hourglass: e.hourglass,
             viscous: e.viscous,
-            contact: e.walls,
             remap: e.remap,
             initial: e.initial,
             ..Default::default()
