@@ -390,32 +390,12 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     /// Lumped nodal masses: a quarter of each adjacent cell's mass.
     pub fn node_masses(&self) -> Vec<f64> {
         use rayon::prelude::*;
-        let nr = self.nodes_r();
-        let cells_r = self.grid.cells_r;
-        let cells_z = self.grid.cells_z;
         let cell_mass: Vec<f64> = self
             .mass
             .par_chunks(MAX_MATERIALS)
             .map(|m| m.iter().sum())
             .collect();
-        (0..nr * (cells_z + 1))
-            .into_par_iter()
-            .map(|n| {
-                let (i, j) = (n % nr, n / nr);
-                let mut m = 0.0;
-                for (ci, cj) in [
-                    (i.wrapping_sub(1), j.wrapping_sub(1)),
-                    (i, j.wrapping_sub(1)),
-                    (i.wrapping_sub(1), j),
-                    (i, j),
-                ] {
-                    if ci < cells_r && cj < cells_z {
-                        m += cell_mass[cj * cells_r + ci];
-                    }
-                }
-                0.25 * m
-            })
-            .collect()
+        node_masses_of(&cell_mass, self.grid.cells_r, self.grid.cells_z)
     }
 
     /// The mass below which each node counts as light: [`LIGHT_NODE_FRACTION`] of the mass
@@ -708,6 +688,31 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             time: self.time,
         }
     }
+}
+
+/// Lumped nodal masses of a `cells_r x cells_z` grid whose cells hold `cell_mass`: a quarter
+/// of each adjacent cell's.
+pub fn node_masses_of(cell_mass: &[f64], cells_r: usize, cells_z: usize) -> Vec<f64> {
+    use rayon::prelude::*;
+    let nodes_r = cells_r + 1;
+    (0..nodes_r * (cells_z + 1))
+        .into_par_iter()
+        .map(|n| {
+            let (i, j) = (n % nodes_r, n / nodes_r);
+            let mut m = 0.0;
+            for (ci, cj) in [
+                (i.wrapping_sub(1), j.wrapping_sub(1)),
+                (i, j.wrapping_sub(1)),
+                (i.wrapping_sub(1), j),
+                (i, j),
+            ] {
+                if ci < cells_r && cj < cells_z {
+                    m += cell_mass[cj * cells_r + ci];
+                }
+            }
+            0.25 * m
+        })
+        .collect()
 }
 
 /// The longitudinal wave speed of a material at rest in `state` (one zero-strain kernel

@@ -592,24 +592,7 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
             }
         })
         .collect();
-    let cell_mass = old_mass;
-    let node_mass: Vec<f64> = (0..nodes_r * nodes_z)
-        .map(|n| {
-            let (i, j) = (n % nodes_r, n / nodes_r);
-            let mut m = 0.0;
-            for (ci, cj) in [
-                (i.wrapping_sub(1), j.wrapping_sub(1)),
-                (i, j.wrapping_sub(1)),
-                (i.wrapping_sub(1), j),
-                (i, j),
-            ] {
-                if ci < cells_r && cj < cells_z {
-                    m += cell_mass[cj * cells_r + ci];
-                }
-            }
-            0.25 * m
-        })
-        .collect();
+    let node_mass = super::node_masses_of(old_mass, cells_r, cells_z);
     // Flux from node n to its neighbour along the sweep (n, n + stride): the quarter-sum of
     // the four faces it straddles.
     let (stride, along, count_along) = match direction {

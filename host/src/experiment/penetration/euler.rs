@@ -374,19 +374,9 @@ impl PenetrationSpec {
         settings: &SolverSettings,
         recording: &[crate::input::recording::RecordedPoint],
     ) -> Result<super::super::Outcome, super::super::SimulationError> {
-        use crate::measure::interpolate;
         let run = self.run_euler(material, settings)?;
         let result = &run.result;
-        let predicted = recording
-            .iter()
-            .map(|point| match point.quantity.as_str() {
-                "nose_depth" => interpolate(&result.nose_depth, point.position),
-                "rod_length" => interpolate(&result.rod_length, point.position),
-                "residual_velocity" => result.residual_velocity,
-                "residual_mass" => result.residual_mass,
-                _ => f64::NAN,
-            })
-            .collect();
+        let predicted = result.predictions(recording);
         let last = |h: &[(f64, f64)]| h.last().map_or(f64::NAN, |p| p.1);
         let s = &run.solver;
         Ok(super::super::Outcome {

@@ -251,6 +251,22 @@ pub struct PenetrationResult {
     pub residual_velocity: f64,
 }
 
+impl PenetrationResult {
+    /// The prediction of each recorded point, in the recording's order.
+    pub fn predictions(&self, recording: &[RecordedPoint]) -> Vec<f64> {
+        recording
+            .iter()
+            .map(|point| match point.quantity.as_str() {
+                "nose_depth" => interpolate(&self.nose_depth, point.position),
+                "rod_length" => interpolate(&self.rod_length, point.position),
+                "residual_velocity" => self.residual_velocity,
+                "residual_mass" => self.residual_mass,
+                _ => f64::NAN,
+            })
+            .collect()
+    }
+}
+
 /// The meshed model and the element and node sets the measurements use.
 #[derive(Clone, Debug)]
 pub struct PenetrationModel {
@@ -813,16 +829,7 @@ impl PenetrationSpec {
             return self.simulate_euler(material, settings, recording);
         }
         let (result, run, built) = self.run(material, settings)?;
-        let predicted = recording
-            .iter()
-            .map(|point| match point.quantity.as_str() {
-                "nose_depth" => interpolate(&result.nose_depth, point.position),
-                "rod_length" => interpolate(&result.rod_length, point.position),
-                "residual_velocity" => result.residual_velocity,
-                "residual_mass" => result.residual_mass,
-                _ => f64::NAN,
-            })
-            .collect();
+        let predicted = result.predictions(recording);
         let final_depth = result.nose_depth.last().map_or(f64::NAN, |p| p.1);
         let final_length = result.rod_length.last().map_or(f64::NAN, |p| p.1);
         let states: Vec<StateHistory> = run
