@@ -236,6 +236,8 @@ pub struct EulerSolver<P> {
     pub energy: EulerEnergy,
     /// Material-cell updates done by the kernel (for performance figures).
     pub material_updates: u64,
+    /// Each node's light-mass threshold ([`Self::light_node_masses`]; fixed by the grid).
+    light_mass: Vec<f64>,
     /// The remap's work buffers.
     workspace: remap::Workspace,
 }
@@ -270,9 +272,11 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             cycles: 0,
             energy: EulerEnergy::default(),
             material_updates: 0,
+            light_mass: Vec::new(),
             workspace: remap::Workspace::default(),
             materials,
         };
+        solver.light_mass = solver.light_node_masses();
         solver.fill(regions)?;
         solver.energy.initial = solver.kinetic_energy() + solver.internal_energy();
         solver.energy.kinetic = solver.kinetic_energy();
@@ -601,7 +605,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         let cells_r = self.grid.cells_r;
         let nr = self.nodes_r();
         let masses = self.node_masses();
-        let light = self.light_node_masses();
+        let light = &self.light_mass;
         let largest = (0..self.grid.cell_count())
             .into_par_iter()
             .map(|c| {
