@@ -173,10 +173,12 @@ compare() {
     printf '  %-24s %4d steps x 20 values identical\n' "$name" "$(wc -l <"$produced/$name.hex")"
 }
 for name in batch_jc_tension batch_jc_compression batch_mg_lagged vumat_za_compression \
-    vumat_za_tension batch_jc_upturn_tension batch_rht_compression batch_rht_tension; do
+    vumat_za_tension batch_jc_upturn_tension batch_rht_compression batch_rht_tension \
+    batch_kc_compression batch_kc_tension; do
     compare "$work/c" "$name"
 done
-for name in umat_tjc_tension umat_jc_simple_shear umat_jc_upturn_tension umat_rht_compression; do
+for name in umat_tjc_tension umat_jc_simple_shear umat_jc_upturn_tension umat_rht_compression \
+    umat_kc_compression; do
     compare "$work/fortran" "$name"
 done
 
@@ -206,7 +208,8 @@ if [[ -f "$shared" ]]; then
         -Wl,-rpath,"$stage/lib" -o "$work/bin/uniaxial_strain_shared"
     "$work/bin/uniaxial_strain_shared" "$work/shared"
     for name in batch_jc_tension batch_jc_compression batch_mg_lagged vumat_za_compression \
-        vumat_za_tension batch_jc_upturn_tension batch_rht_compression batch_rht_tension; do
+        vumat_za_tension batch_jc_upturn_tension batch_rht_compression batch_rht_tension \
+    batch_kc_compression batch_kc_tension; do
         compare "$work/shared" "$name"
     done
 fi

@@ -25,8 +25,11 @@
 //! | `batch_rht_compression` | batch (layout 3) | RHT HPC 92 MPa over P-alpha (`stoss_material_defaults_hpc92`) | uniaxial strain -0.05, 250 steps, 1e3 /s |
 //! | `batch_rht_tension` | batch | same | uniaxial strain +0.002, 200 steps, 1e3 /s (fails at the hydro tensile limit) |
 //! | `umat_rht_compression` | LS-DYNA umat (Fortran, card version 3) | same | uniaxial strain -0.08, 200 steps, 1e4 /s |
+//! | `batch_kc_compression` | batch (layout 5) | K&C HPC 100 MPa over the tabulated EoS (`stoss_material_defaults_kc100`) | uniaxial strain -0.03, 250 steps, 1e2 /s |
+//! | `batch_kc_tension` | batch | same | uniaxial strain +0.0005, 250 steps, 1e2 /s (past the tensile peak) |
+//! | `umat_kc_compression` | LS-DYNA umat (Fortran, card version 5) | same | uniaxial strain -0.03, 200 steps, 1e3 /s |
 //!
-//! RHT points start from the material's initial state at 293 K (P-alpha distension
+//! RHT and K&C points start from the material's initial state at 293 K (P-alpha distension
 //! `alpha0`), as `stoss_state_init` and the adapters give them.
 //!
 //! Usage: `cargo run --release -p stoss-kernel-ffi --example reference_histories -- <dir>`
@@ -40,6 +43,7 @@ use stoss_kernel::drivers::{
     UniaxialStrainLoading,
 };
 use stoss_kernel::eos::MieGruneisen;
+use stoss_kernel::kc::KcMaterial;
 use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::strength::{JohnsonCook, RateTerm, TwoRateJohnsonCook, ZerilliArmstrong};
 use stoss_kernel::{Material, MaterialState, PointModel, RateTreatment};
@@ -161,6 +165,12 @@ fn rht_case(final_strain: f64, steps: u32, strain_rate: f64) -> String {
     strain_case_from(&material, state, final_strain, steps, strain_rate)
 }
 
+fn kc_case(final_strain: f64, steps: u32, strain_rate: f64) -> String {
+    let material = KcMaterial::HPC_100MPA_FOI;
+    let state = material.initial_state(293.0);
+    strain_case_from(&material, state, final_strain, steps, strain_rate)
+}
+
 fn strain_case_from(
     material: &impl PointModel,
     mut state: MaterialState,
@@ -234,6 +244,9 @@ fn main() {
         ("batch_rht_compression", rht_case(-0.05, 250, 1.0e3)),
         ("batch_rht_tension", rht_case(0.002, 200, 1.0e3)),
         ("umat_rht_compression", rht_case(-0.08, 200, 1.0e4)),
+        ("batch_kc_compression", kc_case(-0.03, 250, 1.0e2)),
+        ("batch_kc_tension", kc_case(0.0005, 250, 1.0e2)),
+        ("umat_kc_compression", kc_case(-0.03, 200, 1.0e3)),
     ];
     for (name, text) in cases {
         let path = directory.join(format!("{name}.hex"));

@@ -70,11 +70,21 @@
 // ([`StossThermalModel::HomologousPowerDrop`]) and its three fields at the end of
 // [`StossThermalTerm`]; cards of versions 1 to 3 are valid version-4 cards (a card cannot hold
 // the new term).
-#define STOSS_LAYOUT_VERSION 4
+// Version 5 added K&C concrete ([`StossStrengthModel::Kc`], [`StossKc`] at the end of
+// [`StossStrength`]); cards of versions 1 to 4 are valid version-5 cards.
+#define STOSS_LAYOUT_VERSION 5
 
 // Points of the tabulated-compaction EoS table in the block (the kernel's
 // `MAX_COMPACTION_POINTS`).
 #define STOSS_MAX_COMPACTION_POINTS 16
+
+// Points of the K&C damage function `eta(lambda)` in the block (the kernel's
+// `kc::MAX_DAMAGE_POINTS`).
+#define STOSS_KC_MAX_DAMAGE_POINTS 16
+
+// Room for K&C's scalar constants in [`StossKc::constants`]: the family may gain constants up
+// to this many without a change of the block's size.
+#define STOSS_KC_MAX_CONSTANTS 16
 
 // 1-based card position of the shear modulus (LS-DYNA `IG`).
 #define STOSS_CARD_SHEAR_MODULUS 3
@@ -85,8 +95,9 @@
 // Card length of the header, JC failure and strength sections (the EoS section follows).
 #define STOSS_CARD_FIXED_LENGTH 41
 
-// Longest card (tabulated compaction EoS with 16 points).
-#define STOSS_CARD_MAX_LENGTH ((STOSS_CARD_FIXED_LENGTH + 1) + (3 * STOSS_MAX_COMPACTION_POINTS))
+// Longest card (K&C over a tabulated compaction EoS with 16 points and a damage function of
+// 16 points).
+#define STOSS_CARD_MAX_LENGTH ((((STOSS_CARD_FIXED_LENGTH + 1) + (3 * STOSS_MAX_COMPACTION_POINTS)) + 1) + (2 * STOSS_KC_MAX_DAMAGE_POINTS))
 
 // Failure flag bits of card slot P14.
 #define STOSS_CARD_FAILURE_JOHNSON_COOK 1
@@ -179,6 +190,11 @@ enum StossStrengthModel
   // the rate treatment implicit and Johnson-Cook failure and the pressure cut-off off
   // (RHT has its own damage and tensile limit). Layout 3.
   STOSS_STRENGTH_MODEL_RHT = 7,
+  // K&C concrete (Karagozian & Case release III, seed 001 chapter 5), `strength.kc`, over
+  // the block's EoS (seed 001 uses tabulated compaction); not a J2 metal: heating must be
+  // isothermal, the rate treatment implicit, and Johnson-Cook failure, erosion and the
+  // pressure cut-off off (K&C has its own damage and tensile cut-off). Layout 5.
+  STOSS_STRENGTH_MODEL_KC = 8,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -578,6 +594,40 @@ typedef struct StossRht {
   double residual_shear_modulus_ratio;
 } StossRht;
 
+// K&C concrete constants (SI). The shear modulus is the block's `shear_modulus`, the
+// density its `density`.
+//
+// `constants` holds the family's scalar constants in the order of the kernel's descriptor
+// (`KcParameters::PARAMETERS` in kernel/src/kc/parameters.rs, without the shear modulus;
+// docs/user-material.md lists them); the slots past them are ignored (set them to 0). The surfaces are `Delta sigma = a0 + p/(a1 + a2 p)` (maximum,
+// yield) and `p/(a1f + a2f p)` (residual).
+typedef struct StossKc {
+  // [`StossKcRate`] code.
+  int32_t rate;
+  // 1: crack band on (`crack_band_reference_width`, `crack_band_width`); 0: off.
+  uint32_t crack_band_enabled;
+  // Points of the damage function used, 2..=16.
+  uint32_t damage_point_count;
+  // Padding; set to 0.
+  uint32_t reserved;
+  // Maximum surface `a0` (Pa), `a1` (-), `a2` (1/Pa).
+  double maximum_surface[3];
+  // Yield surface `a0y` (Pa), `a1y` (-), `a2y` (1/Pa).
+  double yield_surface[3];
+  // Residual surface `a1f` (-), `a2f` (1/Pa).
+  double residual_surface[2];
+  // Damage function: damage parameter `lambda` of each point (-), first 0, increasing.
+  double damage_lambda[STOSS_KC_MAX_DAMAGE_POINTS];
+  // Damage function: `eta` of each point (-), from 0 up to 1 at the peak, then down.
+  double damage_eta[STOSS_KC_MAX_DAMAGE_POINTS];
+  // Crack band: the element size at which the softening is the table's own (m).
+  double crack_band_reference_width;
+  // Crack band: the element size of this material's elements (m).
+  double crack_band_width;
+  // The scalar constants in the descriptor's order (see above).
+  double constants[STOSS_KC_MAX_CONSTANTS];
+} StossKc;
+
 // Constants of every strength family; `strength_model` says which one is read.
 typedef struct StossStrength {
   // Johnson-Cook.
@@ -592,6 +642,8 @@ typedef struct StossStrength {
   struct StossComposed composed;
   // RHT concrete (layout 3).
   struct StossRht rht;
+  // K&C concrete (layout 5).
+  struct StossKc kc;
 } StossStrength;
 
 // Linear EoS.
@@ -821,6 +873,8 @@ typedef struct StossBatchOutput {
   double *tangent;
 } StossBatchOutput;
 
+
+
 // Every status, in numerical order (for tables and tests).
 #define StossStatus_ALL { StossStatus_Ok, StossStatus_NullPointer, StossStatus_Panic, StossStatus_BadLayoutVersion, StossStatus_InvalidParameter, StossStatus_NonFiniteInput, StossStatus_NonPositiveTimeStep, StossStatus_NonPositiveVolume, StossStatus_ReturnMappingDiverged, StossStatus_ZeroPoints, StossStatus_BufferTooSmall, StossStatus_BadStructSize, StossStatus_NonFiniteState, StossStatus_NonFiniteResult, StossStatus_InvalidArgument, StossStatus_MisalignedPointer, StossStatus_InadmissibleState, }
 
@@ -861,6 +915,16 @@ StossStatus stoss_material_defaults_4340(struct StossMaterialBlock *block);
 // # Safety
 // `block` is NULL or valid for writes of one `StossMaterialBlock`.
 StossStatus stoss_material_defaults_hpc92(struct StossMaterialBlock *block);
+
+// Fill `block` with K&C concrete: the 100 MPa high-performance concrete of seed 001
+// (FOI-R--0281--SE) chapter 5 (tables 5.1 to 5.3: rho 2420 kg/m^3, fc 100 MPa, ft 5.2 MPa,
+// G 18.97 GPa, the meridians scaled from Malvar's 45.4 MPa set, b1 1.6, b2 1.35, the damage
+// function of table 5.3, the tabulated EoS of table 5.2), CEB-FIP rates, no crack band,
+// isothermal, initial temperature 293 K. Every field is written.
+//
+// # Safety
+// `block` is NULL or valid for writes of one `StossMaterialBlock`.
+StossStatus stoss_material_defaults_kc100(struct StossMaterialBlock *block);
 
 // Validate a material block: layout version, struct size, selectors, every constant of the
 // selected families. `STOSS_STATUS_OK`, or the status and a message naming the first

@@ -190,6 +190,24 @@ pub unsafe extern "C" fn stoss_material_defaults_hpc92(
     unsafe { boundary(std::ptr::null_mut(), 0, body) }
 }
 
+/// Fill `block` with K&C concrete: the 100 MPa high-performance concrete of seed 001
+/// (FOI-R--0281--SE) chapter 5 (tables 5.1 to 5.3: rho 2420 kg/m^3, fc 100 MPa, ft 5.2 MPa,
+/// G 18.97 GPa, the meridians scaled from Malvar's 45.4 MPa set, b1 1.6, b2 1.35, the damage
+/// function of table 5.3, the tabulated EoS of table 5.2), CEB-FIP rates, no crack band,
+/// isothermal, initial temperature 293 K. Every field is written.
+///
+/// # Safety
+/// `block` is NULL or valid for writes of one `StossMaterialBlock`.
+#[no_mangle]
+pub unsafe extern "C" fn stoss_material_defaults_kc100(
+    block: *mut StossMaterialBlock,
+) -> StossStatus {
+    // SAFETY: caller contract on `block`.
+    let body = || unsafe { write_struct(block, StossMaterialBlock::concrete_kc_100(), "block") };
+    // SAFETY: no message buffer (NULL).
+    unsafe { boundary(std::ptr::null_mut(), 0, body) }
+}
+
 /// Validate a material block: layout version, struct size, selectors, every constant of the
 /// selected families. `STOSS_STATUS_OK`, or the status and a message naming the first
 /// offending field (e.g. `strength.johnson_cook: yield_stress: must be > 0, got -1`).

@@ -14,6 +14,9 @@ use stoss_kernel::eos::{
     CompactionPoint, Eos, Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial, TabulatedCompaction,
     MAX_COMPACTION_POINTS,
 };
+use stoss_kernel::kc::{
+    CrackBand, DamageFunction, KcMaterial, KcParameters, RateEnhancement, MAX_DAMAGE_POINTS,
+};
 use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters, TensileFailure};
 use stoss_kernel::strength::{
     ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm,
@@ -21,6 +24,7 @@ use stoss_kernel::strength::{
 };
 use stoss_kernel::{Heating, Material, MaterialState, PartMaterial, PointModel, RateTreatment};
 
+use crate::section::{read_section, rht_constants, section_length};
 use crate::status::{FfiError, StossStatus};
 
 /// Version of [`StossMaterialBlock`]'s layout (and of the card layout, slot P1). Bumped on any
@@ -34,13 +38,35 @@ use crate::status::{FfiError, StossStatus};
 /// ([`StossThermalModel::HomologousPowerDrop`]) and its three fields at the end of
 /// [`StossThermalTerm`]; cards of versions 1 to 3 are valid version-4 cards (a card cannot hold
 /// the new term).
-pub const STOSS_LAYOUT_VERSION: u32 = 4;
+/// Version 5 added K&C concrete ([`StossStrengthModel::Kc`], [`StossKc`] at the end of
+/// [`StossStrength`]); cards of versions 1 to 4 are valid version-5 cards.
+pub const STOSS_LAYOUT_VERSION: u32 = 5;
 
 /// Points of the tabulated-compaction EoS table in the block (the kernel's
 /// `MAX_COMPACTION_POINTS`).
 pub const STOSS_MAX_COMPACTION_POINTS: usize = 16;
 
 const _: () = assert!(STOSS_MAX_COMPACTION_POINTS == MAX_COMPACTION_POINTS);
+
+/// Points of the K&C damage function `eta(lambda)` in the block (the kernel's
+/// `kc::MAX_DAMAGE_POINTS`).
+pub const STOSS_KC_MAX_DAMAGE_POINTS: usize = 16;
+
+const _: () = assert!(STOSS_KC_MAX_DAMAGE_POINTS == MAX_DAMAGE_POINTS);
+
+/// Room for K&C's scalar constants in [`StossKc::constants`]: the family may gain constants up
+/// to this many without a change of the block's size.
+pub const STOSS_KC_MAX_CONSTANTS: usize = 16;
+
+/// Number of K&C scalar constants the block holds: the kernel's descriptor
+/// (`KcParameters::PARAMETERS`) without the shear modulus (the block's `shear_modulus`).
+pub const KC_CONSTANTS: usize = section_length(KcParameters::PARAMETERS);
+
+const _: () = assert!(
+    KC_CONSTANTS <= STOSS_KC_MAX_CONSTANTS,
+    "K&C has more constants than StossKc::constants holds: raise STOSS_KC_MAX_CONSTANTS \
+     (a layout change)"
+);
 
 /// Flow-stress model (`StossMaterialBlock::strength_model`).
 #[repr(i32)]
@@ -63,6 +89,21 @@ pub enum StossStrengthModel {
     /// the rate treatment implicit and Johnson-Cook failure and the pressure cut-off off
     /// (RHT has its own damage and tensile limit). Layout 3.
     Rht = 7,
+    /// K&C concrete (Karagozian & Case release III, seed 001 chapter 5), `strength.kc`, over
+    /// the block's EoS (seed 001 uses tabulated compaction); not a J2 metal: heating must be
+    /// isothermal, the rate treatment implicit, and Johnson-Cook failure, erosion and the
+    /// pressure cut-off off (K&C has its own damage and tensile cut-off). Layout 5.
+    Kc = 8,
+}
+
+/// K&C rate enhancement (`StossKc::rate`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StossKcRate {
+    /// Rate independent.
+    None = 1,
+    /// CEB-FIP dynamic increase factors (compression and tension, blended in between).
+    CebFip = 2,
 }
 
 /// RHT tensile failure (`StossRht::tensile_failure`).
@@ -454,6 +495,42 @@ pub struct StossRht {
     pub residual_shear_modulus_ratio: f64,
 }
 
+/// K&C concrete constants (SI). The shear modulus is the block's `shear_modulus`, the
+/// density its `density`.
+///
+/// `constants` holds the family's scalar constants in the order of the kernel's descriptor
+/// (`KcParameters::PARAMETERS` in kernel/src/kc/parameters.rs, without the shear modulus;
+/// docs/user-material.md lists them); the slots past them are ignored (set them to 0). The surfaces are `Delta sigma = a0 + p/(a1 + a2 p)` (maximum,
+/// yield) and `p/(a1f + a2f p)` (residual).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossKc {
+    /// [`StossKcRate`] code.
+    pub rate: i32,
+    /// 1: crack band on (`crack_band_reference_width`, `crack_band_width`); 0: off.
+    pub crack_band_enabled: u32,
+    /// Points of the damage function used, 2..=16.
+    pub damage_point_count: u32,
+    /// Padding; set to 0.
+    pub reserved: u32,
+    /// Maximum surface `a0` (Pa), `a1` (-), `a2` (1/Pa).
+    pub maximum_surface: [f64; 3],
+    /// Yield surface `a0y` (Pa), `a1y` (-), `a2y` (1/Pa).
+    pub yield_surface: [f64; 3],
+    /// Residual surface `a1f` (-), `a2f` (1/Pa).
+    pub residual_surface: [f64; 2],
+    /// Damage function: damage parameter `lambda` of each point (-), first 0, increasing.
+    pub damage_lambda: [f64; STOSS_KC_MAX_DAMAGE_POINTS],
+    /// Damage function: `eta` of each point (-), from 0 up to 1 at the peak, then down.
+    pub damage_eta: [f64; STOSS_KC_MAX_DAMAGE_POINTS],
+    /// Crack band: the element size at which the softening is the table's own (m).
+    pub crack_band_reference_width: f64,
+    /// Crack band: the element size of this material's elements (m).
+    pub crack_band_width: f64,
+    /// The scalar constants in the descriptor's order (see above).
+    pub constants: [f64; STOSS_KC_MAX_CONSTANTS],
+}
+
 /// Constants of every strength family; `strength_model` says which one is read.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -470,6 +547,8 @@ pub struct StossStrength {
     pub composed: StossComposed,
     /// RHT concrete (layout 3).
     pub rht: StossRht,
+    /// K&C concrete (layout 5).
+    pub kc: StossKc,
 }
 
 /// Linear EoS.
@@ -714,9 +793,11 @@ code_enum!(
         ModifiedJohnsonCook,
         TwoRateJohnsonCook,
         Composed,
-        Rht
+        Rht,
+        Kc
     ]
 );
+code_enum!(StossKcRate, "strength.kc.rate", [None, CebFip]);
 code_enum!(
     StossRhtTensileFailure,
     "strength.rht.tensile_failure",
@@ -1054,6 +1135,12 @@ impl StossMaterialBlock {
                     "7 (RHT concrete) is not a J2 metal: read the block with to_model",
                 ))
             }
+            StossStrengthModel::Kc => {
+                return Err(invalid(
+                    "strength_model",
+                    "8 (K&C concrete) is not a J2 metal: read the block with to_model",
+                ))
+            }
             StossStrengthModel::Composed => {
                 let model = s.composed.to_kernel()?;
                 let section = "strength.composed";
@@ -1234,75 +1321,149 @@ impl StossMaterialBlock {
         Ok(rate_treatment)
     }
 
-    /// The point model this block describes, of either family (a J2 metal or RHT concrete),
-    /// fully validated; the error names the first offending field.
+    /// The point model this block describes, of any family (a J2 metal, RHT or K&C
+    /// concrete), fully validated; the error names the first offending field.
     pub fn to_model(&self) -> Result<PartMaterial, FfiError> {
-        // Both branches check the header first.
+        // Every branch checks the header first.
         if self.strength_model == StossStrengthModel::Rht as i32 {
             self.to_rht().map(PartMaterial::Rht)
+        } else if self.strength_model == StossStrengthModel::Kc as i32 {
+            self.to_kc().map(PartMaterial::Kc)
         } else {
             self.to_material().map(PartMaterial::J2)
         }
     }
 
-    /// The RHT concrete this block describes (`strength_model` = RHT), fully validated.
-    pub fn to_rht(&self) -> Result<RhtMaterial, FfiError> {
+    /// The common checks ([`Self::common`]), that `strength_model` is `model`, and what a
+    /// concrete block (RHT, K&C) must not have: a rate treatment other than implicit,
+    /// heating, Johnson-Cook failure, erosion on failure, the pressure cut-off, and (if
+    /// `erosion` is false) plastic-strain erosion. `name` names the family in messages.
+    fn concrete_common(
+        &self,
+        model: StossStrengthModel,
+        name: &str,
+        erosion: bool,
+    ) -> Result<(), FfiError> {
         let rate_treatment = self.common()?;
-        if StossStrengthModel::from_code(self.strength_model)? != StossStrengthModel::Rht {
+        if StossStrengthModel::from_code(self.strength_model)? != model {
             return Err(invalid(
                 "strength_model",
-                format_args!("{} is not RHT concrete (7)", self.strength_model),
+                format_args!("{} is not {name} ({})", self.strength_model, model as i32),
             ));
         }
         if rate_treatment != RateTreatment::Implicit {
             return Err(invalid(
                 "rate_treatment",
-                "RHT concrete takes the step's own strain rate: must be implicit (1)",
+                format_args!("{name} takes the step's own strain rate: must be implicit (1)"),
             ));
         }
         if StossHeatingModel::from_code(self.heating_model)? != StossHeatingModel::Isothermal {
             return Err(invalid(
                 "heating_model",
-                "RHT concrete has no plastic-work heating: must be isothermal (1)",
+                format_args!("{name} has no plastic-work heating: must be isothermal (1)"),
             ));
         }
         let f = &self.failure;
-        for (field, value) in [
+        let mut off = vec![
             ("failure.johnson_cook_enabled", f.johnson_cook_enabled),
             ("failure.erode_on_failure", f.erode_on_failure),
             ("failure.pressure_cutoff_enabled", f.pressure_cutoff_enabled),
-        ] {
+        ];
+        if !erosion {
+            off.push(("failure.erosion_enabled", f.erosion_enabled));
+        }
+        for (field, value) in off {
             if switch(field, value)? {
                 return Err(invalid(
                     field,
-                    "RHT concrete has its own damage and tensile limit: must be 0",
+                    format_args!("{name} has its own damage and tensile limit: must be 0"),
                 ));
             }
         }
-        let r = &self.strength.rht;
-        let parameters = RhtParameters {
+        Ok(())
+    }
+
+    /// The K&C concrete this block describes (`strength_model` = K&C), fully validated.
+    pub fn to_kc(&self) -> Result<KcMaterial, FfiError> {
+        self.concrete_common(StossStrengthModel::Kc, "K&C concrete", false)?;
+        let k = &self.strength.kc;
+        let count = k.damage_point_count as usize;
+        if !(2..=STOSS_KC_MAX_DAMAGE_POINTS).contains(&count) {
+            return Err(invalid(
+                "strength.kc.damage_point_count",
+                format_args!("{count} is outside [2, {STOSS_KC_MAX_DAMAGE_POINTS}]"),
+            ));
+        }
+        for (field, value) in k
+            .maximum_surface
+            .iter()
+            .chain(&k.yield_surface)
+            .chain(&k.residual_surface)
+            .chain(&k.damage_lambda[..count])
+            .chain(&k.damage_eta[..count])
+            .chain(&k.constants[..KC_CONSTANTS])
+            .map(|value| ("strength.kc", *value))
+        {
+            if !value.is_finite() {
+                return Err(invalid(field, format_args!("{value} is not finite")));
+            }
+        }
+        // Every field of the template is overwritten below: the named ones here, the
+        // described scalars by `read_section`.
+        let mut parameters = KcParameters {
             shear_modulus: self.shear_modulus,
-            compressive_strength: r.compressive_strength,
-            tensile_strength_ratio: r.tensile_strength_ratio,
-            shear_strength_ratio: r.shear_strength_ratio,
-            failure_a: r.failure_a,
-            failure_n: r.failure_n,
-            tensile_meridian_ratio: r.tensile_meridian_ratio,
-            brittle_ductile_transition: r.brittle_ductile_transition,
-            shear_modulus_ratio: r.shear_modulus_ratio,
-            tensile_elastic_ratio: r.tensile_elastic_ratio,
-            compressive_elastic_ratio: r.compressive_elastic_ratio,
+            maximum_surface: k.maximum_surface,
+            yield_surface: k.yield_surface,
+            residual_surface: k.residual_surface,
+            damage: DamageFunction {
+                lambda: k.damage_lambda,
+                eta: k.damage_eta,
+                count,
+            },
+            rate: match StossKcRate::from_code(k.rate)? {
+                StossKcRate::None => RateEnhancement::None,
+                StossKcRate::CebFip => RateEnhancement::CebFip,
+            },
+            crack_band: switch("strength.kc.crack_band_enabled", k.crack_band_enabled)?.then_some(
+                CrackBand {
+                    reference_width: k.crack_band_reference_width,
+                    width: k.crack_band_width,
+                },
+            ),
+            ..KcParameters::HPC_100MPA_FOI
+        };
+        read_section(&mut parameters, &k.constants[..KC_CONSTANTS]);
+        // The unused table points are zero in a kernel table (from_points), whatever the
+        // block holds past `count`.
+        for i in count..STOSS_KC_MAX_DAMAGE_POINTS {
+            parameters.damage.lambda[i] = 0.0;
+            parameters.damage.eta[i] = 0.0;
+        }
+        parameters
+            .validate()
+            .map_err(|error| FfiError::parameter("strength.kc", error))?;
+        let material = KcMaterial {
+            density: self.density,
+            parameters,
+            eos: self.eos()?,
+            erosion_geometric_strain: None,
+        };
+        material
+            .validate()
+            .map_err(|error| FfiError::parameter("material", error))?;
+        Ok(material)
+    }
+
+    /// The RHT concrete this block describes (`strength_model` = RHT), fully validated.
+    pub fn to_rht(&self) -> Result<RhtMaterial, FfiError> {
+        self.concrete_common(StossStrengthModel::Rht, "RHT concrete", true)?;
+        let f = &self.failure;
+        let r = &self.strength.rht;
+        // Every field of the template is overwritten: the options and the shear modulus
+        // here, the described constants by `read_section`.
+        let mut parameters = RhtParameters {
+            shear_modulus: self.shear_modulus,
             elastic_cap: switch("strength.rht.elastic_cap", r.elastic_cap)?,
-            residual_b: r.residual_b,
-            residual_m: r.residual_m,
-            compressive_rate_exponent: r.compressive_rate_exponent,
-            tensile_rate_exponent: r.tensile_rate_exponent,
-            compressive_reference_rate: r.compressive_reference_rate,
-            tensile_reference_rate: r.tensile_reference_rate,
-            damage_d1: r.damage_d1,
-            damage_d2: r.damage_d2,
-            minimum_failure_strain: r.minimum_failure_strain,
-            residual_shear_modulus_ratio: r.residual_shear_modulus_ratio,
             tensile_failure: match StossRhtTensileFailure::from_code(r.tensile_failure)? {
                 StossRhtTensileFailure::HydroTensileLimit => TensileFailure::HydroTensileLimit,
                 StossRhtTensileFailure::PressureCutoff => TensileFailure::PressureCutoff,
@@ -1316,7 +1477,9 @@ impl StossMaterialBlock {
                 StossRhtRateScaling::SeedEquation => RateScaling::SeedEquation,
                 StossRhtRateScaling::Homothetic => RateScaling::Homothetic,
             },
+            ..RhtParameters::HPC_92MPA
         };
+        read_section(&mut parameters, rht_constants(r));
         parameters
             .validate()
             .map_err(|error| FfiError::parameter("strength.rht", error))?;
@@ -1367,6 +1530,16 @@ impl StossMaterialBlock {
     /// erosion. Specific heat 880 J/kg/K (a typical concrete; RHT does not read it).
     pub fn concrete_hpc_92() -> Self {
         crate::export::from_rht(&RhtMaterial::HPC_92MPA, 293.0, 880.0)
+            .map(|(block, _)| block)
+            .unwrap_or_else(|_| Self::empty())
+    }
+
+    /// The 100 MPa high-performance concrete of seed 001 chapter 5 with K&C: the kernel's
+    /// `KcMaterial::HPC_100MPA_FOI` (tables 5.1 to 5.3: tabulated EoS, CEB-FIP rates, no
+    /// crack band), initial temperature 293 K. Specific heat 880 J/kg/K (a typical concrete;
+    /// K&C does not read it).
+    pub fn concrete_kc_100() -> Self {
+        crate::export::from_kc(&KcMaterial::HPC_100MPA_FOI, 293.0, 880.0)
             .map(|(block, _)| block)
             .unwrap_or_else(|_| Self::empty())
     }

@@ -34,6 +34,16 @@
 //! | two-rate Johnson-Cook | `A B n Q1 c1 Q2 c2 beta1 e01 beta2 e02 m Tr Tm` |
 //! | composed | `hardening rate thermal A B n Q1 c1 Q2 c2 R1 R2 R3 R4 m Tr Tm` |
 //!
+//! RHT concrete (strength code 7) uses P17..P40 instead of the JC failure and strength slots:
+//! P17..P20 its tensile-failure, meridian and rate-scaling codes and elastic-cap switch,
+//! P21..P40 its twenty constants in the order of the kernel's descriptor.
+//!
+//! K&C concrete (strength code 8, layout 5) uses P17..P41 the same way: P17 rate code, P18
+//! crack band (0/1), P19, P20 its reference width and width, P21..P23 maximum surface
+//! `a0 a1 a2`, P24..P26 yield surface `a0y a1y a2y`, P27, P28 residual `a1f a2f`, P29.. its
+//! described scalars in the descriptor's order (`fc ft fbc/fc b1 b2` today); after the EoS
+//! section follow the damage function's point count `n` and its `n` `lambda` and `n` `eta`.
+//!
 //! with the composed rate slots `R1..R4`: JC log `C e0`; power `beta e0`; two-part
 //! `beta1 e01 beta2 e02`; Cowper-Symonds `D q`; log-upturn `C e0 beta e_up` and log-thermal
 //! `C e0 kappa` (layout 2), whose `T*` uses the `Tr Tm` slots of the thermal term.
@@ -42,9 +52,10 @@ use stoss_kernel::PartMaterial;
 
 use crate::block::{
     initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel,
-    StossMaterialBlock, StossRateModel, StossRht, StossStrengthModel, StossThermalModel,
-    STOSS_LAYOUT_VERSION, STOSS_MAX_COMPACTION_POINTS,
+    StossMaterialBlock, StossRateModel, StossStrengthModel, StossThermalModel, KC_CONSTANTS,
+    STOSS_KC_MAX_DAMAGE_POINTS, STOSS_LAYOUT_VERSION, STOSS_MAX_COMPACTION_POINTS,
 };
+use crate::section::{rht_constants, rht_constants_mut, RHT_CONSTANTS};
 use crate::status::{FfiError, StossStatus};
 
 /// 1-based card position of the shear modulus (LS-DYNA `IG`).
@@ -53,9 +64,13 @@ pub const STOSS_CARD_SHEAR_MODULUS: usize = 3;
 pub const STOSS_CARD_BULK_MODULUS: usize = 4;
 /// Card length of the header, JC failure and strength sections (the EoS section follows).
 pub const STOSS_CARD_FIXED_LENGTH: usize = 41;
-/// Longest card (tabulated compaction EoS with 16 points).
-pub const STOSS_CARD_MAX_LENGTH: usize =
-    STOSS_CARD_FIXED_LENGTH + 1 + 3 * STOSS_MAX_COMPACTION_POINTS;
+/// Longest card (K&C over a tabulated compaction EoS with 16 points and a damage function of
+/// 16 points).
+pub const STOSS_CARD_MAX_LENGTH: usize = STOSS_CARD_FIXED_LENGTH
+    + 1
+    + 3 * STOSS_MAX_COMPACTION_POINTS
+    + 1
+    + 2 * STOSS_KC_MAX_DAMAGE_POINTS;
 
 /// Failure flag bits of card slot P14.
 pub const STOSS_CARD_FAILURE_JOHNSON_COOK: u32 = 1;
@@ -71,6 +86,18 @@ const STRENGTH: usize = 24;
 /// 0-based index of the first RHT slot (P17): RHT concrete has no Johnson-Cook failure, so
 /// its 24 values take P17..P40 (the JC failure and strength slots).
 const RHT: usize = 16;
+/// 0-based index of the first K&C slot (P17): K&C concrete has no Johnson-Cook failure; its
+/// options, surfaces and described scalars take P17.. (see [`KC_CONSTANTS_SLOT`]).
+const KC: usize = 16;
+/// 0-based index of the first described K&C scalar (P29): after the rate code, the crack
+/// band (flag and two widths) and the eight surface constants.
+const KC_CONSTANTS_SLOT: usize = KC + 12;
+
+const _: () = assert!(
+    KC_CONSTANTS_SLOT + KC_CONSTANTS <= STOSS_CARD_FIXED_LENGTH,
+    "K&C's described constants no longer fit in P29..P41 of the card"
+);
+
 /// 0-based index of the first EoS slot (P42).
 const EOS: usize = STOSS_CARD_FIXED_LENGTH;
 
@@ -175,10 +202,24 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
         let cap = code(card, RHT + 3, "RHT elastic cap")?;
         r.elastic_cap = u32::try_from(cap)
             .map_err(|_| slot_error(RHT + 3, "RHT elastic cap", "must be 0 or 1"))?;
-        for (slot, value) in rht_constants_mut(r).into_iter().enumerate() {
-            *value = card[RHT + 4 + slot];
-        }
+        rht_constants_mut(r).copy_from_slice(&card[RHT + 4..RHT + 4 + RHT_CONSTANTS]);
         read_eos(card, &mut block, bulk_modulus)?;
+        return Ok(block);
+    }
+    if block.strength_model == StossStrengthModel::Kc as i32 {
+        let k = &mut block.strength.kc;
+        k.rate = code(card, KC, "K&C rate")?;
+        let band = code(card, KC + 1, "K&C crack band")?;
+        k.crack_band_enabled = u32::try_from(band)
+            .map_err(|_| slot_error(KC + 1, "K&C crack band", "must be 0 or 1"))?;
+        [k.crack_band_reference_width, k.crack_band_width] = [card[KC + 2], card[KC + 3]];
+        k.maximum_surface = card[KC + 4..KC + 7].try_into().expect("3 slots");
+        k.yield_surface = card[KC + 7..KC + 10].try_into().expect("3 slots");
+        k.residual_surface = card[KC + 10..KC + 12].try_into().expect("2 slots");
+        k.constants[..KC_CONSTANTS]
+            .copy_from_slice(&card[KC_CONSTANTS_SLOT..KC_CONSTANTS_SLOT + KC_CONSTANTS]);
+        let damage = read_eos(card, &mut block, bulk_modulus)?;
+        read_damage(card, damage, &mut block)?;
         return Ok(block);
     }
     let j = &mut f.johnson_cook;
@@ -196,8 +237,8 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
     let s: [f64; 17] = card[STRENGTH..STRENGTH + 17].try_into().expect("17 slots");
     let strength = &mut block.strength;
     match StossStrengthModel::from_code(block.strength_model)? {
-        // Read with its own slots above.
-        StossStrengthModel::Rht => {}
+        // Read with their own slots above.
+        StossStrengthModel::Rht | StossStrengthModel::Kc => {}
         StossStrengthModel::JohnsonCook => {
             let p = &mut strength.johnson_cook;
             [
@@ -327,39 +368,48 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
     Ok(block)
 }
 
-/// The twenty floating-point RHT constants in their card order (P21..P40).
-fn rht_constants_mut(r: &mut StossRht) -> [&mut f64; 20] {
-    [
-        &mut r.compressive_strength,
-        &mut r.tensile_strength_ratio,
-        &mut r.shear_strength_ratio,
-        &mut r.failure_a,
-        &mut r.failure_n,
-        &mut r.tensile_meridian_ratio,
-        &mut r.brittle_ductile_transition,
-        &mut r.shear_modulus_ratio,
-        &mut r.tensile_elastic_ratio,
-        &mut r.compressive_elastic_ratio,
-        &mut r.residual_b,
-        &mut r.residual_m,
-        &mut r.compressive_rate_exponent,
-        &mut r.tensile_rate_exponent,
-        &mut r.compressive_reference_rate,
-        &mut r.tensile_reference_rate,
-        &mut r.damage_d1,
-        &mut r.damage_d2,
-        &mut r.minimum_failure_strain,
-        &mut r.residual_shear_modulus_ratio,
-    ]
+/// The K&C damage function from 0-based card index `start` (right after the EoS section):
+/// the point count, then the `lambda`s, then the `eta`s.
+fn read_damage(card: &[f64], start: usize, block: &mut StossMaterialBlock) -> Result<(), FfiError> {
+    let what = "K&C damage point count";
+    let count = if card.len() > start {
+        code(card, start, what)?
+    } else {
+        0
+    };
+    if !(2..=STOSS_KC_MAX_DAMAGE_POINTS as i32).contains(&count) {
+        return Err(slot_error(
+            start,
+            what,
+            format_args!("{count} is outside [2, {STOSS_KC_MAX_DAMAGE_POINTS}]"),
+        ));
+    }
+    let count = count as usize;
+    let needed = start + 1 + 2 * count;
+    if card.len() < needed {
+        return Err(FfiError::new(
+            StossStatus::InvalidParameter,
+            format!(
+                "card: {} values, the K&C damage function needs {needed} (P{}..P{needed})",
+                card.len(),
+                start + 1
+            ),
+        ));
+    }
+    let k = &mut block.strength.kc;
+    k.damage_point_count = count as u32;
+    k.damage_lambda[..count].copy_from_slice(&card[start + 1..start + 1 + count]);
+    k.damage_eta[..count].copy_from_slice(&card[start + 1 + count..needed]);
+    Ok(())
 }
 
 /// The EoS section (from P42) of a card into `block` (`bulk_modulus`, P4, is the linear
-/// EoS's `K`).
+/// EoS's `K`); returns the 0-based index just past it.
 fn read_eos(
     card: &[f64],
     block: &mut StossMaterialBlock,
     bulk_modulus: f64,
-) -> Result<(), FfiError> {
+) -> Result<usize, FfiError> {
     let eos = StossEosModel::from_code(block.eos_model)?;
     let point_count = if eos == StossEosModel::TabulatedCompaction {
         let count = card.get(EOS).copied().unwrap_or(0.0);
@@ -450,7 +500,7 @@ fn read_eos(
             }
         }
     }
-    Ok(())
+    Ok(needed)
 }
 
 /// The card of a (valid) block: `P1..P41` plus the EoS section; returns the values and the
@@ -512,14 +562,25 @@ pub fn card_from_block(
     let strength = &block.strength;
     match StossStrengthModel::from_code(block.strength_model)? {
         StossStrengthModel::Rht => {
-            let mut r = strength.rht;
+            let r = &strength.rht;
             card[RHT] = f64::from(r.tensile_failure);
             card[RHT + 1] = f64::from(r.meridian);
             card[RHT + 2] = f64::from(r.rate_scaling);
             card[RHT + 3] = f64::from(r.elastic_cap);
-            for (slot, value) in rht_constants_mut(&mut r).into_iter().enumerate() {
-                card[RHT + 4 + slot] = *value;
+            card[RHT + 4..RHT + 4 + RHT_CONSTANTS].copy_from_slice(rht_constants(r));
+        }
+        StossStrengthModel::Kc => {
+            let k = &strength.kc;
+            card[KC] = f64::from(k.rate);
+            card[KC + 1] = f64::from(k.crack_band_enabled);
+            if k.crack_band_enabled == 1 {
+                [card[KC + 2], card[KC + 3]] = [k.crack_band_reference_width, k.crack_band_width];
             }
+            card[KC + 4..KC + 7].copy_from_slice(&k.maximum_surface);
+            card[KC + 7..KC + 10].copy_from_slice(&k.yield_surface);
+            card[KC + 10..KC + 12].copy_from_slice(&k.residual_surface);
+            card[KC_CONSTANTS_SLOT..KC_CONSTANTS_SLOT + KC_CONSTANTS]
+                .copy_from_slice(&k.constants[..KC_CONSTANTS]);
         }
         StossStrengthModel::JohnsonCook => {
             let p = &strength.johnson_cook;
@@ -727,6 +788,14 @@ pub fn card_from_block(
                 section[3 + 3 * i] = p.unloading_bulk_modulus[i];
             }
         }
+    }
+    if StossStrengthModel::from_code(block.strength_model)? == StossStrengthModel::Kc {
+        let k = &block.strength.kc;
+        let count = k.damage_point_count as usize;
+        card[length] = count as f64;
+        card[length + 1..length + 1 + count].copy_from_slice(&k.damage_lambda[..count]);
+        card[length + 1 + count..length + 1 + 2 * count].copy_from_slice(&k.damage_eta[..count]);
+        return Ok((card, length + 1 + 2 * count));
     }
     Ok((card, length))
 }

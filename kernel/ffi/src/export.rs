@@ -9,6 +9,7 @@
 //! principal-strain failure of `Failure`; [`from_material`] reports whether it dropped them.
 
 use stoss_kernel::eos::Eos;
+use stoss_kernel::kc::{KcMaterial, KcParameters, RateEnhancement};
 use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters, TensileFailure};
 use stoss_kernel::strength::{
     ComposedStrength, CrystalStructure, Hardening, RateTerm, Strength, ThermalTerm,
@@ -17,10 +18,12 @@ use stoss_kernel::{Heating, Material, RateTreatment};
 
 use crate::block::{
     StossComposed, StossEosModel, StossHardening, StossHardeningModel, StossHeatingModel,
-    StossJohnsonCook, StossJohnsonCookFailure, StossMaterialBlock, StossRateModel, StossRateTerm,
-    StossRateTreatment, StossRht, StossRhtMeridian, StossRhtRateScaling, StossRhtTensileFailure,
-    StossStrengthModel, StossThermalModel, StossThermalTerm,
+    StossJohnsonCook, StossJohnsonCookFailure, StossKc, StossKcRate, StossMaterialBlock,
+    StossRateModel, StossRateTerm, StossRateTreatment, StossRht, StossRhtMeridian,
+    StossRhtRateScaling, StossRhtTensileFailure, StossStrengthModel, StossThermalModel,
+    StossThermalTerm,
 };
+use crate::section::{rht_constants_mut, write_section};
 use crate::status::FfiError;
 
 /// The block of `material` at `initial_temperature` (K), and whether host-only failure
@@ -118,9 +121,9 @@ pub fn from_rht(
 }
 
 /// The block form of kernel RHT constants (the shear modulus goes to the block's
-/// `shear_modulus`).
+/// `shear_modulus`; the described constants through the descriptor).
 fn rht_block(p: &RhtParameters) -> StossRht {
-    StossRht {
+    let mut section = StossRht {
         tensile_failure: match p.tensile_failure {
             TensileFailure::HydroTensileLimit => StossRhtTensileFailure::HydroTensileLimit,
             TensileFailure::PressureCutoff => StossRhtTensileFailure::PressureCutoff,
@@ -135,27 +138,58 @@ fn rht_block(p: &RhtParameters) -> StossRht {
             RateScaling::Homothetic => StossRhtRateScaling::Homothetic,
         } as i32,
         elastic_cap: u32::from(p.elastic_cap),
-        compressive_strength: p.compressive_strength,
-        tensile_strength_ratio: p.tensile_strength_ratio,
-        shear_strength_ratio: p.shear_strength_ratio,
-        failure_a: p.failure_a,
-        failure_n: p.failure_n,
-        tensile_meridian_ratio: p.tensile_meridian_ratio,
-        brittle_ductile_transition: p.brittle_ductile_transition,
-        shear_modulus_ratio: p.shear_modulus_ratio,
-        tensile_elastic_ratio: p.tensile_elastic_ratio,
-        compressive_elastic_ratio: p.compressive_elastic_ratio,
-        residual_b: p.residual_b,
-        residual_m: p.residual_m,
-        compressive_rate_exponent: p.compressive_rate_exponent,
-        tensile_rate_exponent: p.tensile_rate_exponent,
-        compressive_reference_rate: p.compressive_reference_rate,
-        tensile_reference_rate: p.tensile_reference_rate,
-        damage_d1: p.damage_d1,
-        damage_d2: p.damage_d2,
-        minimum_failure_strain: p.minimum_failure_strain,
-        residual_shear_modulus_ratio: p.residual_shear_modulus_ratio,
-    }
+        ..StossRht::default()
+    };
+    write_section(&mut p.clone(), rht_constants_mut(&mut section));
+    section
+}
+
+/// The block of K&C concrete `material` at `initial_temperature` (K), and whether the host-only
+/// geometric erosion strain was left out. Specific heat: `specific_heat` (K&C does not read
+/// it; the block requires a positive value). Validated by [`StossMaterialBlock::to_kc`].
+pub fn from_kc(
+    material: &KcMaterial,
+    initial_temperature: f64,
+    specific_heat: f64,
+) -> Result<(StossMaterialBlock, bool), FfiError> {
+    let mut block = StossMaterialBlock::empty();
+    block.strength_model = StossStrengthModel::Kc as i32;
+    block.rate_treatment = StossRateTreatment::Implicit as i32;
+    block.heating_model = StossHeatingModel::Isothermal as i32;
+    block.density = material.density;
+    block.shear_modulus = material.parameters.shear_modulus;
+    block.specific_heat = specific_heat;
+    block.initial_temperature = initial_temperature;
+    block.strength.kc = kc_block(&material.parameters);
+    write_eos(&mut block, &material.eos);
+    block.to_kc()?;
+    Ok((block, material.erosion_geometric_strain.is_some()))
+}
+
+/// The block form of kernel K&C constants (the shear modulus goes to the block's
+/// `shear_modulus`; the described scalars through the descriptor).
+fn kc_block(p: &KcParameters) -> StossKc {
+    let damage = &p.damage;
+    let mut section = StossKc {
+        rate: match p.rate {
+            RateEnhancement::None => StossKcRate::None,
+            RateEnhancement::CebFip => StossKcRate::CebFip,
+        } as i32,
+        crack_band_enabled: u32::from(p.crack_band.is_some()),
+        damage_point_count: damage.used() as u32,
+        reserved: 0,
+        maximum_surface: p.maximum_surface,
+        yield_surface: p.yield_surface,
+        residual_surface: p.residual_surface,
+        crack_band_reference_width: p.crack_band.map_or(0.0, |band| band.reference_width),
+        crack_band_width: p.crack_band.map_or(0.0, |band| band.width),
+        ..StossKc::default()
+    };
+    let used = damage.used();
+    section.damage_lambda[..used].copy_from_slice(&damage.lambda[..used]);
+    section.damage_eta[..used].copy_from_slice(&damage.eta[..used]);
+    write_section(&mut p.clone(), &mut section.constants);
+    section
 }
 
 fn write_strength(block: &mut StossMaterialBlock, strength: &Strength) {

@@ -37,6 +37,7 @@ pub(crate) mod boundary;
 pub mod card;
 pub mod checked;
 pub mod export;
+pub mod section;
 pub mod status;
 
 pub use abi::*;

@@ -793,3 +793,199 @@ fn rht_blocks_refuse_what_concrete_does_not_have() {
         assert!(message.contains(field), "{field}: {message}");
     }
 }
+
+fn kc_concrete() -> StossMaterialBlock {
+    let mut block = StossMaterialBlock::default();
+    // SAFETY: `block` is a valid, writable block.
+    assert_eq!(
+        unsafe { stoss_material_defaults_kc100(&mut block) },
+        StossStatus::Ok
+    );
+    block
+}
+
+#[test]
+fn kc_concrete_runs_through_the_batch_bit_for_bit_and_round_trips_its_card() {
+    // GOAL: K&C concrete (layout 5) through the same entry points as RHT and the metals: the
+    //       batch equals the kernel's uniaxial-strain driver bit for bit from the state
+    //       stoss_state_init gives; the card carries it exactly.
+    // SETUP: the library's HPC 100 MPa defaults (tabulated EoS, CEB-FIP rates); one point
+    //        crushed to -3 %, one pulled to +0.05 % (past the tensile peak), 250 steps at
+    //        1e2 /s.
+    // REFERENCE: stoss_kernel::drivers::uniaxial_strain on KcMaterial::HPC_100MPA_FOI.
+    use stoss_kernel::kc::KcMaterial;
+    let material = KcMaterial::HPC_100MPA_FOI;
+    let block = kc_concrete();
+    assert_eq!(validate(&block).0, StossStatus::Ok);
+    assert_eq!(block.to_kc().unwrap(), material);
+    let steps = 250;
+    let rate = 1.0e2;
+    for final_strain in [-0.03, 0.0005] {
+        let mut points = Points::new(1);
+        points.init(&block);
+        assert_eq!(
+            points.point(0),
+            material.initial_state(293.0),
+            "initial state"
+        );
+        let increment = final_strain / f64::from(steps);
+        let dt = increment.abs() / rate;
+        points.strain[0] = vec![increment];
+        for _ in 0..steps {
+            let outcome = points.update(&block, dt, false);
+            assert_eq!(outcome.status, StossStatus::Ok, "{}", outcome.message);
+        }
+        let mut reference = material.initial_state(293.0);
+        let loading = UniaxialStrainLoading {
+            strain_rate: rate,
+            final_strain,
+            steps,
+        };
+        let mut sink = LastRecord::default();
+        uniaxial_strain(&material, &mut reference, &loading, &mut sink).unwrap();
+        assert_eq!(points.point(0), reference, "final strain {final_strain}");
+        assert_eq!(points.wave_speed[0], sink.last.unwrap().wave_speed);
+        assert!(reference.plastic_strain > 0.0, "{final_strain}: it yields");
+    }
+
+    let (card, length) = write_card(&block);
+    let stoss_kernel::eos::Eos::TabulatedCompaction(eos) = material.eos else {
+        panic!("K&C's EoS is tabulated");
+    };
+    let table = 1 + 3 * eos.points().len();
+    let damage = 1 + 2 * material.parameters.damage.used();
+    assert_eq!(
+        length,
+        41 + table + damage,
+        "P1..P41, the EoS and the damage table"
+    );
+    assert_eq!(card[0], f64::from(STOSS_LAYOUT_VERSION));
+    assert_eq!(card[6], 8.0, "strength code K&C");
+    assert_eq!(card[28], 100.0e6, "fc at P29");
+    let parsed = read_card(&card[..length]);
+    assert_eq!(parsed.to_kc().unwrap(), material);
+    assert_eq!(parsed, block);
+}
+
+#[test]
+fn kc_constants_follow_the_kernel_descriptor_in_block_and_card() {
+    // GOAL: the block's and the card's K&C scalars are the kernel's described constants in
+    //       the descriptor's order (the shear modulus in the block's common field), so a
+    //       constant added to the family reaches both without an edit here.
+    // SETUP: the HPC defaults with a distinct value in every described constant, set by
+    //        name through the kernel's descriptor.
+    // REFERENCE: KcParameters::PARAMETERS.
+    use stoss_kernel::kc::{KcMaterial, KcParameters};
+    use stoss_kernel::parameters::Constants;
+    use stoss_kernel_ffi::export::from_kc;
+    let mut material = KcMaterial::HPC_100MPA_FOI;
+    // Values that keep the material valid: each constant scaled by a distinct factor.
+    for (i, parameter) in KcParameters::PARAMETERS.iter().enumerate() {
+        let value = material.parameters.get(parameter.name).unwrap();
+        let scaled = value * (1.0 + 0.001 * (i as f64 + 1.0));
+        material.parameters.set(parameter.name, scaled).unwrap();
+    }
+    let (block, dropped) = from_kc(&material, 293.0, 880.0).unwrap();
+    assert!(!dropped);
+    assert_eq!(block.shear_modulus, material.parameters.shear_modulus);
+    let section: Vec<&str> = KcParameters::PARAMETERS
+        .iter()
+        .map(|p| p.name)
+        .filter(|name| *name != "shear_modulus")
+        .collect();
+    assert_eq!(section.len(), stoss_kernel_ffi::block::KC_CONSTANTS);
+    for (slot, name) in section.iter().enumerate() {
+        let value = material.parameters.get(name).unwrap();
+        assert_eq!(block.strength.kc.constants[slot], value, "{name}");
+    }
+    assert!(block.strength.kc.constants[section.len()..]
+        .iter()
+        .all(|v| *v == 0.0));
+    let (card, length) = write_card(&block);
+    for (slot, name) in section.iter().enumerate() {
+        assert_eq!(
+            card[28 + slot],
+            material.parameters.get(name).unwrap(),
+            "{name}"
+        );
+    }
+    assert_eq!(read_card(&card[..length]).to_kc().unwrap(), material);
+}
+
+#[test]
+fn kc_blocks_refuse_what_concrete_does_not_have() {
+    // GOAL: metal-only options and broken tables on a K&C block are errors naming the field.
+    // SETUP: the K&C defaults with, in turn, adiabatic heating, the lagged rate, JC failure,
+    //        erosion and the pressure cut-off switched on, a bad rate code, one damage point,
+    //        a negative fc and a non-finite surface constant.
+    // REFERENCE: INVALID_PARAMETER and the field's name in the message.
+    type Spoil = fn(&mut StossMaterialBlock);
+    let cases: [(&str, Spoil); 9] = [
+        ("heating_model", |b| b.heating_model = 2),
+        ("rate_treatment", |b| b.rate_treatment = 2),
+        ("failure.johnson_cook_enabled", |b| {
+            b.failure.johnson_cook_enabled = 1
+        }),
+        ("failure.erosion_enabled", |b| b.failure.erosion_enabled = 1),
+        ("failure.pressure_cutoff_enabled", |b| {
+            b.failure.pressure_cutoff_enabled = 1
+        }),
+        ("strength.kc.rate", |b| b.strength.kc.rate = 9),
+        ("strength.kc.damage_point_count", |b| {
+            b.strength.kc.damage_point_count = 1
+        }),
+        ("compressive_strength", |b| {
+            b.strength.kc.constants[0] = -1.0
+        }),
+        ("strength.kc", |b| b.strength.kc.yield_surface[1] = f64::NAN),
+    ];
+    for (field, spoil) in cases {
+        let mut block = kc_concrete();
+        spoil(&mut block);
+        let (status, message) = validate(&block);
+        assert_eq!(status, StossStatus::InvalidParameter, "{field}: {message}");
+        assert!(message.contains(field), "{field}: {message}");
+    }
+}
+
+#[test]
+fn descriptor_ordered_sections_match_the_generated_header() {
+    // GOAL: the sections read through the kernel's descriptor have, in the generated C
+    //       header, the descriptor's constants in its order (RHT: named fields; K&C: an
+    //       array as long as the descriptor allows).
+    // SETUP: include/stoss_kernel.h as committed (its drift from the Rust source is
+    //        checked by .ci/ffi.sh).
+    // REFERENCE: RhtParameters::PARAMETERS and KcParameters::PARAMETERS without the shear
+    //            modulus.
+    let header = include_str!("../include/stoss_kernel.h");
+    let body = |name: &str| -> Vec<String> {
+        let start = header
+            .find(&format!("typedef struct {name} {{"))
+            .unwrap_or_else(|| panic!("{name} in the header"));
+        let end = start + header[start..].find(&format!("}} {name};")).unwrap();
+        header[start..end]
+            .lines()
+            .skip(1)
+            .map(str::trim)
+            .filter(|line| !line.starts_with("//") && !line.is_empty())
+            .map(str::to_owned)
+            .collect()
+    };
+    let rht: Vec<String> = body("StossRht")
+        .iter()
+        .filter_map(|line| line.strip_prefix("double "))
+        .map(|field| field.trim_end_matches(';').to_owned())
+        .collect();
+    let described: Vec<&str> = stoss_kernel::rht::RhtParameters::PARAMETERS
+        .iter()
+        .map(|p| p.name)
+        .filter(|name| *name != "shear_modulus")
+        .collect();
+    assert_eq!(rht, described);
+    let kc = body("StossKc");
+    assert!(kc.contains(&"double constants[STOSS_KC_MAX_CONSTANTS];".to_owned()));
+    assert!(header.contains(&format!(
+        "#define STOSS_KC_MAX_CONSTANTS {}\n",
+        stoss_kernel_ffi::block::STOSS_KC_MAX_CONSTANTS
+    )));
+}

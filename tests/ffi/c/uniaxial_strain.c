@@ -363,6 +363,25 @@ int main(int argc, char **argv) {
     const char *const rht_tension_names[1] = {"batch_rht_tension"};
     batch_case(&rht, 1, rht_tension, 200, 1.0e3, rht_tension_names);
 
-    printf("uniaxial_strain: wrote 8 histories to %s\n", output_directory);
+    /* K&C concrete (layout 5): seed 001's 100 MPa HPC over the tabulated EoS of table 5.2,
+       the library's defaults; one point crushed in uniaxial strain, one pulled past the
+       tensile peak into softening. */
+    StossMaterialBlock kc;
+    status = stoss_material_defaults_kc100(&kc);
+    if (status != STOSS_STATUS_OK) {
+        fail("stoss_material_defaults_kc100", status, "");
+    }
+    status = stoss_material_validate(&kc, message, sizeof message);
+    if (status != STOSS_STATUS_OK) {
+        fail("validate kc", status, message);
+    }
+    const double kc_compression[1] = {-0.03};
+    const char *const kc_compression_names[1] = {"batch_kc_compression"};
+    batch_case(&kc, 1, kc_compression, 250, 1.0e2, kc_compression_names);
+    const double kc_tension[1] = {0.0005};
+    const char *const kc_tension_names[1] = {"batch_kc_tension"};
+    batch_case(&kc, 1, kc_tension, 250, 1.0e2, kc_tension_names);
+
+    printf("uniaxial_strain: wrote 10 histories to %s\n", output_directory);
     return 0;
 }

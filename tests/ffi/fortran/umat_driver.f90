@@ -4,7 +4,7 @@
 ! main program along a uniaxial-strain path and a simple-shear path (engineering shear strain
 ! increments, gamma = 2 eps, as LS-DYNA passes them).
 !
-! The material constants are typed into cm(1..48) exactly as a user types them on the
+! The material constants are typed into cm(1..96) exactly as a user types them on the
 ! *MAT_USER_DEFINED_MATERIAL_MODELS card (layout: docs/user-material.md).
 !
 ! Each step's history goes to <dir>/<case>.hex as 20 hex bit patterns per line, the format of
@@ -106,8 +106,9 @@ program umat_driver
   use, intrinsic :: iso_c_binding
   use hex_output
   implicit none
-  integer, parameter :: lmc = 56, nhv = 10
-  real(c_double) :: cm_tjc(lmc), cm_jc(lmc), cm_upturn(lmc), cm_rht(lmc)
+  integer, parameter :: lmc = 96, nhv = 10
+  real(c_double) :: cm_tjc(lmc), cm_jc(lmc), cm_upturn(lmc), cm_rht(lmc), cm_kc(lmc)
+  real(c_double) :: r
   character(len=1024) :: directory
 
   if (command_argument_count() /= 1) then
@@ -159,11 +160,40 @@ program umat_driver
   cm_rht(42:52) = [24.4d9, 39.58d9, 9.04d9, 1.22d0, 1.22d0, 24.4d9, 0.0d0, &
                    2750.0d0 / 2420.0d0, 2.0d0 / 3.0d0 * 92.0d6, 6.0d9, 3.0d0]
 
+  ! K&C concrete, a card of layout version 5 (strength code 8, implicit, EoS 5 = tabulated
+  ! compaction, isothermal): seed 001 chapter 5's 100 MPa HPC (KcMaterial::HPC_100MPA_FOI).
+  ! P17..P20: rate 2 (CEB-FIP), crack band 0 and its two widths; P21..P28: the maximum,
+  ! yield and residual surfaces (Malvar's 45.4 MPa set scaled by r = fc/45.4 MPa);
+  ! P29..P33: the described scalars fc ft fbc/fc b1 b2; P42..P66: the tabulated EoS of table
+  ! 5.2 (8 points of eps p K); P67..P91: the damage function of table 5.3 (12 points, the
+  ! lambdas, then the etas).
+  r = 100.0d6 / 45.4d6
+  cm_kc = 0.0d0
+  cm_kc(1:16) = [5.0d0, 2420.0d0, 44.0d9 / (2.0d0 * 1.16d0), 21.57d9, 880.0d0, 293.0d0, &
+                 8.0d0, 1.0d0, 5.0d0, 1.0d0, 0.0d0, 0.0d0, 0.0d0, &
+                 0.0d0, 0.0d0, 0.0d0]
+  cm_kc(17:20) = [2.0d0, 0.0d0, 0.0d0, 0.0d0]
+  cm_kc(21:28) = [13.42d6 * r, 0.4463d0, 0.00178d-6 / r, &
+                  10.13d6 * r, 0.625d0, 0.005676d-6 / r, &
+                  0.4417d0, 0.002608d-6 / r]
+  cm_kc(29:33) = [100.0d6, 5.2d6, 1.15d0, 1.6d0, 1.35d0]
+  cm_kc(42:66) = [8.0d0, &
+                  0.0d0, 0.0d0, 21.57d9, 0.0006d0, 13.3d6, 21.57d9, &
+                  0.0022d0, 33.3d6, 15.15d9, 0.0104d0, 90.0d6, 10.0d9, &
+                  0.0289d0, 216.0d6, 18.0d9, 0.0510d0, 390.0d6, 21.0d9, &
+                  0.0628d0, 565.0d6, 23.0d9, 0.0726d0, 737.0d6, 25.0d9]
+  cm_kc(67:91) = [12.0d0, &
+                  0.0d0, 5.5d-6, 1.4d-5, 2.9d-5, 5.1d-5, 8.2d-5, &
+                  4.8d-4, 8.6d-4, 1.44d-3, 3.06d-3, 1.2d-2, 2.5d-2, &
+                  0.0d0, 0.25d0, 0.55d0, 0.80d0, 0.95d0, 1.0d0, &
+                  0.95d0, 0.71d0, 0.45d0, 0.25d0, 0.06d0, 0.0d0]
+
   call run_case(cm_tjc, 1, 0.25d0, 250, 1.0d4, 'umat_tjc_tension')
   call run_case(cm_jc, 4, 0.3d0, 300, 1.0d3, 'umat_jc_simple_shear')
   call run_case(cm_upturn, 1, 0.25d0, 250, 1.0d4, 'umat_jc_upturn_tension')
   call run_case(cm_rht, 1, -0.08d0, 200, 1.0d4, 'umat_rht_compression')
-  write (*, '(a)') 'umat_driver: wrote 4 histories to '//trim(directory)
+  call run_case(cm_kc, 1, -0.03d0, 200, 1.0d3, 'umat_kc_compression')
+  write (*, '(a)') 'umat_driver: wrote 5 histories to '//trim(directory)
 
 contains
 

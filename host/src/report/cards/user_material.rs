@@ -1,17 +1,17 @@
 //! The stoss user material's own card for any model: the C ABI's card (the
 //! `StossMaterialBlock` as a flat array, docs/user-material.md section 5) written as LS-DYNA
 //! `*MAT_USER_DEFINED_MATERIAL_MODELS` and Abaqus `*USER MATERIAL` input. Every J2 model
-//! stoss has, the diagnosis' terms included, and RHT concrete run bit for bit as in stoss
-//! through it.
+//! stoss has, the diagnosis' terms included, and RHT and K&C concrete run bit for bit as in
+//! stoss through it.
 
 use super::line;
 use crate::input::material::AnyMaterialFile;
 use std::fmt::Write as _;
 use stoss_kernel_ffi::card::{card_from_block, STOSS_CARD_BULK_MODULUS, STOSS_CARD_SHEAR_MODULUS};
-use stoss_kernel_ffi::export::{from_material, from_rht};
+use stoss_kernel_ffi::export::{from_kc, from_material, from_rht};
 
-/// Specific heat written on an RHT concrete's card (J/kg/K): the block requires one, RHT
-/// (isothermal) does not read it; a typical concrete's.
+/// Specific heat written on a concrete's card (RHT, K&C; J/kg/K): the block requires one, the
+/// concrete models (isothermal) do not read it; a typical concrete's.
 const CONCRETE_SPECIFIC_HEAT: f64 = 880.0;
 
 /// The user-material cards of `file` at `initial_temperature` (K): `(LS-DYNA, Abaqus)`, or
@@ -32,12 +32,11 @@ pub fn cards(file: &AnyMaterialFile, initial_temperature: f64) -> Result<(String
                 .map_err(|e| e.message)?;
             (block, dropped, material.erosion_plastic_strain.is_some())
         }
-        AnyMaterialFile::Kc(_) => {
-            return Err(
-                "K&C concrete is not in the C ABI's material block yet: no user-material \
-                        card"
-                    .into(),
-            )
+        AnyMaterialFile::Kc(file) => {
+            let material = file.material().map_err(|e| e.to_string())?;
+            let (block, dropped) = from_kc(&material, initial_temperature, CONCRETE_SPECIFIC_HEAT)
+                .map_err(|e| e.message)?;
+            (block, dropped, false)
         }
     };
     let name = file.name();
@@ -206,6 +205,29 @@ mod tests {
         if expected.erosion_geometric_strain.take().is_some() {
             assert!(dyna.contains("host criteria"), "{dyna}");
         }
+        assert_eq!(read, expected);
+    }
+
+    #[test]
+    fn kc_concrete_reads_back_from_its_user_material_card() {
+        // GOAL: K&C concrete (C ABI layout 5) gets a user-material card that gives back the
+        //       same kernel material.
+        // SETUP: the bundled seed 001 HPC 100 MPa K&C file (tabulated EoS, damage table);
+        //        its Abaqus card read back with the C ABI's card reader.
+        // REFERENCE: the file's kernel material, constant for constant.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../fixtures/materials/hpc-100-kc.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (file, _) = crate::input::material::parse_part(&path, &text).unwrap();
+        let AnyMaterialFile::Kc(concrete) = &file else {
+            panic!("the HPC 100 file is K&C concrete");
+        };
+        let expected = concrete.material().unwrap();
+        let (dyna, abaqus) = cards(&file, 293.0).unwrap();
+        assert!(dyna.contains("*MAT_USER_DEFINED_MATERIAL_MODELS"), "{dyna}");
+        let values = abaqus_constants(&abaqus);
+        assert_eq!(values[6], 8.0, "strength model K&C");
+        let read = block_from_card(&values).unwrap().to_kc().unwrap();
         assert_eq!(read, expected);
     }
 }
