@@ -388,6 +388,79 @@ fn an_elastic_plastic_plate_impact_sends_the_hugoniot_elastic_limit_ahead_of_the
     );
 }
 
+#[test]
+fn a_taylor_rod_on_the_eulerian_grid_ends_as_long_as_on_the_lagrangian_mesh() {
+    // GOAL: strength, plastic flow and the free surface on the Eulerian grid: the rod-on-anvil
+    //       final length within 2 % of the Lagrangian solver's on the same rod.
+    // SETUP: fixtures/experiments/taylor-4340-208.toml (25.4 x 7.62 mm 4340 rod at 208 m/s,
+    //        Johnson-Cook 1985 constants) on the Lagrangian solver (8 elements across the
+    //        radius) and on a 0.254 mm Eulerian grid (15 cells across the radius) with slip
+    //        walls; the Eulerian length is the mean of the axis extents at 30-60 us (the
+    //        event is over by 20 us; the elastic ringing left is +/- 0.3 %).
+    // REFERENCE: the Lagrangian solver's final length (22.55 mm; the test records 22.48).
+    let experiment =
+        stoss::experiment::Experiment::load(&fixture("experiments/taylor-4340-208.toml")).unwrap();
+    let (_, rod) = material::load(&experiment.default_material_path().unwrap()).unwrap();
+    let lagrange = experiment
+        .simulate(
+            &rod.clone().into(),
+            &stoss::solver::SolverSettings::default(),
+        )
+        .unwrap()
+        .summary
+        .iter()
+        .find(|(name, _)| name == "final_length")
+        .unwrap()
+        .1;
+    let (length, radius, h): (f64, f64, f64) = (25.4e-3, 3.81e-3, 0.254e-3);
+    let grid = Grid {
+        cells_r: 28,
+        cells_z: ((length + 2.0 * h) / h).ceil() as usize,
+        spacing_r: h,
+        spacing_z: h,
+        geometry: Geometry::Axisymmetric,
+    };
+    let in_rod = move |p: [f64; 2]| p[0] < radius && (0.0..length).contains(&p[1]);
+    let regions = [Region {
+        material: 0,
+        inside: &in_rod,
+        velocity: [0.0, -208.0],
+        temperature: 295.0,
+    }];
+    let mut solver = EulerSolver::new(
+        grid,
+        0.0,
+        SLIP,
+        vec![named("rod", rod)],
+        &regions,
+        EulerSettings::default(),
+    )
+    .unwrap();
+    let mut lengths = Vec::new();
+    solver
+        .run(60e-6, 10e-6, &mut |s| {
+            if s.time >= 30e-6 - 1e-9 {
+                let (nose, tail) = stoss::experiment::penetration::euler::rod_extent(s, 0);
+                lengths.push(tail - nose);
+            }
+            std::ops::ControlFlow::Continue(())
+        })
+        .unwrap();
+    let euler = lengths.iter().sum::<f64>() / lengths.len() as f64;
+    let energy = solver.energy.relative_error();
+    eprintln!(
+        "Taylor final length: Euler {:.3} mm, Lagrange {:.3} mm; energy error {energy:.4}",
+        euler * 1e3,
+        lagrange * 1e3
+    );
+    assert!(lengths.len() >= 3, "{lengths:?}");
+    assert!(
+        (euler / lagrange - 1.0).abs() < 0.02,
+        "Euler {euler} against Lagrange {lagrange}"
+    );
+    assert!(energy.abs() < 0.01, "energy error {energy}");
+}
+
 /// A rod of `rod` at `velocity` into a semi-infinite-like plate of `target` on an
 /// axisymmetric grid of `h` cells: the nose depth history.
 fn penetrate(
