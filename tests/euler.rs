@@ -5,7 +5,9 @@
 
 use std::path::{Path, PathBuf};
 use stoss::blast::euler::{Geometry, Grid};
-use stoss::euler::{EulerMaterial, EulerSettings, EulerSolver, Region, Wall, Walls, MAX_MATERIALS};
+use stoss::euler::{
+    EulerMaterial, EulerSettings, EulerSolver, Region, Wall, Walls, MAX_MATERIALS, MAX_PHASES,
+};
 use stoss::input::material;
 use stoss_kernel::Material;
 
@@ -457,6 +459,105 @@ fn a_taylor_rod_on_the_eulerian_grid_ends_as_long_as_on_the_lagrangian_mesh() {
     assert!(
         (euler / lagrange - 1.0).abs() < 0.02,
         "Euler {euler} against Lagrange {lagrange}"
+    );
+    assert!(energy.abs() < 0.01, "energy error {energy}");
+}
+
+/// Plastic work per radian and unit length of a rigid-perfectly plastic, incompressible
+/// cylindrical shell whose inner radius closes from `a0` to `a` (outer `b0` at `a0`):
+/// `W = (2 Y / sqrt 3) int_a^a0 x ln(b(x) / x) dx`, `b(x)^2 = x^2 + b0^2 - a0^2` (midpoint rule,
+/// 20 000 intervals).
+fn shell_work(yield_stress: f64, a0: f64, b0: f64, a: f64) -> f64 {
+    let n = 20_000;
+    let step = (a0 - a) / n as f64;
+    let sum: f64 = (0..n)
+        .map(|k| {
+            let x = a + (k as f64 + 0.5) * step;
+            let b = (x * x + b0 * b0 - a0 * a0).sqrt();
+            x * (b / x).ln() * step
+        })
+        .sum();
+    2.0 * yield_stress / 3.0_f64.sqrt() * sum
+}
+
+#[test]
+fn a_collapsing_cylinder_stops_where_its_kinetic_energy_is_spent_in_plastic_work() {
+    // GOAL: plastic work in a large converging flow on the fixed grid: a thick cylindrical
+    //       shell thrown inward stops at the inner radius where its kinetic energy equals the
+    //       plastic work of the collapse, within 2 % (the issue asks 5 %).
+    // SETUP: a steel-density shell, inner radius 10 mm, outer 20 mm, Y 500 MPa, G 80 GPa,
+    //        K 160 GPa (Y/G 0.6 %: near rigid-plastic), given the incompressible field
+    //        v_r = -300 m/s x a0 / r; a 1 mm slab between slip walls (plane strain along z),
+    //        0.5 mm cells; the inner radius from the void volume at 200 us (at rest by then).
+    // REFERENCE: Verney (1968), Howell & Ball, J. Comput. Phys. 175 (2002) 128-167: the
+    //   incompressible energy balance int KE = shell_work(a_f), solved by bisection from the
+XX
+    //   and 3.689 at 0.125 mm, the 0.85 % being the elastic energy left in the shell).
+    let (a0, b0, yield_stress, h) = (10e-3, 20e-3, 500e6, 0.5e-3);
+    let rows = 2;
+    let grid = Grid {
+        cells_r: 48,
+        cells_z: rows,
+        spacing_r: h,
+        spacing_z: h,
+        geometry: Geometry::Axisymmetric,
+    };
+    let in_shell = move |p: [f64; 2]| p[0] >= a0 && p[0] < b0;
+    let regions = [Region {
+        material: 0,
+        inside: &in_shell,
+        velocity: [0.0, 0.0],
+        temperature: 293.0,
+    }];
+    let shell = perfectly_plastic(7850.0, 80e9, 160e9, yield_stress);
+    let mut solver = EulerSolver::new(
+        grid,
+        0.0,
+        SLIP,
+        vec![named("shell", shell)],
+        &regions,
+        EulerSettings::default(),
+    )
+    .unwrap();
+    let nodes_r = solver.nodes_r();
+    let masses = solver.node_masses();
+    for (n, v) in solver.velocity.iter_mut().enumerate() {
+        let r = (n % nodes_r) as f64 * h;
+        if masses[n] > 0.0 && r > 0.0 {
+            *v = [-300.0 * a0 / r, 0.0];
+        }
+    }
+    let kinetic = solver.kinetic_energy();
+    solver.energy.initial = kinetic;
+    solver
+        .run(200e-6, 50e-6, &mut |_| std::ops::ControlFlow::Continue(()))
+        .unwrap();
+    // The inner void: the cells inside 10 mm (the shell's inner part stays beyond 3.6 mm and
+    // its outer edge at 18 mm).
+    let void: f64 = (0..20)
+        .map(|i| solver.fraction(i, MAX_PHASES - 1) * solver.cell_volume(i))
+        .sum();
+    let inner = (2.0 * void / h).sqrt();
+    let target = kinetic / (2.0 * std::f64::consts::PI * rows as f64 * h);
+    let (mut low, mut high) = (1e-6, a0);
+    for _ in 0..100 {
+        let middle = 0.5 * (low + high);
+        if shell_work(yield_stress, a0, b0, middle) > target {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    let predicted = 0.5 * (low + high);
+    let energy = solver.energy.relative_error();
+    eprintln!(
+        "collapse: inner radius {:.4} mm against the energy balance's {:.4} mm; energy error {energy:.4}",
+        inner * 1e3,
+        predicted * 1e3
+    );
+    assert!(
+        (inner / predicted - 1.0).abs() < 0.02,
+        "inner radius {inner} against {predicted}"
     );
     assert!(energy.abs() < 0.01, "energy error {energy}");
 }
