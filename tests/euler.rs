@@ -404,10 +404,7 @@ fn a_taylor_rod_on_the_eulerian_grid_ends_as_long_as_on_the_lagrangian_mesh() {
         stoss::experiment::Experiment::load(&fixture("experiments/taylor-4340-208.toml")).unwrap();
     let (_, rod) = material::load(&experiment.default_material_path().unwrap()).unwrap();
     let lagrange = experiment
-        .simulate(
-            &rod.clone().into(),
-            &stoss::solver::SolverSettings::default(),
-        )
+        .simulate(&rod.into(), &stoss::solver::SolverSettings::default())
         .unwrap()
         .summary
         .iter()
