@@ -32,7 +32,7 @@ use crate::fit::hypothesis::{
 use crate::input::material::StrengthSpec;
 use serde::{Deserialize, Serialize};
 use stoss_kernel::eos::{Eos, Polynomial};
-use stoss_kernel::strength::{Hardening, RateTerm, ThermalTerm};
+use stoss_kernel::strength::{ComposedStrength, Hardening, RateTerm, ThermalTerm};
 use stoss_kernel::{Heating, RateTreatment};
 
 /// Upturn rate of the high-rate term (1/s).
@@ -186,29 +186,77 @@ pub fn library(
     campaign: &Campaign,
     visited: &Visited,
 ) -> (Vec<Candidate>, Vec<NotApplicable>) {
-    let max_plastic_strain = visited.max_plastic_strain;
-    let mut candidates = Vec::new();
-    let mut skipped = Vec::new();
-    let mut skip = |name: &str, reason: String| {
-        skipped.push(NotApplicable {
+    let mut library = Library {
+        current,
+        candidates: Vec::new(),
+        skipped: Vec::new(),
+    };
+    library.heating();
+    match current.material.strength {
+        StrengthSpec::Composed(strength) => {
+            library.rate_terms(&strength);
+            library.voce_saturation(&strength);
+            library.thermal_softening(&strength);
+            library.thermal_drop(&strength, visited);
+        }
+        _ => {
+            for name in [
+                "high-rate-upturn",
+                "voce-saturation",
+                "thermal-softening",
+                "thermal-drop",
+                "rate-temperature-coupling",
+            ] {
+                library.skip(
+                    name,
+                    "the strength family is not written in composable terms (use johnson-cook or composed)".into(),
+                );
+            }
+        }
+    }
+    library.anvil_friction(campaign);
+    library.erosion(visited.max_plastic_strain);
+    library.eos_nonlinearity();
+    library.lagged_rate();
+    (library.candidates, library.skipped)
+}
+
+/// The library being built: the terms that apply to `current`, and those that do not.
+struct Library<'a> {
+    current: &'a Hypothesis,
+    candidates: Vec<Candidate>,
+    skipped: Vec<NotApplicable>,
+}
+
+impl Library<'_> {
+    fn skip(&mut self, name: &str, reason: String) {
+        self.skipped.push(NotApplicable {
             name: name.into(),
             reason,
-        })
-    };
-    let fitted = |path: &str| current.parameters.iter().any(|p| p.name == path);
-    let composed = match current.material.strength {
-        StrengthSpec::Composed(c) => Some(c),
-        _ => None,
-    };
+        });
+    }
 
-    // Heating.
-    if current.material.heating == Heating::Isothermal {
+    /// Whether the current model fits the constant at `path`.
+    fn fitted(&self, path: &str) -> bool {
+        self.current.parameters.iter().any(|p| p.name == path)
+    }
+
+    /// Adiabatic heating, and the heating transitions over their grid of windows (an
+    /// isothermal model only).
+    fn heating(&mut self) {
+        let current = self.current;
+        if current.material.heating != Heating::Isothermal {
+            let reason = "the model already converts plastic work into heat".to_string();
+            self.skip("adiabatic-heating", reason.clone());
+            self.skip("heating-transition", reason);
+            return;
+        }
         let chi = Parameter {
             name: "heating.taylor_quinney".into(),
             lower: 0.0,
             upper: 1.0,
         };
-        candidates.push(extend(
+        self.candidates.push(extend(
             current,
             "adiabatic-heating",
             "adiabatic heating (plastic work raises the temperature and softens the material)",
@@ -241,257 +289,259 @@ pub fn library(
                 },
             );
             candidate.group = "heating-transition".into();
-            candidates.push(candidate);
+            self.candidates.push(candidate);
         }
-    } else {
-        let reason = "the model already converts plastic work into heat".to_string();
-        skip("adiabatic-heating", reason.clone());
-        skip("heating-transition", reason);
     }
 
-    // Strength terms (composed strengths only).
-    match composed {
-        None => {
-            for name in [
-                "high-rate-upturn",
-                "voce-saturation",
-                "thermal-softening",
-                "thermal-drop",
-                "rate-temperature-coupling",
-            ] {
-                skip(
-                    name,
-                    "the strength family is not written in composable terms (use johnson-cook or composed)".into(),
-                );
-            }
-        }
-        Some(strength) => {
-            let thermal_limits = strength.thermal.temperature_limits();
-            match strength.rate {
-                RateTerm::JohnsonCookLog {
-                    rate_sensitivity,
-                    reference_rate,
-                } => {
-                    candidates.push(extend(
-                        current,
-                        "high-rate-upturn",
-                        "a high-rate upturn of the flow stress (power-law rate term above ~1000 /s)",
-                        Parameter {
-                            name: "strength.rate.upturn_exponent".into(),
-                            lower: 0.0,
-                            upper: 0.5,
-                        },
-                        0.0,
-                        0.05,
-                        |h| {
-                            if let StrengthSpec::Composed(c) = &mut h.material.strength {
-                                c.rate = RateTerm::LogUpturn {
-                                    rate_sensitivity,
-                                    reference_rate,
-                                    upturn_exponent: 0.0,
-                                    upturn_rate: UPTURN_RATE,
-                                };
-                            }
-                        },
-                    ));
-                    let (reference_temperature, melting_temperature) =
-                        thermal_limits.unwrap_or((298.0, 1793.0));
-                    let mut coupling = extend(
-                        current,
-                        "rate-temperature-coupling",
-                        "rate-temperature coupling (rate sensitivity growing with temperature, as in Zerilli-Armstrong)",
-                        Parameter {
-                            name: "strength.rate.coupling".into(),
-                            lower: -1.0,
-                            upper: 10.0,
-                        },
-                        0.0,
-                        1.0,
-                        |h| {
-                            if let StrengthSpec::Composed(c) = &mut h.material.strength {
-                                c.rate = RateTerm::LogThermal {
-                                    rate_sensitivity,
-                                    reference_rate,
-                                    coupling: 0.0,
-                                    reference_temperature,
-                                    melting_temperature,
-                                };
-                            }
-                        },
-                    );
-                    coupling.physics_below = Some(
-                        "rate-temperature coupling (rate sensitivity falling with temperature)"
-                            .into(),
-                    );
-                    candidates.push(coupling);
+    /// The high-rate upturn and the rate-temperature coupling (a Johnson-Cook log rate term
+    /// only).
+    fn rate_terms(&mut self, strength: &ComposedStrength) {
+        let current = self.current;
+        let RateTerm::JohnsonCookLog {
+            rate_sensitivity,
+            reference_rate,
+        } = strength.rate
+        else {
+            let reason = "the rate term is not Johnson-Cook's logarithm".to_string();
+            self.skip("high-rate-upturn", reason.clone());
+            self.skip("rate-temperature-coupling", reason);
+            return;
+        };
+        self.candidates.push(extend(
+            current,
+            "high-rate-upturn",
+            "a high-rate upturn of the flow stress (power-law rate term above ~1000 /s)",
+            Parameter {
+                name: "strength.rate.upturn_exponent".into(),
+                lower: 0.0,
+                upper: 0.5,
+            },
+            0.0,
+            0.05,
+            |h| {
+                if let StrengthSpec::Composed(c) = &mut h.material.strength {
+                    c.rate = RateTerm::LogUpturn {
+                        rate_sensitivity,
+                        reference_rate,
+                        upturn_exponent: 0.0,
+                        upturn_rate: UPTURN_RATE,
+                    };
                 }
-                _ => {
-                    let reason = "the rate term is not Johnson-Cook's logarithm".to_string();
-                    skip("high-rate-upturn", reason.clone());
-                    skip("rate-temperature-coupling", reason);
-                }
-            }
-            match strength.hardening {
-                Hardening::Power {
-                    yield_stress,
-                    hardening_modulus,
-                    exponent,
-                } => candidates.push(extend(
-                    current,
-                    "voce-saturation",
-                    "saturating (Voce) strain hardening",
-                    Parameter {
-                        name: "strength.hardening.saturation_stress_1".into(),
-                        lower: 0.0,
-                        upper: 1.0e9,
-                    },
-                    0.0,
-                    0.1e9,
-                    |h| {
-                        if let StrengthSpec::Composed(c) = &mut h.material.strength {
-                            c.hardening = Hardening::PowerVoce2 {
-                                yield_stress,
-                                hardening_modulus,
-                                exponent,
-                                saturation_stress_1: 0.0,
-                                saturation_rate_1: VOCE_RATE,
-                                saturation_stress_2: 0.0,
-                                saturation_rate_2: VOCE_RATE,
-                            };
-                        }
-                    },
-                )),
-                _ => skip(
-                    "voce-saturation",
-                    "the hardening term already saturates (Voce)".into(),
-                ),
-            }
-            match strength.thermal {
-                ThermalTerm::HomologousPower { exponent, .. }
-                    if !fitted("strength.thermal.exponent") =>
-                {
-                    let mut softening = extend(
-                        current,
-                        "thermal-softening",
-                        "a different thermal-softening shape (a larger exponent m of 1 - T*^m: softening delayed to higher temperatures)",
-                        Parameter {
-                            name: "strength.thermal.exponent".into(),
-                            lower: 0.5,
-                            upper: 1.5,
-                        },
-                        exponent,
-                        if exponent + 0.1 <= 1.5 { 0.1 } else { -0.1 },
-                        |_| {},
-                    );
-                    softening.physics_below = Some(
-                        "a different thermal-softening shape (a smaller exponent m of 1 - T*^m: softening from lower temperatures on)"
-                            .into(),
-                    );
-                    candidates.push(softening);
-                }
-                ThermalTerm::HomologousPower { .. } => skip(
-                    "thermal-softening",
-                    "the thermal exponent is already fitted".into(),
-                ),
-                _ => skip(
-                    "thermal-softening",
-                    "the thermal term is not 1 - T*^m".into(),
-                ),
-            }
-            match (strength.thermal, visited.temperatures) {
-                (
-                    ThermalTerm::HomologousPower {
-                        exponent,
+            },
+        ));
+        let (reference_temperature, melting_temperature) = strength
+            .thermal
+            .temperature_limits()
+            .unwrap_or((298.0, 1793.0));
+        let mut coupling = extend(
+            current,
+            "rate-temperature-coupling",
+            "rate-temperature coupling (rate sensitivity growing with temperature, as in Zerilli-Armstrong)",
+            Parameter {
+                name: "strength.rate.coupling".into(),
+                lower: -1.0,
+                upper: 10.0,
+            },
+            0.0,
+            1.0,
+            |h| {
+                if let StrengthSpec::Composed(c) = &mut h.material.strength {
+                    c.rate = RateTerm::LogThermal {
+                        rate_sensitivity,
+                        reference_rate,
+                        coupling: 0.0,
                         reference_temperature,
                         melting_temperature,
-                    },
-                    Some((low, high)),
-                ) if high - low >= DROP_MINIMUM_RANGE => {
-                    let spacing = (high - low) / DROP_CENTRES as f64;
-                    for k in 0..DROP_CENTRES {
-                        let drop_temperature = low + (k as f64 + 0.5) * spacing;
-                        let drop_width = DROP_WIDTH_SPACINGS * spacing;
-                        let mut candidate = extend(
-                            current,
-                            &drop_name(drop_temperature),
-                            &format!(
-                                "a second thermal-softening stage (a strength drop around {drop_temperature:.0} K, over {:.0}-{:.0} K)",
-                                drop_temperature - 0.5 * drop_width,
-                                drop_temperature + 0.5 * drop_width
-                            ),
-                            Parameter {
-                                name: "strength.thermal.drop".into(),
-                                lower: 0.0,
-                                upper: 0.9,
-                            },
-                            0.0,
-                            0.1,
-                            |h| {
-                                if let StrengthSpec::Composed(c) = &mut h.material.strength {
-                                    c.thermal = ThermalTerm::HomologousPowerDrop {
-                                        exponent,
-                                        reference_temperature,
-                                        melting_temperature,
-                                        drop: 0.0,
-                                        drop_start_temperature: drop_temperature
-                                            - 0.5 * drop_width,
-                                        drop_end_temperature: drop_temperature
-                                            + 0.5 * drop_width,
-                                    };
-                                }
-                            },
-                        );
-                        candidate.group = "thermal-drop".into();
-                        candidates.push(candidate);
-                    }
+                    };
                 }
-                (ThermalTerm::HomologousPower { .. }, _) => skip(
-                    "thermal-drop",
-                    format!("the experiments' plastic flow spans less than {DROP_MINIMUM_RANGE} K"),
-                ),
-                _ => skip("thermal-drop", "the thermal term is not 1 - T*^m".into()),
+            },
+        );
+        coupling.physics_below =
+            Some("rate-temperature coupling (rate sensitivity falling with temperature)".into());
+        self.candidates.push(coupling);
+    }
+
+    /// Voce saturation added to power-law hardening.
+    fn voce_saturation(&mut self, strength: &ComposedStrength) {
+        let Hardening::Power {
+            yield_stress,
+            hardening_modulus,
+            exponent,
+        } = strength.hardening
+        else {
+            self.skip(
+                "voce-saturation",
+                "the hardening term already saturates (Voce)".into(),
+            );
+            return;
+        };
+        self.candidates.push(extend(
+            self.current,
+            "voce-saturation",
+            "saturating (Voce) strain hardening",
+            Parameter {
+                name: "strength.hardening.saturation_stress_1".into(),
+                lower: 0.0,
+                upper: 1.0e9,
+            },
+            0.0,
+            0.1e9,
+            |h| {
+                if let StrengthSpec::Composed(c) = &mut h.material.strength {
+                    c.hardening = Hardening::PowerVoce2 {
+                        yield_stress,
+                        hardening_modulus,
+                        exponent,
+                        saturation_stress_1: 0.0,
+                        saturation_rate_1: VOCE_RATE,
+                        saturation_stress_2: 0.0,
+                        saturation_rate_2: VOCE_RATE,
+                    };
+                }
+            },
+        ));
+    }
+
+    /// The thermal-softening exponent, fitted (a `1 - T*^m` term whose `m` is fixed).
+    fn thermal_softening(&mut self, strength: &ComposedStrength) {
+        match strength.thermal {
+            ThermalTerm::HomologousPower { exponent, .. }
+                if !self.fitted("strength.thermal.exponent") =>
+            {
+                let mut softening = extend(
+                    self.current,
+                    "thermal-softening",
+                    "a different thermal-softening shape (a larger exponent m of 1 - T*^m: softening delayed to higher temperatures)",
+                    Parameter {
+                        name: "strength.thermal.exponent".into(),
+                        lower: 0.5,
+                        upper: 1.5,
+                    },
+                    exponent,
+                    if exponent + 0.1 <= 1.5 { 0.1 } else { -0.1 },
+                    |_| {},
+                );
+                softening.physics_below = Some(
+                    "a different thermal-softening shape (a smaller exponent m of 1 - T*^m: softening from lower temperatures on)"
+                        .into(),
+                );
+                self.candidates.push(softening);
             }
+            ThermalTerm::HomologousPower { .. } => self.skip(
+                "thermal-softening",
+                "the thermal exponent is already fitted".into(),
+            ),
+            _ => self.skip(
+                "thermal-softening",
+                "the thermal term is not 1 - T*^m".into(),
+            ),
         }
     }
 
-    // Anvil friction (structure level).
-    let frictions: Vec<f64> = campaign
-        .experiments
-        .iter()
-        .filter_map(|e| match &e.file.setup {
-            Setup::Taylor(spec) => Some(spec.anvil_friction),
-            _ => None,
-        })
-        .collect();
-    let shared = frictions.first().copied();
-    match shared {
-        Some(mu) if frictions.iter().all(|f| *f == mu) && !fitted(ANVIL_FRICTION) => candidates
-            .push(extend(
-                current,
-                "anvil-friction",
-                "friction between the rod and the anvil (Coulomb)",
-                Parameter {
-                    name: ANVIL_FRICTION.into(),
-                    lower: 0.0,
-                    upper: 0.5,
+    /// A second thermal-softening stage over its grid of centres inside the temperatures the
+    /// experiments reach (a `1 - T*^m` term, a wide enough range).
+    fn thermal_drop(&mut self, strength: &ComposedStrength, visited: &Visited) {
+        match (strength.thermal, visited.temperatures) {
+            (
+                ThermalTerm::HomologousPower {
+                    exponent,
+                    reference_temperature,
+                    melting_temperature,
                 },
-                mu,
-                0.1,
-                |h| h.anvil_friction = Some(mu),
-            )),
-        Some(_) => skip(
-            "anvil-friction",
-            "the Taylor tests differ in their anvil friction or it is fitted".into(),
-        ),
-        None => skip("anvil-friction", "no Taylor test in the campaign".into()),
+                Some((low, high)),
+            ) if high - low >= DROP_MINIMUM_RANGE => {
+                let spacing = (high - low) / DROP_CENTRES as f64;
+                for k in 0..DROP_CENTRES {
+                    let drop_temperature = low + (k as f64 + 0.5) * spacing;
+                    let drop_width = DROP_WIDTH_SPACINGS * spacing;
+                    let mut candidate = extend(
+                        self.current,
+                        &drop_name(drop_temperature),
+                        &format!(
+                            "a second thermal-softening stage (a strength drop around {drop_temperature:.0} K, over {:.0}-{:.0} K)",
+                            drop_temperature - 0.5 * drop_width,
+                            drop_temperature + 0.5 * drop_width
+                        ),
+                        Parameter {
+                            name: "strength.thermal.drop".into(),
+                            lower: 0.0,
+                            upper: 0.9,
+                        },
+                        0.0,
+                        0.1,
+                        |h| {
+                            if let StrengthSpec::Composed(c) = &mut h.material.strength {
+                                c.thermal = ThermalTerm::HomologousPowerDrop {
+                                    exponent,
+                                    reference_temperature,
+                                    melting_temperature,
+                                    drop: 0.0,
+                                    drop_start_temperature: drop_temperature - 0.5 * drop_width,
+                                    drop_end_temperature: drop_temperature + 0.5 * drop_width,
+                                };
+                            }
+                        },
+                    );
+                    candidate.group = "thermal-drop".into();
+                    self.candidates.push(candidate);
+                }
+            }
+            (ThermalTerm::HomologousPower { .. }, _) => self.skip(
+                "thermal-drop",
+                format!("the experiments' plastic flow spans less than {DROP_MINIMUM_RANGE} K"),
+            ),
+            _ => self.skip("thermal-drop", "the thermal term is not 1 - T*^m".into()),
+        }
     }
 
-    // Erosion.
-    if current.material.failure.is_none() && max_plastic_strain > 0.0 {
+    /// Coulomb friction at the anvil (Taylor tests sharing one unfitted friction).
+    fn anvil_friction(&mut self, campaign: &Campaign) {
+        let frictions: Vec<f64> = campaign
+            .experiments
+            .iter()
+            .filter_map(|e| match &e.file.setup {
+                Setup::Taylor(spec) => Some(spec.anvil_friction),
+                _ => None,
+            })
+            .collect();
+        let shared = frictions.first().copied();
+        match shared {
+            Some(mu) if frictions.iter().all(|f| *f == mu) && !self.fitted(ANVIL_FRICTION) => {
+                self.candidates.push(extend(
+                    self.current,
+                    "anvil-friction",
+                    "friction between the rod and the anvil (Coulomb)",
+                    Parameter {
+                        name: ANVIL_FRICTION.into(),
+                        lower: 0.0,
+                        upper: 0.5,
+                    },
+                    mu,
+                    0.1,
+                    |h| h.anvil_friction = Some(mu),
+                ));
+            }
+            Some(_) => self.skip(
+                "anvil-friction",
+                "the Taylor tests differ in their anvil friction or it is fitted".into(),
+            ),
+            None => self.skip("anvil-friction", "no Taylor test in the campaign".into()),
+        }
+    }
+
+    /// Erosion at a critical plastic strain (a material without failure that flows).
+    fn erosion(&mut self, max_plastic_strain: f64) {
+        if !(self.current.material.failure.is_none() && max_plastic_strain > 0.0) {
+            self.skip(
+                "erosion",
+                "the material already has a failure model, or no plastic strain is reached".into(),
+            );
+            return;
+        }
         // Step: failure at 90 % of the largest plastic strain reached, so the term acts.
         let step = 1.0 / (0.9 * max_plastic_strain);
-        candidates.push(extend(
-            current,
+        self.candidates.push(extend(
+            self.current,
             "erosion",
             "damage and failure (elements erode at a critical plastic strain)",
             Parameter {
@@ -503,60 +553,57 @@ pub fn library(
             step,
             |_| {},
         ));
-    } else {
-        skip(
-            "erosion",
-            "the material already has a failure model, or no plastic strain is reached".into(),
-        );
     }
 
-    // EoS nonlinearity.
-    match current.material.eos {
-        Eos::Linear(linear) => {
-            let k = linear.bulk_modulus;
-            candidates.push(extend(
-                current,
+    /// A quadratic term added to a linear equation of state.
+    fn eos_nonlinearity(&mut self) {
+        let Eos::Linear(linear) = self.current.material.eos else {
+            self.skip(
                 "eos-nonlinearity",
-                "a nonlinear (Grüneisen-like, stiffening) equation of state",
-                Parameter {
-                    name: "eos.a2".into(),
-                    lower: 0.0,
-                    upper: 5.0 * k,
-                },
-                0.0,
-                k,
-                |h| h.material.eos = Eos::Polynomial(Polynomial::linear(k)),
-            ));
-        }
-        _ => skip(
+                "the equation of state is already nonlinear".into(),
+            );
+            return;
+        };
+        let k = linear.bulk_modulus;
+        self.candidates.push(extend(
+            self.current,
             "eos-nonlinearity",
-            "the equation of state is already nonlinear".into(),
-        ),
+            "a nonlinear (Grüneisen-like, stiffening) equation of state",
+            Parameter {
+                name: "eos.a2".into(),
+                lower: 0.0,
+                upper: 5.0 * k,
+            },
+            0.0,
+            k,
+            |h| h.material.eos = Eos::Polynomial(Polynomial::linear(k)),
+        ));
     }
 
-    // The seed 001 rate-treatment defect.
-    let other = match current.material.rate_treatment {
-        RateTreatment::Implicit => "lagged (seed 001 eq. 3.7)",
-        RateTreatment::Lagged => "implicit (seed 001 eq. 3.8)",
-    };
-    let mut lagged = extend(
-        current,
-        "lagged-rate",
-        &format!(
-            "the rate-treatment defect of seed 001: the recordings behave as a {other} rate update"
-        ),
-        Parameter {
-            name: LAGGED_MIXTURE.into(),
-            lower: 0.0,
-            upper: 1.0,
-        },
-        0.0,
-        1.0,
-        |_| {},
-    );
-    lagged.switches_rate_treatment = true;
-    candidates.push(lagged);
-    (candidates, skipped)
+    /// The seed 001 rate-treatment defect: the recordings behave as the other rate update.
+    fn lagged_rate(&mut self) {
+        let other = match self.current.material.rate_treatment {
+            RateTreatment::Implicit => "lagged (seed 001 eq. 3.7)",
+            RateTreatment::Lagged => "implicit (seed 001 eq. 3.8)",
+        };
+        let mut lagged = extend(
+            self.current,
+            "lagged-rate",
+            &format!(
+                "the rate-treatment defect of seed 001: the recordings behave as a {other} rate update"
+            ),
+            Parameter {
+                name: LAGGED_MIXTURE.into(),
+                lower: 0.0,
+                upper: 1.0,
+            },
+            0.0,
+            1.0,
+            |_| {},
+        );
+        lagged.switches_rate_treatment = true;
+        self.candidates.push(lagged);
+    }
 }
 
 impl Candidate {

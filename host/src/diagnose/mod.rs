@@ -670,74 +670,61 @@ fn keep_best(
     }
 }
 
-/// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations are logged
-/// in `log` (a rerun replays them).
-pub fn diagnose(
-    campaign: &Campaign,
-    model: &ModelResult,
-    options: &Options,
-    log: Option<&Path>,
-    progress: &mut dyn FnMut(Progress<'_>),
-) -> Result<Outcome, DiagnoseError> {
-    let entry = campaign.model(&model.model).ok_or_else(|| {
-        DiagnoseError::Calibration(format!(
-            "model `{}` of result.json is not in the campaign",
-            model.model
-        ))
-    })?;
-    let space = campaign.space(entry);
-    let base = Hypothesis::base(&campaign.base, &space, &model.selected.values)
-        .map_err(DiagnoseError::Calibration)?;
-    let start = base.values().map_err(DiagnoseError::Calibration)?;
-    let fitted = campaign.fitted();
-    let mut engine = Engine::new(&campaign.experiments, options.parallel, log, progress)?;
-    let mut cost = Cost::default();
-    let stage = |engine: &Engine, name: &str, before: usize, cost: &mut Cost| {
-        cost.stages.push((name.into(), engine.points - before));
-    };
-
-    engine.stage("least-squares refit of the calibrated model");
-    let mark = engine.points;
-    let base_fit = levenberg_marquardt(&mut engine, &base, &start, &fitted, options.iterations)?;
-    let base = base
-        .with_values(&base_fit.values)
-        .map_err(DiagnoseError::Calibration)?;
-    let (before, predictions_before) = assess(campaign, &mut engine, &base, &base_fit, &fitted)?;
-    stage(&engine, "refit of the calibrated model", mark, &mut cost);
-
-    engine.stage("locate");
-    let outcomes = simulate_outcomes(&engine, &base)?;
-    let misfit_before = locate_all(
-        &engine,
-        &predictions_before,
-        &outcomes,
-        &fitted,
-        options.alpha,
-    );
-
-    let state_misfit = state_space::bin_by_state(&campaign.experiments, &misfit_before, &outcomes);
-
-    engine.stage("score tests");
-    let mark = engine.points;
-    let (library, not_applicable) = candidates::library(
-        &base,
-        campaign,
-        &candidates::Visited::from_outcomes(&outcomes),
-    );
-    let mut tests = score::score_tests(&mut engine, &library, &base_fit, &fitted, options.alpha)?;
+/// The score tests of every term of `library`, ranked: lowest p-value first, the larger
+/// statistic first among equal p-values.
+fn ranked_score_tests(
+    engine: &mut Engine,
+    library: &[Candidate],
+    base_fit: &Fit,
+    fitted: &[usize],
+    alpha: f64,
+) -> Result<Vec<ScoreTest>, DiagnoseError> {
+    let mut tests = score::score_tests(engine, library, base_fit, fitted, alpha)?;
     tests.sort_by(|a, b| {
         a.p_value
             .total_cmp(&b.p_value)
             .then(b.statistic.total_cmp(&a.statistic))
     });
-    stage(&engine, "score tests", mark, &mut cost);
+    Ok(tests)
+}
 
+/// The misfit of `hypothesis` (its `predictions`), located with the states of its simulations.
+fn misfit_of(
+    engine: &Engine,
+    hypothesis: &Hypothesis,
+    predictions: &[Vec<f64>],
+    fitted: &[usize],
+    alpha: f64,
+) -> Result<Vec<ExperimentMisfit>, DiagnoseError> {
+    let outcomes = simulate_outcomes(engine, hypothesis)?;
+    Ok(locate_all(engine, predictions, &outcomes, fitted, alpha))
+}
+
+/// The refits of the library's terms, and the accepted one's index with its predictions.
+type Refits = (Vec<Refit>, Option<(usize, Vec<Vec<f64>>)>);
+
+/// The refits of the library's terms, in two stages: the significant terms in rank order;
+/// then, if none was accepted, the best-ranked admissible terms the score test under-rates,
+/// each also judged by its likelihood ratio. Returns every refit and the accepted one's index
+/// with its predictions.
+#[allow(clippy::too_many_arguments)]
+fn refit_terms(
+    campaign: &Campaign,
+    engine: &mut Engine,
+    library: &[Candidate],
+    tests: &[ScoreTest],
+    base_fit: &Fit,
+    fitted: &[usize],
+    options: &Options,
+    before: &Assessment,
+    cost: &mut Cost,
+) -> Result<Refits, DiagnoseError> {
     let mut refits = Vec::new();
     let mut accepted: Option<(usize, Vec<Vec<f64>>)> = None;
     // Two stages: the significant terms in rank order; then, if none was accepted, the
     // best-ranked admissible terms the score test under-rates, each also judged by the drop
     // its refit achieves (a likelihood-ratio test at the same level, `likelihood_ratio`).
-    let ranges = row_ranges(&campaign.experiments, &fitted);
+    let ranges = row_ranges(&campaign.experiments, fitted);
     let terms = tests.len().max(1) as f64;
     for by_ratio in [false, true] {
         if by_ratio && accepted.is_some() {
@@ -759,14 +746,7 @@ pub fn diagnose(
                 continue;
             };
             let (mut refit, fitted_term) = refit_candidate(
-                campaign,
-                &mut engine,
-                candidate,
-                &base_fit,
-                &fitted,
-                options,
-                &before,
-                &mut cost,
+                campaign, engine, candidate, base_fit, fitted, options, before, cost,
             )?;
             let Some((predictions, fit)) = fitted_term else {
                 refits.push(refit);
@@ -809,19 +789,97 @@ pub fn diagnose(
             keep_best(&mut refits, &mut accepted, predictions);
         }
     }
+    Ok((refits, accepted))
+}
+
+/// The calibrated `model` of `campaign` as a hypothesis, its selected constants written in.
+fn calibrated_hypothesis(
+    campaign: &Campaign,
+    model: &ModelResult,
+) -> Result<Hypothesis, DiagnoseError> {
+    let entry = campaign.model(&model.model).ok_or_else(|| {
+        DiagnoseError::Calibration(format!(
+            "model `{}` of result.json is not in the campaign",
+            model.model
+        ))
+    })?;
+    let space = campaign.space(entry);
+    Hypothesis::base(&campaign.base, &space, &model.selected.values)
+        .map_err(DiagnoseError::Calibration)
+}
+
+/// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations are logged
+/// in `log` (a rerun replays them).
+pub fn diagnose(
+    campaign: &Campaign,
+    model: &ModelResult,
+    options: &Options,
+    log: Option<&Path>,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<Outcome, DiagnoseError> {
+    let base = calibrated_hypothesis(campaign, model)?;
+    let start = base.values().map_err(DiagnoseError::Calibration)?;
+    let fitted = campaign.fitted();
+    let mut engine = Engine::new(&campaign.experiments, options.parallel, log, progress)?;
+    let mut cost = Cost::default();
+    let stage = |engine: &Engine, name: &str, before: usize, cost: &mut Cost| {
+        cost.stages.push((name.into(), engine.points - before));
+    };
+
+    engine.stage("least-squares refit of the calibrated model");
+    let mark = engine.points;
+    let base_fit = levenberg_marquardt(&mut engine, &base, &start, &fitted, options.iterations)?;
+    let base = base
+        .with_values(&base_fit.values)
+        .map_err(DiagnoseError::Calibration)?;
+    let (before, predictions_before) = assess(campaign, &mut engine, &base, &base_fit, &fitted)?;
+    stage(&engine, "refit of the calibrated model", mark, &mut cost);
+
+    engine.stage("locate");
+    let outcomes = simulate_outcomes(&engine, &base)?;
+    let misfit_before = locate_all(
+        &engine,
+        &predictions_before,
+        &outcomes,
+        &fitted,
+        options.alpha,
+    );
+
+    let state_misfit = state_space::bin_by_state(&campaign.experiments, &misfit_before, &outcomes);
+
+    engine.stage("score tests");
+    let mark = engine.points;
+    let (library, not_applicable) = candidates::library(
+        &base,
+        campaign,
+        &candidates::Visited::from_outcomes(&outcomes),
+    );
+    let tests = ranked_score_tests(&mut engine, &library, &base_fit, &fitted, options.alpha)?;
+    stage(&engine, "score tests", mark, &mut cost);
+
+    let (refits, accepted) = refit_terms(
+        campaign,
+        &mut engine,
+        &library,
+        &tests,
+        &base_fit,
+        &fitted,
+        options,
+        &before,
+        &mut cost,
+    )?;
 
     let (mut misfit_after, mut predictions_after, mut accepted_name) = match &accepted {
         Some((index, predictions)) => {
             let refit = &refits[*index];
-            let outcomes = simulate_outcomes(&engine, &refit.hypothesis)?;
             (
-                Some(locate_all(
+                Some(misfit_of(
                     &engine,
+                    &refit.hypothesis,
                     predictions,
-                    &outcomes,
                     &fitted,
                     options.alpha,
-                )),
+                )?),
                 Some(predictions.clone()),
                 Some(refit.candidate.clone()),
             )
@@ -860,14 +918,13 @@ pub fn diagnose(
         alternatives = tried;
         if let Some((index, predictions)) = winner {
             let chosen = &alternatives[index];
-            let outcomes = simulate_outcomes(&engine, &chosen.hypothesis)?;
-            misfit_after = Some(locate_all(
+            misfit_after = Some(misfit_of(
                 &engine,
+                &chosen.hypothesis,
                 &predictions,
-                &outcomes,
                 &fitted,
                 options.alpha,
-            ));
+            )?);
             predictions_after = Some(predictions);
             accepted_name = Some(chosen.candidate.clone());
             replacement = Some(chosen.candidate.clone());

@@ -4,7 +4,7 @@
 //! file of the model the diagnosis ends with).
 
 use super::locate::{Band, ExperimentMisfit};
-use super::{Assessment, Diagnosis};
+use super::{Assessment, Diagnosis, Refit};
 use crate::calibrate::Campaign;
 use crate::experiment::Setup;
 use crate::report::calibration::{experiment_name, slug};
@@ -251,10 +251,65 @@ pub fn write(
 ) -> Result<(), String> {
     std::fs::create_dir_all(directory).map_err(|e| format!("{}: {e}", directory.display()))?;
     let mut md = String::new();
+    header(&mut md, diagnosis);
+    where_the_model_misses(&mut md, diagnosis);
+    state_misfit(&mut md, diagnosis);
+    candidate_physics(&mut md, diagnosis);
+    refits(&mut md, diagnosis);
+    alternatives(&mut md, diagnosis);
+    // The refit the diagnosis ends with.
+    let after = diagnosis.accepted.as_ref().and_then(|name| {
+        diagnosis
+            .refits
+            .iter()
+            .chain(&diagnosis.alternatives)
+            .find(|r| &r.candidate == name)
+    });
+    errors_per_experiment(&mut md, diagnosis, after);
+    let _ = writeln!(md, "\n## Figures\n");
+    for (i, experiment) in campaign.experiments.iter().enumerate() {
+        let stem = slug(&experiment_name(campaign, i));
+        let residual_file = format!("residuals-{stem}.svg");
+        residual_figure(&directory.join(&residual_file), campaign, diagnosis, i)?;
+        let overlay_file = format!("overlay-{stem}.svg");
+        let after = predictions_after.map(|after| after[i].as_slice());
+        overlay_figure(
+            &directory.join(&overlay_file),
+            campaign,
+            i,
+            &predictions_before[i],
+            after,
+        )?;
+        let _ = writeln!(
+            md,
+            "- {}: ![residuals]({residual_file}) ![overlay]({overlay_file})",
+            experiment.file.name
+        );
+    }
+    cost(&mut md, diagnosis);
+    // The model the diagnosis ends with.
+    let final_model = after.map_or_else(|| None, |r| Some(r.hypothesis.material.to_toml()));
+    if let Some(toml) = final_model {
+        std::fs::write(directory.join("material.toml"), toml).map_err(|e| e.to_string())?;
+        let _ = writeln!(
+            md,
+            "\nThe refitted material: `material.toml` (`stoss simulate --material`)."
+        );
+    }
+    std::fs::write(directory.join("report.md"), md).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(diagnosis).map_err(|e| e.to_string())?;
+    std::fs::write(directory.join("diagnosis.json"), json).map_err(|e| e.to_string())
+}
+
+/// Title, the model diagnosed and the verdict.
+fn header(md: &mut String, diagnosis: &Diagnosis) {
     let _ = writeln!(md, "# Diagnosis: {}\n", diagnosis.campaign);
     let _ = writeln!(md, "Model diagnosed: `{}`.\n", diagnosis.model);
     let _ = writeln!(md, "## Verdict\n\n{}\n", diagnosis.verdict);
+}
 
+/// The misfit of the calibrated model per experiment, then its significant bands.
+fn where_the_model_misses(md: &mut String, diagnosis: &Diagnosis) {
     let _ = writeln!(md, "## Where the model misses\n");
     let _ = writeln!(
         md,
@@ -285,77 +340,90 @@ pub fn write(
             if m.structured { "**yes**" } else { "no" }
         );
     }
-    let bands: Vec<(&ExperimentMisfit, &Band)> = diagnosis
-        .misfit_before
+    bands(md, &diagnosis.misfit_before);
+}
+
+/// The significant bands of every recording and the material's state there (nothing if there
+/// are none).
+fn bands(md: &mut String, misfits: &[ExperimentMisfit]) {
+    let bands: Vec<(&ExperimentMisfit, &Band)> = misfits
         .iter()
         .flat_map(|m| m.bands.iter().map(move |b| (m, b)))
         .collect();
-    if !bands.is_empty() {
-        let _ = writeln!(
-            md,
-            "\nSignificant bands and what the material went through there:\n\n| experiment | quantity | span | points | mean misfit | p | region | max strain rate (1/s) | max plastic strain | max temperature (K) | triaxiality |\n|---|---|---|---|---|---|---|---|---|---|---|"
-        );
-        for (m, b) in bands {
-            let c = b.conditions.as_ref();
-            let _ = writeln!(
-                md,
-                "| {} | {} | {:.4e}-{:.4e} | {} | {:+.2} % | {:.1e} | {} | {} | {} | {} | {} |",
-                m.name,
-                b.quantity,
-                b.start,
-                b.end,
-                b.points,
-                100.0 * b.mean_relative,
-                b.p_value,
-                c.map_or("-".into(), |c| c.region.clone()),
-                c.map_or("-".into(), |c| format!("{:.2e}", c.max_strain_rate)),
-                c.map_or("-".into(), |c| format!("{:.3}", c.max_plastic_strain)),
-                c.map_or("-".into(), |c| format!("{:.0}", c.max_temperature)),
-                c.map_or("-".into(), |c| format!(
-                    "{:.2} to {:.2}",
-                    c.triaxiality.0, c.triaxiality.1
-                )),
-            );
-        }
+    if bands.is_empty() {
+        return;
     }
-
-    if !diagnosis.state_misfit.is_empty() {
-        let _ = writeln!(md, "\n## Misfit in state space\n");
+    let _ = writeln!(
+        md,
+        "\nSignificant bands and what the material went through there:\n\n| experiment | quantity | span | points | mean misfit | p | region | max strain rate (1/s) | max plastic strain | max temperature (K) | triaxiality |\n|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    for (m, b) in bands {
+        let c = b.conditions.as_ref();
         let _ = writeln!(
             md,
-            "The whitened residuals of every fitted recording pooled and binned by the material state behind each point (a homogeneous specimen's state at the point's plastic strain; in a structure the largest strain, rate and temperature of the region that drives the point). *Share*: the part of the residual sum of squares the bin means carry. Bins whose mean lies beyond twice its standard error are named.\n"
+            "| {} | {} | {:.4e}-{:.4e} | {} | {:+.2} % | {:.1e} | {} | {} | {} | {} | {} |",
+            m.name,
+            b.quantity,
+            b.start,
+            b.end,
+            b.points,
+            100.0 * b.mean_relative,
+            b.p_value,
+            c.map_or("-".into(), |c| c.region.clone()),
+            c.map_or("-".into(), |c| format!("{:.2e}", c.max_strain_rate)),
+            c.map_or("-".into(), |c| format!("{:.3}", c.max_plastic_strain)),
+            c.map_or("-".into(), |c| format!("{:.0}", c.max_temperature)),
+            c.map_or("-".into(), |c| format!(
+                "{:.2} to {:.2}",
+                c.triaxiality.0, c.triaxiality.1
+            )),
         );
-        let _ = writeln!(
-            md,
-            "| variable | share | bins (range: points, mean whitened, mean relative) | reading |\n|---|---|---|---|"
-        );
-        for m in &diagnosis.state_misfit {
-            let bins: Vec<String> = m
-                .bins
-                .iter()
-                .map(|b| {
-                    format!(
-                        "{:.4} to {:.4} {}: {}, {:+.2}, {:+.2} %",
-                        b.low,
-                        b.high,
-                        m.unit,
-                        b.points,
-                        b.mean_whitened,
-                        100.0 * b.mean_relative
-                    )
-                })
-                .collect();
-            let _ = writeln!(
-                md,
-                "| {} | {:.0} % | {} | {} |",
-                m.variable,
-                100.0 * m.share,
-                bins.join("; "),
-                m.describe().unwrap_or_else(|| "within the noise".into())
-            );
-        }
     }
+}
 
+/// The pooled residuals binned by material state (nothing if they were not binned).
+fn state_misfit(md: &mut String, diagnosis: &Diagnosis) {
+    if diagnosis.state_misfit.is_empty() {
+        return;
+    }
+    let _ = writeln!(md, "\n## Misfit in state space\n");
+    let _ = writeln!(
+        md,
+        "The whitened residuals of every fitted recording pooled and binned by the material state behind each point (a homogeneous specimen's state at the point's plastic strain; in a structure the largest strain, rate and temperature of the region that drives the point). *Share*: the part of the residual sum of squares the bin means carry. Bins whose mean lies beyond twice its standard error are named.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| variable | share | bins (range: points, mean whitened, mean relative) | reading |\n|---|---|---|---|"
+    );
+    for m in &diagnosis.state_misfit {
+        let bins: Vec<String> = m
+            .bins
+            .iter()
+            .map(|b| {
+                format!(
+                    "{:.4} to {:.4} {}: {}, {:+.2}, {:+.2} %",
+                    b.low,
+                    b.high,
+                    m.unit,
+                    b.points,
+                    b.mean_whitened,
+                    100.0 * b.mean_relative
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            md,
+            "| {} | {:.0} % | {} | {} |",
+            m.variable,
+            100.0 * m.share,
+            bins.join("; "),
+            m.describe().unwrap_or_else(|| "within the noise".into())
+        );
+    }
+}
+
+/// The library's terms ranked by the score test, and those that do not apply to the model.
+fn candidate_physics(md: &mut String, diagnosis: &Diagnosis) {
     let _ = writeln!(md, "\n## Candidate physics, ranked by the score test\n");
     let _ = writeln!(
         md,
@@ -389,97 +457,101 @@ pub fn write(
             let _ = writeln!(md, "- `{}`: {}", n.name, n.reason);
         }
     }
+}
 
+/// The refits of the significant terms against the calibrated model, and their constants.
+fn refits(md: &mut String, diagnosis: &Diagnosis) {
     let _ = writeln!(md, "\n## Refits\n");
     if diagnosis.refits.is_empty() {
         let _ = writeln!(md, "No term was significant; nothing was refitted.");
-    } else {
-        let _ = writeln!(
-            md,
-            "| model | constants | chi-square | fit error | held-out error | AIC | BIC | accepted | why |\n|---|---|---|---|---|---|---|---|---|"
-        );
-        let b = &diagnosis.before;
-        let _ = writeln!(
-            md,
-            "| before (`{}`) | {} | {:.1} | {:.4} | {} | {:.1} | {:.1} | - | - |",
-            diagnosis.model,
-            b.constants_fitted,
-            b.chi_square,
-            b.fit_error,
-            fmt_error(b.held_out_error),
-            b.aic,
-            b.bic
-        );
-        for r in &diagnosis.refits {
-            let a = &r.assessment;
-            let _ = writeln!(
-                md,
-                "| + `{}` | {} | {:.1} | {:.4} | {} | {:.1} | {:.1} | {} | {} |",
-                r.candidate,
-                a.constants_fitted,
-                a.chi_square,
-                a.fit_error,
-                fmt_error(a.held_out_error),
-                a.aic,
-                a.bic,
-                if r.accepted { "**yes**" } else { "no" },
-                r.reason
-            );
-        }
-        let _ = writeln!(md, "\nConstants of each model:\n");
-        let _ = writeln!(md, "- before: {}", constants_text(b));
-        for r in &diagnosis.refits {
-            let _ = writeln!(
-                md,
-                "- + `{}`: {}",
-                r.candidate,
-                constants_text(&r.assessment)
-            );
-        }
+        return;
     }
-
-    if !diagnosis.alternatives.is_empty() {
-        let _ = writeln!(md, "\n## Alternative families\n");
+    let _ = writeln!(
+        md,
+        "| model | constants | chi-square | fit error | held-out error | AIC | BIC | accepted | why |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    let b = &diagnosis.before;
+    let _ = writeln!(
+        md,
+        "| before (`{}`) | {} | {:.1} | {:.4} | {} | {:.1} | {:.1} | - | - |",
+        diagnosis.model,
+        b.constants_fitted,
+        b.chi_square,
+        b.fit_error,
+        fmt_error(b.held_out_error),
+        b.aic,
+        b.bic
+    );
+    for r in &diagnosis.refits {
+        let a = &r.assessment;
         let _ = writeln!(
             md,
-            "The misfit left after the library's terms was still structured, so the strength was also replaced by the kernel's other families, each started from its closest match to the current flow stress at the states the experiments visit and fitted in full. An alternative replaces the model when the BIC and the held-out error both drop, against the calibrated model and against an accepted term.\n"
+            "| + `{}` | {} | {:.1} | {:.4} | {} | {:.1} | {:.1} | {} | {} |",
+            r.candidate,
+            a.constants_fitted,
+            a.chi_square,
+            a.fit_error,
+            fmt_error(a.held_out_error),
+            a.aic,
+            a.bic,
+            if r.accepted { "**yes**" } else { "no" },
+            r.reason
         );
-        let _ = writeln!(
-            md,
-            "| family | constants | chi-square | fit error | held-out error | BIC | replaces | why |\n|---|---|---|---|---|---|---|---|"
-        );
-        for r in &diagnosis.alternatives {
-            let a = &r.assessment;
-            let _ = writeln!(
-                md,
-                "| `{}` | {} | {:.1} | {:.4} | {} | {:.1} | {} | {} |",
-                r.candidate,
-                a.constants_fitted,
-                a.chi_square,
-                a.fit_error,
-                fmt_error(a.held_out_error),
-                a.bic,
-                if diagnosis.replacement.as_ref() == Some(&r.candidate) {
-                    "**yes**"
-                } else {
-                    "no"
-                },
-                r.reason
-            );
-        }
-        let _ = writeln!(md, "\nConstants of each family:\n");
-        for r in &diagnosis.alternatives {
-            let _ = writeln!(md, "- `{}`: {}", r.candidate, constants_text(&r.assessment));
-        }
     }
+    let _ = writeln!(md, "\nConstants of each model:\n");
+    let _ = writeln!(md, "- before: {}", constants_text(b));
+    for r in &diagnosis.refits {
+        let _ = writeln!(
+            md,
+            "- + `{}`: {}",
+            r.candidate,
+            constants_text(&r.assessment)
+        );
+    }
+}
 
-    let after = diagnosis.accepted.as_ref().and_then(|name| {
-        diagnosis
-            .refits
-            .iter()
-            .chain(&diagnosis.alternatives)
-            .find(|r| &r.candidate == name)
-    });
+/// The alternative strength families fitted in full, and their constants (nothing if none
+/// was tried).
+fn alternatives(md: &mut String, diagnosis: &Diagnosis) {
+    if diagnosis.alternatives.is_empty() {
+        return;
+    }
+    let _ = writeln!(md, "\n## Alternative families\n");
+    let _ = writeln!(
+        md,
+        "The misfit left after the library's terms was still structured, so the strength was also replaced by the kernel's other families, each started from its closest match to the current flow stress at the states the experiments visit and fitted in full. An alternative replaces the model when the BIC and the held-out error both drop, against the calibrated model and against an accepted term.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| family | constants | chi-square | fit error | held-out error | BIC | replaces | why |\n|---|---|---|---|---|---|---|---|"
+    );
+    for r in &diagnosis.alternatives {
+        let a = &r.assessment;
+        let _ = writeln!(
+            md,
+            "| `{}` | {} | {:.1} | {:.4} | {} | {:.1} | {} | {} |",
+            r.candidate,
+            a.constants_fitted,
+            a.chi_square,
+            a.fit_error,
+            fmt_error(a.held_out_error),
+            a.bic,
+            if diagnosis.replacement.as_ref() == Some(&r.candidate) {
+                "**yes**"
+            } else {
+                "no"
+            },
+            r.reason
+        );
+    }
+    let _ = writeln!(md, "\nConstants of each family:\n");
+    for r in &diagnosis.alternatives {
+        let _ = writeln!(md, "- `{}`: {}", r.candidate, constants_text(&r.assessment));
+    }
+}
+
+/// Each experiment's error and chi before and after the accepted refit (`after`).
+fn errors_per_experiment(md: &mut String, diagnosis: &Diagnosis, after: Option<&Refit>) {
     let _ = writeln!(
         md,
         "\n## Errors per experiment (seed 000 min-max RMSE; chi = uncertainty-weighted RMS)\n"
@@ -502,100 +574,119 @@ pub fn write(
             fmt_error(after_score.map(|s| s.chi)),
         );
     }
+}
 
-    let _ = writeln!(md, "\n## Figures\n");
-    for (i, experiment) in campaign.experiments.iter().enumerate() {
-        let stem = slug(&experiment_name(campaign, i));
-        let position = |p: f64, q: &str| {
-            if q == "diameter" || q == "true_stress" {
-                p
-            } else {
-                0.0
-            }
-        };
-        let residual_series = |label: &str, misfit: &ExperimentMisfit, colour: usize| Series {
-            label: label.into(),
-            points: misfit
-                .residuals
-                .iter()
-                .map(|r| (position(r.position, &r.quantity), r.whitened))
-                .collect(),
-            style: Style::Markers,
-            colour,
-        };
-        let mut series = vec![residual_series("before", &diagnosis.misfit_before[i], 0)];
-        if let Some(after) = &diagnosis.misfit_after {
-            series.push(residual_series("after", &after[i], 1));
-        }
-        let shades: Vec<Shade> = diagnosis.misfit_before[i]
-            .bands
-            .iter()
-            .map(|b| Shade {
-                start: position(b.start, &b.quantity),
-                end: position(b.end, &b.quantity),
-            })
-            .collect();
-        let residual_file = format!("residuals-{stem}.svg");
-        residual_chart(
-            &directory.join(&residual_file),
-            &format!("{}: residuals", experiment.file.name),
-            x_label(campaign, i),
-            &series,
-            &shades,
-        )?;
-        // Overlay of the profile or curve (the longest quantity).
-        let recording = &experiment.recording;
-        let main = if recording.iter().any(|p| p.quantity == "diameter") {
-            "diameter"
-        } else {
-            recording.first().map_or("", |p| p.quantity.as_str())
-        };
-        let pick = |values: &[f64]| -> Vec<(f64, f64)> {
-            recording
-                .iter()
-                .zip(values)
-                .filter(|(p, _)| p.quantity == main)
-                .map(|(p, v)| (p.position, *v))
-                .collect()
-        };
-        let recorded: Vec<f64> = recording.iter().map(|p| p.value).collect();
-        let mut overlay = vec![
-            Series {
-                label: "recorded".into(),
-                points: pick(&recorded),
-                style: Style::Markers,
-                colour: 2,
-            },
-            Series {
-                label: "before".into(),
-                points: pick(&predictions_before[i]),
-                style: Style::Line,
-                colour: 0,
-            },
-        ];
-        if let Some(after) = predictions_after {
-            overlay.push(Series {
-                label: "after".into(),
-                points: pick(&after[i]),
-                style: Style::Line,
-                colour: 1,
-            });
-        }
-        let overlay_file = format!("overlay-{stem}.svg");
-        line_chart(
-            &directory.join(&overlay_file),
-            &experiment.file.name,
-            x_label(campaign, i),
-            &format!("{main} (SI)"),
-            &overlay,
-        )?;
-        let _ = writeln!(
-            md,
-            "- {}: ![residuals]({residual_file}) ![overlay]({overlay_file})",
-            experiment.file.name
-        );
+/// The position a residual or band of `quantity` is drawn at: profiles and curves along
+/// their axis, scalars at 0.
+fn drawn_position(position: f64, quantity: &str) -> f64 {
+    if quantity == "diameter" || quantity == "true_stress" {
+        position
+    } else {
+        0.0
     }
+}
 
+/// Experiment `index`'s whitened residuals before and after, its significant bands shaded,
+/// into `file`.
+fn residual_figure(
+    file: &Path,
+    campaign: &Campaign,
+    diagnosis: &Diagnosis,
+    index: usize,
+) -> Result<(), String> {
+    let residual_series = |label: &str, misfit: &ExperimentMisfit, colour: usize| Series {
+        label: label.into(),
+        points: misfit
+            .residuals
+            .iter()
+            .map(|r| (drawn_position(r.position, &r.quantity), r.whitened))
+            .collect(),
+        style: Style::Markers,
+        colour,
+    };
+    let mut series = vec![residual_series(
+        "before",
+        &diagnosis.misfit_before[index],
+        0,
+    )];
+    if let Some(after) = &diagnosis.misfit_after {
+        series.push(residual_series("after", &after[index], 1));
+    }
+    let shades: Vec<Shade> = diagnosis.misfit_before[index]
+        .bands
+        .iter()
+        .map(|b| Shade {
+            start: drawn_position(b.start, &b.quantity),
+            end: drawn_position(b.end, &b.quantity),
+        })
+        .collect();
+    residual_chart(
+        file,
+        &format!("{}: residuals", campaign.experiments[index].file.name),
+        x_label(campaign, index),
+        &series,
+        &shades,
+    )
+}
+
+/// Experiment `index`'s recorded profile or curve (the diameter if recorded, else the first
+/// quantity) against the predictions before and after, into `file`.
+fn overlay_figure(
+    file: &Path,
+    campaign: &Campaign,
+    index: usize,
+    before: &[f64],
+    after: Option<&[f64]>,
+) -> Result<(), String> {
+    let experiment = &campaign.experiments[index];
+    let recording = &experiment.recording;
+    let main = if recording.iter().any(|p| p.quantity == "diameter") {
+        "diameter"
+    } else {
+        recording.first().map_or("", |p| p.quantity.as_str())
+    };
+    let pick = |values: &[f64]| -> Vec<(f64, f64)> {
+        recording
+            .iter()
+            .zip(values)
+            .filter(|(p, _)| p.quantity == main)
+            .map(|(p, v)| (p.position, *v))
+            .collect()
+    };
+    let recorded: Vec<f64> = recording.iter().map(|p| p.value).collect();
+    let mut overlay = vec![
+        Series {
+            label: "recorded".into(),
+            points: pick(&recorded),
+            style: Style::Markers,
+            colour: 2,
+        },
+        Series {
+            label: "before".into(),
+            points: pick(before),
+            style: Style::Line,
+            colour: 0,
+        },
+    ];
+    if let Some(after) = after {
+        overlay.push(Series {
+            label: "after".into(),
+            points: pick(after),
+            style: Style::Line,
+            colour: 1,
+        });
+    }
+    line_chart(
+        file,
+        &experiment.file.name,
+        x_label(campaign, index),
+        &format!("{main} (SI)"),
+        &overlay,
+    )
+}
+
+/// The points each stage evaluated, and the simulations run and replayed.
+fn cost(md: &mut String, diagnosis: &Diagnosis) {
     let _ = writeln!(md, "\n## Cost\n");
     for (stage, points) in &diagnosis.cost.stages {
         let _ = writeln!(md, "- {stage}: {points} points");
@@ -605,19 +696,6 @@ pub fn write(
         "- experiment simulations: {} run, {} replayed from `diagnosis.jsonl`",
         diagnosis.cost.simulated, diagnosis.cost.replayed
     );
-
-    // The model the diagnosis ends with.
-    let final_model = after.map_or_else(|| None, |r| Some(r.hypothesis.material.to_toml()));
-    if let Some(toml) = final_model {
-        std::fs::write(directory.join("material.toml"), toml).map_err(|e| e.to_string())?;
-        let _ = writeln!(
-            md,
-            "\nThe refitted material: `material.toml` (`stoss simulate --material`)."
-        );
-    }
-    std::fs::write(directory.join("report.md"), md).map_err(|e| e.to_string())?;
-    let json = serde_json::to_string_pretty(diagnosis).map_err(|e| e.to_string())?;
-    std::fs::write(directory.join("diagnosis.json"), json).map_err(|e| e.to_string())
 }
 
 /// The constants of an assessment, with those that ended at a bound flagged.

@@ -210,11 +210,21 @@ pub fn score_tests(
         }
         tests.push(test);
     }
-    // One test per term: of a group of variants over a grid of a shape constant, the one with
-    // the largest statistic, its p-value multiplied by the group's size (Bonferroni over the
-    // grid); then Bonferroni over the terms.
+    Ok(best_per_group(library, &tests, &groups, count, alpha))
+}
+
+/// One test per term: of a group of variants over a grid of a shape constant, the one with the
+/// largest statistic, its p-value multiplied by the group's size (Bonferroni over the grid);
+/// then Bonferroni over the `count` terms.
+fn best_per_group(
+    library: &[Candidate],
+    tests: &[ScoreTest],
+    groups: &[&str],
+    count: f64,
+    alpha: f64,
+) -> Vec<ScoreTest> {
     let mut kept = Vec::with_capacity(groups.len());
-    for group in &groups {
+    for group in groups {
         let members: Vec<usize> = library
             .iter()
             .enumerate()
@@ -245,5 +255,5 @@ pub fn score_tests(
         test.significant = test.p_value < alpha;
         kept.push(test);
     }
-    Ok(kept)
+    kept
 }

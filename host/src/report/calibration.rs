@@ -10,16 +10,16 @@
 
 use super::cards;
 use super::plots::{self, Series, Style};
-use super::units::display_units;
+use super::units::{display_units, DisplayUnits};
 use crate::calibrate::campaign::LeaveOneOut;
 use crate::calibrate::run::ModelResult;
-use crate::calibrate::{Campaign, Evaluation};
-use crate::experiment::Outcome;
+use crate::calibrate::{Campaign, Evaluation, ModelSpace};
+use crate::experiment::{Experiment, Outcome};
 use crate::input::material::AnyMaterialFile;
 use crate::measure::StateSample;
 use crate::solver::SolverSettings;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
 use stoss_kernel::{Heating, Material, MaterialState};
 
@@ -91,99 +91,170 @@ pub fn write(
     outcomes: &[Vec<Option<Outcome>>],
 ) -> Result<(), String> {
     let figures = directory.join("figures");
-    let card_dir = directory.join("cards");
-    for dir in [&figures, &card_dir] {
+    let cards = directory.join("cards");
+    for dir in [&figures, &cards] {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    let fitted = campaign.fitted();
-    let mut md = String::new();
-    let _ = writeln!(md, "# Calibration report: {}\n", campaign.file.name);
-    if !campaign.file.description.is_empty() {
-        let _ = writeln!(md, "{}\n", campaign.file.description);
+    let mut report = Report::new(campaign, figures, cards);
+    report.header();
+    report.model_selection(results);
+    report.against_starting_constants(results);
+    for (m, result) in results.iter().enumerate() {
+        report.model(result, outcomes.get(m).map_or(&[], Vec::as_slice))?;
     }
-    let o = &campaign.file.optimiser;
-    let _ = writeln!(md, "Campaign `{}`; base material `{}`. Optimiser: Latin hypercube start then GP expected improvement, budget {} simulations per instance, {} instance(s), seed {} (instance k uses seed + k), {} parallel simulations{}.\n",
-        campaign.path.display(), campaign.base.name(), o.budget, o.instances, o.seed, o.parallel, match (o.leave_one_out, o.fold_budget) {
-            (LeaveOneOut::Off, _) => String::new(),
-            (every, fresh) => format!(
-                ", leave-one-out over the fitted experiments for {}{}",
-                if every == LeaveOneOut::Every { "every model" } else { "the selected model" },
-                fresh.map_or(String::new(), |n| format!(
-                    " (each fold warm-started from the model's all-experiment simulations, {n} new simulation(s) per instance)"
-                ))
-            ),
-        });
-    let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n");
+    std::fs::write(directory.join("report.md"), report.md).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(results).map_err(|e| e.to_string())?;
+    std::fs::write(directory.join("result.json"), json).map_err(|e| e.to_string())
+}
 
-    // Model selection table.
-    let names: Vec<String> = (0..campaign.experiments.len())
-        .map(|i| {
-            let tag = if campaign.file.experiments[i].holdout {
-                " (held out)"
-            } else {
-                ""
-            };
-            format!("{}{tag}", experiment_name(campaign, i))
-        })
-        .collect();
-    let _ = writeln!(md, "## Model selection\n\n| model | fit error | mean chi (fit) | held-out error | {} |\n|---|---|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
-    for r in results {
-        let chi = r
-            .selected
-            .mean_chi(&fitted)
-            .map_or("-".into(), |c| format!("{c:.3}"));
-        let _ = writeln!(
-            md,
-            "| {} | {:.4} | {} | {} | {} |",
-            r.model,
-            r.fit_error,
-            chi,
-            r.holdout_error.map_or("-".into(), |h| format!("{h:.4}")),
-            errors_row(campaign, &r.selected)
-        );
-    }
-    let best = results
-        .iter()
-        .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error));
-    if let Some(best) = best {
-        let _ = writeln!(
-            md,
-            "\nSelected model: **{}** (lowest fit error).\n",
-            best.model
-        );
-    }
-    let _ = writeln!(
-        md,
-        "### Against the starting constants\n\nThe starting constants of each model (its \
-         `strength`, or the base material {}) are scored on the same experiments, as a \
-         finalist is. The 95 % intervals of the calibrated constants are linearised \
-         (Gauss-Newton) from the fitted recordings, scaled by the reduced chi-square; pairs \
-         correlated beyond 0.95 are named.\n",
-        campaign.base.name()
-    );
-    for r in results {
-        if let Some(verdict) = r.baseline_verdict() {
-            let _ = writeln!(md, "- {verdict}.");
+/// The report being written: what its sections share, and `report.md` so far.
+struct Report<'a> {
+    campaign: &'a Campaign,
+    /// Where the figures go (`figures/`).
+    figures: PathBuf,
+    /// Where the cards go (`cards/`).
+    cards: PathBuf,
+    /// The fitted experiments.
+    fitted: Vec<usize>,
+    /// Every experiment's name, `(held out)` added to the held-out ones: the table columns.
+    names: Vec<String>,
+    md: String,
+}
+
+impl<'a> Report<'a> {
+    fn new(campaign: &'a Campaign, figures: PathBuf, cards: PathBuf) -> Self {
+        let names = (0..campaign.experiments.len())
+            .map(|i| {
+                let tag = if campaign.file.experiments[i].holdout {
+                    " (held out)"
+                } else {
+                    ""
+                };
+                format!("{}{tag}", experiment_name(campaign, i))
+            })
+            .collect();
+        Self {
+            campaign,
+            figures,
+            cards,
+            fitted: campaign.fitted(),
+            names,
+            md: String::new(),
         }
-        for bound in &r.at_bounds {
+    }
+
+    /// Title, description, the campaign and optimiser settings, and how errors are measured.
+    fn header(&mut self) {
+        let (campaign, md) = (self.campaign, &mut self.md);
+        let _ = writeln!(md, "# Calibration report: {}\n", campaign.file.name);
+        if !campaign.file.description.is_empty() {
+            let _ = writeln!(md, "{}\n", campaign.file.description);
+        }
+        let o = &campaign.file.optimiser;
+        let _ = writeln!(md, "Campaign `{}`; base material `{}`. Optimiser: Latin hypercube start then GP expected improvement, budget {} simulations per instance, {} instance(s), seed {} (instance k uses seed + k), {} parallel simulations{}.\n",
+            campaign.path.display(), campaign.base.name(), o.budget, o.instances, o.seed, o.parallel, match (o.leave_one_out, o.fold_budget) {
+                (LeaveOneOut::Off, _) => String::new(),
+                (every, fresh) => format!(
+                    ", leave-one-out over the fitted experiments for {}{}",
+                    if every == LeaveOneOut::Every { "every model" } else { "the selected model" },
+                    fresh.map_or(String::new(), |n| format!(
+                        " (each fold warm-started from the model's all-experiment simulations, {n} new simulation(s) per instance)"
+                    ))
+                ),
+            });
+        let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n");
+    }
+
+    /// The model selection table (errors of each model's selected solution) and the selected
+    /// model.
+    fn model_selection(&mut self, results: &[ModelResult]) {
+        let (campaign, md, names) = (self.campaign, &mut self.md, &self.names);
+        let _ = writeln!(md, "## Model selection\n\n| model | fit error | mean chi (fit) | held-out error | {} |\n|---|---|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
+        for r in results {
+            let chi = r
+                .selected
+                .mean_chi(&self.fitted)
+                .map_or("-".into(), |c| format!("{c:.3}"));
             let _ = writeln!(
                 md,
-                "- **{}: {bound}**: the optimum may lie beyond it (widen the bound if that is \
-                 physical).",
-                r.model
+                "| {} | {:.4} | {} | {} | {} |",
+                r.model,
+                r.fit_error,
+                chi,
+                r.holdout_error.map_or("-".into(), |h| format!("{h:.4}")),
+                errors_row(campaign, &r.selected)
             );
         }
-        if let Some(model) = campaign.file.models.iter().find(|m| m.name == r.model) {
-            for line in r.uncertainty_lines(&campaign.space(model).names) {
-                let _ = writeln!(md, "- {line}.");
-            }
+        let best = results
+            .iter()
+            .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error));
+        if let Some(best) = best {
+            let _ = writeln!(
+                md,
+                "\nSelected model: **{}** (lowest fit error).\n",
+                best.model
+            );
         }
     }
-    let _ = writeln!(md);
 
-    for (m, result) in results.iter().enumerate() {
-        let model = campaign.model(&result.model).ok_or("model missing")?;
-        let space = campaign.space(model);
+    /// Each model against its starting constants, the constants at a bound, and the
+    /// uncertainty of the calibrated constants.
+    fn against_starting_constants(&mut self, results: &[ModelResult]) {
+        let (campaign, md) = (self.campaign, &mut self.md);
+        let _ = writeln!(
+            md,
+            "### Against the starting constants\n\nThe starting constants of each model (its \
+             `strength`, or the base material {}) are scored on the same experiments, as a \
+             finalist is. The 95 % intervals of the calibrated constants are linearised \
+             (Gauss-Newton) from the fitted recordings, scaled by the reduced chi-square; pairs \
+             correlated beyond 0.95 are named.\n",
+            campaign.base.name()
+        );
+        for r in results {
+            if let Some(verdict) = r.baseline_verdict() {
+                let _ = writeln!(md, "- {verdict}.");
+            }
+            for bound in &r.at_bounds {
+                let _ = writeln!(
+                    md,
+                    "- **{}: {bound}**: the optimum may lie beyond it (widen the bound if that is \
+                     physical).",
+                    r.model
+                );
+            }
+            if let Some(model) = campaign.file.models.iter().find(|m| m.name == r.model) {
+                for line in r.uncertainty_lines(&campaign.space(model).names) {
+                    let _ = writeln!(md, "- {line}.");
+                }
+            }
+        }
+        let _ = writeln!(md);
+    }
+
+    /// One model's section; `outcomes` holds its selected simulation of every experiment.
+    fn model(&mut self, result: &ModelResult, outcomes: &[Option<Outcome>]) -> Result<(), String> {
+        let model = self.campaign.model(&result.model).ok_or("model missing")?;
+        let space = self.campaign.space(model);
+        self.constants(result, &space);
+        self.instances(result);
+        if result.finalists.len() > 1 {
+            self.leave_one_out(result);
+        }
+        self.convergence(result)?;
+        self.parallel_coordinates(result, &space)?;
+        let (material_file, material) =
+            space.material(&self.campaign.base, &result.selected.values)?;
+        if let Some(metal) = material.j2() {
+            self.flow_curves(result, metal)?;
+        }
+        self.overlays(result, outcomes)?;
+        self.validity_range(result, outcomes)?;
+        self.cards(result, material_file)
+    }
+
+    /// The model's heading and its constants table (bounds and selected values).
+    fn constants(&mut self, result: &ModelResult, space: &ModelSpace) {
+        let md = &mut self.md;
         let _ = writeln!(md, "## Model `{}`\n\n### Constants\n\n| constant | lower | upper | selected |\n|---|---|---|---|", result.model);
         for (k, name) in space.names.iter().enumerate() {
             let _ = writeln!(
@@ -192,6 +263,11 @@ pub fn write(
                 space.lower[k], space.upper[k], result.selected.values[k]
             );
         }
+    }
+
+    /// The instances table (fold, seed, fit error, simulations run and failed).
+    fn instances(&mut self, result: &ModelResult) {
+        let md = &mut self.md;
         let _ = writeln!(md, "\n### Instances\n\n| fold (left out) | instance | seed | fit error | simulated | failed |\n|---|---|---|---|---|---|");
         for i in &result.instances {
             let _ = writeln!(
@@ -205,36 +281,42 @@ pub fn write(
                 i.failed
             );
         }
-        if result.finalists.len() > 1 {
-            let _ = writeln!(md, "\n### Leave-one-out finalists (each fold's best, scored on all experiments)\n\n| left out | total (fitted) | {} |\n|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
-            let all_experiment = result.finalists.first().map(|(_, e)| &e.values);
-            let mut unmoved = 0;
-            for (fold, e) in &result.finalists {
-                // A fold whose best is the all-experiment fit's constants (a warm-started fold
-                // whose new simulations did not beat the shared history) predicts nothing new.
-                let same = fold.is_some() && Some(&e.values) == all_experiment;
-                unmoved += usize::from(same);
-                let _ = writeln!(
-                    md,
-                    "| {}{} | {} | {} |",
-                    fold.as_deref().unwrap_or("none"),
-                    if same { " (= all-experiment fit)" } else { "" },
-                    e.total(campaign, &fitted)
-                        .map_or("-".into(), |t| format!("{t:.4}")),
-                    errors_row(campaign, e)
-                );
-            }
-            if unmoved > 0 {
-                let _ = writeln!(
-                    md,
-                    "\n{unmoved} fold(s) kept the all-experiment fit's constants: without the \
-                     left-out experiment the best constants known are still those, so their \
-                     left-out error is not an independent prediction. A larger `fold_budget` \
-                     (or independent folds) tests them harder."
-                );
-            }
+    }
+
+    /// The leave-one-out finalists table, and which folds kept the all-experiment fit.
+    fn leave_one_out(&mut self, result: &ModelResult) {
+        let (campaign, md, names) = (self.campaign, &mut self.md, &self.names);
+        let _ = writeln!(md, "\n### Leave-one-out finalists (each fold's best, scored on all experiments)\n\n| left out | total (fitted) | {} |\n|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
+        let all_experiment = result.finalists.first().map(|(_, e)| &e.values);
+        let mut unmoved = 0;
+        for (fold, e) in &result.finalists {
+            // A fold whose best is the all-experiment fit's constants (a warm-started fold
+            // whose new simulations did not beat the shared history) predicts nothing new.
+            let same = fold.is_some() && Some(&e.values) == all_experiment;
+            unmoved += usize::from(same);
+            let _ = writeln!(
+                md,
+                "| {}{} | {} | {} |",
+                fold.as_deref().unwrap_or("none"),
+                if same { " (= all-experiment fit)" } else { "" },
+                e.total(campaign, &self.fitted)
+                    .map_or("-".into(), |t| format!("{t:.4}")),
+                errors_row(campaign, e)
+            );
         }
-        // Convergence.
+        if unmoved > 0 {
+            let _ = writeln!(
+                md,
+                "\n{unmoved} fold(s) kept the all-experiment fit's constants: without the \
+                 left-out experiment the best constants known are still those, so their \
+                 left-out error is not an independent prediction. A larger `fold_budget` \
+                 (or independent folds) tests them harder."
+            );
+        }
+    }
+
+    /// The convergence figure: each instance's best error against simulations.
+    fn convergence(&mut self, result: &ModelResult) -> Result<(), String> {
         let series: Vec<Series> = result
             .instances
             .iter()
@@ -253,14 +335,22 @@ pub fn write(
             .collect();
         let file = format!("{}-convergence.svg", slug(&result.model));
         plots::line_chart(
-            &figures.join(&file),
+            &self.figures.join(&file),
             &format!("{}: best error vs simulations", result.model),
             "simulations",
             "best fit error",
             &series,
         )?;
-        let _ = writeln!(md, "\n![convergence](figures/{file})\n");
-        // Parallel coordinates of every instance's solution.
+        let _ = writeln!(self.md, "\n![convergence](figures/{file})\n");
+        Ok(())
+    }
+
+    /// Parallel coordinates of every instance's solution, the selected one marked.
+    fn parallel_coordinates(
+        &mut self,
+        result: &ModelResult,
+        space: &ModelSpace,
+    ) -> Result<(), String> {
         let lines: Vec<(Vec<f64>, bool)> = result
             .instances
             .iter()
@@ -277,7 +367,7 @@ pub fn write(
             .collect();
         let file = format!("{}-parallel.svg", slug(&result.model));
         plots::parallel_coordinates(
-            &figures.join(&file),
+            &self.figures.join(&file),
             &format!(
                 "{}: solutions of all instances (selected in red)",
                 result.model
@@ -285,185 +375,139 @@ pub fn write(
             &space.names,
             &lines,
         )?;
-        let _ = writeln!(md, "![parallel coordinates](figures/{file})\n");
-        // Stress-strain curves at 1e-4 and 2000 /s (J2 metals).
-        let (material_file, material) = space.material(&campaign.base, &result.selected.values)?;
-        if let Some(metal) = material.j2() {
-            let mut series = Vec::new();
-            for (k, rate) in [1e-4, 2000.0].into_iter().enumerate() {
+        let _ = writeln!(self.md, "![parallel coordinates](figures/{file})\n");
+        Ok(())
+    }
+
+    /// Stress-strain curves of the selected J2 metal (and the base material) at 1e-4 and
+    /// 2000 /s.
+    fn flow_curves(&mut self, result: &ModelResult, metal: &Material) -> Result<(), String> {
+        let base = self.campaign.base.material().ok();
+        let base = base.as_ref().and_then(|b| b.j2());
+        let mut series = Vec::new();
+        for (k, rate) in [1e-4, 2000.0].into_iter().enumerate() {
+            series.push(Series {
+                label: format!("selected, {rate} /s"),
+                points: flow_curve(metal, rate),
+                style: Style::Line,
+                colour: k,
+            });
+            if let Some(base) = base {
                 series.push(Series {
-                    label: format!("selected, {rate} /s"),
-                    points: flow_curve(metal, rate),
-                    style: Style::Line,
-                    colour: k,
+                    label: format!("base material, {rate} /s"),
+                    points: flow_curve(base, rate),
+                    style: Style::Markers,
+                    colour: k + 2,
                 });
-                if let Some(base) = campaign.base.material().ok().as_ref().and_then(|b| b.j2()) {
-                    series.push(Series {
-                        label: format!("base material, {rate} /s"),
-                        points: flow_curve(base, rate),
-                        style: Style::Markers,
-                        colour: k + 2,
-                    });
-                }
             }
-            let file = format!("{}-flow-curves.svg", slug(&result.model));
-            plots::line_chart(
-                &figures.join(&file),
-                "isothermal flow curves at 298 K",
-                "true strain",
-                "true stress (MPa)",
-                &series,
-            )?;
-            let _ = writeln!(md, "![flow curves](figures/{file})\n");
         }
-        let _ = writeln!(md, "### Experiments: recording vs selected simulation\n");
-        // Overlays.
+        let file = format!("{}-flow-curves.svg", slug(&result.model));
+        plots::line_chart(
+            &self.figures.join(&file),
+            "isothermal flow curves at 298 K",
+            "true strain",
+            "true stress (MPa)",
+            &series,
+        )?;
+        let _ = writeln!(self.md, "![flow curves](figures/{file})\n");
+        Ok(())
+    }
+
+    /// Each experiment's recording against the selected simulation, one figure each.
+    fn overlays(
+        &mut self,
+        result: &ModelResult,
+        outcomes: &[Option<Outcome>],
+    ) -> Result<(), String> {
+        let campaign = self.campaign;
+        let _ = writeln!(
+            self.md,
+            "### Experiments: recording vs selected simulation\n"
+        );
         for (i, experiment) in campaign.experiments.iter().enumerate() {
-            let Some(Some(outcome)) = outcomes.get(m).map(|o| o.get(i).cloned().flatten()) else {
+            let Some(Some(outcome)) = outcomes.get(i) else {
                 continue;
             };
-            let mut groups: Vec<String> = experiment
-                .recording
-                .iter()
-                .map(|p| p.quantity.clone())
-                .collect();
-            groups.dedup();
-            let mut series = Vec::new();
-            // Stresses in MPa, lengths in mm, times in us; the axes name the first
-            // quantity's units, the legend every other's.
-            let axes = display_units(groups.first().map_or("", String::as_str));
-            for (g, quantity) in groups.iter().enumerate() {
-                let units = display_units(quantity);
-                let (x_scale, y_scale) = (units.position.1, units.value.1);
-                let recorded: Vec<(f64, f64)> = experiment
-                    .recording
-                    .iter()
-                    .filter(|p| &p.quantity == quantity)
-                    .map(|p| (p.position * x_scale, p.value * y_scale))
-                    .collect();
-                let mut predicted: Vec<(f64, f64)> = experiment
-                    .recording
-                    .iter()
-                    .zip(&outcome.predicted)
-                    .filter(|(p, _)| &p.quantity == quantity)
-                    .map(|(p, v)| (p.position * x_scale, *v * y_scale))
-                    .collect();
-                let quantity = if units == axes {
-                    quantity.clone()
-                } else {
-                    format!("{quantity} [{}; {}]", units.value.0, units.position.0)
-                };
-                predicted.sort_by(|a, b| a.0.total_cmp(&b.0));
-                // A quantity measured at one position (a Taylor rod's final length or
-                // footprint, a peak deflection) has no line to draw: its simulated value is a
-                // marker beside the recorded one.
-                let single = predicted.windows(2).all(|w| w[0].0 == w[1].0);
-                series.push(Series {
-                    label: format!("{quantity} recorded"),
-                    points: recorded,
-                    style: Style::Markers,
-                    colour: 2 * g,
-                });
-                series.push(Series {
-                    label: format!("{quantity} simulated"),
-                    points: predicted,
-                    style: if single { Style::Markers } else { Style::Line },
-                    colour: 2 * g + 1,
-                });
-            }
+            let (axes, series) = overlay_series(experiment, outcome);
             let file = format!(
                 "{}-{}.svg",
                 slug(&result.model),
                 slug(&experiment_name(campaign, i))
             );
             plots::line_chart(
-                &figures.join(&file),
+                &self.figures.join(&file),
                 &experiment.file.name,
                 axes.position.0,
                 axes.value.0,
                 &series,
             )?;
-            let _ = writeln!(md, "![{}](figures/{file})", experiment.file.name);
+            let _ = writeln!(self.md, "![{}](figures/{file})", experiment.file.name);
         }
-        // State histograms (validity range), per experiment type (seed 000 fig. 14): the
-        // final state of every tracked material point, and its peak plastic strain rate.
-        let mut kinds: Vec<(&str, Vec<&Outcome>)> = Vec::new();
-        for (experiment, outcome) in campaign
-            .experiments
-            .iter()
-            .zip(outcomes.get(m).into_iter().flatten())
-        {
-            let Some(outcome) = outcome else { continue };
-            if outcome.states.is_empty() {
-                continue;
-            }
-            let kind = crate::experiment::kind_name(&experiment.file.setup);
-            match kinds.iter_mut().find(|(k, _)| *k == kind) {
-                Some((_, list)) => list.push(outcome),
-                None => kinds.push((kind, vec![outcome])),
-            }
+        Ok(())
+    }
+
+    /// State histograms and their ranges per experiment type (seed 000 fig. 14): the final
+    /// state of every tracked material point, and its peak plastic strain rate.
+    fn validity_range(
+        &mut self,
+        result: &ModelResult,
+        outcomes: &[Option<Outcome>],
+    ) -> Result<(), String> {
+        let kinds = outcomes_by_kind(self.campaign, outcomes);
+        if kinds.is_empty() {
+            return Ok(());
         }
-        if !kinds.is_empty() {
-            let _ = writeln!(md, "\n### Validity range (tracked material points, per experiment type)\n\n| quantity | experiment type | points | min | max |\n|---|---|---|---|---|");
-            let quantities: [(&str, StateReader); 4] = [
-                ("plastic strain", |s| s.plastic_strain),
-                ("peak plastic strain rate (1/s)", |s| s.plastic_strain_rate),
-                ("temperature (K)", |s| s.temperature),
-                ("triaxiality", |s| s.triaxiality),
-            ];
-            for (k, (name, get)) in quantities.iter().enumerate() {
-                let groups: Vec<(String, Vec<f64>)> = kinds
+        let md = &mut self.md;
+        let _ = writeln!(md, "\n### Validity range (tracked material points, per experiment type)\n\n| quantity | experiment type | points | min | max |\n|---|---|---|---|---|");
+        let quantities: [(&str, StateReader); 4] = [
+            ("plastic strain", |s| s.plastic_strain),
+            ("peak plastic strain rate (1/s)", |s| s.plastic_strain_rate),
+            ("temperature (K)", |s| s.temperature),
+            ("triaxiality", |s| s.triaxiality),
+        ];
+        for (k, (name, get)) in quantities.iter().enumerate() {
+            let groups: Vec<(String, Vec<f64>)> = kinds
+                .iter()
+                .map(|(kind, list)| (kind.to_string(), state_values(list, k == 1, *get)))
+                .collect();
+            for (kind, values) in &groups {
+                let (lo, hi) = values
                     .iter()
-                    .map(|(kind, list)| {
-                        let values = list
-                            .iter()
-                            .flat_map(|o| o.states.iter())
-                            .filter_map(|h| {
-                                if k == 1 {
-                                    Some(
-                                        h.samples
-                                            .iter()
-                                            .map(|s| s.plastic_strain_rate)
-                                            .fold(0.0, f64::max),
-                                    )
-                                } else {
-                                    h.samples.last().map(get)
-                                }
-                            })
-                            .collect();
-                        (kind.to_string(), values)
-                    })
-                    .collect();
-                for (kind, values) in &groups {
-                    let (lo, hi) = values
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                            (a.min(*v), b.max(*v))
-                        });
-                    let _ = writeln!(
-                        md,
-                        "| {name} | {kind} | {} | {lo:.4e} | {hi:.4e} |",
-                        values.len()
-                    );
-                }
-                let file = format!("{}-hist-{}.svg", slug(&result.model), slug(name));
-                plots::histogram(&figures.join(&file), name, name, &groups, 20)?;
-            }
-            let _ = writeln!(
-                md,
-                "\nThe constants are validated only within these ranges (seed 000 sec. 5).\n"
-            );
-            for (name, _) in quantities {
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                        (a.min(*v), b.max(*v))
+                    });
                 let _ = writeln!(
                     md,
-                    "![{name}](figures/{}-hist-{}.svg)",
-                    slug(&result.model),
-                    slug(name)
+                    "| {name} | {kind} | {} | {lo:.4e} | {hi:.4e} |",
+                    values.len()
                 );
             }
+            let file = format!("{}-hist-{}.svg", slug(&result.model), slug(name));
+            plots::histogram(&self.figures.join(&file), name, name, &groups, 20)?;
         }
-        // Cards, named after the campaign and model (the constants are the fit's).
-        let mut material_file = material_file;
+        let _ = writeln!(
+            md,
+            "\nThe constants are validated only within these ranges (seed 000 sec. 5).\n"
+        );
+        for (name, _) in quantities {
+            let _ = writeln!(
+                md,
+                "![{name}](figures/{}-hist-{}.svg)",
+                slug(&result.model),
+                slug(name)
+            );
+        }
+        Ok(())
+    }
+
+    /// The cards of the selected constants, named after the campaign and model, and their
+    /// list.
+    fn cards(
+        &mut self,
+        result: &ModelResult,
+        mut material_file: AnyMaterialFile,
+    ) -> Result<(), String> {
+        let campaign = self.campaign;
         material_file.rename(
             format!(
                 "{} / {} (stoss calibration)",
@@ -476,61 +520,165 @@ pub fn write(
                 campaign.base.name()
             ),
         );
-        let stem = slug(&result.model);
-        let mut written = vec![format!("cards/{stem}.toml")];
-        std::fs::write(
-            card_dir.join(format!("{stem}.toml")),
-            material_file.to_toml(),
-        )
-        .map_err(|e| e.to_string())?;
-        let metal_file = match &material_file {
-            AnyMaterialFile::J2(file) => Some(file),
-            AnyMaterialFile::Rht(_) | AnyMaterialFile::Kc(_) => None,
-        };
-        for (ext, card) in [
-            ("k", metal_file.and_then(cards::ls_dyna)),
-            ("inp", metal_file.and_then(cards::abaqus)),
-            ("rad", metal_file.and_then(cards::open_radioss)),
-        ] {
-            if let Some(card) = card {
-                std::fs::write(card_dir.join(format!("{stem}.{ext}")), card)
-                    .map_err(|e| e.to_string())?;
-                written.push(format!("cards/{stem}.{ext}"));
-            }
-        }
-        // The user material's initial temperature: a metal model's reference temperature
-        // where it has one (JC-type thermal terms), else 293 K; edit P6 for another.
-        let initial_temperature = metal_file
-            .and_then(|file| file.strength.constant_named("reference_temperature"))
-            .unwrap_or(293.0);
-        match cards::user_material::cards(&material_file, initial_temperature) {
-            Ok((dyna, abaqus)) => {
-                for (suffix, text) in [("umat.k", dyna), ("umat.inp", abaqus)] {
-                    std::fs::write(card_dir.join(format!("{stem}-{suffix}")), text)
-                        .map_err(|e| e.to_string())?;
-                    written.push(format!("cards/{stem}-{suffix}"));
-                }
-            }
-            Err(reason) => written.push(format!("(no user-material card: {reason})")),
-        }
-        for (suffix, card) in [
-            ("mat224.k", metal_file.and_then(cards::tabulated::ls_dyna)),
-            ("plastic.inp", metal_file.and_then(cards::tabulated::abaqus)),
-        ] {
-            if let Some((card, _, error)) = card {
-                std::fs::write(card_dir.join(format!("{stem}-{suffix}")), card)
-                    .map_err(|e| e.to_string())?;
-                written.push(format!(
-                    "cards/{stem}-{suffix} (largest interpolation error {:.2} %)",
-                    100.0 * error.relative
-                ));
-            }
-        }
-        let _ = writeln!(md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `-plastic.inp`: the same tables as Abaqus/Explicit `*PLASTIC, RATE=` data; `.inp`: Abaqus; `.rad`: OpenRadioss; `-umat.k`, `-umat.inp`: the stoss user material's card for LS-DYNA and Abaqus, for any model (docs/user-material.md).)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
+        let written = write_cards(&self.cards, &slug(&result.model), &material_file)?;
+        let _ = writeln!(self.md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `-plastic.inp`: the same tables as Abaqus/Explicit `*PLASTIC, RATE=` data; `.inp`: Abaqus; `.rad`: OpenRadioss; `-umat.k`, `-umat.inp`: the stoss user material's card for LS-DYNA and Abaqus, for any model (docs/user-material.md).)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
+        Ok(())
     }
-    std::fs::write(directory.join("report.md"), md).map_err(|e| e.to_string())?;
-    let json = serde_json::to_string_pretty(results).map_err(|e| e.to_string())?;
-    std::fs::write(directory.join("result.json"), json).map_err(|e| e.to_string())
+}
+
+/// The recorded and simulated series of one experiment's overlay, by quantity, and the units
+/// of its axes: stresses in MPa, lengths in mm, times in us; the axes name the first
+/// quantity's units, the legend every other's.
+fn overlay_series(experiment: &Experiment, outcome: &Outcome) -> (DisplayUnits, Vec<Series>) {
+    let mut groups: Vec<String> = experiment
+        .recording
+        .iter()
+        .map(|p| p.quantity.clone())
+        .collect();
+    groups.dedup();
+    let mut series = Vec::new();
+    let axes = display_units(groups.first().map_or("", String::as_str));
+    for (g, quantity) in groups.iter().enumerate() {
+        let units = display_units(quantity);
+        let (x_scale, y_scale) = (units.position.1, units.value.1);
+        let recorded: Vec<(f64, f64)> = experiment
+            .recording
+            .iter()
+            .filter(|p| &p.quantity == quantity)
+            .map(|p| (p.position * x_scale, p.value * y_scale))
+            .collect();
+        let mut predicted: Vec<(f64, f64)> = experiment
+            .recording
+            .iter()
+            .zip(&outcome.predicted)
+            .filter(|(p, _)| &p.quantity == quantity)
+            .map(|(p, v)| (p.position * x_scale, *v * y_scale))
+            .collect();
+        let quantity = if units == axes {
+            quantity.clone()
+        } else {
+            format!("{quantity} [{}; {}]", units.value.0, units.position.0)
+        };
+        predicted.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // A quantity measured at one position (a Taylor rod's final length or footprint, a
+        // peak deflection) has no line to draw: its simulated value is a marker beside the
+        // recorded one.
+        let single = predicted.windows(2).all(|w| w[0].0 == w[1].0);
+        series.push(Series {
+            label: format!("{quantity} recorded"),
+            points: recorded,
+            style: Style::Markers,
+            colour: 2 * g,
+        });
+        series.push(Series {
+            label: format!("{quantity} simulated"),
+            points: predicted,
+            style: if single { Style::Markers } else { Style::Line },
+            colour: 2 * g + 1,
+        });
+    }
+    (axes, series)
+}
+
+/// The outcomes that tracked material points, grouped by experiment type in campaign order.
+fn outcomes_by_kind<'o>(
+    campaign: &Campaign,
+    outcomes: &'o [Option<Outcome>],
+) -> Vec<(&'static str, Vec<&'o Outcome>)> {
+    let mut kinds: Vec<(&str, Vec<&Outcome>)> = Vec::new();
+    for (experiment, outcome) in campaign.experiments.iter().zip(outcomes) {
+        let Some(outcome) = outcome else { continue };
+        if outcome.states.is_empty() {
+            continue;
+        }
+        let kind = crate::experiment::kind_name(&experiment.file.setup);
+        match kinds.iter_mut().find(|(k, _)| *k == kind) {
+            Some((_, list)) => list.push(outcome),
+            None => kinds.push((kind, vec![outcome])),
+        }
+    }
+    kinds
+}
+
+/// One quantity over the tracked points of `outcomes`: each point's final value, or its peak
+/// plastic strain rate if `peak_rate`.
+fn state_values(outcomes: &[&Outcome], peak_rate: bool, get: StateReader) -> Vec<f64> {
+    outcomes
+        .iter()
+        .flat_map(|o| o.states.iter())
+        .filter_map(|h| {
+            if peak_rate {
+                Some(
+                    h.samples
+                        .iter()
+                        .map(|s| s.plastic_strain_rate)
+                        .fold(0.0, f64::max),
+                )
+            } else {
+                h.samples.last().map(get)
+            }
+        })
+        .collect()
+}
+
+/// Write the cards of `material_file` into `card_dir` as `<stem>.<ext>`: the stoss TOML, the
+/// metal cards, the user-material cards and the tabulated cards. Returns the list for the
+/// report (a reason where a card could not be written).
+fn write_cards(
+    card_dir: &Path,
+    stem: &str,
+    material_file: &AnyMaterialFile,
+) -> Result<Vec<String>, String> {
+    let mut written = vec![format!("cards/{stem}.toml")];
+    std::fs::write(
+        card_dir.join(format!("{stem}.toml")),
+        material_file.to_toml(),
+    )
+    .map_err(|e| e.to_string())?;
+    let metal_file = match material_file {
+        AnyMaterialFile::J2(file) => Some(file),
+        AnyMaterialFile::Rht(_) | AnyMaterialFile::Kc(_) => None,
+    };
+    for (ext, card) in [
+        ("k", metal_file.and_then(cards::ls_dyna)),
+        ("inp", metal_file.and_then(cards::abaqus)),
+        ("rad", metal_file.and_then(cards::open_radioss)),
+    ] {
+        if let Some(card) = card {
+            std::fs::write(card_dir.join(format!("{stem}.{ext}")), card)
+                .map_err(|e| e.to_string())?;
+            written.push(format!("cards/{stem}.{ext}"));
+        }
+    }
+    // The user material's initial temperature: a metal model's reference temperature where it
+    // has one (JC-type thermal terms), else 293 K; edit P6 for another.
+    let initial_temperature = metal_file
+        .and_then(|file| file.strength.constant_named("reference_temperature"))
+        .unwrap_or(293.0);
+    match cards::user_material::cards(material_file, initial_temperature) {
+        Ok((dyna, abaqus)) => {
+            for (suffix, text) in [("umat.k", dyna), ("umat.inp", abaqus)] {
+                std::fs::write(card_dir.join(format!("{stem}-{suffix}")), text)
+                    .map_err(|e| e.to_string())?;
+                written.push(format!("cards/{stem}-{suffix}"));
+            }
+        }
+        Err(reason) => written.push(format!("(no user-material card: {reason})")),
+    }
+    for (suffix, card) in [
+        ("mat224.k", metal_file.and_then(cards::tabulated::ls_dyna)),
+        ("plastic.inp", metal_file.and_then(cards::tabulated::abaqus)),
+    ] {
+        if let Some((card, _, error)) = card {
+            std::fs::write(card_dir.join(format!("{stem}-{suffix}")), card)
+                .map_err(|e| e.to_string())?;
+            written.push(format!(
+                "cards/{stem}-{suffix} (largest interpolation error {:.2} %)",
+                100.0 * error.relative
+            ));
+        }
+    }
+    Ok(written)
 }
 
 /// Simulate the selected solution of every model on every experiment (for the overlays and

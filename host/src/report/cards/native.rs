@@ -4,7 +4,7 @@ use super::{bulk_modulus, field, line, young_and_poisson};
 use crate::input::material::{MaterialFile, StrengthSpec};
 use std::fmt::Write as _;
 use stoss_kernel::eos::Eos;
-use stoss_kernel::strength::CrystalStructure;
+use stoss_kernel::strength::{CrystalStructure, JohnsonCook, ZerilliArmstrong};
 
 /// LS-DYNA keyword cards (`None` if the family has no LS-DYNA equivalent).
 pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
@@ -15,117 +15,136 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
         file.name
     );
     match file.strength {
-        StrengthSpec::JohnsonCook(jc) => {
-            let (d1, d2, d3, d4, d5) = file
-                .failure
-                .and_then(|f| f.johnson_cook)
-                .map_or((0.0, 0.0, 0.0, 0.0, 0.0), |f| {
-                    (f.d1, f.d2, f.d3, f.d4, f.d5)
-                });
-            let _ = writeln!(text, "*MAT_JOHNSON_COOK\n$      MID        RO         G         E        PR       DTF        VP    RATEOP");
-            let _ = writeln!(
-                text,
-                "{}",
-                line(
-                    &[
-                        1.0,
-                        file.density,
-                        file.shear_modulus,
-                        young,
-                        poisson,
-                        0.0,
-                        1.0,
-                        0.0
-                    ],
-                    10
-                )
-            );
-            let _ = writeln!(
-                text,
-                "$        A         B         N         C         M        TM        TR      EPSO"
-            );
-            let _ = writeln!(
-                text,
-                "{}",
-                line(
-                    &[
-                        jc.yield_stress,
-                        jc.hardening_modulus,
-                        jc.hardening_exponent,
-                        jc.rate_sensitivity,
-                        jc.thermal_exponent,
-                        jc.melting_temperature,
-                        jc.reference_temperature,
-                        jc.reference_rate
-                    ],
-                    10
-                )
-            );
-            let _ = writeln!(
-                text,
-                "$       CP        PC     SPALL        IT        D1        D2        D3        D4"
-            );
-            let _ = writeln!(
-                text,
-                "{}",
-                line(&[file.specific_heat, -1.0e20, 2.0, 0.0, d1, d2, d3, d4], 10)
-            );
-            let _ = writeln!(
-                text,
-                "$       D5      C2/P      EROD     EFMIN    NUMINT\n{}",
-                line(&[d5, 0.0, 0.0, 0.0, 0.0], 10)
-            );
-        }
-        StrengthSpec::ZerilliArmstrong(za) => {
-            let mix = match za.structure {
-                CrystalStructure::Fcc => 1.0,
-                CrystalStructure::Bcc => 2.0,
-            };
-            let _ = writeln!(text, "$ ZA: sigma = C1 + [C2 eps^0.5 (FCC)] exp(-C3 T + C4 T ln e*) + C5 eps^N; stoss C1 -> athermal stress");
-            let _ = writeln!(text, "*MAT_ZERILLI-ARMSTRONG\n$      MID        RO         G      E0        N     TROOM     PC      SPALL");
-            let _ = writeln!(
-                text,
-                "{}",
-                line(
-                    &[
-                        1.0,
-                        file.density,
-                        file.shear_modulus,
-                        za.reference_rate,
-                        za.exponent,
-                        298.0,
-                        -1.0e20,
-                        2.0
-                    ],
-                    10
-                )
-            );
-            let thermal = if mix == 1.0 { za.c2 } else { za.c1 };
-            let _ = writeln!(
-                text,
-                "$       C1        C2        C3        C4        C5        C6     EFAIL    NUMINT"
-            );
-            let _ = writeln!(
-                text,
-                "{}",
-                line(
-                    &[
-                        za.athermal_stress,
-                        thermal,
-                        za.c3,
-                        za.c4,
-                        za.c5,
-                        0.0,
-                        1.0e20,
-                        0.0
-                    ],
-                    10
-                )
-            );
-            let _ = writeln!(text, "$     LCMU       MIX\n{}", line(&[0.0, mix], 10));
-        }
+        StrengthSpec::JohnsonCook(jc) => johnson_cook(&mut text, file, &jc, young, poisson),
+        StrengthSpec::ZerilliArmstrong(za) => zerilli_armstrong(&mut text, file, &za),
         _ => return None,
     }
+    equation_of_state(&mut text, file, bulk);
+    Some(text)
+}
+
+/// LS-DYNA's `*MAT_JOHNSON_COOK` card, with the Johnson-Cook failure constants if any.
+fn johnson_cook(
+    text: &mut String,
+    file: &MaterialFile,
+    jc: &JohnsonCook,
+    young: f64,
+    poisson: f64,
+) {
+    let (d1, d2, d3, d4, d5) = file
+        .failure
+        .and_then(|f| f.johnson_cook)
+        .map_or((0.0, 0.0, 0.0, 0.0, 0.0), |f| {
+            (f.d1, f.d2, f.d3, f.d4, f.d5)
+        });
+    let _ = writeln!(text, "*MAT_JOHNSON_COOK\n$      MID        RO         G         E        PR       DTF        VP    RATEOP");
+    let _ = writeln!(
+        text,
+        "{}",
+        line(
+            &[
+                1.0,
+                file.density,
+                file.shear_modulus,
+                young,
+                poisson,
+                0.0,
+                1.0,
+                0.0
+            ],
+            10
+        )
+    );
+    let _ = writeln!(
+        text,
+        "$        A         B         N         C         M        TM        TR      EPSO"
+    );
+    let _ = writeln!(
+        text,
+        "{}",
+        line(
+            &[
+                jc.yield_stress,
+                jc.hardening_modulus,
+                jc.hardening_exponent,
+                jc.rate_sensitivity,
+                jc.thermal_exponent,
+                jc.melting_temperature,
+                jc.reference_temperature,
+                jc.reference_rate
+            ],
+            10
+        )
+    );
+    let _ = writeln!(
+        text,
+        "$       CP        PC     SPALL        IT        D1        D2        D3        D4"
+    );
+    let _ = writeln!(
+        text,
+        "{}",
+        line(&[file.specific_heat, -1.0e20, 2.0, 0.0, d1, d2, d3, d4], 10)
+    );
+    let _ = writeln!(
+        text,
+        "$       D5      C2/P      EROD     EFMIN    NUMINT\n{}",
+        line(&[d5, 0.0, 0.0, 0.0, 0.0], 10)
+    );
+}
+
+/// LS-DYNA's `*MAT_ZERILLI-ARMSTRONG` card.
+fn zerilli_armstrong(text: &mut String, file: &MaterialFile, za: &ZerilliArmstrong) {
+    let mix = match za.structure {
+        CrystalStructure::Fcc => 1.0,
+        CrystalStructure::Bcc => 2.0,
+    };
+    let _ = writeln!(text, "$ ZA: sigma = C1 + [C2 eps^0.5 (FCC)] exp(-C3 T + C4 T ln e*) + C5 eps^N; stoss C1 -> athermal stress");
+    let _ = writeln!(text, "*MAT_ZERILLI-ARMSTRONG\n$      MID        RO         G      E0        N     TROOM     PC      SPALL");
+    let _ = writeln!(
+        text,
+        "{}",
+        line(
+            &[
+                1.0,
+                file.density,
+                file.shear_modulus,
+                za.reference_rate,
+                za.exponent,
+                298.0,
+                -1.0e20,
+                2.0
+            ],
+            10
+        )
+    );
+    let thermal = if mix == 1.0 { za.c2 } else { za.c1 };
+    let _ = writeln!(
+        text,
+        "$       C1        C2        C3        C4        C5        C6     EFAIL    NUMINT"
+    );
+    let _ = writeln!(
+        text,
+        "{}",
+        line(
+            &[
+                za.athermal_stress,
+                thermal,
+                za.c3,
+                za.c4,
+                za.c5,
+                0.0,
+                1.0e20,
+                0.0
+            ],
+            10
+        )
+    );
+    let _ = writeln!(text, "$     LCMU       MIX\n{}", line(&[0.0, mix], 10));
+}
+
+/// LS-DYNA's `*EOS_GRUNEISEN` card for a Mie-Grüneisen equation of state, else
+/// `*EOS_LINEAR_POLYNOMIAL` with the bulk modulus.
+fn equation_of_state(text: &mut String, file: &MaterialFile, bulk: f64) {
     match file.eos {
         Eos::MieGruneisen(g) => {
             let _ = writeln!(text, "*EOS_GRUNEISEN\n$    EOSID         C        S1        S2        S3    GAMAO         A        E0");
@@ -158,7 +177,6 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
             );
         }
     }
-    Some(text)
 }
 
 /// Abaqus input lines for Johnson-Cook (`None` for other families).
