@@ -731,3 +731,44 @@ fn an_eulerian_penetration_refuses_lagrangian_only_options_and_oversized_grids_b
     assert!(error.contains("spacing_r"), "{error}");
     std::fs::remove_dir_all(&folder).ok();
 }
+
+#[test]
+fn a_thread_count_outside_its_bounds_is_refused_before_any_pool_is_built() {
+    // GOAL: a runaway thread count (0, or 100 000 from a unit slip) is a typed error, not a
+    //       pool of 100 000 threads.
+    let grid = Grid {
+        cells_r: 4,
+        cells_z: 4,
+        spacing_r: 1e-3,
+        spacing_z: 1e-3,
+        geometry: Geometry::Axisymmetric,
+    };
+    let inside = |p: [f64; 2]| p[1] < 2e-3;
+    let regions = [Region {
+        material: 0,
+        inside: &inside,
+        velocity: [0.0, 0.0],
+        temperature: 293.0,
+    }];
+    for threads in [0, 100_000] {
+        let mut solver = EulerSolver::new(
+            grid.clone(),
+            0.0,
+            SLIP,
+            vec![named("block", perfectly_plastic(7850.0, 80e9, 160e9, 1e9))],
+            &regions,
+            EulerSettings {
+                threads: Some(threads),
+                ..EulerSettings::default()
+            },
+        )
+        .unwrap();
+        let error = solver
+            .run(1e-6, 1e-6, &mut |_| std::ops::ControlFlow::Continue(()))
+            .unwrap_err();
+        assert!(
+            error.to_string().contains("threads must be in 1..="),
+            "{error}"
+        );
+    }
+}

@@ -572,6 +572,14 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         interval: f64,
         observe: &mut (dyn FnMut(&Self) -> std::ops::ControlFlow<()> + Send),
     ) -> Result<(), EulerError> {
+        let most = crate::solver::explicit::MAXIMUM_THREADS;
+        if let Some(threads) = self.settings.threads {
+            if !(1..=most).contains(&threads) {
+                return Err(EulerError::Setup(format!(
+                    "threads must be in 1..={most}, got {threads}"
+                )));
+            }
+        }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(self.settings.threads.unwrap_or(0))
             .build()
