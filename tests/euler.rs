@@ -752,7 +752,7 @@ fn a_thread_count_outside_its_bounds_is_refused_before_any_pool_is_built() {
     }];
     for threads in [0, 100_000] {
         let mut solver = EulerSolver::new(
-            grid.clone(),
+            grid,
             0.0,
             SLIP,
             vec![named("block", perfectly_plastic(7850.0, 80e9, 160e9, 1e9))],
