@@ -102,14 +102,12 @@ pub fn from_rht(
     initial_temperature: f64,
     specific_heat: f64,
 ) -> Result<(StossMaterialBlock, bool), FfiError> {
-    let mut block = StossMaterialBlock::empty();
-    block.strength_model = StossStrengthModel::Rht as i32;
-    block.rate_treatment = StossRateTreatment::Implicit as i32;
-    block.heating_model = StossHeatingModel::Isothermal as i32;
-    block.density = material.density;
-    block.shear_modulus = material.parameters.shear_modulus;
-    block.specific_heat = specific_heat;
-    block.initial_temperature = initial_temperature;
+    let mut block = concrete_block(
+        StossStrengthModel::Rht,
+        material.density,
+        material.parameters.shear_modulus,
+        (initial_temperature, specific_heat),
+    );
     block.strength.rht = rht_block(&material.parameters);
     write_eos(&mut block, &material.eos);
     if let Some(strain) = material.erosion_plastic_strain {
@@ -118,6 +116,25 @@ pub fn from_rht(
     }
     block.to_rht()?;
     Ok((block, material.erosion_geometric_strain.is_some()))
+}
+
+/// The fields a concrete block (RHT, K&C) shares: its strength model, implicit and isothermal,
+/// density, shear modulus, and the `(initial temperature, specific heat)` the block requires.
+fn concrete_block(
+    model: StossStrengthModel,
+    density: f64,
+    shear_modulus: f64,
+    (initial_temperature, specific_heat): (f64, f64),
+) -> StossMaterialBlock {
+    let mut block = StossMaterialBlock::empty();
+    block.strength_model = model as i32;
+    block.rate_treatment = StossRateTreatment::Implicit as i32;
+    block.heating_model = StossHeatingModel::Isothermal as i32;
+    block.density = density;
+    block.shear_modulus = shear_modulus;
+    block.specific_heat = specific_heat;
+    block.initial_temperature = initial_temperature;
+    block
 }
 
 /// The block form of kernel RHT constants (the shear modulus goes to the block's
@@ -152,14 +169,12 @@ pub fn from_kc(
     initial_temperature: f64,
     specific_heat: f64,
 ) -> Result<(StossMaterialBlock, bool), FfiError> {
-    let mut block = StossMaterialBlock::empty();
-    block.strength_model = StossStrengthModel::Kc as i32;
-    block.rate_treatment = StossRateTreatment::Implicit as i32;
-    block.heating_model = StossHeatingModel::Isothermal as i32;
-    block.density = material.density;
-    block.shear_modulus = material.parameters.shear_modulus;
-    block.specific_heat = specific_heat;
-    block.initial_temperature = initial_temperature;
+    let mut block = concrete_block(
+        StossStrengthModel::Kc,
+        material.density,
+        material.parameters.shear_modulus,
+        (initial_temperature, specific_heat),
+    );
     block.strength.kc = kc_block(&material.parameters);
     write_eos(&mut block, &material.eos);
     block.to_kc()?;
