@@ -424,6 +424,20 @@ fn the_host_crate_keeps_its_layers() {
 }
 
 #[test]
+fn calibrate_and_diagnose_do_not_import_each_other() {
+    // GOAL: the two fitting front ends build on the fitting layer only (issue 49): a
+    //       same-layer import between them (allowed by the layer rule while it closes no
+    //       cycle) is refused here.
+    // SETUP: the import graph of host/src. REFERENCE: neither edge exists.
+    let (_, edges, _) = import_graph(&workspace().join("host/src"));
+    for (from, to) in [("calibrate", "diagnose"), ("diagnose", "calibrate")] {
+        if let Some(file) = edges.get(&(from.to_string(), to.to_string())) {
+            panic!("{from} imports {to} (first in {})", file.display());
+        }
+    }
+}
+
+#[test]
 fn the_kernel_keeps_its_layers() {
     // GOAL: the same for kernel/src's folders and files.
     // SETUP: kernel/src; the kernel table. REFERENCE: no error.

@@ -3,11 +3,12 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use stoss::calibrate::campaign::LeaveOneOut;
-use stoss::calibrate::executor::{Batch, Executor, Local, Origin, Record};
 use stoss::calibrate::proposer::bayesian_factory;
-use stoss::calibrate::run::{calibrate, CalibrateError, ModelResult, RunOptions};
-use stoss::calibrate::{evaluate, Campaign, Evaluation};
+use stoss::calibrate::run::{calibrate, RunOptions};
+use stoss::fit::campaign::LeaveOneOut;
+use stoss::fit::executor::{Batch, Executor, ExecutorError, Local, Origin, Record};
+use stoss::fit::result::ModelResult;
+use stoss::fit::{evaluate, Campaign, Evaluation};
 use stoss::input::material;
 use stoss::solver::SolverSettings;
 
@@ -750,17 +751,16 @@ fn an_rht_campaign_fits_concrete_constants_by_their_dotted_paths() {
         .collect();
     assert_eq!(dif.len(), 3);
     let settings = SolverSettings::default();
-    let at = |alpha: f64| {
-        stoss::calibrate::evaluate(&campaign, &space, &[alpha, 0.04, 0.01], &dif, &settings)
-    };
+    let at =
+        |alpha: f64| stoss::fit::evaluate(&campaign, &space, &[alpha, 0.04, 0.01], &dif, &settings);
     let table = at(0.01);
     let low = at(0.002);
     assert!(
-        matches!(table.status, stoss::calibrate::Status::Ok),
+        matches!(table.status, stoss::fit::Status::Ok),
         "{:?}",
         table.status
     );
-    let error = |e: &stoss::calibrate::Evaluation, name: &str| {
+    let error = |e: &stoss::fit::Evaluation, name: &str| {
         let i = (0..campaign.experiments.len())
             .find(|&i| {
                 campaign.experiments[i]
@@ -848,9 +848,9 @@ fn a_kc_campaign_fits_the_beam_concrete_by_its_dotted_paths() {
     let space = campaign.space(&campaign.file.models[0]);
     let settings = SolverSettings::default();
     let crack_time = |ft: f64| {
-        let evaluation = stoss::calibrate::evaluate(&campaign, &space, &[ft], &[0], &settings);
+        let evaluation = stoss::fit::evaluate(&campaign, &space, &[ft], &[0], &settings);
         assert!(
-            matches!(evaluation.status, stoss::calibrate::Status::Ok),
+            matches!(evaluation.status, stoss::fit::Status::Ok),
             "{:?}",
             evaluation.status
         );
@@ -904,7 +904,7 @@ impl Executor for LastFirst {
         &mut self,
         batch: &Batch<'_>,
         record: &Record<'_>,
-    ) -> Result<Vec<Evaluation>, CalibrateError> {
+    ) -> Result<Vec<Evaluation>, ExecutorError> {
         let settings = SolverSettings {
             threads: Some(2),
             ..SolverSettings::default()
@@ -979,7 +979,7 @@ fn calibration_does_not_depend_on_the_order_tasks_finish_in() {
     // 8 Bayesian + 4 polish + the finalist's re-scoring + the starting constants' baseline.
     assert_eq!(local_log.len(), 14);
     assert_eq!(local_log, other_log);
-    let selected = |r: &[stoss::calibrate::run::ModelResult]| {
+    let selected = |r: &[stoss::fit::result::ModelResult]| {
         (
             r[0].selected
                 .values
@@ -1006,8 +1006,8 @@ fn the_evaluate_worker_reproduces_the_in_process_evaluation() {
     //        experiments 0 and 1, run with 2 solver threads.
     // REFERENCE: `evaluate` in this process; the result file's key, constants, scores and
     //        status equal to it; its origin names this stoss version and the executor.
-    use stoss::calibrate::executor::task::{result_path, sha256_hex, ResultFile, TaskFile};
-    use stoss::calibrate::log::Key;
+    use stoss::fit::executor::task::{result_path, sha256_hex, ResultFile, TaskFile};
+    use stoss::fit::log::Key;
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
     let folder = temporary("worker");
     let campaign_path = folder.join("campaign.toml");

@@ -374,8 +374,8 @@ fn every_library_term_gives_back_the_current_model_at_its_null() {
     //        terms apply) and the friction case's (adiabatic JC, Taylor tests: friction and
     //        erosion act); every applicable term of the library at its null.
     // REFERENCE: the base model's predictions, bit for bit, for every experiment.
-    use stoss::calibrate::Campaign;
     use stoss::diagnose::candidates::{library, Visited};
+    use stoss::fit::Campaign;
     use stoss::fit::Hypothesis;
     use stoss::solver::SolverSettings;
     let settings = SolverSettings {

@@ -120,7 +120,7 @@ fn every_bundled_campaign_and_material_passes_its_input_checks() {
         }
     }
     for path in campaigns {
-        if let Err(error) = stoss::calibrate::Campaign::load(&path) {
+        if let Err(error) = stoss::fit::Campaign::load(&path) {
             panic!("{}: {error}", path.display());
         }
         count += 1;

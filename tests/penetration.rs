@@ -323,8 +323,7 @@ fn the_penetration_campaign_holds_seed_000s_published_final_depths() {
     // SETUP: fixtures/campaigns/penetration-hzb.toml.
     // REFERENCE: seed 000 sec. 5 (Anderson et al. 1995): 2.32 cm at 55.0 us (1250 m/s, 29.0 mm)
     //   and 4.56 cm at 60.3 us (1700 m/s, 49.5 mm), +/- 0.06 cm.
-    let campaign =
-        stoss::calibrate::Campaign::load(&fixture("campaigns/penetration-hzb.toml")).unwrap();
+    let campaign = stoss::fit::Campaign::load(&fixture("campaigns/penetration-hzb.toml")).unwrap();
     let expected = [(55.0e-6, 2.32e-2, 29.0e-3), (60.3e-6, 4.56e-2, 49.5e-3)];
     assert_eq!(campaign.experiments.len(), 2);
     for (experiment, (time, depth, thickness)) in campaign.experiments.iter().zip(expected) {

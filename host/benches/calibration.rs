@@ -8,7 +8,7 @@
 //! optimisers see ln(error), as in `stoss calibrate`.
 
 use std::path::Path;
-use stoss::calibrate::{evaluate, score, Campaign};
+use stoss::fit::{evaluate, score, Campaign};
 use stoss::fit::{levenberg_marquardt, Engine, Hypothesis};
 use stoss::optimise::{AskTell, BayesianOptimiser, Bounds, CmaEs, OptimiserSettings, RandomSearch};
 use stoss::solver::SolverSettings;

@@ -13,12 +13,12 @@
 //! (comma-separated, default all), `NOISE` (comma-separated, default 0.01,0.03,0.05)).
 
 use std::path::{Path, PathBuf};
-use stoss::calibrate::executor::Local;
 use stoss::calibrate::proposer::bayesian_factory;
 use stoss::calibrate::run::{calibrate, RunOptions};
-use stoss::calibrate::Campaign;
 use stoss::diagnose::{diagnose, Options};
 use stoss::experiment::Experiment;
+use stoss::fit::executor::Local;
+use stoss::fit::Campaign;
 use stoss::input::material;
 use stoss::random::SplitMix64;
 use stoss::solver::SolverSettings;
@@ -133,7 +133,7 @@ fn main() {
                     &RunOptions {
                         budget: Some(budget),
                         instances: Some(1),
-                        leave_one_out: Some(stoss::calibrate::campaign::LeaveOneOut::Off),
+                        leave_one_out: Some(stoss::fit::campaign::LeaveOneOut::Off),
                         polish: Some(polish),
                         least_squares: None,
                     },

@@ -14,6 +14,8 @@
 //!   target's A times 0.99 / 1 / 1.01: monotone, and the largest deviation from the straight
 //!   line through the ends.
 //! - `threads`: the 1250 m/s shot to 20 us on 1 and 2 threads: speed-up and identical depth.
+//! - `converge` (on demand, about 25 minutes): the 1250 m/s shot at 0.4, 0.2 and 0.1 mm cells,
+//!   for the 0.2 / 0.1 mm criterion (3 %).
 //!
 //! Run: `cargo bench -p stoss --bench euler` (about 10 minutes on 2 cores); choose sections
 //! with `STOSS_EULER_BENCH=shots,fine`.
@@ -67,10 +69,10 @@ fn crater_radius(run: &EulerPenetration, nose: f64, diameter: f64) -> f64 {
         .map_or(f64::NAN, |i| i as f64 * s.grid.spacing_r)
 }
 
-fn shots(cells: &[f64]) {
+fn shots(names: &[&str], cells: &[f64]) {
     println!("| shot | cell (mm) | nose depth (mm) | recorded (mm) | Walker–Anderson (mm) | FE / recorded | energy error | cells | cycles | wall (s) | material-cell updates / s |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for name in ["penetration-hzb-1250.toml", "penetration-hzb-1700.toml"] {
+    for &name in names {
         let (base, target) = fixture(name);
         let recorded = if name.contains("1250") { 23.2 } else { 45.6 };
         for &h in cells {
@@ -231,7 +233,13 @@ fn main() {
         } else {
             &[0.4e-3]
         };
-        shots(cells);
+        shots(
+            &["penetration-hzb-1250.toml", "penetration-hzb-1700.toml"],
+            cells,
+        );
+    }
+    if sections.contains("converge") {
+        shots(&["penetration-hzb-1250.toml"], &[0.4e-3, 0.2e-3, 0.1e-3]);
     }
     if sections.contains("strength") {
         strength();

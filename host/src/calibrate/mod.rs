@@ -1,18 +1,10 @@
 //! `stoss calibrate`: fit model constants to recordings of functional experiments by Bayesian
-//! optimisation over simulations (seed 000 sec. 4): campaign files, the error measure, the
-//! simulation log that makes runs resumable, the protocols (instances, leave-one-out, model
-//! selection), the linearised uncertainty of the calibrated constants and the report.
+//! optimisation over simulations (seed 000 sec. 4): the protocols (instances, leave-one-out,
+//! model selection), the proposers, the Nelder-Mead polish and the direct JC fit of flow
+//! curves. The campaign, the error measure, the executors, the simulation log, the results and
+//! their uncertainty are the fitting layer's ([`crate::fit`]), shared with `stoss diagnose`.
 
-pub mod campaign;
 pub mod direct_jc;
-pub mod executor;
-pub mod log;
-pub mod objective;
 pub mod polish;
 pub mod proposer;
 pub mod run;
-pub mod uncertainty;
-
-pub use crate::fit::ModelSpace;
-pub use campaign::Campaign;
-pub use objective::{evaluate, score, Evaluation, Score, Status};

@@ -4,10 +4,10 @@
 //! run without re-running any logged simulation.
 
 use super::output_folder::{write_folder, Leftovers};
-use crate::calibrate::executor::slurm::SlurmExecutor;
-use crate::calibrate::executor::{Executor, ExecutorEntry, ExecutorKind, Local, SlurmMode};
 use crate::calibrate::run::{calibrate, RunOptions};
-use crate::calibrate::Campaign;
+use crate::fit::executor::slurm::SlurmExecutor;
+use crate::fit::executor::{Executor, ExecutorEntry, ExecutorKind, Local, SlurmMode};
+use crate::fit::Campaign;
 use crate::report::calibration;
 use clap::Args;
 use std::path::PathBuf;
@@ -171,7 +171,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         instances: args.instances,
         leave_one_out: args
             .leave_one_out
-            .then_some(crate::calibrate::campaign::LeaveOneOut::Every),
+            .then_some(crate::fit::campaign::LeaveOneOut::Every),
         polish: args.polish,
         least_squares: args.least_squares,
     };

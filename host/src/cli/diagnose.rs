@@ -5,9 +5,9 @@
 //! a killed diagnosis rerun replays instead of simulating again.
 
 use super::output_folder::{write_folder, Leftovers};
-use crate::calibrate::run::ModelResult;
-use crate::calibrate::Campaign;
 use crate::diagnose::{self, Options};
+use crate::fit::result::ModelResult;
+use crate::fit::Campaign;
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

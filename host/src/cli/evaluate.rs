@@ -1,10 +1,10 @@
 //! `stoss evaluate <task file>`: the worker of a distributed calibration. It simulates one
 //! candidate that a `stoss calibrate` coordinator wrote as a task file and writes the result
-//! file beside it atomically (calibrate/executor/task.rs). `--probe FILE` only writes this
+//! file beside it atomically (fit/executor/task.rs). `--probe FILE` only writes this
 //! worker's origin (version, binary hash, host), which the coordinator checks before it
 //! submits any simulation.
 
-use crate::calibrate::executor::task::{run_task, write_probe};
+use crate::fit::executor::task::{run_task, write_probe};
 use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;

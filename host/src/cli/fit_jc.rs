@@ -155,7 +155,7 @@ fn fit(args: &FitJcArgs) -> Result<(), String> {
         base.strength = StrengthSpec::JohnsonCook(c);
         base.material()
             .map_err(|e| format!("the fitted constants are not a valid material: {e}"))?;
-        crate::calibrate::executor::task::write_atomically(output, base.to_toml().as_bytes())
+        crate::fit::executor::task::write_atomically(output, base.to_toml().as_bytes())
             .map_err(|e| format!("{}: {e}", output.display()))?;
         println!("  written: {}", output.display());
     }

@@ -24,11 +24,11 @@
 //! the thermal drop's centre, over [`DROP_CENTRES`] points spread inside the temperatures the
 //! experiments reach, each drop [`DROP_WIDTH_SPACINGS`] grid spacings wide.
 
-use crate::calibrate::Campaign;
 use crate::experiment::Setup;
 use crate::fit::hypothesis::{
     other_rate_treatment, Hypothesis, Parameter, ANVIL_FRICTION, EROSION_INTENSITY, LAGGED_MIXTURE,
 };
+use crate::fit::Campaign;
 use crate::input::material::StrengthSpec;
 use serde::{Deserialize, Serialize};
 use stoss_kernel::eos::{Eos, Polynomial};

@@ -18,9 +18,9 @@
 //!    constant (`ln n`, `n` the recorded points), reporting each experiment's failure mode
 //!    before and after.
 
-use crate::calibrate::Campaign;
 use crate::experiment::drop_weight_beam::MODES;
 use crate::experiment::Setup;
+use crate::fit::Campaign;
 use crate::fit::ModelSpace;
 use crate::solver::SolverSettings;
 use std::fmt::Write as _;

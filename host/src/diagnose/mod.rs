@@ -39,11 +39,11 @@ pub mod score;
 pub mod state_space;
 pub mod stats;
 
-use crate::calibrate::run::ModelResult;
-use crate::calibrate::{score as error_score, Campaign, Score};
 use crate::fit::least_squares::{self, levenberg_marquardt, Fit};
 use crate::fit::linear;
+use crate::fit::result::ModelResult;
 pub use crate::fit::Progress;
+use crate::fit::{score as error_score, Campaign, Score};
 use crate::fit::{Engine, FitError, Hypothesis};
 use candidates::{Candidate, NotApplicable};
 use locate::ExperimentMisfit;

@@ -5,8 +5,8 @@
 
 use super::locate::{Band, ExperimentMisfit};
 use super::{Assessment, Diagnosis, Refit};
-use crate::calibrate::Campaign;
 use crate::experiment::Setup;
+use crate::fit::Campaign;
 use crate::report::calibration::{experiment_name, slug};
 use crate::report::plots::{line_chart, residual_chart, Series, Shade, Style};
 use std::fmt::Write as _;

@@ -8,18 +8,34 @@
 //!   realisation (the kernel material the simulations run);
 //! - [`engine`]: batches of simulations in parallel, journalled and replayed on a rerun;
 //! - [`least_squares`]: the bounded Levenberg-Marquardt fit on whitened residuals;
-//! - [`linear`]: the small dense least-squares algebra it needs.
+//! - [`linear`]: the small dense least-squares algebra it needs;
+//! - [`campaign`]: the campaign file (models, experiments, optimiser, executor settings);
+//! - [`objective`]: the error measure of a candidate over a campaign's recordings;
+//! - [`executor`]: where candidates are simulated (this machine's pool, a Slurm cluster);
+//! - [`log`]: the simulation log that makes a calibration resumable;
+//! - [`result`]: what a calibration returns per model (`result.json`), read back by the
+//!   diagnosis and the report;
+//! - [`uncertainty`]: the linearised uncertainty of fitted constants.
 //!
 //! It may import the experiment layer and everything below it (experiment, solver, input,
 //! journal, hash, the kernel); it imports neither `calibrate` nor `diagnose`
 //! (`docs/architecture.md`).
 
+pub mod campaign;
 pub mod engine;
+pub mod executor;
 pub mod hypothesis;
 pub mod least_squares;
 pub mod linear;
+pub mod log;
+pub mod objective;
+pub mod result;
 pub mod space;
+pub mod uncertainty;
 pub mod unit_cube;
+
+pub use campaign::Campaign;
+pub use objective::{evaluate, score, Evaluation, Score, Status};
 
 pub use engine::{Engine, Progress};
 pub use hypothesis::{Hypothesis, Parameter};

@@ -11,10 +11,10 @@
 use super::cards;
 use super::plots::{self, Series, Style};
 use super::units::{display_units, DisplayUnits};
-use crate::calibrate::campaign::LeaveOneOut;
-use crate::calibrate::run::ModelResult;
-use crate::calibrate::{Campaign, Evaluation, ModelSpace};
 use crate::experiment::{Experiment, Outcome};
+use crate::fit::campaign::LeaveOneOut;
+use crate::fit::result::ModelResult;
+use crate::fit::{Campaign, Evaluation, ModelSpace};
 use crate::input::material::AnyMaterialFile;
 use crate::measure::StateSample;
 use crate::solver::SolverSettings;

@@ -17,11 +17,25 @@ pub use task::Origin;
 
 use super::campaign::Campaign;
 use super::log::Key;
+use super::log::LogError;
 use super::objective::{evaluate, Evaluation};
-use super::run::CalibrateError;
 use crate::fit::ModelSpace;
 use crate::solver::SolverSettings;
 use rayon::prelude::*;
+
+/// Why an executor could not return a batch.
+#[derive(Debug, thiserror::Error)]
+pub enum ExecutorError {
+    /// Recording an evaluation in the simulation log failed.
+    #[error(transparent)]
+    Log(#[from] LogError),
+    /// The thread pool could not be built.
+    #[error("thread pool: {0}")]
+    Threads(String),
+    /// The cluster (Slurm) could not run the simulations.
+    #[error("executor: {0}")]
+    Executor(String),
+}
 
 /// One candidate of a batch.
 #[derive(Clone, Copy, Debug)]
@@ -48,7 +62,7 @@ pub struct Batch<'a> {
 
 /// Called once per candidate as its evaluation ends, in any order: `(index in the batch,
 /// evaluation, origin)`.
-pub type Record<'r> = dyn Fn(usize, &Evaluation, &Origin) -> Result<(), CalibrateError> + Sync + 'r;
+pub type Record<'r> = dyn Fn(usize, &Evaluation, &Origin) -> Result<(), ExecutorError> + Sync + 'r;
 
 /// Runs the simulations of batches.
 pub trait Executor {
@@ -58,7 +72,7 @@ pub trait Executor {
         &mut self,
         batch: &Batch<'_>,
         record: &Record<'_>,
-    ) -> Result<Vec<Evaluation>, CalibrateError>;
+    ) -> Result<Vec<Evaluation>, ExecutorError>;
 }
 
 /// This machine's cores: one candidate per thread of a pool, one solver thread each (a batch
@@ -71,11 +85,11 @@ pub struct Local {
 
 impl Local {
     /// A pool of `parallel` threads.
-    pub fn new(parallel: usize) -> Result<Self, CalibrateError> {
+    pub fn new(parallel: usize) -> Result<Self, ExecutorError> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(parallel)
             .build()
-            .map_err(|e| CalibrateError::Threads(e.to_string()))?;
+            .map_err(|e| ExecutorError::Threads(e.to_string()))?;
         Ok(Self {
             pool,
             settings: SolverSettings {
@@ -92,7 +106,7 @@ impl Executor for Local {
         &mut self,
         batch: &Batch<'_>,
         record: &Record<'_>,
-    ) -> Result<Vec<Evaluation>, CalibrateError> {
+    ) -> Result<Vec<Evaluation>, ExecutorError> {
         let settings = &self.settings;
         let origin = &self.origin;
         self.pool.install(|| {

@@ -19,13 +19,12 @@
 use super::super::campaign::Campaign;
 use super::super::log::Key;
 use super::super::objective::{Evaluation, Status};
-use super::super::run::CalibrateError;
 use super::settings::{ExecutorEntry, SlurmMode};
 use super::task::{
     binary_sha256, result_path, sha256_hex, task_name, write_atomically, Origin, ResultFile,
     TaskFile,
 };
-use super::{Batch, Executor, Record};
+use super::{Batch, Executor, ExecutorError, Record};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -60,8 +59,8 @@ const QUEUE_READ_INTERVAL: Duration = Duration::from_secs(10);
 /// Least time between two lines about tasks waiting in the queue.
 const WAITING_REPORT_INTERVAL: Duration = Duration::from_secs(60);
 
-fn executor_error(message: impl Into<String>) -> CalibrateError {
-    CalibrateError::Executor(message.into())
+fn executor_error(message: impl Into<String>) -> ExecutorError {
+    ExecutorError::Executor(message.into())
 }
 
 /// `text` quoted for a POSIX shell.
@@ -204,7 +203,7 @@ impl SlurmExecutor {
         campaign: &Campaign,
         output: &Path,
         quiet: bool,
-    ) -> Result<Self, CalibrateError> {
+    ) -> Result<Self, ExecutorError> {
         entry
             .check()
             .map_err(|(field, message)| executor_error(format!("[executor] {field}: {message}")))?;
@@ -278,7 +277,7 @@ impl SlurmExecutor {
     /// The worker scripts: `array.sh LIST` runs line SLURM_ARRAY_TASK_ID + 1 of LIST;
     /// `step.sh TASK` runs one task; `probe.sh FILE` writes the probe. Each runs the prologue
     /// first.
-    fn write_scripts(&self) -> Result<(), CalibrateError> {
+    fn write_scripts(&self) -> Result<(), ExecutorError> {
         // The workers load the campaign as the coordinator did: with --force if it was given.
         let stoss = format!(
             "{}{}",
@@ -347,7 +346,7 @@ impl SlurmExecutor {
 
     /// Allocation mode: take the allocation (`salloc --no-shell`), waiting at most the probe
     /// timeout for it.
-    fn allocate(&mut self) -> Result<(), CalibrateError> {
+    fn allocate(&mut self) -> Result<(), ExecutorError> {
         let mut args = self.common_args();
         args.push("--no-shell".into());
         args.push(format!("--ntasks={}", self.max_concurrent));
@@ -390,7 +389,7 @@ impl SlurmExecutor {
     }
 
     /// Run the probe and check its answer: same binary, visible run folder.
-    fn probe(&mut self) -> Result<(), CalibrateError> {
+    fn probe(&mut self) -> Result<(), ExecutorError> {
         let attempt = self.submissions;
         let answer = self.folder.join(format!("probe-{attempt}.json"));
         let output = self
@@ -540,7 +539,7 @@ impl SlurmExecutor {
     }
 
     /// Submit `tasks` as one job array.
-    fn submit_array(&mut self, tasks: &mut [&mut Task]) -> Result<(), CalibrateError> {
+    fn submit_array(&mut self, tasks: &mut [&mut Task]) -> Result<(), ExecutorError> {
         let number = self.submissions;
         self.submissions += 1;
         let submissions = self.folder.join("submissions");
@@ -584,7 +583,7 @@ impl SlurmExecutor {
     }
 
     /// Start one task as an `srun` step of the allocation.
-    fn start_step(&mut self, task: &mut Task) -> Result<(), CalibrateError> {
+    fn start_step(&mut self, task: &mut Task) -> Result<(), ExecutorError> {
         let allocation = self.allocation.clone().unwrap_or_default();
         let number = self.submissions;
         self.submissions += 1;
@@ -659,7 +658,7 @@ impl Executor for SlurmExecutor {
         &mut self,
         batch: &Batch<'_>,
         record: &Record<'_>,
-    ) -> Result<Vec<Evaluation>, CalibrateError> {
+    ) -> Result<Vec<Evaluation>, ExecutorError> {
         let executor_name = match self.entry.mode {
             SlurmMode::Array => "slurm-array",
             SlurmMode::Allocation => "slurm-allocation",
@@ -717,7 +716,7 @@ impl Executor for SlurmExecutor {
         let mut last_queue_read: Option<Instant> = None;
         let mut last_waiting_report = Instant::now();
         let poll = Duration::from_secs_f64(self.entry.poll_interval);
-        let outcome = (|| -> Result<(), CalibrateError> {
+        let outcome = (|| -> Result<(), ExecutorError> {
             loop {
                 // Start what is due: a job array of every task to (re)run, or steps up to the
                 // concurrency limit.

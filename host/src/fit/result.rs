@@ -1,0 +1,286 @@
+//! What a calibration returns for each model (`result.json`): its instances, finalists, the selected
+//! constants by name with their units, the starting constants' scores, the constants at a bound and
+//! the linearised uncertainty; read back by `stoss diagnose` and the report.
+
+use super::objective::Evaluation;
+use super::ModelSpace;
+use serde::{Deserialize, Serialize};
+
+/// The best candidate of one instance.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct InstanceResult {
+    /// Model name.
+    pub model: String,
+    /// Leave-one-out fold (left-out experiment), if any.
+    pub fold: Option<String>,
+    /// Instance number.
+    pub instance: usize,
+    /// Its seed.
+    pub seed: u64,
+    /// Best candidate on the fold's fitted experiments.
+    pub best: Evaluation,
+    /// Its total error on the fitted experiments.
+    pub fit_error: f64,
+    /// Best total error after each candidate (convergence history).
+    pub history: Vec<f64>,
+    /// Candidates simulated (not infeasible) and failed.
+    pub simulated: usize,
+    /// Candidates that failed.
+    pub failed: usize,
+}
+
+/// The result of a model.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ModelResult {
+    /// Model name.
+    pub model: String,
+    /// Every instance (all folds).
+    pub instances: Vec<InstanceResult>,
+    /// The best of each fold's instances, re-scored on every experiment of the campaign.
+    pub finalists: Vec<(Option<String>, Evaluation)>,
+    /// The selected solution: the finalist with the lowest error over the fitted experiments.
+    pub selected: Evaluation,
+    /// Its error over the fitted experiments.
+    pub fit_error: f64,
+    /// Its error over the held-out experiments (`None` if there are none).
+    pub holdout_error: Option<f64>,
+    /// The selected constants by name, with their units (what `result.json` is checked
+    /// against when a campaign reads it back). Absent from results written before
+    /// 2026-11-25.
+    #[serde(default)]
+    pub constants: Vec<NamedConstant>,
+    /// The starting constants (the model's `strength`, or the base material's), scored on
+    /// the same experiments: what the calibration has to beat.
+    #[serde(default)]
+    pub baseline: Option<Baseline>,
+    /// Fitted constants that ended within 0.5 % of the search range of a bound: the
+    /// optimum may lie beyond it.
+    #[serde(default)]
+    pub at_bounds: Vec<String>,
+    /// How well the fitted recordings determine the selected constants (linearised; `None`
+    /// if it could not be computed).
+    #[serde(default)]
+    pub uncertainty: Option<super::uncertainty::Uncertainty>,
+}
+
+/// The starting constants of a model, scored as the calibration scores its candidates.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Baseline {
+    /// The evaluation (values in the model space's order).
+    pub evaluation: Evaluation,
+    /// Error over the fitted experiments (`None` if a simulation failed).
+    pub fit_error: Option<f64>,
+    /// Error over the held-out experiments.
+    pub holdout_error: Option<f64>,
+}
+
+impl ModelResult {
+    /// What the console and the report say about the starting constants against the fit:
+    /// their errors, and plainly when they predict the held-out experiments better (or fit
+    /// better) than the calibrated constants. `None` without a baseline.
+    pub fn baseline_verdict(&self) -> Option<String> {
+        let baseline = self.baseline.as_ref()?;
+        let error =
+            |e: Option<f64>| e.map_or("- (a simulation failed)".into(), |e| format!("{e:.4}"));
+        let mut text = format!(
+            "{}: the starting constants score fit error {}",
+            self.model,
+            error(baseline.fit_error),
+        );
+        // Without a held-out score for the calibrated constants (nothing held out) there is
+        // nothing to compare the starting constants' with.
+        if self.holdout_error.is_some() {
+            let _ = std::fmt::Write::write_fmt(
+                &mut text,
+                format_args!(", held-out error {}", error(baseline.holdout_error)),
+            );
+        }
+        match (baseline.holdout_error, self.holdout_error) {
+            (Some(start), Some(fitted)) if start < fitted => {
+                let _ = std::fmt::Write::write_fmt(
+                    &mut text,
+                    format_args!(
+                        "; they predict the held-out experiments BETTER than the calibrated \
+                         constants ({fitted:.4}): the fit does not generalise, prefer the \
+                         starting constants or add experiments that constrain the model"
+                    ),
+                );
+            }
+            (Some(_), Some(fitted)) => {
+                let _ = std::fmt::Write::write_fmt(
+                    &mut text,
+                    format_args!("; the calibrated constants predict them better ({fitted:.4})"),
+                );
+            }
+            _ => {}
+        }
+        if let Some(start) = baseline.fit_error {
+            if start < self.fit_error {
+                let _ = std::fmt::Write::write_fmt(
+                    &mut text,
+                    format_args!(
+                        "; they also FIT better than the calibration ({:.4}): the search did \
+                         not converge (raise the budget) or the bounds exclude them",
+                        self.fit_error
+                    ),
+                );
+            }
+        }
+        Some(text)
+    }
+}
+
+impl ModelResult {
+    /// The constants' 95 % intervals and the pairs the recordings cannot tell apart, as
+    /// sentences (console and report); empty without an uncertainty.
+    pub fn uncertainty_lines(&self, names: &[String]) -> Vec<String> {
+        let Some(u) = &self.uncertainty else {
+            return Vec::new();
+        };
+        let mut lines = Vec::new();
+        let intervals: Vec<String> = names
+            .iter()
+            .zip(&self.selected.values)
+            .zip(&u.half_width_95)
+            .map(|((name, value), half)| match half {
+                Some(half) => format!("{name} {value:.4e} +- {half:.2e}"),
+                None => format!("{name} {value:.4e} (undetermined)"),
+            })
+            .collect();
+        lines.push(format!(
+            "{}: 95 % intervals (linearised, reduced chi-square {:.2} over {} points): {}",
+            self.model,
+            u.reduced_chi_square,
+            u.points,
+            intervals.join(", ")
+        ));
+        for (a, vif) in u.inflation.iter().enumerate() {
+            let Some(vif) = vif.filter(|v| *v >= super::uncertainty::COLLINEAR_VIF) else {
+                continue;
+            };
+            let partners: Vec<String> = (0..names.len())
+                .filter(|&b| b != a && u.correlation[a][b].abs() >= 0.5)
+                .map(|b| format!("{} ({:+.2})", names[b], u.correlation[a][b]))
+                .collect();
+            lines.push(format!(
+                "{}: {} is determined only in combination with {} (variance inflation {vif:.0}): \
+                 its interval is local, the recordings trade it off against them",
+                self.model,
+                names[a],
+                if partners.is_empty() {
+                    "the others".to_string()
+                } else {
+                    partners.join(", ")
+                }
+            ));
+        }
+        for (a, b, rho) in &u.correlated_pairs {
+            lines.push(format!(
+                "{}: {} and {} are correlated {rho:+.3}: these experiments cannot tell them \
+                 apart (fix one, or add an experiment that separates them)",
+                self.model, names[*a], names[*b]
+            ));
+        }
+        lines
+    }
+}
+
+/// A fitted constant by name (as the campaign names it), with its SI unit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NamedConstant {
+    /// The name in `[models.parameters]`.
+    pub name: String,
+    /// Value (SI).
+    pub value: f64,
+    /// SI unit (from the model's description).
+    pub unit: String,
+}
+
+impl ModelResult {
+    /// Check that these results belong to `space`: the same constants, by name, in the same
+    /// order (results written before the names were recorded are checked by count only).
+    pub fn check_against(&self, space: &ModelSpace) -> Result<(), String> {
+        if self.selected.values.len() != space.names.len() {
+            return Err(format!(
+                "model `{}`: the result holds {} constants, the campaign fits {}",
+                self.model,
+                self.selected.values.len(),
+                space.names.len()
+            ));
+        }
+        if self.constants.is_empty() {
+            return Ok(());
+        }
+        for (i, (constant, name)) in self.constants.iter().zip(&space.names).enumerate() {
+            if &constant.name != name {
+                return Err(format!(
+                    "model `{}`: constant {} of the result is `{}`, the campaign's is `{name}`",
+                    self.model,
+                    i + 1,
+                    constant.name
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::objective::Status;
+
+    #[test]
+    fn results_are_checked_against_the_campaign_by_name() {
+        // GOAL: a result.json read by another campaign (or a changed one) is refused by the
+        //       names of its constants, not only by their count.
+        // SETUP: a JC result fitting A and C, checked against spaces naming A, C / C, A / A.
+        // REFERENCE: accepted only in the same order; the error names both constants.
+        let space = |names: &[&str]| ModelSpace {
+            name: "jc".into(),
+            strength: None,
+            names: names.iter().map(|n| n.to_string()).collect(),
+            lower: vec![0.0; names.len()],
+            upper: vec![1.0; names.len()],
+        };
+        let constant = |name: &str, unit: &str| NamedConstant {
+            name: name.into(),
+            value: 1.0,
+            unit: unit.into(),
+        };
+        let result = ModelResult {
+            model: "jc".into(),
+            instances: Vec::new(),
+            finalists: Vec::new(),
+            selected: Evaluation {
+                values: vec![1.0e9, 0.01],
+                scores: Vec::new(),
+                status: Status::Ok,
+                wall_time: 0.0,
+            },
+            fit_error: 1.0,
+            holdout_error: None,
+            constants: vec![
+                constant("yield_stress", "Pa"),
+                constant("rate_sensitivity", "-"),
+            ],
+            baseline: None,
+            at_bounds: Vec::new(),
+            uncertainty: None,
+        };
+        assert!(result
+            .check_against(&space(&["yield_stress", "rate_sensitivity"]))
+            .is_ok());
+        let error = result
+            .check_against(&space(&["rate_sensitivity", "yield_stress"]))
+            .unwrap_err();
+        assert!(
+            error.contains("`yield_stress`") && error.contains("`rate_sensitivity`"),
+            "{error}"
+        );
+        assert!(result
+            .check_against(&space(&["yield_stress"]))
+            .unwrap_err()
+            .contains("holds 2 constants, the campaign fits 1"));
+    }
+}
