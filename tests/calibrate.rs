@@ -1036,7 +1036,8 @@ fn the_evaluate_worker_reproduces_the_in_process_evaluation() {
         key: key.clone(),
         seed: 3,
         experiments: vec![0, 1],
-        values: values.clone(),
+        constants: TaskFile::named(&space, &values),
+        values: Vec::new(),
         executor: "slurm-array".into(),
     };
     let task_path = folder.join("jc-0-test.task.json");

@@ -695,7 +695,8 @@ impl Executor for SlurmExecutor {
                     key: candidate.key.clone(),
                     seed: batch.seed,
                     experiments: batch.experiments.to_vec(),
-                    values: candidate.values.to_vec(),
+                    constants: TaskFile::named(batch.space, candidate.values),
+                    values: Vec::new(),
                     executor: executor_name.into(),
                 };
                 let json =

@@ -6,9 +6,11 @@
 use super::super::campaign::Campaign;
 use super::super::log::Key;
 use super::super::objective::{evaluate, Evaluation};
+use crate::fit::ModelSpace;
 use crate::solver::SolverSettings;
 use serde::{Deserialize, Serialize};
 use sha2::Digest as _;
+use std::collections::BTreeMap;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -96,10 +98,65 @@ pub struct TaskFile {
     pub seed: u64,
     /// Campaign experiments to simulate (indices).
     pub experiments: Vec<usize>,
-    /// The fitted constants (SI, the model space's order); JSON numbers round-trip exactly.
+    /// The fitted constants by the campaign's names (SI); JSON numbers round-trip exactly.
+    /// The worker places them in its model space's order by name, so a task cannot hand a
+    /// value to the wrong constant.
+    #[serde(default)]
+    pub constants: BTreeMap<String, f64>,
+    /// The constants by position (the model space's order), as task files written before
+    /// 2026-11-28 carry them; read only when `constants` is empty.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub values: Vec<f64>,
     /// Executor name recorded in the origin (`slurm-array`, `slurm-allocation`).
     pub executor: String,
+}
+
+impl TaskFile {
+    /// `values` (the model space's order) keyed by the space's names.
+    pub fn named(space: &ModelSpace, values: &[f64]) -> BTreeMap<String, f64> {
+        space
+            .names
+            .iter()
+            .cloned()
+            .zip(values.iter().copied())
+            .collect()
+    }
+
+    /// The task's constants in `space`'s order: by name (every name of the space present,
+    /// no other), or by position for an old task of the right length.
+    pub fn values_for(&self, space: &ModelSpace) -> Result<Vec<f64>, String> {
+        if self.constants.is_empty() {
+            if self.values.len() == space.dimension() {
+                return Ok(self.values.clone());
+            }
+            return Err(format!(
+                "{} constants by position, model {:?} fits {}",
+                self.values.len(),
+                space.name,
+                space.dimension()
+            ));
+        }
+        if let Some(extra) = self
+            .constants
+            .keys()
+            .find(|name| !space.names.contains(name))
+        {
+            return Err(format!(
+                "constant `{extra}` is not fitted by model {:?} (it fits {})",
+                space.name,
+                space.names.join(", ")
+            ));
+        }
+        space
+            .names
+            .iter()
+            .map(|name| {
+                self.constants.get(name).copied().ok_or_else(|| {
+                    format!("constant `{name}` of model {:?} is missing", space.name)
+                })
+            })
+            .collect()
+    }
 }
 
 /// A worker's answer: the evaluation of one task and where it was computed.
@@ -192,20 +249,18 @@ pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
         )
     })?;
     let space = campaign.space(model);
-    if task.values.len() != space.dimension()
-        || task
-            .experiments
-            .iter()
-            .any(|&i| i >= campaign.experiments.len())
+    let values = task
+        .values_for(&space)
+        .map_err(|e| format!("{}: {e}", task_path.display()))?;
+    if task
+        .experiments
+        .iter()
+        .any(|&i| i >= campaign.experiments.len())
     {
         return Err(format!(
-            "{}: {} constants and experiments {:?} do not fit model {:?} ({} constants, {} \
-             experiments)",
+            "{}: experiments {:?} are not all in the campaign ({} experiments)",
             task_path.display(),
-            task.values.len(),
             task.experiments,
-            task.model,
-            space.dimension(),
             campaign.experiments.len()
         ));
     }
@@ -213,13 +268,7 @@ pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
         threads: Some(threads),
         ..SolverSettings::default()
     };
-    let evaluation = evaluate(
-        &campaign,
-        &space,
-        &task.values,
-        &task.experiments,
-        &settings,
-    );
+    let evaluation = evaluate(&campaign, &space, &values, &task.experiments, &settings);
     let mut origin = Origin::this_process(&task.executor);
     origin.slurm_job = slurm_job_of_environment();
     let result = ResultFile {
@@ -288,6 +337,72 @@ mod tests {
             result_path(Path::new("/r/t/jc-0-00ff.task.json")),
             Path::new("/r/t/jc-0-00ff.result.json")
         );
+    }
+
+    #[test]
+    fn task_constants_are_placed_by_name_and_old_positional_tasks_still_read() {
+        // GOAL: a task file carries its constants by name (issue 49); the worker places them
+        //       in its space's order whatever order the file holds, refuses a missing or an
+        //       unknown name, and still reads a task written before (positional `values`).
+        // SETUP: a space fitting A and C; a task written for it, read back as JSON; a task
+        //        text with the names in the other order; one missing C; one naming B; an old
+        //        positional task of two values and one of three.
+        // REFERENCE: [1.5e9, 0.02] in the space's order; errors naming the constant.
+        let space = ModelSpace {
+            name: "jc".into(),
+            strength: None,
+            names: vec!["yield_stress".into(), "rate_sensitivity".into()],
+            lower: vec![0.0; 2],
+            upper: vec![1.0; 2],
+        };
+        let task = TaskFile {
+            campaign: "c.toml".into(),
+            campaign_sha256: "0".into(),
+            model: "jc".into(),
+            key: Key {
+                model: "jc".into(),
+                fold: None,
+                instance: 0,
+                index: 0,
+            },
+            seed: 1,
+            experiments: vec![0],
+            constants: TaskFile::named(&space, &[1.5e9, 0.02]),
+            values: Vec::new(),
+            executor: "slurm-array".into(),
+        };
+        let json = serde_json::to_string(&task).unwrap();
+        assert!(json.contains("\"yield_stress\":1500000000.0"), "{json}");
+        assert!(!json.contains("\"values\""), "{json}");
+        let read: TaskFile = serde_json::from_str(&json).unwrap();
+        assert_eq!(read.values_for(&space).unwrap(), vec![1.5e9, 0.02]);
+        let with = |constants: &str| -> TaskFile {
+            let text = json.replace(
+                "\"constants\":{\"rate_sensitivity\":0.02,\"yield_stress\":1500000000.0}",
+                constants,
+            );
+            assert_ne!(text, json, "the replacement must apply");
+            serde_json::from_str(&text).unwrap()
+        };
+        let swapped = with("\"constants\":{\"yield_stress\":1.5e9,\"rate_sensitivity\":0.02}");
+        assert_eq!(swapped.values_for(&space).unwrap(), vec![1.5e9, 0.02]);
+        let missing = with("\"constants\":{\"yield_stress\":1.5e9}");
+        let error = missing.values_for(&space).unwrap_err();
+        assert!(
+            error.contains("`rate_sensitivity`") && error.contains("missing"),
+            "{error}"
+        );
+        let unknown =
+            with("\"constants\":{\"yield_stress\":1.5e9,\"rate_sensitivity\":0.02,\"b\":1.0}");
+        let error = unknown.values_for(&space).unwrap_err();
+        assert!(error.contains("`b`"), "{error}");
+        let old = with("\"values\":[1.5e9,0.02]");
+        assert_eq!(old.values_for(&space).unwrap(), vec![1.5e9, 0.02]);
+        let old_wrong = with("\"values\":[1.5e9,0.02,3.0]");
+        assert!(old_wrong
+            .values_for(&space)
+            .unwrap_err()
+            .contains("3 constants"));
     }
 
     #[test]
