@@ -317,142 +317,17 @@ impl Campaign {
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = input::read_text(path)?;
         let file: CampaignFile = input::parse_toml(path, &text)?;
-        // Bounds are `[lower, upper]`: serde reads the first two numbers of a longer array
-        // and would drop the rest silently.
-        if let Ok(tree) = toml::from_str::<toml::Table>(&text) {
-            let models = tree.get("models").and_then(toml::Value::as_array);
-            for (index, model) in models.into_iter().flatten().enumerate() {
-                let parameters = model.get("parameters").and_then(toml::Value::as_table);
-                for (name, bounds) in parameters.into_iter().flatten() {
-                    if let Some(items) = bounds.as_array().filter(|a| a.len() != 2) {
-                        return Err(InputError::at(
-                            path,
-                            &text,
-                            &["models", &index.to_string(), "parameters", name],
-                            format!("give [lower, upper], not {} numbers", items.len()),
-                        ));
-                    }
-                }
-            }
-        }
+        check_bound_pairs(path, &text)?;
         let folder = path.parent().unwrap_or(Path::new("."));
         let (base, _) = material::load_part(&folder.join(&file.material))?;
-        if file.models.is_empty() {
-            return Err(InputError::field(
-                path,
-                &text,
-                "models",
-                "at least one [[models]] entry is needed",
-            ));
-        }
-        for (k, model) in file.models.iter().enumerate() {
-            if file.models[..k].iter().any(|m| m.name == model.name) {
-                return Err(InputError::Field {
-                    path: path.into(),
-                    line: text
-                        .lines()
-                        .enumerate()
-                        .filter(|(_, l)| {
-                            let l = l.trim_start();
-                            l.starts_with("name") && l.contains(&format!("\"{}\"", model.name))
-                        })
-                        .nth(1)
-                        .map(|(i, _)| i + 1),
-                    field: "name".into(),
-                    message: format!(
-                        "model name `{}` is used twice: each [[models]] entry needs its own name \
-                         (the run log and the report are keyed by it)",
-                        model.name
-                    ),
-                });
-            }
-        }
-        if file.experiments.iter().all(|e| e.holdout) {
-            return Err(InputError::field(
-                path,
-                &text,
-                "experiments",
-                "at least one experiment must be fitted (holdout = false)",
-            ));
-        }
-        for (index, entry) in file.experiments.iter().enumerate() {
-            if !(entry.weight > 0.0 && entry.weight.is_finite()) {
-                return Err(InputError::at(
-                    path,
-                    &text,
-                    &["experiments", &index.to_string(), "weight"],
-                    format!("{}: must be > 0", entry.file),
-                ));
-            }
-        }
-        let o = &file.optimiser;
-        if o.budget < 4 || o.instances == 0 || o.parallel == 0 {
-            return Err(InputError::field(
-                path,
-                &text,
-                "budget",
-                "budget >= 4, instances >= 1, parallel >= 1",
-            ));
-        }
-        if o.design == Some(0) || o.design.is_some_and(|d| d > o.budget) {
-            return Err(InputError::field(
-                path,
-                &text,
-                "design",
-                format!("must be between 1 and the budget ({})", o.budget),
-            ));
-        }
-        if o.fold_budget == Some(0) {
-            return Err(InputError::field(
-                path,
-                &text,
-                "fold_budget",
-                "must be at least 1 (leave it out for independent folds)",
-            ));
-        }
-        // A fixed bound, not one from this machine's cores: `parallel` sets the optimiser's
-        // batch, so the same campaign must mean the same run everywhere.
-        if o.parallel > crate::solver::explicit::MAXIMUM_THREADS {
-            return Err(InputError::field(
-                path,
-                &text,
-                "parallel",
-                format!(
-                    "{} simulations at once is more than the {} stoss runs at most (each is a \
-                     thread; this machine has {} cores)",
-                    o.parallel,
-                    crate::solver::explicit::MAXIMUM_THREADS,
-                    std::thread::available_parallelism().map_or(1, usize::from)
-                ),
-            ));
-        }
-        if let Err((field, message)) = file.executor.check() {
-            return Err(InputError::field(
-                path,
-                &text,
-                &format!("executor.{field}"),
-                message,
-            ));
-        }
+        check_models(path, &text, &file)?;
+        check_experiments_and_optimiser(path, &text, &file)?;
         let experiments = file
             .experiments
             .iter()
             .map(|entry| Experiment::load(&folder.join(&entry.file)))
             .collect::<Result<Vec<_>, _>>()?;
-        if let Ok(family) = base.material() {
-            for (index, (entry, experiment)) in
-                file.experiments.iter().zip(&experiments).enumerate()
-            {
-                if let Err(error) = experiment.file.setup.accepts(&family) {
-                    return Err(InputError::at(
-                        path,
-                        &text,
-                        &["experiments", &index.to_string(), "file"],
-                        format!("{}: {error} (the campaign's material)", entry.file),
-                    ));
-                }
-            }
-        }
+        check_experiments_accept(path, &text, &file, &base, &experiments)?;
         let campaign = Self {
             path: path.into(),
             file,
@@ -460,79 +335,92 @@ impl Campaign {
             experiments,
         };
         for (index, model) in campaign.file.models.iter().enumerate() {
-            let index = index.to_string();
-            let at = |keys: &[&str]| -> Vec<String> {
-                ["models", index.as_str()]
-                    .iter()
-                    .chain(keys)
-                    .map(|k| k.to_string())
-                    .collect()
-            };
-            let error_at = |keys: &[&str], message: String| {
-                let keys = at(keys);
-                let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
-                InputError::at(path, &text, &keys, message)
-            };
-            let space = campaign.space(model);
-            for (name, [lower, upper]) in &model.parameters {
-                if !(lower.is_finite() && upper.is_finite() && lower < upper) {
-                    return Err(error_at(
-                        &["parameters", name],
-                        format!("bounds [{lower}, {upper}] must be finite with lower < upper"),
-                    ));
-                }
-            }
-            let middle: Vec<f64> = space
-                .lower
+            campaign.check_model(path, &text, index, model)?;
+        }
+        Ok(campaign)
+    }
+
+    /// A model's bounds, constants and middle material (its `[[models]]` entry `index`).
+    fn check_model(
+        &self,
+        path: &Path,
+        text: &str,
+        index: usize,
+        model: &ModelEntry,
+    ) -> Result<(), InputError> {
+        let campaign = self;
+        let index = index.to_string();
+        let at = |keys: &[&str]| -> Vec<String> {
+            ["models", index.as_str()]
                 .iter()
-                .zip(&space.upper)
-                .map(|(l, u)| 0.5 * (l + u))
-                .collect();
-            if matches!(
-                campaign.base,
-                AnyMaterialFile::Rht(_) | AnyMaterialFile::Kc(_)
-            ) && model.strength.is_some()
-            {
+                .chain(keys)
+                .map(|k| k.to_string())
+                .collect()
+        };
+        let error_at = |keys: &[&str], message: String| {
+            let keys = at(keys);
+            let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+            InputError::at(path, text, &keys, message)
+        };
+        let space = campaign.space(model);
+        for (name, [lower, upper]) in &model.parameters {
+            if !(lower.is_finite() && upper.is_finite() && lower < upper) {
                 return Err(error_at(
-                    &["strength"],
-                    format!(
-                        "model {}: a concrete campaign (RHT or K&C) has no flow-stress model; \
-                         fit its constants by their dotted paths in [models.parameters]",
-                        model.name
-                    ),
-                ));
-            }
-            if let Some(strength) = &space.strength {
-                let described = strength.constants();
-                let constants: Vec<&str> = described.iter().map(|(n, _)| n.as_str()).collect();
-                let listed: Vec<String> = described
-                    .iter()
-                    .map(|(n, p)| format!("{n} ({}, {})", p.symbol, p.unit))
-                    .collect();
-                if let Some(name) = space
-                    .names
-                    .iter()
-                    .find(|n| !constants.contains(&n.as_str()))
-                {
-                    return Err(error_at(
-                        &["parameters", name],
-                        format!(
-                            "model {}: `{name}` is not a constant of this model; its constants \
-                             are {}",
-                            model.name,
-                            listed.join(", ")
-                        ),
-                    ));
-                }
-            }
-            if let Err(message) = space.material(&campaign.base, &middle) {
-                return Err(error_at(
-                    &["parameters"],
-                    format!("model {}: {message}", model.name),
+                    &["parameters", name],
+                    format!("bounds [{lower}, {upper}] must be finite with lower < upper"),
                 ));
             }
         }
-        Ok(campaign)
+        let middle: Vec<f64> = space
+            .lower
+            .iter()
+            .zip(&space.upper)
+            .map(|(l, u)| 0.5 * (l + u))
+            .collect();
+        if matches!(
+            campaign.base,
+            AnyMaterialFile::Rht(_) | AnyMaterialFile::Kc(_)
+        ) && model.strength.is_some()
+        {
+            return Err(error_at(
+                &["strength"],
+                format!(
+                    "model {}: a concrete campaign (RHT or K&C) has no flow-stress model; \
+                     fit its constants by their dotted paths in [models.parameters]",
+                    model.name
+                ),
+            ));
+        }
+        if let Some(strength) = &space.strength {
+            let described = strength.constants();
+            let constants: Vec<&str> = described.iter().map(|(n, _)| n.as_str()).collect();
+            let listed: Vec<String> = described
+                .iter()
+                .map(|(n, p)| format!("{n} ({}, {})", p.symbol, p.unit))
+                .collect();
+            if let Some(name) = space
+                .names
+                .iter()
+                .find(|n| !constants.contains(&n.as_str()))
+            {
+                return Err(error_at(
+                    &["parameters", name],
+                    format!(
+                        "model {}: `{name}` is not a constant of this model; its constants \
+                         are {}",
+                        model.name,
+                        listed.join(", ")
+                    ),
+                ));
+            }
+        }
+        if let Err(message) = space.material(&campaign.base, &middle) {
+            return Err(error_at(
+                &["parameters"],
+                format!("model {}: {message}", model.name),
+            ));
+        }
+        Ok(())
     }
 
     /// The resolved search space of a model.
@@ -560,4 +448,162 @@ impl Campaign {
             .filter(|&i| !self.file.experiments[i].holdout)
             .collect()
     }
+}
+
+/// Bounds are `[lower, upper]`: serde reads the first two numbers of a longer array and would
+/// drop the rest silently.
+fn check_bound_pairs(path: &Path, text: &str) -> Result<(), InputError> {
+    // and would drop the rest silently.
+    if let Ok(tree) = toml::from_str::<toml::Table>(text) {
+        let models = tree.get("models").and_then(toml::Value::as_array);
+        for (index, model) in models.into_iter().flatten().enumerate() {
+            let parameters = model.get("parameters").and_then(toml::Value::as_table);
+            for (name, bounds) in parameters.into_iter().flatten() {
+                if let Some(items) = bounds.as_array().filter(|a| a.len() != 2) {
+                    return Err(InputError::at(
+                        path,
+                        text,
+                        &["models", &index.to_string(), "parameters", name],
+                        format!("give [lower, upper], not {} numbers", items.len()),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// At least one model, each with its own name.
+fn check_models(path: &Path, text: &str, file: &CampaignFile) -> Result<(), InputError> {
+    if file.models.is_empty() {
+        return Err(InputError::field(
+            path,
+            text,
+            "models",
+            "at least one [[models]] entry is needed",
+        ));
+    }
+    for (k, model) in file.models.iter().enumerate() {
+        if file.models[..k].iter().any(|m| m.name == model.name) {
+            return Err(InputError::Field {
+                path: path.into(),
+                line: text
+                    .lines()
+                    .enumerate()
+                    .filter(|(_, l)| {
+                        let l = l.trim_start();
+                        l.starts_with("name") && l.contains(&format!("\"{}\"", model.name))
+                    })
+                    .nth(1)
+                    .map(|(i, _)| i + 1),
+                field: "name".into(),
+                message: format!(
+                    "model name `{}` is used twice: each [[models]] entry needs its own name \
+                     (the run log and the report are keyed by it)",
+                    model.name
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// At least one fitted experiment, positive weights, and the optimiser's and executor's
+/// settings in range.
+fn check_experiments_and_optimiser(
+    path: &Path,
+    text: &str,
+    file: &CampaignFile,
+) -> Result<(), InputError> {
+    if file.experiments.iter().all(|e| e.holdout) {
+        return Err(InputError::field(
+            path,
+            text,
+            "experiments",
+            "at least one experiment must be fitted (holdout = false)",
+        ));
+    }
+    for (index, entry) in file.experiments.iter().enumerate() {
+        if !(entry.weight > 0.0 && entry.weight.is_finite()) {
+            return Err(InputError::at(
+                path,
+                text,
+                &["experiments", &index.to_string(), "weight"],
+                format!("{}: must be > 0", entry.file),
+            ));
+        }
+    }
+    let o = &file.optimiser;
+    if o.budget < 4 || o.instances == 0 || o.parallel == 0 {
+        return Err(InputError::field(
+            path,
+            text,
+            "budget",
+            "budget >= 4, instances >= 1, parallel >= 1",
+        ));
+    }
+    if o.design == Some(0) || o.design.is_some_and(|d| d > o.budget) {
+        return Err(InputError::field(
+            path,
+            text,
+            "design",
+            format!("must be between 1 and the budget ({})", o.budget),
+        ));
+    }
+    if o.fold_budget == Some(0) {
+        return Err(InputError::field(
+            path,
+            text,
+            "fold_budget",
+            "must be at least 1 (leave it out for independent folds)",
+        ));
+    }
+    // A fixed bound, not one from this machine's cores: `parallel` sets the optimiser's
+    // batch, so the same campaign must mean the same run everywhere.
+    if o.parallel > crate::solver::explicit::MAXIMUM_THREADS {
+        return Err(InputError::field(
+            path,
+            text,
+            "parallel",
+            format!(
+                "{} simulations at once is more than the {} stoss runs at most (each is a \
+                 thread; this machine has {} cores)",
+                o.parallel,
+                crate::solver::explicit::MAXIMUM_THREADS,
+                std::thread::available_parallelism().map_or(1, usize::from)
+            ),
+        ));
+    }
+    if let Err((field, message)) = file.executor.check() {
+        return Err(InputError::field(
+            path,
+            text,
+            &format!("executor.{field}"),
+            message,
+        ));
+    }
+    Ok(())
+}
+
+/// Every experiment's set-up accepts the campaign's material family.
+fn check_experiments_accept(
+    path: &Path,
+    text: &str,
+    file: &CampaignFile,
+    base: &AnyMaterialFile,
+    experiments: &[Experiment],
+) -> Result<(), InputError> {
+    if let Ok(family) = base.material() {
+        for (index, (entry, experiment)) in file.experiments.iter().zip(experiments).enumerate() {
+            if let Err(error) = experiment.file.setup.accepts(&family) {
+                return Err(InputError::at(
+                    path,
+                    text,
+                    &["experiments", &index.to_string(), "file"],
+                    format!("{}: {error} (the campaign's material)", entry.file),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
