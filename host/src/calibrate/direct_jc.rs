@@ -110,12 +110,8 @@ fn linear_fit(points: &[(f64, f64, f64)], n: f64) -> (f64, f64, f64) {
     (a, b, sum)
 }
 
-/// The direct fit of `curves`.
-pub fn fit(
-    curves: &[FlowCurve],
-    settings: &DirectFitSettings,
-) -> Result<DirectFit, DirectFitError> {
-    let s = settings;
+/// The settings' reference rate and temperatures, checked.
+fn check_settings(s: &DirectFitSettings) -> Result<(), DirectFitError> {
     if !(s.reference_rate > 0.0 && s.reference_rate.is_finite()) {
         return Err(DirectFitError::Settings(format!(
             "reference rate {} /s: must be positive",
@@ -128,6 +124,116 @@ pub fn fit(
             s.melting_temperature, s.reference_temperature
         )));
     }
+    Ok(())
+}
+
+/// Step 1: A, B, n of the reference curves' `points` (strain, stress, uncertainty): n by a
+/// grid over [`EXPONENT_RANGE`] refined by golden section, A and B linear at each n.
+fn fit_hardening(points: &[(f64, f64, f64)], notes: &mut Vec<String>) -> (f64, f64, f64) {
+    let sum_at = |n: f64| linear_fit(points, n).2;
+    let steps = 150;
+    let (low, high) = EXPONENT_RANGE;
+    let grid = |k: usize| low + (high - low) * k as f64 / steps as f64;
+    let best = (0..=steps)
+        .min_by(|&i, &j| sum_at(grid(i)).total_cmp(&sum_at(grid(j))))
+        .unwrap_or(0);
+    let (mut a, mut b) = (grid(best.saturating_sub(1)), grid((best + 1).min(steps)));
+    let golden = 0.5 * (libm::sqrt(5.0) - 1.0);
+    for _ in 0..80 {
+        let c = b - golden * (b - a);
+        let d = a + golden * (b - a);
+        if sum_at(c) < sum_at(d) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    let n = 0.5 * (a + b);
+    if best == 0 || best == steps {
+        notes.push(format!(
+            "the hardening exponent is at the end of its search range ({low}..{high})"
+        ));
+    }
+    let (yield_stress, hardening_modulus, _) = linear_fit(points, n);
+    (yield_stress, hardening_modulus, n)
+}
+
+/// Step 2: C, the weighted slope through the origin of sigma/sigma_qs - 1 against
+/// ln(rate/e0) over `rate_curves` (0 with a note when there are none).
+fn fit_rate_sensitivity(
+    rate_curves: &[&FlowCurve],
+    quasi_static: &dyn Fn(f64) -> f64,
+    s: &DirectFitSettings,
+    notes: &mut Vec<String>,
+) -> f64 {
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for curve in rate_curves {
+        let x = libm::log(curve.rate / s.reference_rate);
+        for &(eps, sigma, u) in curve.points.iter().filter(|p| p.0 > 0.0) {
+            let qs = quasi_static(eps);
+            let w = (qs / u) * (qs / u);
+            sxy += w * x * (sigma / qs - 1.0);
+            sxx += w * x * x;
+        }
+    }
+    if sxx > 0.0 {
+        sxy / sxx
+    } else {
+        notes.push(format!(
+            "no curve at {} K above {} /s: C is not determined (0)",
+            s.reference_temperature, s.reference_rate
+        ));
+        0.0
+    }
+}
+
+/// Step 3: m, the slope through the origin of ln(1 - sigma/sigma_rt) against ln T* over the
+/// `hot` curves (the settings' default with a note when there are none).
+fn fit_thermal_exponent(
+    hot: &[&FlowCurve],
+    room_temperature_stress: &dyn Fn(f64, f64) -> f64,
+    homologous: &dyn Fn(f64) -> f64,
+    s: &DirectFitSettings,
+    notes: &mut Vec<String>,
+) -> f64 {
+    let (mut sxy, mut sxx, mut left_out) = (0.0, 0.0, 0);
+    for curve in hot {
+        let x = libm::log(homologous(curve.temperature));
+        for &(eps, sigma, _) in curve.points.iter().filter(|p| p.0 > 0.0) {
+            let softening = 1.0 - sigma / room_temperature_stress(eps, curve.rate);
+            if softening > 0.0 && softening < 1.0 {
+                let y = libm::log(softening);
+                sxy += x * y;
+                sxx += x * x;
+            } else {
+                left_out += 1;
+            }
+        }
+    }
+    if left_out > 0 {
+        notes.push(format!(
+            "{left_out} point(s) of the hot curves are not softer than the reference (or not \
+             positive) and were left out of m"
+        ));
+    }
+    if sxx > 0.0 {
+        sxy / sxx
+    } else {
+        notes.push(format!(
+            "no curve above {} K: m is not determined (kept at {})",
+            s.reference_temperature, s.default_thermal_exponent
+        ));
+        s.default_thermal_exponent
+    }
+}
+
+/// The direct fit of `curves`.
+pub fn fit(
+    curves: &[FlowCurve],
+    settings: &DirectFitSettings,
+) -> Result<DirectFit, DirectFitError> {
+    let s = settings;
+    check_settings(s)?;
     let homologous = |temperature: f64| {
         (temperature - s.reference_temperature) / (s.melting_temperature - s.reference_temperature)
     };
@@ -153,56 +259,14 @@ pub fn fit(
     if points.len() < 4 {
         return Err(DirectFitError::TooFewPoints(points.len()));
     }
-    let sum_at = |n: f64| linear_fit(&points, n).2;
-    let steps = 150;
-    let (low, high) = EXPONENT_RANGE;
-    let grid = |k: usize| low + (high - low) * k as f64 / steps as f64;
-    let best = (0..=steps)
-        .min_by(|&i, &j| sum_at(grid(i)).total_cmp(&sum_at(grid(j))))
-        .unwrap_or(0);
-    let (mut a, mut b) = (grid(best.saturating_sub(1)), grid((best + 1).min(steps)));
-    let golden = 0.5 * (libm::sqrt(5.0) - 1.0);
-    for _ in 0..80 {
-        let c = b - golden * (b - a);
-        let d = a + golden * (b - a);
-        if sum_at(c) < sum_at(d) {
-            b = d;
-        } else {
-            a = c;
-        }
-    }
-    let n = 0.5 * (a + b);
-    if best == 0 || best == steps {
-        notes.push(format!(
-            "the hardening exponent is at the end of its search range ({low}..{high})"
-        ));
-    }
-    let (yield_stress, hardening_modulus, _) = linear_fit(&points, n);
+    let (yield_stress, hardening_modulus, n) = fit_hardening(&points, &mut notes);
     let quasi_static = |eps: f64| yield_stress + hardening_modulus * libm::pow(eps, n);
-    // 2. C: slope through the origin of sigma/sigma_qs - 1 against ln(rate/e0).
+    // 2. C.
     let rate_curves: Vec<&FlowCurve> = curves
         .iter()
         .filter(|c| at_reference_temperature(c) && c.rate > s.reference_rate)
         .collect();
-    let (mut sxy, mut sxx) = (0.0, 0.0);
-    for curve in &rate_curves {
-        let x = libm::log(curve.rate / s.reference_rate);
-        for &(eps, sigma, u) in curve.points.iter().filter(|p| p.0 > 0.0) {
-            let qs = quasi_static(eps);
-            let w = (qs / u) * (qs / u);
-            sxy += w * x * (sigma / qs - 1.0);
-            sxx += w * x * x;
-        }
-    }
-    let rate_sensitivity = if sxx > 0.0 {
-        sxy / sxx
-    } else {
-        notes.push(format!(
-            "no curve at {} K above {} /s: C is not determined (0)",
-            s.reference_temperature, s.reference_rate
-        ));
-        0.0
-    };
+    let rate_sensitivity = fit_rate_sensitivity(&rate_curves, &quasi_static, s, &mut notes);
     let rate_factor = |rate: f64| {
         let ratio = rate / s.reference_rate;
         if ratio > 1.0 {
@@ -211,7 +275,7 @@ pub fn fit(
             1.0
         }
     };
-    // 3. m: slope through the origin of ln(1 - sigma/sigma_rt) against ln T*.
+    // 3. m.
     let hot: Vec<&FlowCurve> = curves
         .iter()
         .filter(|c| {
@@ -219,35 +283,9 @@ pub fn fit(
                 && c.temperature < s.melting_temperature
         })
         .collect();
-    let (mut sxy, mut sxx, mut left_out) = (0.0, 0.0, 0);
-    for curve in &hot {
-        let x = libm::log(homologous(curve.temperature));
-        for &(eps, sigma, _) in curve.points.iter().filter(|p| p.0 > 0.0) {
-            let softening = 1.0 - sigma / (quasi_static(eps) * rate_factor(curve.rate));
-            if softening > 0.0 && softening < 1.0 {
-                let y = libm::log(softening);
-                sxy += x * y;
-                sxx += x * x;
-            } else {
-                left_out += 1;
-            }
-        }
-    }
-    if left_out > 0 {
-        notes.push(format!(
-            "{left_out} point(s) of the hot curves are not softer than the reference (or not \
-             positive) and were left out of m"
-        ));
-    }
-    let thermal_exponent = if sxx > 0.0 {
-        sxy / sxx
-    } else {
-        notes.push(format!(
-            "no curve above {} K: m is not determined (kept at {})",
-            s.reference_temperature, s.default_thermal_exponent
-        ));
-        s.default_thermal_exponent
-    };
+    let room_temperature_stress = |eps: f64, rate: f64| quasi_static(eps) * rate_factor(rate);
+    let thermal_exponent =
+        fit_thermal_exponent(&hot, &room_temperature_stress, &homologous, s, &mut notes);
     let constants = JohnsonCook {
         yield_stress,
         hardening_modulus,

@@ -331,6 +331,112 @@ impl Runner<'_> {
         )
     }
 
+    /// The proposer's batches up to `budget` candidates (or the noise floor): each batch
+    /// simulated, tallied and told back on ln(error).
+    fn propose(
+        &mut self,
+        place: &Place<'_>,
+        proposer: &mut dyn Proposer,
+        budget: usize,
+        index: &mut usize,
+        tally: &mut Tally,
+        seen: &mut Vec<Evaluation>,
+    ) -> Result<(), CalibrateError> {
+        let space = place.space;
+        while *index < budget {
+            let mut points = proposer.ask();
+            if points.is_empty() {
+                break;
+            }
+            points.truncate(budget - *index);
+            let keys: Vec<Key> = (0..points.len())
+                .map(|k| Key {
+                    model: space.name.clone(),
+                    fold: place.fold.map(str::to_string),
+                    instance: place.instance,
+                    index: *index + k,
+                })
+                .collect();
+            let evaluations =
+                self.evaluate_batch(&keys, &points, space, place.experiments, place.seed)?;
+            let values: Vec<Option<f64>> = evaluations
+                .iter()
+                .map(|e| value_of(self.campaign, e, place.experiments))
+                .collect();
+            seen.extend(evaluations.iter().cloned());
+            for (evaluation, value) in evaluations.into_iter().zip(&values) {
+                tally.record(evaluation, *value);
+            }
+            // The surrogate models ln(error): errors are positive and heavy-tailed (from the
+            // noise floor up to orders of magnitude above it), which a GP fits far better in
+            // log space; the transform is monotone, so the optimum is unchanged.
+            let surrogate_values: Vec<Option<f64>> = values
+                .iter()
+                .map(|v| v.map(|e| libm::log(e.max(1e-300))))
+                .collect();
+            proposer
+                .tell(&points, &surrogate_values)
+                .map_err(CalibrateError::Optimiser)?;
+            *index += points.len();
+            (self.progress)(
+                &space.name,
+                place.fold,
+                place.instance,
+                *index,
+                place.total,
+                tally.best_value(),
+            );
+            if self.stop_at_noise_floor
+                && self.at_noise_floor(tally, place.experiments, space.dimension())
+            {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// Nelder-Mead polish from the best point, `polish` candidates one at a time.
+    fn polish(
+        &mut self,
+        place: &Place<'_>,
+        polish: usize,
+        index: &mut usize,
+        tally: &mut Tally,
+        seen: &mut Vec<Evaluation>,
+    ) -> Result<(), CalibrateError> {
+        let Some((start, start_value)) = tally.best.as_ref().map(|(e, v)| (e.values.clone(), *v))
+        else {
+            return Ok(());
+        };
+        if polish == 0 {
+            return Ok(());
+        }
+        let space = place.space;
+        let bounds = space.lower.iter().zip(&space.upper);
+        let unit: Vec<f64> = start
+            .iter()
+            .zip(bounds.clone())
+            .map(|(x, (l, u))| unit_cube::to_unit(*x, *l, *u))
+            .collect();
+        let mut simplex = NelderMead::new(&unit, start_value, 0.05);
+        for _ in 0..polish {
+            if self.stop_at_noise_floor
+                && self.at_noise_floor(tally, place.experiments, space.dimension())
+            {
+                break;
+            }
+            let point: Vec<f64> = simplex
+                .ask()
+                .iter()
+                .zip(bounds.clone())
+                .map(|(u, (l, h))| unit_cube::from_unit(*u, *l, *h))
+                .collect();
+            let value = self.score_one(place, index, &point, tally, seen)?;
+            simplex.tell(value);
+        }
+        Ok(())
+    }
+
     /// One optimisation instance on `experiments`. `warm` are earlier simulations of the same
     /// model (every fitted experiment scored): when given, the instance starts from them
     /// (told to the proposer, offered as its best) and runs `fold_budget` new simulations
@@ -351,18 +457,11 @@ impl Runner<'_> {
             .optimiser
             .seed
             .wrapping_add(instance as u64);
-        let value_of = |campaign: &Campaign, e: &Evaluation| {
-            if e.status == Status::Ok {
-                e.total(campaign, experiments)
-            } else {
-                None
-            }
-        };
         // A warm-started fold runs its fresh simulations only: no polish, no finish.
         let warm_fold = self.fold_budget.is_some() && !warm.is_empty();
         let warm: Vec<(&Evaluation, Option<f64>)> = if warm_fold {
             warm.iter()
-                .map(|e| (e, value_of(self.campaign, e)))
+                .map(|e| (e, value_of(self.campaign, e, experiments)))
                 .collect()
         } else {
             Vec::new()
@@ -386,59 +485,9 @@ impl Runner<'_> {
                 tally.offer(evaluation, *value);
             }
         }
-        let mut index = 0;
         // The total counts the polish from the start, so a bar never runs past it; the
         // instance is announced before its initial design runs.
         let total = budget + polish + usize::from(least_squares > 0);
-        (self.progress)(&space.name, fold, instance, 0, total, None);
-        while index < budget {
-            let mut points = proposer.ask();
-            if points.is_empty() {
-                break;
-            }
-            points.truncate(budget - index);
-            let keys: Vec<Key> = (0..points.len())
-                .map(|k| Key {
-                    model: space.name.clone(),
-                    fold: fold.map(str::to_string),
-                    instance,
-                    index: index + k,
-                })
-                .collect();
-            let evaluations = self.evaluate_batch(&keys, &points, space, experiments, seed)?;
-            let values: Vec<Option<f64>> = evaluations
-                .iter()
-                .map(|e| value_of(self.campaign, e))
-                .collect();
-            seen.extend(evaluations.iter().cloned());
-            for (evaluation, value) in evaluations.into_iter().zip(&values) {
-                tally.record(evaluation, *value);
-            }
-            // The surrogate models ln(error): errors are positive and heavy-tailed (from the
-            // noise floor up to orders of magnitude above it), which a GP fits far better in
-            // log space; the transform is monotone, so the optimum is unchanged.
-            let surrogate_values: Vec<Option<f64>> = values
-                .iter()
-                .map(|v| v.map(|e| libm::log(e.max(1e-300))))
-                .collect();
-            proposer
-                .tell(&points, &surrogate_values)
-                .map_err(CalibrateError::Optimiser)?;
-            index += points.len();
-            (self.progress)(
-                &space.name,
-                fold,
-                instance,
-                index,
-                total,
-                tally.best_value(),
-            );
-            if self.stop_at_noise_floor
-                && self.at_noise_floor(&tally, experiments, space.dimension())
-            {
-                break;
-            }
-        }
         let place = Place {
             space,
             fold,
@@ -447,34 +496,17 @@ impl Runner<'_> {
             seed,
             total,
         };
-        // Nelder-Mead polish from the best point, one candidate at a time.
-        if let (Some((start, start_value)), true) = (
-            tally.best.as_ref().map(|(e, v)| (e.values.clone(), *v)),
-            polish > 0,
-        ) {
-            let bounds = space.lower.iter().zip(&space.upper);
-            let unit: Vec<f64> = start
-                .iter()
-                .zip(bounds.clone())
-                .map(|(x, (l, u))| unit_cube::to_unit(*x, *l, *u))
-                .collect();
-            let mut simplex = NelderMead::new(&unit, start_value, 0.05);
-            for _ in 0..polish {
-                if self.stop_at_noise_floor
-                    && self.at_noise_floor(&tally, experiments, space.dimension())
-                {
-                    break;
-                }
-                let point: Vec<f64> = simplex
-                    .ask()
-                    .iter()
-                    .zip(bounds.clone())
-                    .map(|(u, (l, h))| unit_cube::from_unit(*u, *l, *h))
-                    .collect();
-                let value = self.score_one(&place, &mut index, &point, &mut tally, seen)?;
-                simplex.tell(value);
-            }
-        }
+        (self.progress)(&space.name, fold, instance, 0, total, None);
+        let mut index = 0;
+        self.propose(
+            &place,
+            proposer.as_mut(),
+            budget,
+            &mut index,
+            &mut tally,
+            seen,
+        )?;
+        self.polish(&place, polish, &mut index, &mut tally, seen)?;
         // Least-squares finish from the best point: the diagnosis' bounded Levenberg-Marquardt
         // on the whitened residuals (its simulations logged beside the calibration's), its
         // result then scored as a candidate like any other.
@@ -514,6 +546,15 @@ impl Runner<'_> {
             simulated,
             failed,
         })
+    }
+}
+
+/// A candidate's total error over `experiments`; `None` unless it simulated.
+fn value_of(campaign: &Campaign, evaluation: &Evaluation, experiments: &[usize]) -> Option<f64> {
+    if evaluation.status == Status::Ok {
+        evaluation.total(campaign, experiments)
+    } else {
+        None
     }
 }
 

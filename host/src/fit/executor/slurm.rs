@@ -653,16 +653,65 @@ impl Drop for SlurmExecutor {
     }
 }
 
-impl Executor for SlurmExecutor {
-    fn evaluate(
+/// One batch on the cluster: its tasks, the results so far, the tasks due to (re)start, and
+/// when the queue was last read and the waiting tasks last reported.
+struct BatchRun {
+    tasks: Vec<Task>,
+    results: Vec<Option<Evaluation>>,
+    to_start: Vec<usize>,
+    queue_unreadable_since: Option<Instant>,
+    last_queue_read: Option<Instant>,
+    last_waiting_report: Instant,
+}
+
+/// How a task's run ended, if it did (state, reason), without a result so far.
+fn ended_run(
+    task: &mut Task,
+    states: &Option<QueueStates>,
+    waiting: &mut BTreeMap<String, usize>,
+) -> Option<(String, String)> {
+    match (&mut task.step, states) {
+        (Some(child), _) => match child.try_wait() {
+            Ok(Some(status)) => Some((format!("step {status}"), String::new())),
+            Ok(None) => None,
+            Err(e) => Some(("step lost".into(), e.to_string())),
+        },
+        (None, Some(states)) => {
+            let job = task.job.clone().unwrap_or_default();
+            match states.get(&job) {
+                None => Some(("left the queue".into(), String::new())),
+                Some((state, reason)) if ENDED_STATES.contains(&state.as_str()) => {
+                    Some((state.clone(), reason.clone()))
+                }
+                Some((state, reason)) => {
+                    if state == "PENDING" {
+                        *waiting.entry(reason.clone()).or_default() += 1;
+                    }
+                    None
+                }
+            }
+        }
+        // The queue was not read this time: keep what is known.
+        (None, None) => task.ended_state.clone(),
+    }
+}
+
+impl SlurmExecutor {
+    /// The executor name results record.
+    fn executor_name(&self) -> &'static str {
+        match self.entry.mode {
+            SlurmMode::Array => "slurm-array",
+            SlurmMode::Allocation => "slurm-allocation",
+        }
+    }
+
+    /// The batch's tasks: a result a task of a killed coordinator wrote is adopted, every
+    /// other candidate gets a fresh task file.
+    fn prepare(
         &mut self,
         batch: &Batch<'_>,
         record: &Record<'_>,
-    ) -> Result<Vec<Evaluation>, ExecutorError> {
-        let executor_name = match self.entry.mode {
-            SlurmMode::Array => "slurm-array",
-            SlurmMode::Allocation => "slurm-allocation",
-        };
+    ) -> Result<BatchRun, ExecutorError> {
         let mut results: Vec<Option<Evaluation>> = vec![None; batch.candidates.len()];
         let mut tasks: Vec<Task> = Vec::with_capacity(batch.candidates.len());
         for (index, candidate) in batch.candidates.iter().enumerate() {
@@ -680,7 +729,6 @@ impl Executor for SlurmExecutor {
                 ended_state: None,
                 done: false,
             };
-            // A result a task of a killed coordinator wrote: adopt it.
             if let Some(result) = self.read_result(&task, candidate.key, candidate.values) {
                 record(index, &result.evaluation, &result.origin)?;
                 results[index] = Some(result.evaluation);
@@ -697,7 +745,7 @@ impl Executor for SlurmExecutor {
                     experiments: batch.experiments.to_vec(),
                     constants: TaskFile::named(batch.space, candidate.values),
                     values: Vec::new(),
-                    executor: executor_name.into(),
+                    executor: self.executor_name().into(),
                 };
                 let json =
                     serde_json::to_vec_pretty(&file).map_err(|e| executor_error(e.to_string()))?;
@@ -712,182 +760,228 @@ impl Executor for SlurmExecutor {
                 "{adopted} result(s) adopted from tasks that finished after the coordinator stopped"
             ));
         }
-        let mut to_start: Vec<usize> = (0..tasks.len()).filter(|&i| !tasks[i].done).collect();
-        let mut queue_unreadable_since: Option<Instant> = None;
-        let mut last_queue_read: Option<Instant> = None;
-        let mut last_waiting_report = Instant::now();
+        let to_start: Vec<usize> = (0..tasks.len()).filter(|&i| !tasks[i].done).collect();
+        Ok(BatchRun {
+            tasks,
+            results,
+            to_start,
+            queue_unreadable_since: None,
+            last_queue_read: None,
+            last_waiting_report: Instant::now(),
+        })
+    }
+
+    /// Start what is due: a job array of every task to (re)run, or steps up to the
+    /// concurrency limit.
+    fn start_due(&mut self, run: &mut BatchRun) -> Result<(), ExecutorError> {
+        match self.entry.mode {
+            SlurmMode::Array => {
+                if !run.to_start.is_empty() {
+                    let to_start = std::mem::take(&mut run.to_start);
+                    let mut starting: Vec<&mut Task> = run
+                        .tasks
+                        .iter_mut()
+                        .filter(|t| to_start.contains(&t.index))
+                        .collect();
+                    self.submit_array(&mut starting)?;
+                }
+            }
+            SlurmMode::Allocation => {
+                let running = run.tasks.iter().filter(|t| t.step.is_some()).count();
+                let free = self.max_concurrent.saturating_sub(running);
+                let due: Vec<usize> = run.to_start.drain(..free.min(run.to_start.len())).collect();
+                for index in due {
+                    self.start_step(&mut run.tasks[index])?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Record the results that have arrived.
+    fn collect_arrived(
+        &self,
+        batch: &Batch<'_>,
+        record: &Record<'_>,
+        run: &mut BatchRun,
+    ) -> Result<(), ExecutorError> {
+        for task in run.tasks.iter_mut().filter(|t| !t.done && t.job.is_some()) {
+            let candidate = batch.candidates[task.index];
+            if let Some(mut result) = self.read_result(task, candidate.key, candidate.values) {
+                result.origin.attempts = task.failures.len() as u32 + 1;
+                record(task.index, &result.evaluation, &result.origin)?;
+                run.results[task.index] = Some(result.evaluation);
+                task.done = true;
+                if let Some(mut child) = task.step.take() {
+                    let _ = child.wait();
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The queue's states (job arrays, at most every [`QUEUE_READ_INTERVAL`]); an error when
+    /// it has been unreadable for [`QUEUE_UNREADABLE_LIMIT`].
+    fn read_queue(
+        &self,
+        run: &mut BatchRun,
+        now: Instant,
+        poll: Duration,
+    ) -> Result<Option<QueueStates>, ExecutorError> {
+        let queue_due = run
+            .last_queue_read
+            .is_none_or(|t: Instant| now.duration_since(t) >= QUEUE_READ_INTERVAL.max(poll));
+        Ok(match self.entry.mode {
+            SlurmMode::Array if !queue_due => None,
+            SlurmMode::Array => match self.queue_states() {
+                Ok(states) => {
+                    run.queue_unreadable_since = None;
+                    run.last_queue_read = Some(now);
+                    Some(states)
+                }
+                Err(error) => {
+                    let since = *run.queue_unreadable_since.get_or_insert(now);
+                    if now.duration_since(since) > QUEUE_UNREADABLE_LIMIT {
+                        return Err(executor_error(format!(
+                            "the queue could not be read for {} s: {error}",
+                            QUEUE_UNREADABLE_LIMIT.as_secs()
+                        )));
+                    }
+                    None
+                }
+            },
+            SlurmMode::Allocation => None,
+        })
+    }
+
+    /// A run that ended without a result within the wait: booked as a failure, then rerun,
+    /// recorded as a failed candidate, or (time limit too short) the batch's error.
+    fn after_failed_run(
+        &self,
+        batch: &Batch<'_>,
+        record: &Record<'_>,
+        task: &mut Task,
+        to_start: &mut Vec<usize>,
+        results: &mut [Option<Evaluation>],
+    ) -> Result<(), ExecutorError> {
+        let (state, reason) = task.ended_state.take().unwrap_or_default();
+        let output_tail = tail_of(&task.output, 3);
+        let timed_out = state == "TIMEOUT" || output_tail.contains("DUE TO TIME LIMIT");
+        let detail = [reason, output_tail]
+            .into_iter()
+            .filter(|s| !s.is_empty() && s != "None")
+            .collect::<Vec<_>>()
+            .join("; ");
+        task.failures.push(TaskFailure {
+            state,
+            detail,
+            timed_out,
+        });
+        task.job = None;
+        task.step = None;
+        task.ended_at = None;
+        match after_failure(&task.failures, self.entry.retries, &self.time_limit_text()) {
+            AfterFailure::Retry => {
+                let last = task
+                    .failures
+                    .last()
+                    .map_or(String::new(), |f| f.state.clone());
+                if !self.quiet {
+                    eprintln!(
+                        "slurm: task {} ended without a result ({last}); rerun {} of {}",
+                        task.path.display(),
+                        task.failures.len(),
+                        self.entry.retries
+                    );
+                }
+                to_start.push(task.index);
+            }
+            AfterFailure::RecordFailed(reason) => {
+                let candidate = batch.candidates[task.index];
+                let evaluation = Evaluation {
+                    values: candidate.values.to_vec(),
+                    scores: vec![None; batch.campaign.experiments.len()],
+                    status: Status::Failed(reason),
+                    wall_time: 0.0,
+                };
+                let mut origin = Origin::this_process(self.executor_name());
+                origin.attempts = task.failures.len() as u32;
+                record(task.index, &evaluation, &origin)?;
+                results[task.index] = Some(evaluation);
+                task.done = true;
+            }
+            AfterFailure::TimeLimitTooShort(message) => {
+                return Err(executor_error(message));
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs that ended without a result: failed once the result wait has passed; and the
+    /// pending tasks' reasons, reported every [`WAITING_REPORT_INTERVAL`].
+    fn check_ended(
+        &self,
+        batch: &Batch<'_>,
+        record: &Record<'_>,
+        run: &mut BatchRun,
+        poll: Duration,
+    ) -> Result<(), ExecutorError> {
+        let now = Instant::now();
+        let states = self.read_queue(run, now, poll)?;
+        let mut waiting: BTreeMap<String, usize> = BTreeMap::new();
+        let BatchRun {
+            tasks,
+            results,
+            to_start,
+            ..
+        } = run;
+        for task in tasks.iter_mut().filter(|t| !t.done && t.job.is_some()) {
+            let Some(ended) = ended_run(task, &states, &mut waiting) else {
+                task.ended_at = None;
+                continue;
+            };
+            task.ended_state.get_or_insert(ended);
+            let first = *task.ended_at.get_or_insert(now);
+            if now.duration_since(first).as_secs_f64() < self.entry.result_wait {
+                continue;
+            }
+            self.after_failed_run(batch, record, task, to_start, results)?;
+        }
+        if !waiting.is_empty()
+            && now.duration_since(run.last_waiting_report) >= WAITING_REPORT_INTERVAL
+        {
+            run.last_waiting_report = now;
+            let reasons: Vec<String> = waiting.iter().map(|(r, n)| format!("{n} ({r})")).collect();
+            self.say(&format!(
+                "tasks waiting in the queue: {}",
+                reasons.join(", ")
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Executor for SlurmExecutor {
+    fn evaluate(
+        &mut self,
+        batch: &Batch<'_>,
+        record: &Record<'_>,
+    ) -> Result<Vec<Evaluation>, ExecutorError> {
+        let mut run = self.prepare(batch, record)?;
         let poll = Duration::from_secs_f64(self.entry.poll_interval);
         let outcome = (|| -> Result<(), ExecutorError> {
             loop {
-                // Start what is due: a job array of every task to (re)run, or steps up to the
-                // concurrency limit.
-                match self.entry.mode {
-                    SlurmMode::Array => {
-                        if !to_start.is_empty() {
-                            let mut starting: Vec<&mut Task> = tasks
-                                .iter_mut()
-                                .filter(|t| to_start.contains(&t.index))
-                                .collect();
-                            self.submit_array(&mut starting)?;
-                            to_start.clear();
-                        }
-                    }
-                    SlurmMode::Allocation => {
-                        let running = tasks.iter().filter(|t| t.step.is_some()).count();
-                        let free = self.max_concurrent.saturating_sub(running);
-                        for index in to_start.drain(..free.min(to_start.len())) {
-                            self.start_step(&mut tasks[index])?;
-                        }
-                    }
-                }
-                if tasks.iter().all(|t| t.done) {
+                self.start_due(&mut run)?;
+                if run.tasks.iter().all(|t| t.done) {
                     return Ok(());
                 }
                 std::thread::sleep(poll);
-                // Results that have arrived.
-                for task in tasks.iter_mut().filter(|t| !t.done && t.job.is_some()) {
-                    let candidate = batch.candidates[task.index];
-                    if let Some(mut result) =
-                        self.read_result(task, candidate.key, candidate.values)
-                    {
-                        result.origin.attempts = task.failures.len() as u32 + 1;
-                        record(task.index, &result.evaluation, &result.origin)?;
-                        results[task.index] = Some(result.evaluation);
-                        task.done = true;
-                        if let Some(mut child) = task.step.take() {
-                            let _ = child.wait();
-                        }
-                    }
-                }
-                // Runs that ended without one.
-                let now = Instant::now();
-                let queue_due = last_queue_read.is_none_or(|t: Instant| {
-                    now.duration_since(t) >= QUEUE_READ_INTERVAL.max(poll)
-                });
-                let states = match self.entry.mode {
-                    SlurmMode::Array if !queue_due => None,
-                    SlurmMode::Array => match self.queue_states() {
-                        Ok(states) => {
-                            queue_unreadable_since = None;
-                            last_queue_read = Some(now);
-                            Some(states)
-                        }
-                        Err(error) => {
-                            let since = *queue_unreadable_since.get_or_insert(now);
-                            if now.duration_since(since) > QUEUE_UNREADABLE_LIMIT {
-                                return Err(executor_error(format!(
-                                    "the queue could not be read for {} s: {error}",
-                                    QUEUE_UNREADABLE_LIMIT.as_secs()
-                                )));
-                            }
-                            None
-                        }
-                    },
-                    SlurmMode::Allocation => None,
-                };
-                let mut waiting: BTreeMap<String, usize> = BTreeMap::new();
-                for task in tasks.iter_mut().filter(|t| !t.done && t.job.is_some()) {
-                    let ended: Option<(String, String)> = match (&mut task.step, &states) {
-                        (Some(child), _) => match child.try_wait() {
-                            Ok(Some(status)) => Some((format!("step {status}"), String::new())),
-                            Ok(None) => None,
-                            Err(e) => Some(("step lost".into(), e.to_string())),
-                        },
-                        (None, Some(states)) => {
-                            let job = task.job.clone().unwrap_or_default();
-                            match states.get(&job) {
-                                None => Some(("left the queue".into(), String::new())),
-                                Some((state, reason)) if ENDED_STATES.contains(&state.as_str()) => {
-                                    Some((state.clone(), reason.clone()))
-                                }
-                                Some((state, reason)) => {
-                                    if state == "PENDING" {
-                                        *waiting.entry(reason.clone()).or_default() += 1;
-                                    }
-                                    None
-                                }
-                            }
-                        }
-                        // The queue was not read this time: keep what is known.
-                        (None, None) => task.ended_state.clone(),
-                    };
-                    let Some(ended) = ended else {
-                        task.ended_at = None;
-                        continue;
-                    };
-                    task.ended_state.get_or_insert(ended);
-                    let first = *task.ended_at.get_or_insert(now);
-                    if now.duration_since(first).as_secs_f64() < self.entry.result_wait {
-                        continue;
-                    }
-                    // No result within the wait: this run failed.
-                    let (state, reason) = task.ended_state.take().unwrap_or_default();
-                    let output_tail = tail_of(&task.output, 3);
-                    let timed_out = state == "TIMEOUT" || output_tail.contains("DUE TO TIME LIMIT");
-                    let detail = [reason, output_tail]
-                        .into_iter()
-                        .filter(|s| !s.is_empty() && s != "None")
-                        .collect::<Vec<_>>()
-                        .join("; ");
-                    task.failures.push(TaskFailure {
-                        state,
-                        detail,
-                        timed_out,
-                    });
-                    task.job = None;
-                    task.step = None;
-                    task.ended_at = None;
-                    match after_failure(&task.failures, self.entry.retries, &self.time_limit_text())
-                    {
-                        AfterFailure::Retry => {
-                            let last = task
-                                .failures
-                                .last()
-                                .map_or(String::new(), |f| f.state.clone());
-                            if !self.quiet {
-                                eprintln!(
-                                    "slurm: task {} ended without a result ({last}); rerun {} of {}",
-                                    task.path.display(),
-                                    task.failures.len(),
-                                    self.entry.retries
-                                );
-                            }
-                            to_start.push(task.index);
-                        }
-                        AfterFailure::RecordFailed(reason) => {
-                            let candidate = batch.candidates[task.index];
-                            let evaluation = Evaluation {
-                                values: candidate.values.to_vec(),
-                                scores: vec![None; batch.campaign.experiments.len()],
-                                status: Status::Failed(reason),
-                                wall_time: 0.0,
-                            };
-                            let mut origin = Origin::this_process(executor_name);
-                            origin.attempts = task.failures.len() as u32;
-                            record(task.index, &evaluation, &origin)?;
-                            results[task.index] = Some(evaluation);
-                            task.done = true;
-                        }
-                        AfterFailure::TimeLimitTooShort(message) => {
-                            return Err(executor_error(message));
-                        }
-                    }
-                }
-                if !waiting.is_empty()
-                    && now.duration_since(last_waiting_report) >= WAITING_REPORT_INTERVAL
-                {
-                    last_waiting_report = now;
-                    let reasons: Vec<String> =
-                        waiting.iter().map(|(r, n)| format!("{n} ({r})")).collect();
-                    self.say(&format!(
-                        "tasks waiting in the queue: {}",
-                        reasons.join(", ")
-                    ));
-                }
+                self.collect_arrived(batch, record, &mut run)?;
+                self.check_ended(batch, record, &mut run, poll)?;
             }
         })();
         // Steps still running when the batch stops on an error.
-        for task in &mut tasks {
+        for task in &mut run.tasks {
             if let Some(mut child) = task.step.take() {
                 let _ = child.kill();
                 let _ = child.wait();
@@ -896,7 +990,7 @@ impl Executor for SlurmExecutor {
         outcome?;
         // Every task of this batch is accounted for: its jobs need no cancelling.
         self.active_jobs.clear();
-        results
+        run.results
             .into_iter()
             .map(|r| r.ok_or_else(|| executor_error("a task of the batch has no result")))
             .collect()
