@@ -297,53 +297,18 @@ impl Discretisation for QuadMesh {
         let gamma: [f64; 4] = core::array::from_fn(|k| h[k] - hr * new.b_r[k] - hz * new.b_z[k]);
         let q_r: f64 = (0..4).map(|k| gamma[k] * vel[k][0]).sum();
         let q_z: f64 = (0..4).map(|k| gamma[k] * vel[k][1]).sum();
-        let mut carried = [0.0; 2];
-        let (hourglass_r, hourglass_z, hourglass_power) = match settings.hourglass {
-            HourglassControl::Viscous => {
-                let kappa = 0.25
-                    * settings.hourglass_coefficient
-                    * density
-                    * output.wave_speed
-                    * new.area.sqrt()
-                    * new.mean_radius;
-                // The generalised force is carried to the next step only for its work: booked
-                // over the step at the mean of the previous and the new force, the
-                // trapezoidal rule the kernel uses for the stress work. (Booked at the new
-                // force alone, `kappa q^2`, a node's one-step kick is counted twice over:
-                // its force acts over the next step's velocity change, not this one's.)
-                carried = [kappa * q_r, kappa * q_z];
-                let (old_r, old_z) = (hourglass[0], hourglass[1]);
-                (
-                    carried[0],
-                    carried[1],
-                    0.5 * ((old_r + carried[0]) * q_r + (old_z + carried[1]) * q_z),
-                )
-            }
-            HourglassControl::Stiffness => {
-                let gradients: f64 = (0..4)
-                    .map(|k| new.b_r[k] * new.b_r[k] + new.b_z[k] * new.b_z[k])
-                    .sum();
-                let stiffness = settings.hourglass_coefficient
-                    * density
-                    * output.wave_speed
-                    * output.wave_speed
-                    * volume
-                    * gradients;
-                // Turned with the element (Q' = W Q dt), then incremented.
-                let wdt = spin * dt;
-                let (old_r, old_z) = (hourglass[0], hourglass[1]);
-                carried[0] = old_r + wdt * old_z + stiffness * q_r * dt;
-                carried[1] = old_z - wdt * old_r + stiffness * q_z * dt;
-                // Work over the step at the mean of the old (turned) and new forces: the
-                // trapezoidal rule, as the kernel books the stress work.
-                let half = 0.5 * stiffness * dt;
-                (
-                    carried[0],
-                    carried[1],
-                    (carried[0] - half * q_r) * q_r + (carried[1] - half * q_z) * q_z,
-                )
-            }
-        };
+        let hourglass = hourglass_step(
+            settings,
+            density,
+            output.wave_speed,
+            &new,
+            volume,
+            spin * dt,
+            dt,
+            hourglass,
+            [q_r, q_z],
+        );
+        let (hourglass_r, hourglass_z, hourglass_power, carried) = hourglass;
         for (k, force) in forces.iter_mut().take(4).enumerate() {
             force[0] -= hourglass_r * gamma[k];
             force[1] -= hourglass_z * gamma[k];
@@ -360,6 +325,71 @@ impl Discretisation for QuadMesh {
             ),
         })
     }
+}
+
+/// Flanagan-Belytschko hourglass control of one element over a step: the generalised forces
+/// `(r, z)` on the hourglass mode, the power they take from it, and the forces carried to the
+/// next step. `wdt` is the spin times the step (the stiffness form turns
+/// its forces with the element), `q` the hourglass velocities.
+#[allow(clippy::too_many_arguments)]
+fn hourglass_step(
+    settings: &SolverSettings,
+    density: f64,
+    wave_speed: f64,
+    new: &Geometry,
+    volume: f64,
+    wdt: f64,
+    dt: f64,
+    hourglass: &HourglassStress,
+    [q_r, q_z]: [f64; 2],
+) -> (f64, f64, f64, [f64; 2]) {
+    let mut carried = [0.0; 2];
+    let (r, z, power) = match settings.hourglass {
+        HourglassControl::Viscous => {
+            let kappa = 0.25
+                * settings.hourglass_coefficient
+                * density
+                * wave_speed
+                * new.area.sqrt()
+                * new.mean_radius;
+            // The generalised force is carried to the next step only for its work: booked
+            // over the step at the mean of the previous and the new force, the
+            // trapezoidal rule the kernel uses for the stress work. (Booked at the new
+            // force alone, `kappa q^2`, a node's one-step kick is counted twice over:
+            // its force acts over the next step's velocity change, not this one's.)
+            carried = [kappa * q_r, kappa * q_z];
+            let (old_r, old_z) = (hourglass[0], hourglass[1]);
+            (
+                carried[0],
+                carried[1],
+                0.5 * ((old_r + carried[0]) * q_r + (old_z + carried[1]) * q_z),
+            )
+        }
+        HourglassControl::Stiffness => {
+            let gradients: f64 = (0..4)
+                .map(|k| new.b_r[k] * new.b_r[k] + new.b_z[k] * new.b_z[k])
+                .sum();
+            let stiffness = settings.hourglass_coefficient
+                * density
+                * wave_speed
+                * wave_speed
+                * volume
+                * gradients;
+            // Turned with the element (Q' = W Q dt), then incremented.
+            let (old_r, old_z) = (hourglass[0], hourglass[1]);
+            carried[0] = old_r + wdt * old_z + stiffness * q_r * dt;
+            carried[1] = old_z - wdt * old_r + stiffness * q_z * dt;
+            // Work over the step at the mean of the old (turned) and new forces: the
+            // trapezoidal rule, as the kernel books the stress work.
+            let half = 0.5 * stiffness * dt;
+            (
+                carried[0],
+                carried[1],
+                (carried[0] - half * q_r) * q_r + (carried[1] - half * q_z) * q_z,
+            )
+        }
+    };
+    (r, z, power, carried)
 }
 
 #[cfg(test)]
