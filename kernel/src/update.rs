@@ -417,6 +417,287 @@ fn implicit_return(
     Err(UpdateError::ReturnMappingDiverged)
 }
 
+/// Steps 1-2's outcome: the flow stress of a plastic step (or the yield check of an elastic
+/// one), the returned deviator, the multiplier and what the tangent needs.
+struct Return {
+    yield_stress: f64,
+    new_deviator: Sym,
+    plastic_increment: f64,
+    iterations: u32,
+    plastic_modulus: f64,
+    return_fraction: f64,
+    plastic: bool,
+    /// An elastic step's static check `sigma_y(eps_n, 0, T_n)`, to store for the next step.
+    static_check: Option<f64>,
+}
+
+/// A plastic step's flow stress with its multiplier, iterations and slope; or an elastic
+/// step's yield check and whether it is the static one.
+type Flow = Result<(f64, f64, u32, f64), (f64, bool)>;
+
+/// The implicit rate treatment's yield check and return (eq. 3.8, the rate at the step's end).
+#[inline(always)]
+fn implicit_flow(
+    material: &Material,
+    state: &MaterialState,
+    trial_equivalent: f64,
+    dt: f64,
+    inverse_dt: f64,
+) -> Result<Flow, UpdateError> {
+    let shear = material.shear_modulus;
+    let three_g = 3.0 * shear;
+    // sigma_y(eps_n, 0, T_n) if a previous step stored it for exactly this state.
+    let stored_check = || {
+        state
+            .yield_check
+            .at(state.plastic_strain, state.temperature)
+    };
+    // Every strength model's sigma_y is non-decreasing in eps_p and in the rate (their
+    // validation rules), so g(dl) is strictly decreasing: g(warm) > 0 at the previous step's
+    // multiplier proves g(0) > 0, and that evaluation is the return's first iterate. Only
+    // otherwise is the yield check evaluated.
+    let warm_dl = state.plastic_strain_rate * dt;
+    let warm_applies = warm_dl > 0.0 && warm_dl < trial_equivalent / three_g;
+    // Without a warm start, a stored check decides an elastic step without evaluating the
+    // strength model.
+    let stored = if warm_applies { None } else { stored_check() };
+    if let Some(check) = stored {
+        if trial_equivalent <= check {
+            return Ok(Err((check, true)));
+        }
+    }
+    let at_temperature = material.strength.at_temperature(state.temperature);
+    let warm = warm_applies.then(|| {
+        let evaluated = residual(
+            &at_temperature,
+            three_g,
+            trial_equivalent,
+            state.plastic_strain,
+            warm_dl,
+            inverse_dt,
+        );
+        (warm_dl, evaluated)
+    });
+    // The first iterate: the previous step's multiplier (exact in steady flow) if g(warm) > 0
+    // or if it is below the perfectly plastic estimate g(0)/3G; otherwise that estimate, an
+    // upper bound of the root for non-softening models. g(0) needs the yield check, evaluated
+    // only when g(warm) > 0 does not already prove the step plastic.
+    let (check, start) = match warm {
+        Some((warm_dl, evaluated)) if evaluated.value > 0.0 => (None, (warm_dl, Some(evaluated))),
+        _ => {
+            let check = stored
+                .unwrap_or_else(|| at_temperature.flow_stress(state.plastic_strain, 0.0).value);
+            let estimate = (trial_equivalent - check) / three_g;
+            let start = match warm {
+                Some((warm_dl, evaluated)) if warm_dl < estimate => (warm_dl, Some(evaluated)),
+                _ => (estimate, None),
+            };
+            (Some(check), start)
+        }
+    };
+    if let Some(check) = check {
+        if trial_equivalent <= check {
+            return Ok(Err((check, true)));
+        }
+    }
+    let (dl, flow, count) = implicit_return(
+        &at_temperature,
+        shear,
+        trial_equivalent,
+        state.plastic_strain,
+        start,
+        dt,
+        inverse_dt,
+    )?;
+    Ok(Ok((flow.value, dl, count, flow.slope)))
+}
+
+/// The lagged rate treatment's check and radial return (eq. 3.7, the previous step's rate).
+#[inline(always)]
+fn lagged_flow(material: &Material, state: &MaterialState, trial_equivalent: f64) -> Flow {
+    let three_g = 3.0 * material.shear_modulus;
+    // After an elastic step (rate 0) eq. 3.7's check is the static one.
+    let rate = state.plastic_strain_rate;
+    let stored = if rate == 0.0 {
+        state
+            .yield_check
+            .at(state.plastic_strain, state.temperature)
+    } else {
+        None
+    };
+    let flow_now = stored.unwrap_or_else(|| {
+        material
+            .strength
+            .at_temperature(state.temperature)
+            .flow_stress(state.plastic_strain, rate)
+            .value
+    });
+    if trial_equivalent > flow_now {
+        Ok((flow_now, (trial_equivalent - flow_now) / three_g, 0, 0.0))
+    } else {
+        Err((flow_now, rate == 0.0))
+    }
+}
+
+/// Steps 1-2: the yield check and the return of the trial deviator (none once failed).
+#[inline(always)]
+fn deviatoric_return(
+    material: &Material,
+    state: &MaterialState,
+    trial: &Sym,
+    trial_equivalent: f64,
+    dt: f64,
+    inverse_dt: f64,
+) -> Result<Return, UpdateError> {
+    let mut out = Return {
+        yield_stress: 0.0,
+        new_deviator: tensor::ZERO,
+        plastic_increment: 0.0,
+        iterations: 0,
+        plastic_modulus: 0.0,
+        return_fraction: 0.0,
+        plastic: false,
+        static_check: None,
+    };
+    if state.flags.contains(StateFlags::FAILED) {
+        return Ok(out);
+    }
+    // The temperature is T_n throughout the check and the return.
+    let flow = match material.rate_treatment {
+        RateTreatment::Implicit => {
+            implicit_flow(material, state, trial_equivalent, dt, inverse_dt)?
+        }
+        RateTreatment::Lagged => lagged_flow(material, state, trial_equivalent),
+    };
+    match flow {
+        Err((check, is_static)) => {
+            out.yield_stress = check;
+            out.new_deviator = *trial;
+            if is_static {
+                out.static_check = Some(check);
+            }
+        }
+        Ok((flow, dl, iterations, slope)) => {
+            out.plastic_increment = dl;
+            out.iterations = iterations;
+            out.plastic_modulus = slope;
+            out.plastic = true;
+            out.yield_stress = flow;
+            out.return_fraction = 3.0 * material.shear_modulus * dl / trial_equivalent;
+            out.new_deviator = tensor::scale(trial, 1.0 - out.return_fraction);
+        }
+    }
+    Ok(out)
+}
+
+/// Step 5's result: the deviator and pressure after failure and the cut-off, with the
+/// tangent and the energy that go with them.
+struct AfterFailure {
+    deviator: Sym,
+    pressure: f64,
+    bulk_tangent: f64,
+    energy: f64,
+    failed: bool,
+}
+
+/// Step 5: Johnson-Cook damage and failure, erosion flags, and the pressure cut-off (0 once
+/// failed) with the energy's pressure work redone at the cut pressure.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn fail_and_cut(
+    material: &Material,
+    state: &MaterialState,
+    next: &mut MaterialState,
+    deviator: Sym,
+    pressure: f64,
+    bulk_tangent: f64,
+    energy: f64,
+    plastic_increment: f64,
+    plastic_strain_rate: f64,
+    energy_before_pressure_work: f64,
+    old_pressure: f64,
+    volume_change: f64,
+) -> AfterFailure {
+    let mut out = AfterFailure {
+        deviator,
+        pressure,
+        bulk_tangent,
+        energy,
+        failed: state.flags.contains(StateFlags::FAILED),
+    };
+    if !out.failed && plastic_increment > 0.0 {
+        if let Some(jc) = &material.failure.johnson_cook {
+            let equivalent = tensor::von_mises(&out.deviator);
+            let triaxiality = if equivalent > 0.0 {
+                -out.pressure / equivalent
+            } else {
+                0.0
+            };
+            let failure_strain =
+                jc.failure_strain(triaxiality, plastic_strain_rate, state.temperature);
+            next.damage = state.damage + plastic_increment / failure_strain;
+            if next.damage >= 1.0 {
+                next.damage = 1.0;
+                out.failed = true;
+                next.flags.insert(StateFlags::FAILED);
+                if material.failure.erode_on_failure {
+                    next.flags.insert(StateFlags::ERODE);
+                }
+            }
+        }
+    }
+    if let Some(limit) = material.failure.erosion_plastic_strain {
+        if next.plastic_strain >= limit {
+            next.flags.insert(StateFlags::ERODE);
+        }
+    }
+    let mut pressure_floor = material.failure.pressure_cutoff;
+    if out.failed {
+        out.deviator = tensor::ZERO;
+        pressure_floor = Some(0.0);
+    }
+    if let Some(floor) = pressure_floor {
+        if out.pressure < floor {
+            out.pressure = floor;
+            out.bulk_tangent = 0.0;
+            next.flags.insert(StateFlags::PRESSURE_CUTOFF);
+            out.energy =
+                energy_before_pressure_work - 0.5 * (old_pressure + out.pressure) * volume_change;
+        }
+    }
+    out
+}
+
+/// Whether the new state's thirteen values and the step's wave speed, flow stress and
+/// multiplier are all finite (one pass, [`crate::math::all_finite`]).
+#[inline(always)]
+fn finite_result(
+    next: &MaterialState,
+    wave_speed: f64,
+    yield_stress: f64,
+    plastic_increment: f64,
+) -> bool {
+    let v = next.values();
+    crate::math::all_finite(&[
+        v[0],
+        v[1],
+        v[2],
+        v[3],
+        v[4],
+        v[5],
+        v[6],
+        v[7],
+        v[8],
+        v[9],
+        v[10],
+        v[11],
+        v[12],
+        wave_speed,
+        yield_stress,
+        plastic_increment,
+    ])
+}
+
 #[inline(always)]
 fn compute(
     material: &Material,
@@ -434,7 +715,6 @@ fn compute(
     let mut next = *state;
     next.flags
         .remove(StateFlags::PLASTIC | StateFlags::PRESSURE_CUTOFF);
-    let failed_before = state.flags.contains(StateFlags::FAILED);
 
     // 1-2. Deviatoric predictor and return.
     let deviatoric_increment = tensor::deviator(&input.strain_increment);
@@ -444,139 +724,18 @@ fn compute(
         &tensor::scale(&deviatoric_increment, 2.0 * shear),
     );
     let trial_equivalent = tensor::von_mises(&trial);
-
-    let mut plastic_increment = 0.0;
-    let mut iterations = 0;
-    let mut plastic_modulus = 0.0;
-    let mut return_fraction = 0.0;
-    let mut plastic = false;
-    let yield_stress;
-    let new_deviator;
-
-    if failed_before {
-        yield_stress = 0.0;
-        new_deviator = tensor::ZERO;
-    } else {
-        // The temperature is T_n throughout the check and the return.
-        let three_g = 3.0 * shear;
-        // sigma_y(eps_n, 0, T_n) if a previous step stored it for exactly this state.
-        let stored_check = || {
-            state
-                .yield_check
-                .at(state.plastic_strain, state.temperature)
+    let returned = deviatoric_return(material, state, &trial, trial_equivalent, dt, inverse_dt)?;
+    if let Some(check) = returned.static_check {
+        next.yield_check = YieldCheck {
+            flow_stress: check,
+            plastic_strain: state.plastic_strain,
+            temperature: state.temperature,
         };
-        // Ok(flow stress of a plastic step) or Err((yield check of an elastic step, whether
-        // it is the static check sigma_y(eps_n, 0, T_n), which is then stored)).
-        let flow = match material.rate_treatment {
-            RateTreatment::Implicit => {
-                // Every strength model's sigma_y is non-decreasing in eps_p and in the rate
-                // (their validation rules), so g(dl) is strictly decreasing: g(warm) > 0 at
-                // the previous step's multiplier proves g(0) > 0, and that evaluation is the
-                // return's first iterate. Only otherwise is the yield check evaluated.
-                let warm_dl = state.plastic_strain_rate * dt;
-                let warm_applies = warm_dl > 0.0 && warm_dl < trial_equivalent / three_g;
-                // Without a warm start, a stored check decides an elastic step without
-                // evaluating the strength model.
-                let stored = if warm_applies { None } else { stored_check() };
-                match stored {
-                    Some(check) if trial_equivalent <= check => Err((check, true)),
-                    _ => {
-                        let at_temperature = material.strength.at_temperature(state.temperature);
-                        let warm = warm_applies.then(|| {
-                            let evaluated = residual(
-                                &at_temperature,
-                                three_g,
-                                trial_equivalent,
-                                state.plastic_strain,
-                                warm_dl,
-                                inverse_dt,
-                            );
-                            (warm_dl, evaluated)
-                        });
-                        // The first iterate: the previous step's multiplier (exact in steady
-                        // flow) if g(warm) > 0 or if it is below the perfectly plastic estimate
-                        // g(0)/3G; otherwise that estimate, an upper bound of the root for
-                        // non-softening models. g(0) needs the yield check, evaluated only when
-                        // g(warm) > 0 does not already prove the step plastic.
-                        let (check, start) = match warm {
-                            Some((warm_dl, evaluated)) if evaluated.value > 0.0 => {
-                                (None, (warm_dl, Some(evaluated)))
-                            }
-                            _ => {
-                                let check = stored.unwrap_or_else(|| {
-                                    at_temperature.flow_stress(state.plastic_strain, 0.0).value
-                                });
-                                let estimate = (trial_equivalent - check) / three_g;
-                                let start = match warm {
-                                    Some((warm_dl, evaluated)) if warm_dl < estimate => {
-                                        (warm_dl, Some(evaluated))
-                                    }
-                                    _ => (estimate, None),
-                                };
-                                (Some(check), start)
-                            }
-                        };
-                        match check {
-                            Some(check) if trial_equivalent <= check => Err((check, true)),
-                            _ => {
-                                let (dl, flow, count) = implicit_return(
-                                    &at_temperature,
-                                    shear,
-                                    trial_equivalent,
-                                    state.plastic_strain,
-                                    start,
-                                    dt,
-                                    inverse_dt,
-                                )?;
-                                plastic_increment = dl;
-                                iterations = count;
-                                plastic_modulus = flow.slope;
-                                Ok(flow.value)
-                            }
-                        }
-                    }
-                }
-            }
-            RateTreatment::Lagged => {
-                // After an elastic step (rate 0) eq. 3.7's check is the static one.
-                let rate = state.plastic_strain_rate;
-                let stored = if rate == 0.0 { stored_check() } else { None };
-                let flow_now = stored.unwrap_or_else(|| {
-                    material
-                        .strength
-                        .at_temperature(state.temperature)
-                        .flow_stress(state.plastic_strain, rate)
-                        .value
-                });
-                if trial_equivalent > flow_now {
-                    plastic_increment = (trial_equivalent - flow_now) / three_g;
-                    Ok(flow_now)
-                } else {
-                    Err((flow_now, rate == 0.0))
-                }
-            }
-        };
-        match flow {
-            Err((check, is_static)) => {
-                yield_stress = check;
-                new_deviator = trial;
-                if is_static {
-                    next.yield_check = YieldCheck {
-                        flow_stress: check,
-                        plastic_strain: state.plastic_strain,
-                        temperature: state.temperature,
-                    };
-                }
-            }
-            Ok(flow) => {
-                plastic = true;
-                yield_stress = flow;
-                return_fraction = three_g * plastic_increment / trial_equivalent;
-                new_deviator = tensor::scale(&trial, 1.0 - return_fraction);
-                next.flags.insert(StateFlags::PLASTIC);
-            }
-        }
     }
+    if returned.plastic {
+        next.flags.insert(StateFlags::PLASTIC);
+    }
+    let (yield_stress, plastic_increment) = (returned.yield_stress, returned.plastic_increment);
     let plastic_strain_rate = plastic_increment * inverse_dt;
     next.plastic_strain = state.plastic_strain + plastic_increment;
     next.plastic_strain_rate = plastic_strain_rate;
@@ -595,7 +754,7 @@ fn compute(
     let mu = 1.0 / input.relative_volume - 1.0;
     let (terms, eos_history) = material.eos.evaluate(mu, state.eos_history);
     let old_pressure = -old_mean_stress;
-    let mean_deviator = tensor::scale(&tensor::add(&old_deviator, &new_deviator), 0.5);
+    let mean_deviator = tensor::scale(&tensor::add(&old_deviator, &returned.new_deviator), 0.5);
     let deviatoric_work = tensor::contract(&mean_deviator, &deviatoric_increment) * mid_volume;
     let energy_before_pressure_work = state.internal_energy + deviatoric_work;
     let mut energy =
@@ -605,54 +764,27 @@ fn compute(
     if energy_denominator != 1.0 {
         energy /= energy_denominator;
     }
-    let mut pressure = terms.pressure(energy);
-    let mut bulk_tangent = (1.0 + mu) * terms.d_pressure_d_mu(energy)
+    let pressure = terms.pressure(energy);
+    let bulk_tangent = (1.0 + mu) * terms.d_pressure_d_mu(energy)
         + terms.energy_coefficient * pressure * input.relative_volume;
 
     // 5. Damage, failure, erosion, cut-offs.
-    let mut deviator = new_deviator;
-    let mut failed = failed_before;
-    if !failed && plastic_increment > 0.0 {
-        if let Some(jc) = &material.failure.johnson_cook {
-            let equivalent = tensor::von_mises(&deviator);
-            let triaxiality = if equivalent > 0.0 {
-                -pressure / equivalent
-            } else {
-                0.0
-            };
-            let failure_strain =
-                jc.failure_strain(triaxiality, plastic_strain_rate, state.temperature);
-            next.damage = state.damage + plastic_increment / failure_strain;
-            if next.damage >= 1.0 {
-                next.damage = 1.0;
-                failed = true;
-                next.flags.insert(StateFlags::FAILED);
-                if material.failure.erode_on_failure {
-                    next.flags.insert(StateFlags::ERODE);
-                }
-            }
-        }
-    }
-    if let Some(limit) = material.failure.erosion_plastic_strain {
-        if next.plastic_strain >= limit {
-            next.flags.insert(StateFlags::ERODE);
-        }
-    }
-    let mut pressure_floor = material.failure.pressure_cutoff;
-    if failed {
-        deviator = tensor::ZERO;
-        pressure_floor = Some(0.0);
-    }
-    if let Some(floor) = pressure_floor {
-        if pressure < floor {
-            pressure = floor;
-            bulk_tangent = 0.0;
-            next.flags.insert(StateFlags::PRESSURE_CUTOFF);
-            energy = energy_before_pressure_work - 0.5 * (old_pressure + pressure) * volume_change;
-        }
-    }
-
-    next.stress = tensor::from_deviator_and_pressure(&deviator, pressure);
+    let cut = fail_and_cut(
+        material,
+        state,
+        &mut next,
+        returned.new_deviator,
+        pressure,
+        bulk_tangent,
+        energy,
+        plastic_increment,
+        plastic_strain_rate,
+        energy_before_pressure_work,
+        old_pressure,
+        volume_change,
+    );
+    let energy = cut.energy;
+    next.stress = tensor::from_deviator_and_pressure(&cut.deviator, cut.pressure);
     next.relative_volume = input.relative_volume;
     next.internal_energy = energy;
     next.eos_history = eos_history;
@@ -666,25 +798,7 @@ fn compute(
         shear,
     );
 
-    let v = next.values();
-    if !crate::math::all_finite(&[
-        v[0],
-        v[1],
-        v[2],
-        v[3],
-        v[4],
-        v[5],
-        v[6],
-        v[7],
-        v[8],
-        v[9],
-        v[10],
-        v[11],
-        v[12],
-        wave_speed,
-        yield_stress,
-        plastic_increment,
-    ]) {
+    if !finite_result(&next, wave_speed, yield_stress, plastic_increment) {
         return Err(UpdateError::NonFiniteResult);
     }
     Ok(Step {
@@ -693,14 +807,14 @@ fn compute(
             wave_speed,
             plastic_increment,
             yield_stress,
-            iterations,
+            iterations: returned.iterations,
         },
-        bulk_tangent,
+        bulk_tangent: cut.bulk_tangent,
         trial,
-        return_fraction,
-        plastic_modulus,
-        plastic: plastic && !failed,
-        failed,
+        return_fraction: returned.return_fraction,
+        plastic_modulus: returned.plastic_modulus,
+        plastic: returned.plastic && !cut.failed,
+        failed: cut.failed,
     })
 }
 
