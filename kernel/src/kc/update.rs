@@ -20,7 +20,7 @@
 use super::surfaces::Strengths;
 use super::KcMaterial;
 use crate::error::UpdateError;
-use crate::rht::update::check_input;
+use crate::rht::update::{book_energy, check_input, pressure_predictor};
 use crate::rht::{strain_rate, Lode};
 use crate::state::{MaterialState, StateFlags};
 use crate::tangent::central_difference_tangent;
@@ -156,6 +156,21 @@ fn to_zero_strength(used: f64, x: f64, lambda: f64, k: f64) -> Return {
     }
 }
 
+/// The damage measure's growth per unit plastic strain, `1 / (r_f (1 + p / (r_f f_t))^b)`
+/// with `b = b1` in compression and `b2` in tension (the base held at 0.01 or more).
+#[inline(always)]
+fn damage_growth(material: &KcMaterial, pressure: f64, rate_factor: f64) -> f64 {
+    let params = &material.parameters;
+    let base = 1.0 + pressure / (rate_factor * params.tensile_strength);
+    let base = if base > 0.01 { base } else { 0.01 };
+    let exponent = if pressure >= 0.0 {
+        params.compression_damage_exponent
+    } else {
+        params.tension_damage_exponent
+    };
+    1.0 / (rate_factor * crate::math::pow(base, exponent))
+}
+
 fn compute(
     material: &KcMaterial,
     state: &MaterialState,
@@ -178,15 +193,8 @@ fn compute(
     let eta_n = table.eta_at(lambda_n);
 
     // 1. EoS pressure predictor (volumetric work only).
-    let volume_change = input.relative_volume - state.relative_volume;
-    let mid_volume = 0.5 * (input.relative_volume + state.relative_volume);
-    let mu = 1.0 / input.relative_volume - 1.0;
-    let (terms, eos_history) = material.eos.evaluate(mu, state.eos_history);
-    let old_pressure = state.pressure();
-    let predictor_energy = (state.internal_energy
-        - 0.5 * (old_pressure + terms.base) * volume_change)
-        / (1.0 + 0.5 * terms.energy_coefficient * volume_change);
-    let eos_pressure = terms.pressure(predictor_energy);
+    let predictor = pressure_predictor(&material.eos, state, input);
+    let eos_pressure = predictor.pressure;
 
     // 2. Rate factor; tension cut-off.
     let rate = strain_rate(&input.strain_increment, dt);
@@ -215,14 +223,7 @@ fn compute(
     let strengths = params.strengths(pressure, lode, rate_factor);
     let current = strengths.at(eta_n, post_peak);
     let result = if trial_equivalent > current {
-        let base = 1.0 + pressure / (rate_factor * params.tensile_strength);
-        let base = if base > 0.01 { base } else { 0.01 };
-        let exponent = if pressure >= 0.0 {
-            params.compression_damage_exponent
-        } else {
-            params.tension_damage_exponent
-        };
-        let growth = 1.0 / (rate_factor * crate::math::pow(base, exponent));
+        let growth = damage_growth(material, pressure, rate_factor);
         radial_return(
             material,
             &strengths,
@@ -255,20 +256,18 @@ fn compute(
     next.damage = damage_measure(result.lambda, peak_lambda, eta);
 
     // 5. Energy with the stored pressure, wave speed.
-    let mut volumetric_energy = predictor_energy;
-    if pressure != eos_pressure {
-        next.flags.insert(StateFlags::PRESSURE_CUTOFF);
-        volumetric_energy = state.internal_energy - 0.5 * (old_pressure + pressure) * volume_change;
-    }
-    let mean_deviator = tensor::scale(&tensor::add(&old_deviator, &new_deviator), 0.5);
-    let deviatoric_work = tensor::contract(&mean_deviator, &deviatoric_increment) * mid_volume;
-    let energy = volumetric_energy + deviatoric_work;
-    next.stress = tensor::from_deviator_and_pressure(&new_deviator, pressure);
-    next.relative_volume = input.relative_volume;
-    next.internal_energy = energy;
-    next.eos_history = eos_history;
+    let energy = book_energy(
+        state,
+        &mut next,
+        &predictor,
+        pressure,
+        &old_deviator,
+        &new_deviator,
+        &deviatoric_increment,
+        input.relative_volume,
+    );
     let wave_speed = crate::eos::longitudinal_wave_speed(
-        &terms,
+        &predictor.terms,
         energy,
         material.density,
         input.relative_volume,

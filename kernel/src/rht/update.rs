@@ -32,12 +32,13 @@
 //! `E1`. The energy bookkeeping itself is exact.
 
 use super::surfaces::{Lode, Surfaces};
-use super::{RhtMaterial, TensileFailure};
+use super::{RhtMaterial, RhtParameters, TensileFailure};
+use crate::eos::{EnergyLinearPressure, Eos};
 use crate::error::UpdateError;
 use crate::math::{clamp, sqrt};
 use crate::state::{MaterialState, StateFlags};
 use crate::tangent::central_difference_tangent;
-use crate::tensor::{self, Matrix6};
+use crate::tensor::{self, Matrix6, Sym};
 use crate::update::{StepInput, StepOutput};
 
 /// Update `state` over one step with the RHT model. On error, `state` is unchanged.
@@ -172,6 +173,202 @@ fn radial_return(
     }
 }
 
+/// Step 1 of the concrete updates (RHT, K&C): the EoS pressure predictor with the volumetric
+/// work only, `e* = (e_n - (p_n + p_base) dV / 2) / (1 + Gamma-term dV / 2)`.
+pub(crate) struct Predictor {
+    pub volume_change: f64,
+    pub mid_volume: f64,
+    pub terms: EnergyLinearPressure,
+    pub eos_history: f64,
+    pub old_pressure: f64,
+    pub energy: f64,
+    pub pressure: f64,
+}
+
+/// The predictor of `eos` for the step from `state` to `input`'s relative volume.
+#[inline(always)]
+pub(crate) fn pressure_predictor(eos: &Eos, state: &MaterialState, input: &StepInput) -> Predictor {
+    let volume_change = input.relative_volume - state.relative_volume;
+    let mid_volume = 0.5 * (input.relative_volume + state.relative_volume);
+    let mu = 1.0 / input.relative_volume - 1.0;
+    let (terms, eos_history) = eos.evaluate(mu, state.eos_history);
+    let old_pressure = state.pressure();
+    let energy = (state.internal_energy - 0.5 * (old_pressure + terms.base) * volume_change)
+        / (1.0 + 0.5 * terms.energy_coefficient * volume_change);
+    let pressure = terms.pressure(energy);
+    Predictor {
+        volume_change,
+        mid_volume,
+        terms,
+        eos_history,
+        old_pressure,
+        energy,
+        pressure,
+    }
+}
+
+/// The last step of the concrete updates: the energy (volumetric work with the stored
+/// pressure, redone when a limit changed it from the predictor's, plus the deviatoric work)
+/// and the new stress, volume and EoS history in `next`. Returns the energy.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn book_energy(
+    state: &MaterialState,
+    next: &mut MaterialState,
+    predictor: &Predictor,
+    pressure: f64,
+    old_deviator: &Sym,
+    new_deviator: &Sym,
+    deviatoric_increment: &Sym,
+    relative_volume: f64,
+) -> f64 {
+    let mut volumetric_energy = predictor.energy;
+    if pressure != predictor.pressure {
+        next.flags.insert(StateFlags::PRESSURE_CUTOFF);
+        volumetric_energy = state.internal_energy
+            - 0.5 * (predictor.old_pressure + pressure) * predictor.volume_change;
+    }
+    let mean_deviator = tensor::scale(&tensor::add(old_deviator, new_deviator), 0.5);
+    let deviatoric_work =
+        tensor::contract(&mean_deviator, deviatoric_increment) * predictor.mid_volume;
+    let energy = volumetric_energy + deviatoric_work;
+    next.stress = tensor::from_deviator_and_pressure(new_deviator, pressure);
+    next.relative_volume = relative_volume;
+    next.internal_energy = energy;
+    next.eos_history = predictor.eos_history;
+    energy
+}
+
+/// Step 2's tensile limit: the hydrostatic tensile limit fails the point (`failed` set), a
+/// failed point carries no tension, and the pressure cut-off option holds the pressure at the
+/// limit. Returns the pressure.
+#[inline(always)]
+fn tensile_limit(
+    params: &RhtParameters,
+    mut pressure: f64,
+    rate_factor: f64,
+    damage_before: f64,
+    failed: &mut bool,
+) -> f64 {
+    let hydro = params.tensile_failure == TensileFailure::HydroTensileLimit;
+    if hydro && !*failed && pressure < params.hydro_tensile_limit(rate_factor, damage_before) {
+        *failed = true;
+    }
+    if *failed && pressure < 0.0 {
+        pressure = 0.0;
+    }
+    if params.tensile_failure == TensileFailure::PressureCutoff && !*failed {
+        let limit = params.hydro_tensile_limit(rate_factor, damage_before);
+        if pressure < limit {
+            pressure = limit;
+        }
+    }
+    pressure
+}
+
+/// Steps 4-5: the current strength (the residual surface once failed, else between the
+/// elastic and failure surfaces by hardening and damage) and the return onto it.
+#[inline(always)]
+fn surface_return(
+    surfaces: &Surfaces,
+    shear: f64,
+    trial_equivalent: f64,
+    plastic_strain: f64,
+    damage_before: f64,
+    failed: bool,
+) -> (f64, Return) {
+    let (current, damage) = if failed {
+        (surfaces.residual, 1.0)
+    } else {
+        (
+            surfaces.current(plastic_strain, damage_before),
+            damage_before,
+        )
+    };
+    // A strength is never negative (round-off of (1 - D) Y_fail + D Y_resid near D = 1).
+    let current = if current > 0.0 { current } else { 0.0 };
+    let result = if trial_equivalent > current {
+        if failed {
+            Return {
+                increment: (trial_equivalent - current) / (3.0 * shear),
+                equivalent: current,
+                damage: 1.0,
+            }
+        } else {
+            radial_return(surfaces, shear, trial_equivalent, plastic_strain, damage)
+        }
+    } else {
+        Return {
+            increment: 0.0,
+            equivalent: trial_equivalent,
+            damage,
+        }
+    };
+    (current, result)
+}
+
+/// The principal-stress tensile failure option: the largest principal stress at or above the
+/// (rate-enhanced) tensile strength fails the point; its tension goes and its deviator
+/// returns to the residual strength. Returns whether it failed.
+#[inline(always)]
+fn principal_stress_failure(
+    params: &RhtParameters,
+    surfaces: &Surfaces,
+    lode: Lode,
+    rate: f64,
+    shear: f64,
+    pressure: &mut f64,
+    result: &mut Return,
+) -> bool {
+    let largest = lode.largest_principal_deviator(result.equivalent) - *pressure;
+    let (_, tension_factor) = params.rate_factors(rate);
+    if largest < tension_factor * params.tensile_strength() {
+        return false;
+    }
+    result.damage = 1.0;
+    if *pressure < 0.0 {
+        *pressure = 0.0;
+    }
+    let residual = params.residual_strength(*pressure);
+    let residual = if residual < surfaces.failure {
+        residual
+    } else {
+        surfaces.failure
+    };
+    if result.equivalent > residual {
+        result.increment += (result.equivalent - residual) / (3.0 * shear);
+        result.equivalent = residual;
+    }
+    true
+}
+
+/// The return's history: plastic strain and rate, damage, and the plastic, failed and erode
+/// flags.
+#[inline(always)]
+fn book_return(
+    material: &RhtMaterial,
+    state: &MaterialState,
+    next: &mut MaterialState,
+    result: &Return,
+    failed: bool,
+    dt: f64,
+) {
+    if result.increment > 0.0 {
+        next.flags.insert(StateFlags::PLASTIC);
+    }
+    next.plastic_strain = state.plastic_strain + result.increment;
+    next.plastic_strain_rate = result.increment / dt;
+    next.damage = if failed { 1.0 } else { result.damage };
+    if failed {
+        next.flags.insert(StateFlags::FAILED);
+    }
+    if let Some(limit) = material.erosion_plastic_strain {
+        if next.plastic_strain >= limit {
+            next.flags.insert(StateFlags::ERODE);
+        }
+    }
+}
+
 fn compute(
     material: &RhtMaterial,
     state: &MaterialState,
@@ -191,34 +388,15 @@ fn compute(
     let mut failed = damage_before >= 1.0;
 
     // 1. EoS pressure predictor (volumetric work only).
-    let volume_change = input.relative_volume - state.relative_volume;
-    let mid_volume = 0.5 * (input.relative_volume + state.relative_volume);
-    let mu = 1.0 / input.relative_volume - 1.0;
-    let (terms, eos_history) = material.eos.evaluate(mu, state.eos_history);
-    let old_pressure = state.pressure();
-    let predictor_energy = (state.internal_energy
-        - 0.5 * (old_pressure + terms.base) * volume_change)
-        / (1.0 + 0.5 * terms.energy_coefficient * volume_change);
-    let eos_pressure = terms.pressure(predictor_energy);
+    let predictor = pressure_predictor(&material.eos, state, input);
+    let eos_pressure = predictor.pressure;
     let mut pressure = eos_pressure;
 
     // 2. Rate factor; hydro tensile limit.
     let deviatoric_increment = tensor::deviator(&input.strain_increment);
     let rate = strain_rate(&input.strain_increment, dt);
     let rate_factor = params.rate_factor(rate, pressure);
-    let hydro = params.tensile_failure == TensileFailure::HydroTensileLimit;
-    if hydro && !failed && pressure < params.hydro_tensile_limit(rate_factor, damage_before) {
-        failed = true;
-    }
-    if failed && pressure < 0.0 {
-        pressure = 0.0;
-    }
-    if params.tensile_failure == TensileFailure::PressureCutoff && !failed {
-        let limit = params.hydro_tensile_limit(rate_factor, damage_before);
-        if pressure < limit {
-            pressure = limit;
-        }
-    }
+    pressure = tensile_limit(params, pressure, rate_factor, damage_before, &mut failed);
 
     // 3. Elastic predictor with the damaged shear modulus.
     let shear = params.damaged_shear_modulus(if failed { 1.0 } else { damage_before });
@@ -233,101 +411,51 @@ fn compute(
     // 4-5. Return onto the current surface; damage.
     let cap = material.cap_pressure();
     let surfaces = params.surfaces(pressure, lode, rate_factor, cap);
-    let (current, damage) = if failed {
-        (surfaces.residual, 1.0)
-    } else {
-        (
-            surfaces.current(state.plastic_strain, damage_before),
-            damage_before,
-        )
-    };
-    // A strength is never negative (round-off of (1 - D) Y_fail + D Y_resid near D = 1).
-    let current = if current > 0.0 { current } else { 0.0 };
-    let mut result = if trial_equivalent > current {
-        if failed {
-            Return {
-                increment: (trial_equivalent - current) / (3.0 * shear),
-                equivalent: current,
-                damage: 1.0,
-            }
-        } else {
-            radial_return(
-                &surfaces,
-                shear,
-                trial_equivalent,
-                state.plastic_strain,
-                damage,
-            )
-        }
-    } else {
-        Return {
-            increment: 0.0,
-            equivalent: trial_equivalent,
-            damage,
-        }
-    };
+    let (current, mut result) = surface_return(
+        &surfaces,
+        shear,
+        trial_equivalent,
+        state.plastic_strain,
+        damage_before,
+        failed,
+    );
     if result.damage >= 1.0 {
         failed = true;
     }
     if params.tensile_failure == TensileFailure::PrincipalStress && !failed {
-        let largest = lode.largest_principal_deviator(result.equivalent) - pressure;
-        let (_, tension_factor) = params.rate_factors(rate);
-        if largest >= tension_factor * params.tensile_strength() {
-            failed = true;
-            result.damage = 1.0;
-            if pressure < 0.0 {
-                pressure = 0.0;
-            }
-            let residual = params.residual_strength(pressure);
-            let residual = if residual < surfaces.failure {
-                residual
-            } else {
-                surfaces.failure
-            };
-            if result.equivalent > residual {
-                result.increment += (result.equivalent - residual) / (3.0 * shear);
-                result.equivalent = residual;
-            }
-        }
+        failed = principal_stress_failure(
+            params,
+            &surfaces,
+            lode,
+            rate,
+            shear,
+            &mut pressure,
+            &mut result,
+        );
     }
     let new_deviator = if trial_equivalent > 0.0 {
         tensor::scale(&trial, result.equivalent / trial_equivalent)
     } else {
         trial
     };
-    if result.increment > 0.0 {
-        next.flags.insert(StateFlags::PLASTIC);
-    }
-    next.plastic_strain = state.plastic_strain + result.increment;
-    next.plastic_strain_rate = result.increment / dt;
-    next.damage = if failed { 1.0 } else { result.damage };
-    if failed {
-        next.flags.insert(StateFlags::FAILED);
-    }
-    if let Some(limit) = material.erosion_plastic_strain {
-        if next.plastic_strain >= limit {
-            next.flags.insert(StateFlags::ERODE);
-        }
-    }
+    book_return(material, state, &mut next, &result, failed, dt);
 
     // 6. Energy: volumetric work with the stored pressure (changed only by a failure's
     // pressure floor), plus the deviatoric work.
-    let mut volumetric_energy = predictor_energy;
-    if pressure != eos_pressure {
-        next.flags.insert(StateFlags::PRESSURE_CUTOFF);
-        volumetric_energy = state.internal_energy - 0.5 * (old_pressure + pressure) * volume_change;
-    }
-    let mean_deviator = tensor::scale(&tensor::add(&old_deviator, &new_deviator), 0.5);
-    let deviatoric_work = tensor::contract(&mean_deviator, &deviatoric_increment) * mid_volume;
-    let energy = volumetric_energy + deviatoric_work;
-    next.stress = tensor::from_deviator_and_pressure(&new_deviator, pressure);
-    next.relative_volume = input.relative_volume;
-    next.internal_energy = energy;
-    next.eos_history = eos_history;
+    let energy = book_energy(
+        state,
+        &mut next,
+        &predictor,
+        pressure,
+        &old_deviator,
+        &new_deviator,
+        &deviatoric_increment,
+        input.relative_volume,
+    );
 
     // Wave speed with the undamaged shear modulus (the fastest wave, for the CFL step).
     let wave_speed = crate::eos::longitudinal_wave_speed(
-        &terms,
+        &predictor.terms,
         energy,
         material.density,
         input.relative_volume,
