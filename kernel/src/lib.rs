@@ -38,6 +38,7 @@ pub mod material;
 pub mod math;
 pub mod parameters;
 pub mod part_material;
+pub mod point_model;
 pub mod rht;
 pub mod state;
 pub mod strength;
@@ -45,9 +46,9 @@ pub mod tangent;
 pub mod tensor;
 pub mod update;
 
-pub use drivers::PointModel;
 pub use error::{ParameterError, UpdateError};
 pub use material::{Heating, Material, RateTreatment};
 pub use part_material::PartMaterial;
+pub use point_model::PointModel;
 pub use state::{MaterialState, StateFlags, YieldCheck};
 pub use update::{update, update_with_tangent, StepInput, StepOutput};

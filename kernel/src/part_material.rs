@@ -2,10 +2,10 @@
 //! the parts of an LS-DYNA or Autodyn model carry different `*MAT` cards (a steel projectile
 //! against a concrete target).
 
-use crate::drivers::PointModel;
 use crate::error::{ParameterError, UpdateError};
 use crate::kc::KcMaterial;
 use crate::material::Material;
+use crate::point_model::PointModel;
 use crate::rht::RhtMaterial;
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;

@@ -9,11 +9,12 @@
 use super::checks::{max_or_infinite, relative, CheckResult, Expectation};
 use super::golden::{steel_4340_gruneisen, table_5_2_compaction};
 use crate::history::History;
-use stoss_kernel::drivers::{hydrostatic, HydrostaticLoading, PointModel, Record};
+use stoss_kernel::drivers::{hydrostatic, HydrostaticLoading, Record};
 use stoss_kernel::eos::{
     Eos, Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial, TabulatedCompaction,
 };
 use stoss_kernel::rht::RhtMaterial;
+use stoss_kernel::PointModel;
 use stoss_kernel::{Material, MaterialState, StateFlags};
 
 /// The fixture the tabulated-compaction rows compare with (seed 001 table 5.2, as printed),

@@ -18,12 +18,13 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use stoss_kernel::drivers::{
     hydrostatic, simple_shear, strain_path, uniaxial_strain, uniaxial_stress, DriverError,
-    HydrostaticLoading, PathPoint, PointModel, Record, SimpleShearLoading, UniaxialStrainLoading,
+    HydrostaticLoading, PathPoint, Record, SimpleShearLoading, UniaxialStrainLoading,
     UniaxialStressLoading,
 };
 use stoss_kernel::eos::{Eos, MieGruneisen, TabulatedCompaction};
 use stoss_kernel::kc::{KcMaterial, KcParameters};
 use stoss_kernel::rht::RhtMaterial;
+use stoss_kernel::PointModel;
 use stoss_kernel::{Material, MaterialState};
 
 /// A material point model of a golden case: a J2 metal, RHT or K&C concrete.

@@ -59,9 +59,9 @@ pub use surfaces::Strengths;
 pub use update::{damage_measure, update, update_with_tangent};
 
 use crate::damage::Failure;
-use crate::drivers::PointModel;
 use crate::eos::{Eos, TabulatedCompaction};
 use crate::error::{check, ParameterError, UpdateError};
+use crate::point_model::PointModel;
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;
 use crate::update::{StepInput, StepOutput};

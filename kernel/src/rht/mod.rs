@@ -114,9 +114,9 @@ pub use surfaces::{lode_factor_from_cos, Lode, Surfaces, COS_SHEAR_MERIDIAN};
 pub use update::{strain_rate, update, update_with_tangent};
 
 use crate::damage::Failure;
-use crate::drivers::PointModel;
 use crate::eos::{Eos, PAlpha, Polynomial};
 use crate::error::{check, ParameterError, UpdateError};
+use crate::point_model::PointModel;
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;
 use crate::update::{StepInput, StepOutput};
