@@ -16,6 +16,7 @@
 //! Lagrange step and the remap agree to round-off.
 
 use super::closure::{self, Phase};
+use super::CavityDrive;
 use super::{EulerError, EulerSolver, Wall, MAX_MATERIALS, MAX_PHASES};
 use crate::solver::axisymmetric::rotate_jaumann;
 use rayon::prelude::*;
@@ -177,6 +178,8 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     fn accelerate(&mut self, dt: f64) -> f64 {
         let forces = self.cell_forces();
         let masses = self.node_masses();
+        // A drive's work needs each node's velocity before the step.
+        let before = self.drive.map(|_| self.velocity.clone());
 
         let cells_r = self.grid.cells_r;
         let cells_z = self.grid.cells_z;
@@ -210,7 +213,47 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         // A wall node was at rest (in the constrained direction) and stays so: the wall's
         // reaction does no work, and the velocity the step gave it is not kinetic energy.
         apply_walls(self);
+        if let (Some(drive), Some(before)) = (self.drive, before) {
+            let driven = self.apply_drive(&drive, &masses, &before, dt);
+            self.energy.driven += driven * self.body_factor();
+        }
         hourglass * dt
+    }
+
+    /// Set the velocity of every node inside the drive's sphere at mid-step; returns the
+    /// work of the constraint over the step, `sum m (v_drive - v_free) . (v_drive + v_before)
+    /// / 2` (what the leapfrog's kinetic energy gains beyond the forces' work; per radian or
+    /// unit depth, as the nodal masses).
+    fn apply_drive(
+        &mut self,
+        drive: &CavityDrive,
+        masses: &[f64],
+        before: &[[f64; 2]],
+        dt: f64,
+    ) -> f64 {
+        let radius = drive.radius(self.time + 0.5 * dt);
+        let (h_r, h_z) = (self.grid.spacing_r, self.grid.spacing_z);
+        let nodes_r = self.nodes_r();
+        let origin_z = self.origin_z;
+        let mut added = 0.0;
+        for (n, v) in self.velocity.iter_mut().enumerate() {
+            let (i, j) = (n % nodes_r, n / nodes_r);
+            let offset = [i as f64 * h_r, origin_z + j as f64 * h_z - drive.center_z];
+            if offset[0] * offset[0] + offset[1] * offset[1] > radius * radius {
+                continue;
+            }
+            let driven = [
+                drive.speed * offset[0] / radius,
+                drive.speed * offset[1] / radius,
+            ];
+            let old = before[n];
+            added += 0.5
+                * masses[n]
+                * ((driven[0] - v[0]) * (driven[0] + old[0])
+                    + (driven[1] - v[1]) * (driven[1] + old[1]));
+            *v = driven;
+        }
+        added
     }
 
     /// The volumes the faces sweep over `dt` at the current velocities.
