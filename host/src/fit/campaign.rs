@@ -316,8 +316,9 @@ impl Campaign {
     /// Load a campaign, its base material and every experiment. Errors name file, line, field.
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = input::read_text(path)?;
-        let file: CampaignFile = input::parse_toml(path, &text)?;
-        check_bound_pairs(path, &text)?;
+        let document = input::parse_document(path, &text)?;
+        let file: CampaignFile = input::typed(path, &document.si)?;
+        check_bound_pairs(path, &text, &document.tree)?;
         let folder = path.parent().unwrap_or(Path::new("."));
         let (base, _) = material::load_part(&folder.join(&file.material))?;
         check_models(path, &text, &file)?;
@@ -452,21 +453,18 @@ impl Campaign {
 
 /// Bounds are `[lower, upper]`: serde reads the first two numbers of a longer array and would
 /// drop the rest silently.
-fn check_bound_pairs(path: &Path, text: &str) -> Result<(), InputError> {
-    // and would drop the rest silently.
-    if let Ok(tree) = toml::from_str::<toml::Table>(text) {
-        let models = tree.get("models").and_then(toml::Value::as_array);
-        for (index, model) in models.into_iter().flatten().enumerate() {
-            let parameters = model.get("parameters").and_then(toml::Value::as_table);
-            for (name, bounds) in parameters.into_iter().flatten() {
-                if let Some(items) = bounds.as_array().filter(|a| a.len() != 2) {
-                    return Err(InputError::at(
-                        path,
-                        text,
-                        &["models", &index.to_string(), "parameters", name],
-                        format!("give [lower, upper], not {} numbers", items.len()),
-                    ));
-                }
+fn check_bound_pairs(path: &Path, text: &str, tree: &toml::Table) -> Result<(), InputError> {
+    let models = tree.get("models").and_then(toml::Value::as_array);
+    for (index, model) in models.into_iter().flatten().enumerate() {
+        let parameters = model.get("parameters").and_then(toml::Value::as_table);
+        for (name, bounds) in parameters.into_iter().flatten() {
+            if let Some(items) = bounds.as_array().filter(|a| a.len() != 2) {
+                return Err(InputError::at(
+                    path,
+                    text,
+                    &["models", &index.to_string(), "parameters", name],
+                    format!("give [lower, upper], not {} numbers", items.len()),
+                ));
             }
         }
     }

@@ -26,7 +26,7 @@
 //! `[eos]`, and optional erosion strains ([`RhtMaterialFile`]); [`load_part`] reads either
 //! family.
 
-use super::{parse_toml, read_text, InputError};
+use super::{parse_document, read_text, typed, Document, InputError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use stoss_kernel::damage::Failure;
@@ -298,8 +298,11 @@ fn shear_and_bulk(first: (&str, f64), second: (&str, f64)) -> Result<(f64, f64),
 /// Rewrite a metal file's elastic pair (any two of [`ELASTIC_KEYS`]) into the canonical
 /// `shear_modulus` and a linear `[eos]` bulk modulus. `Ok(None)`: the file gives
 /// `shear_modulus` alone, already canonical.
-fn canonical_elastic(path: &Path, text: &str) -> Result<Option<toml::Table>, InputError> {
-    let mut table: toml::Table = parse_toml(path, text)?;
+fn canonical_elastic(
+    path: &Path,
+    text: &str,
+    mut table: toml::Table,
+) -> Result<Option<toml::Table>, InputError> {
     let given: Vec<(&str, f64)> = ELASTIC_KEYS
         .iter()
         .filter_map(|&key| {
@@ -366,13 +369,22 @@ fn canonical_elastic(path: &Path, text: &str) -> Result<Option<toml::Table>, Inp
 /// `shear_modulus`, `bulk_modulus` at the top level); the bulk modulus then defines a linear
 /// EoS (an `[eos]` may be omitted, or be `kind = "linear"` without its own bulk modulus).
 pub fn parse(path: &Path, text: &str) -> Result<(MaterialFile, Material), InputError> {
-    let file: MaterialFile = match canonical_elastic(path, text)? {
-        None => parse_toml(path, text)?,
+    parse_metal(path, text, parse_document(path, text)?)
+}
+
+/// [`parse`] of a file read once ([`parse_document`]).
+fn parse_metal(
+    path: &Path,
+    text: &str,
+    document: Document<'_>,
+) -> Result<(MaterialFile, Material), InputError> {
+    let file: MaterialFile = match canonical_elastic(path, text, document.tree)? {
+        None => typed(path, &document.si)?,
         Some(table) => {
             let canonical = toml::to_string(&table)
                 .map_err(|e| InputError::field(path, text, "shear_modulus", e.to_string()))?;
             // Line numbers of the canonical text do not match the file: name fields only.
-            parse_toml::<MaterialFile>(path, &canonical).map_err(|error| match error {
+            typed::<MaterialFile>(path, &canonical).map_err(|error| match error {
                 InputError::Field { field, message, .. } => {
                     InputError::field(path, text, &field, message)
                 }
@@ -583,14 +595,14 @@ impl AnyMaterialFile {
 /// Parse a material file of any family: an RHT or K&C concrete file when its top level says
 /// `model = "rht"` or `model = "kc"`, a J2 metal file otherwise. Errors name `path`, the line and the field.
 pub fn parse_part(path: &Path, text: &str) -> Result<(AnyMaterialFile, PartMaterial), InputError> {
-    let table: toml::Table = parse_toml(path, text)?;
-    match table.get("model") {
+    let document = parse_document(path, text)?;
+    match document.tree.get("model") {
         None => {
-            let (file, material) = parse(path, text)?;
+            let (file, material) = parse_metal(path, text, document)?;
             Ok((AnyMaterialFile::J2(file), material.into()))
         }
         Some(toml::Value::String(model)) if model == "rht" => {
-            let file: RhtMaterialFile = parse_toml(path, text)?;
+            let file: RhtMaterialFile = typed(path, &document.si)?;
             let material = file.material().map_err(|error| {
                 let field = parameter_field(&error);
                 InputError::field(path, text, field, error.to_string())
@@ -598,7 +610,7 @@ pub fn parse_part(path: &Path, text: &str) -> Result<(AnyMaterialFile, PartMater
             Ok((AnyMaterialFile::Rht(file), material.into()))
         }
         Some(toml::Value::String(model)) if model == "kc" => {
-            let file: KcMaterialFile = parse_toml(path, text)?;
+            let file: KcMaterialFile = typed(path, &document.si)?;
             let material = file.material().map_err(|error| {
                 let field = parameter_field(&error);
                 InputError::field(path, text, field, error.to_string())

@@ -330,12 +330,31 @@ fn quantities_in_si<'t>(
 /// Quantities may be SI numbers or strings with a unit (`"25.4 mm"`, `"130 m/s"`, `"92 MPa"`),
 /// converted to SI first ([`units`]).
 pub fn parse_toml<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, InputError> {
+    let document = parse_document(path, text)?;
+    typed(path, &document.si)
+}
+
+/// A TOML file read once: its text with the quantities in SI ([`units`]) and its tree, whose
+/// numbers are checked. Typed views of it ([`typed`]) parse the SI text again, for the line
+/// numbers of their errors; everything else reads the tree.
+pub struct Document<'a> {
+    /// The text with every quantity in SI.
+    pub si: std::borrow::Cow<'a, str>,
+    /// Its tree.
+    pub tree: toml::Table,
+}
+
+/// Read `text` (of `path`) once: quantities to SI, the tree, its numbers checked.
+pub fn parse_document<'a>(path: &Path, text: &'a str) -> Result<Document<'a>, InputError> {
     let si = quantities_in_si(path, text)?;
-    let text: &str = &si;
-    // Syntax errors are reported by the typed parse below, with their field.
-    if let Ok(tree) = toml::from_str::<toml::Table>(text) {
-        check_numbers(path, text, "", &tree)?;
-    }
+    let tree: toml::Table = typed(path, &si)?;
+    check_numbers(path, &si, "", &tree)?;
+    Ok(Document { si, tree })
+}
+
+/// `T` from TOML text already in SI, its errors turned into [`InputError::Field`] with the
+/// field and line.
+pub fn typed<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, InputError> {
     toml::from_str(text).map_err(|error| {
         let message = error.message().to_string();
         // Name the field. toml puts a field's name in backticks only in "unknown field",
