@@ -3,11 +3,8 @@
 //! (`Campaign::space` in the calibration) and read by both the calibration and the
 //! diagnosis; bounds map to unit coordinates through [`super::unit_cube`].
 
-use crate::input::material::{AnyMaterialFile, KcMaterialFile, RhtMaterialFile, StrengthSpec};
-use stoss_kernel::eos::Polynomial;
-use stoss_kernel::kc::KcParameters;
-use stoss_kernel::parameters::{ConstantPaths, Parameter};
-use stoss_kernel::rht::RhtParameters;
+use crate::input::material::{AnyMaterialFile, StrengthSpec};
+use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::PartMaterial;
 
 /// A model of a campaign, resolved: its strength and the names and bounds of its fitted
@@ -44,35 +41,6 @@ impl ModelSpace {
         Ok(strength)
     }
 
-    /// The K&C file `base` with `values` at the fitted constants' paths.
-    fn kc_with(&self, base: &KcMaterialFile, values: &[f64]) -> Result<KcMaterialFile, String> {
-        let mut file = base.clone();
-        for (name, value) in self.names.iter().zip(values) {
-            *file.constant_slot(name).ok_or_else(|| {
-                format!(
-                    "`{name}` is not a constant of the K&C file (`density`, \
-                     `parameters.<name>` such as `parameters.tension_damage_exponent`, or \
-                     `eos.<name>`)"
-                )
-            })? = *value;
-        }
-        Ok(file)
-    }
-
-    /// The RHT file `base` with `values` at the fitted constants' paths.
-    fn rht_with(&self, base: &RhtMaterialFile, values: &[f64]) -> Result<RhtMaterialFile, String> {
-        let mut file = base.clone();
-        for (name, value) in self.names.iter().zip(values) {
-            *file.constant_slot(name).ok_or_else(|| {
-                format!(
-                    "`{name}` is not a constant of the RHT file (`density`, \
-                     `parameters.<name>` such as `parameters.residual_b`, or `eos.<name>`)"
-                )
-            })? = *value;
-        }
-        Ok(file)
-    }
-
     /// The kernel material: the campaign's base material with this model's constants, and
     /// the material file that says so.
     pub fn material(
@@ -80,15 +48,18 @@ impl ModelSpace {
         base: &AnyMaterialFile,
         values: &[f64],
     ) -> Result<(AnyMaterialFile, PartMaterial), String> {
-        let file = match base {
-            AnyMaterialFile::J2(base) => {
-                let mut file = base.clone();
-                file.strength = self.strength_with(values)?;
-                AnyMaterialFile::J2(file)
+        let mut file = base.clone();
+        if let AnyMaterialFile::J2(metal) = &mut file {
+            metal.strength = self.strength_with(values)?;
+        } else {
+            let family = file.family_mut();
+            for (name, value) in self.names.iter().zip(values) {
+                let (kind, paths) = (family.family(), family.constant_paths());
+                *family.constant_slot(name).ok_or_else(|| {
+                    format!("`{name}` is not a constant of the {kind} file ({paths})")
+                })? = *value;
             }
-            AnyMaterialFile::Rht(base) => AnyMaterialFile::Rht(self.rht_with(base, values)?),
-            AnyMaterialFile::Kc(base) => AnyMaterialFile::Kc(self.kc_with(base, values)?),
-        };
+        }
         let material = file.material().map_err(|e| e.to_string())?;
         Ok((file, material))
     }
@@ -100,13 +71,13 @@ impl ModelSpace {
             .iter()
             .map(|name| match (&self.strength, base) {
                 (Some(strength), _) => strength.get(name),
-                (None, AnyMaterialFile::Rht(file)) => {
-                    file.clone().constant_slot(name).map(|value| *value)
-                }
-                (None, AnyMaterialFile::Kc(file)) => {
-                    file.clone().constant_slot(name).map(|value| *value)
-                }
+                // A metal's fitted constants are its strength model's.
                 (None, AnyMaterialFile::J2(_)) => None,
+                (None, _) => base
+                    .clone()
+                    .family_mut()
+                    .constant_slot(name)
+                    .map(|value| *value),
             })
             .collect()
     }
@@ -121,24 +92,7 @@ impl ModelSpace {
                 if let Some((_, p)) = strength.iter().find(|(n, _)| n == name) {
                     return p.unit;
                 }
-                let (parameters, eos): (&'static [Parameter], _) = match base {
-                    AnyMaterialFile::Rht(file) => (RhtParameters::PARAMETERS, file.eos),
-                    AnyMaterialFile::Kc(file) => (KcParameters::PARAMETERS, file.eos),
-                    AnyMaterialFile::J2(_) => return "?",
-                };
-                let described = |parameters: &'static [Parameter], name: &str| {
-                    parameters.iter().find(|p| p.name == name).map(|p| p.unit)
-                };
-                match name.split_once('.') {
-                    None if name == "density" => Some("kg/m^3"),
-                    Some(("parameters", n)) => described(parameters, n),
-                    Some(("eos", n)) => match (n.strip_prefix("solid."), eos) {
-                        (Some(n), _) => described(Polynomial::PARAMETERS, n),
-                        (None, eos) => described(eos.constants(), n),
-                    },
-                    _ => None,
-                }
-                .unwrap_or("?")
+                base.family().constant_unit(name).unwrap_or("?")
             })
             .collect()
     }

@@ -453,17 +453,6 @@ pub struct RhtMaterialFile {
 }
 
 impl RhtMaterialFile {
-    /// The constant at `path`, mutably: `density`, `parameters.<name>` (the kernel's
-    /// description of [`RhtParameters`]) or `eos.<name>`.
-    pub fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
-        match path.split_once('.') {
-            None if path == "density" => Some(&mut self.density),
-            Some(("parameters", name)) => self.parameters.named_slot(name),
-            Some(("eos", name)) => self.eos.slot(name),
-            _ => None,
-        }
-    }
-
     /// The kernel material, validated.
     pub fn material(&self) -> Result<RhtMaterial, ParameterError> {
         let material = RhtMaterial {
@@ -516,17 +505,6 @@ pub struct KcMaterialFile {
 }
 
 impl KcMaterialFile {
-    /// The constant at `path` (`density`, `parameters.<name>` of the described scalars, or
-    /// `eos.<name>`), mutably; `None` if there is none.
-    pub fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
-        match path.split_once('.') {
-            None if path == "density" => Some(&mut self.density),
-            Some(("parameters", name)) => self.parameters.named_slot(name),
-            Some(("eos", name)) => self.eos.slot(name),
-            _ => None,
-        }
-    }
-
     /// The kernel material, validated.
     pub fn material(&self) -> Result<KcMaterial, ParameterError> {
         let material = KcMaterial {
@@ -551,44 +529,203 @@ pub enum AnyMaterialFile {
     Kc(KcMaterialFile),
 }
 
+/// What stoss asks of a material file whatever its family (J2 metal, RHT, K&C concrete):
+/// [`AnyMaterialFile`] hands out its family behind this trait instead of matching at each use.
+pub trait MaterialFamily {
+    /// The family's name in messages (`J2`, `RHT`, `K&C`).
+    fn family(&self) -> &'static str;
+    /// Display name.
+    fn name(&self) -> &str;
+    /// Name the file and say where its constants come from.
+    fn rename(&mut self, name: String, source: String);
+    /// The kernel material, validated.
+    fn part_material(&self) -> Result<PartMaterial, ParameterError>;
+    /// Render as TOML (the format [`load_part`] reads).
+    fn to_toml(&self) -> String;
+    /// The constant at a dotted path (`density`, `parameters.<name>`, `eos.<name>` of a
+    /// concrete; `strength.<name>`, `heating.<name>`, `eos.<name>` and the top-level
+    /// constants of a metal), mutably; `None` where the family has no such path.
+    fn constant_slot(&mut self, path: &str) -> Option<&mut f64>;
+    /// The SI unit of the constant at a dotted path, from the kernel's descriptions.
+    fn constant_unit(&self, path: &str) -> Option<&'static str>;
+    /// What a dotted path may name, for messages.
+    fn constant_paths(&self) -> &'static str;
+}
+
+/// A concrete file's constant at a dotted path (RHT and K&C files share the layout).
+fn concrete_slot<'a, P: Constants>(
+    density: &'a mut f64,
+    parameters: &'a mut P,
+    eos: &'a mut Eos,
+    path: &str,
+) -> Option<&'a mut f64> {
+    match path.split_once('.') {
+        None if path == "density" => Some(density),
+        Some(("parameters", name)) => parameters.named_slot(name),
+        Some(("eos", name)) => eos.slot(name),
+        _ => None,
+    }
+}
+
+/// The SI unit of a concrete file's constant at a dotted path.
+fn concrete_unit(parameters: &'static [Parameter], eos: &Eos, path: &str) -> Option<&'static str> {
+    let described = |parameters: &'static [Parameter], name: &str| {
+        parameters.iter().find(|p| p.name == name).map(|p| p.unit)
+    };
+    match path.split_once('.') {
+        None if path == "density" => Some("kg/m^3"),
+        Some(("parameters", n)) => described(parameters, n),
+        Some(("eos", n)) => match n.strip_prefix("solid.") {
+            Some(n) => described(stoss_kernel::eos::Polynomial::PARAMETERS, n),
+            None => described(eos.constants(), n),
+        },
+        _ => None,
+    }
+}
+
+impl MaterialFamily for MaterialFile {
+    fn family(&self) -> &'static str {
+        "J2"
+    }
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn rename(&mut self, name: String, source: String) {
+        self.name = name;
+        self.source = source;
+    }
+    fn part_material(&self) -> Result<PartMaterial, ParameterError> {
+        Ok(self.material()?.into())
+    }
+    fn to_toml(&self) -> String {
+        MaterialFile::to_toml(self)
+    }
+    fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
+        MaterialFile::constant_slot(self, path)
+    }
+    fn constant_unit(&self, path: &str) -> Option<&'static str> {
+        let described = |parameters: &'static [Parameter], name: &str| {
+            parameters.iter().find(|p| p.name == name).map(|p| p.unit)
+        };
+        match path.split_once('.') {
+            None => match path {
+                "density" => Some("kg/m^3"),
+                "shear_modulus" => Some("Pa"),
+                "specific_heat" => Some("J/(kg K)"),
+                _ => None,
+            },
+            Some(("strength", name)) => self
+                .strength
+                .constants()
+                .into_iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, p)| p.unit),
+            Some(("heating", name)) => described(self.heating.parameters(), name),
+            Some(("eos", name)) => described(self.eos.constants(), name),
+            Some(_) => None,
+        }
+    }
+    fn constant_paths(&self) -> &'static str {
+        "`density`, `shear_modulus`, `specific_heat`, `strength.<name>`, `heating.<name>` or \
+         `eos.<name>`"
+    }
+}
+
+impl MaterialFamily for RhtMaterialFile {
+    fn family(&self) -> &'static str {
+        "RHT"
+    }
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn rename(&mut self, name: String, source: String) {
+        self.name = name;
+        self.source = source;
+    }
+    fn part_material(&self) -> Result<PartMaterial, ParameterError> {
+        Ok(self.material()?.into())
+    }
+    fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+    fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
+        concrete_slot(&mut self.density, &mut self.parameters, &mut self.eos, path)
+    }
+    fn constant_unit(&self, path: &str) -> Option<&'static str> {
+        concrete_unit(RhtParameters::PARAMETERS, &self.eos, path)
+    }
+    fn constant_paths(&self) -> &'static str {
+        "`density`, `parameters.<name>` such as `parameters.residual_b`, or `eos.<name>`"
+    }
+}
+
+impl MaterialFamily for KcMaterialFile {
+    fn family(&self) -> &'static str {
+        "K&C"
+    }
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn rename(&mut self, name: String, source: String) {
+        self.name = name;
+        self.source = source;
+    }
+    fn part_material(&self) -> Result<PartMaterial, ParameterError> {
+        Ok(self.material()?.into())
+    }
+    fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+    fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
+        concrete_slot(&mut self.density, &mut self.parameters, &mut self.eos, path)
+    }
+    fn constant_unit(&self, path: &str) -> Option<&'static str> {
+        concrete_unit(KcParameters::PARAMETERS, &self.eos, path)
+    }
+    fn constant_paths(&self) -> &'static str {
+        "`density`, `parameters.<name>` such as `parameters.tension_damage_exponent`, or \
+         `eos.<name>`"
+    }
+}
+
 impl AnyMaterialFile {
+    /// The file behind the family trait.
+    pub fn family(&self) -> &dyn MaterialFamily {
+        match self {
+            AnyMaterialFile::J2(file) => file,
+            AnyMaterialFile::Rht(file) => file,
+            AnyMaterialFile::Kc(file) => file,
+        }
+    }
+
+    /// The file behind the family trait, mutably.
+    pub fn family_mut(&mut self) -> &mut dyn MaterialFamily {
+        match self {
+            AnyMaterialFile::J2(file) => file,
+            AnyMaterialFile::Rht(file) => file,
+            AnyMaterialFile::Kc(file) => file,
+        }
+    }
+
     /// Name the file (and say where its constants come from), as a calibration does for the
     /// material it writes: the constants are no longer the starting material's.
     pub fn rename(&mut self, name: String, source: String) {
-        let (n, s) = match self {
-            AnyMaterialFile::J2(file) => (&mut file.name, &mut file.source),
-            AnyMaterialFile::Rht(file) => (&mut file.name, &mut file.source),
-            AnyMaterialFile::Kc(file) => (&mut file.name, &mut file.source),
-        };
-        *n = name;
-        *s = source;
+        self.family_mut().rename(name, source);
     }
 
     /// Display name.
     pub fn name(&self) -> &str {
-        match self {
-            AnyMaterialFile::J2(file) => &file.name,
-            AnyMaterialFile::Rht(file) => &file.name,
-            AnyMaterialFile::Kc(file) => &file.name,
-        }
+        self.family().name()
     }
 
     /// The kernel material, validated.
     pub fn material(&self) -> Result<PartMaterial, ParameterError> {
-        Ok(match self {
-            AnyMaterialFile::J2(file) => file.material()?.into(),
-            AnyMaterialFile::Rht(file) => file.material()?.into(),
-            AnyMaterialFile::Kc(file) => file.material()?.into(),
-        })
+        self.family().part_material()
     }
 
     /// Render as TOML (the format [`load_part`] reads).
     pub fn to_toml(&self) -> String {
-        match self {
-            AnyMaterialFile::J2(file) => file.to_toml(),
-            AnyMaterialFile::Rht(file) => toml::to_string(file).unwrap_or_default(),
-            AnyMaterialFile::Kc(file) => toml::to_string(file).unwrap_or_default(),
-        }
+        self.family().to_toml()
     }
 }
 
@@ -673,6 +810,65 @@ melting_temperature = 1793.0
 kind = "linear"
 bulk_modulus = 159e9
 "#;
+
+    #[test]
+    fn every_family_reads_and_describes_its_constants_by_dotted_path() {
+        // GOAL: the family trait gives each file's constants by the paths campaigns name,
+        //       with the unit of the kernel's description (issue 49: one trait, no match per
+        //       family at each use).
+        // SETUP: the 4340 JC text, the bundled RHT and K&C files; a path each family has, one
+        //        it does not.
+        // REFERENCE: the values written in the files; units from the kernel descriptors.
+        let (metal, _) = parse(Path::new("4340.toml"), JC_4340).unwrap();
+        let mut metal = AnyMaterialFile::J2(metal);
+        let fixture = |name: &str| {
+            load_part(
+                &Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("../fixtures/materials")
+                    .join(name),
+            )
+            .unwrap()
+            .0
+        };
+        let (mut rht, mut kc) = (fixture("hpc-92-rht.toml"), fixture("hpc-100-kc.toml"));
+        assert_eq!(metal.family().family(), "J2");
+        assert_eq!(rht.family().family(), "RHT");
+        assert_eq!(kc.family().family(), "K&C");
+        assert_eq!(
+            metal
+                .family_mut()
+                .constant_slot("strength.yield_stress")
+                .copied(),
+            Some(792e6)
+        );
+        assert_eq!(
+            metal.family().constant_unit("strength.yield_stress"),
+            Some("Pa")
+        );
+        assert_eq!(metal.family().constant_unit("density"), Some("kg/m^3"));
+        assert_eq!(metal.family_mut().constant_slot("parameters.x"), None);
+        for file in [&mut rht, &mut kc] {
+            assert!(file
+                .family_mut()
+                .constant_slot("density")
+                .is_some_and(|d| *d > 2000.0));
+            assert_eq!(file.family().constant_unit("density"), Some("kg/m^3"));
+            assert_eq!(
+                file.family_mut().constant_slot("strength.yield_stress"),
+                None
+            );
+            assert_eq!(file.family().constant_unit("nonsense"), None);
+        }
+        assert!(rht
+            .family_mut()
+            .constant_slot("parameters.compressive_strength")
+            .is_some_and(|f| *f > 1e7));
+        assert_eq!(
+            rht.family()
+                .constant_unit("parameters.compressive_strength"),
+            Some("Pa")
+        );
+    }
 
     #[test]
     fn the_bundled_kc_file_gives_the_kernel_constant() {
