@@ -631,62 +631,52 @@ impl MaterialFamily for MaterialFile {
     }
 }
 
-impl MaterialFamily for RhtMaterialFile {
-    fn family(&self) -> &'static str {
-        "RHT"
-    }
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn rename(&mut self, name: String, source: String) {
-        self.name = name;
-        self.source = source;
-    }
-    fn part_material(&self) -> Result<PartMaterial, ParameterError> {
-        Ok(self.material()?.into())
-    }
-    fn to_toml(&self) -> String {
-        toml::to_string(self).unwrap_or_default()
-    }
-    fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
-        concrete_slot(&mut self.density, &mut self.parameters, &mut self.eos, path)
-    }
-    fn constant_unit(&self, path: &str) -> Option<&'static str> {
-        concrete_unit(RhtParameters::PARAMETERS, &self.eos, path)
-    }
-    fn constant_paths(&self) -> &'static str {
-        "`density`, `parameters.<name>` such as `parameters.residual_b`, or `eos.<name>`"
-    }
+/// The family trait of a concrete file (RHT and K&C files share their layout: `name`,
+/// `source`, `density`, `[parameters]` described by the kernel, `[eos]`).
+macro_rules! concrete_family {
+    ($file:ty, $family:literal, $parameters:ty, $paths:literal) => {
+        impl MaterialFamily for $file {
+            fn family(&self) -> &'static str {
+                $family
+            }
+            fn name(&self) -> &str {
+                &self.name
+            }
+            fn rename(&mut self, name: String, source: String) {
+                self.name = name;
+                self.source = source;
+            }
+            fn part_material(&self) -> Result<PartMaterial, ParameterError> {
+                Ok(self.material()?.into())
+            }
+            fn to_toml(&self) -> String {
+                toml::to_string(self).unwrap_or_default()
+            }
+            fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
+                concrete_slot(&mut self.density, &mut self.parameters, &mut self.eos, path)
+            }
+            fn constant_unit(&self, path: &str) -> Option<&'static str> {
+                concrete_unit(<$parameters>::PARAMETERS, &self.eos, path)
+            }
+            fn constant_paths(&self) -> &'static str {
+                $paths
+            }
+        }
+    };
 }
 
-impl MaterialFamily for KcMaterialFile {
-    fn family(&self) -> &'static str {
-        "K&C"
-    }
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn rename(&mut self, name: String, source: String) {
-        self.name = name;
-        self.source = source;
-    }
-    fn part_material(&self) -> Result<PartMaterial, ParameterError> {
-        Ok(self.material()?.into())
-    }
-    fn to_toml(&self) -> String {
-        toml::to_string(self).unwrap_or_default()
-    }
-    fn constant_slot(&mut self, path: &str) -> Option<&mut f64> {
-        concrete_slot(&mut self.density, &mut self.parameters, &mut self.eos, path)
-    }
-    fn constant_unit(&self, path: &str) -> Option<&'static str> {
-        concrete_unit(KcParameters::PARAMETERS, &self.eos, path)
-    }
-    fn constant_paths(&self) -> &'static str {
-        "`density`, `parameters.<name>` such as `parameters.tension_damage_exponent`, or \
-         `eos.<name>`"
-    }
-}
+concrete_family!(
+    RhtMaterialFile,
+    "RHT",
+    RhtParameters,
+    "`density`, `parameters.<name>` such as `parameters.residual_b`, or `eos.<name>`"
+);
+concrete_family!(
+    KcMaterialFile,
+    "K&C",
+    KcParameters,
+    "`density`, `parameters.<name>` such as `parameters.tension_damage_exponent`, or `eos.<name>`"
+);
 
 impl AnyMaterialFile {
     /// The file behind the family trait.
