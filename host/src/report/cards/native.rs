@@ -23,6 +23,12 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
     Some(text)
 }
 
+/// One LS-DYNA card: its comment header (and the keyword above it, if any) and its values in
+/// 10-character fields.
+fn card(text: &mut String, header: &str, values: &[f64]) {
+    let _ = writeln!(text, "{header}\n{}", line(values, 10));
+}
+
 /// LS-DYNA's `*MAT_JOHNSON_COOK` card, with the Johnson-Cook failure constants if any.
 fn johnson_cook(
     text: &mut String,
@@ -37,58 +43,34 @@ fn johnson_cook(
         .map_or((0.0, 0.0, 0.0, 0.0, 0.0), |f| {
             (f.d1, f.d2, f.d3, f.d4, f.d5)
         });
-    let _ = writeln!(text, "*MAT_JOHNSON_COOK\n$      MID        RO         G         E        PR       DTF        VP    RATEOP");
-    let _ = writeln!(
+    card(
         text,
-        "{}",
-        line(
-            &[
-                1.0,
-                file.density,
-                file.shear_modulus,
-                young,
-                poisson,
-                0.0,
-                1.0,
-                0.0
-            ],
-            10
-        )
+        "*MAT_JOHNSON_COOK\n$      MID        RO         G         E        PR       DTF        VP    RATEOP",
+        &[1.0, file.density, file.shear_modulus, young, poisson, 0.0, 1.0, 0.0],
     );
-    let _ = writeln!(
+    card(
         text,
-        "$        A         B         N         C         M        TM        TR      EPSO"
+        "$        A         B         N         C         M        TM        TR      EPSO",
+        &[
+            jc.yield_stress,
+            jc.hardening_modulus,
+            jc.hardening_exponent,
+            jc.rate_sensitivity,
+            jc.thermal_exponent,
+            jc.melting_temperature,
+            jc.reference_temperature,
+            jc.reference_rate,
+        ],
     );
-    let _ = writeln!(
+    card(
         text,
-        "{}",
-        line(
-            &[
-                jc.yield_stress,
-                jc.hardening_modulus,
-                jc.hardening_exponent,
-                jc.rate_sensitivity,
-                jc.thermal_exponent,
-                jc.melting_temperature,
-                jc.reference_temperature,
-                jc.reference_rate
-            ],
-            10
-        )
+        "$       CP        PC     SPALL        IT        D1        D2        D3        D4",
+        &[file.specific_heat, -1.0e20, 2.0, 0.0, d1, d2, d3, d4],
     );
-    let _ = writeln!(
+    card(
         text,
-        "$       CP        PC     SPALL        IT        D1        D2        D3        D4"
-    );
-    let _ = writeln!(
-        text,
-        "{}",
-        line(&[file.specific_heat, -1.0e20, 2.0, 0.0, d1, d2, d3, d4], 10)
-    );
-    let _ = writeln!(
-        text,
-        "$       D5      C2/P      EROD     EFMIN    NUMINT\n{}",
-        line(&[d5, 0.0, 0.0, 0.0, 0.0], 10)
+        "$       D5      C2/P      EROD     EFMIN    NUMINT",
+        &[d5, 0.0, 0.0, 0.0, 0.0],
     );
 }
 
@@ -99,47 +81,36 @@ fn zerilli_armstrong(text: &mut String, file: &MaterialFile, za: &ZerilliArmstro
         CrystalStructure::Bcc => 2.0,
     };
     let _ = writeln!(text, "$ ZA: sigma = C1 + [C2 eps^0.5 (FCC)] exp(-C3 T + C4 T ln e*) + C5 eps^N; stoss C1 -> athermal stress");
-    let _ = writeln!(text, "*MAT_ZERILLI-ARMSTRONG\n$      MID        RO         G      E0        N     TROOM     PC      SPALL");
-    let _ = writeln!(
+    card(
         text,
-        "{}",
-        line(
-            &[
-                1.0,
-                file.density,
-                file.shear_modulus,
-                za.reference_rate,
-                za.exponent,
-                298.0,
-                -1.0e20,
-                2.0
-            ],
-            10
-        )
+        "*MAT_ZERILLI-ARMSTRONG\n$      MID        RO         G      E0        N     TROOM     PC      SPALL",
+        &[
+            1.0,
+            file.density,
+            file.shear_modulus,
+            za.reference_rate,
+            za.exponent,
+            298.0,
+            -1.0e20,
+            2.0,
+        ],
     );
     let thermal = if mix == 1.0 { za.c2 } else { za.c1 };
-    let _ = writeln!(
+    card(
         text,
-        "$       C1        C2        C3        C4        C5        C6     EFAIL    NUMINT"
+        "$       C1        C2        C3        C4        C5        C6     EFAIL    NUMINT",
+        &[
+            za.athermal_stress,
+            thermal,
+            za.c3,
+            za.c4,
+            za.c5,
+            0.0,
+            1.0e20,
+            0.0,
+        ],
     );
-    let _ = writeln!(
-        text,
-        "{}",
-        line(
-            &[
-                za.athermal_stress,
-                thermal,
-                za.c3,
-                za.c4,
-                za.c5,
-                0.0,
-                1.0e20,
-                0.0
-            ],
-            10
-        )
-    );
-    let _ = writeln!(text, "$     LCMU       MIX\n{}", line(&[0.0, mix], 10));
+    card(text, "$     LCMU       MIX", &[0.0, mix]);
 }
 
 /// LS-DYNA's `*EOS_GRUNEISEN` card for a Mie-Grüneisen equation of state, else
@@ -147,34 +118,20 @@ fn zerilli_armstrong(text: &mut String, file: &MaterialFile, za: &ZerilliArmstro
 fn equation_of_state(text: &mut String, file: &MaterialFile, bulk: f64) {
     match file.eos {
         Eos::MieGruneisen(g) => {
-            let _ = writeln!(text, "*EOS_GRUNEISEN\n$    EOSID         C        S1        S2        S3    GAMAO         A        E0");
-            let _ = writeln!(
+            card(
                 text,
-                "{}\n$       V0\n{}",
-                line(
-                    &[
-                        1.0,
-                        g.sound_speed,
-                        g.s1,
-                        g.s2,
-                        g.s3,
-                        g.gamma0,
-                        g.volume_correction,
-                        0.0
-                    ],
-                    10
-                ),
-                line(&[1.0], 10)
+                "*EOS_GRUNEISEN\n$    EOSID         C        S1        S2        S3    GAMAO         A        E0",
+                &[1.0, g.sound_speed, g.s1, g.s2, g.s3, g.gamma0, g.volume_correction, 0.0],
             );
+            card(text, "$       V0", &[1.0]);
         }
         _ => {
-            let _ = writeln!(text, "*EOS_LINEAR_POLYNOMIAL\n$    EOSID        C0        C1        C2        C3        C4        C5        C6");
-            let _ = writeln!(
+            card(
                 text,
-                "{}\n$       E0        V0\n{}",
-                line(&[1.0, 0.0, bulk, 0.0, 0.0, 0.0, 0.0, 0.0], 10),
-                line(&[0.0, 1.0], 10)
+                "*EOS_LINEAR_POLYNOMIAL\n$    EOSID        C0        C1        C2        C3        C4        C5        C6",
+                &[1.0, 0.0, bulk, 0.0, 0.0, 0.0, 0.0, 0.0],
             );
+            card(text, "$       E0        V0", &[0.0, 1.0]);
         }
     }
 }
