@@ -567,11 +567,13 @@ fn concrete_slot<'a, P: Constants>(
     }
 }
 
+/// The unit of the constant `name` in a kernel description.
+fn described(parameters: &'static [Parameter], name: &str) -> Option<&'static str> {
+    parameters.iter().find(|p| p.name == name).map(|p| p.unit)
+}
+
 /// The SI unit of a concrete file's constant at a dotted path.
 fn concrete_unit(parameters: &'static [Parameter], eos: &Eos, path: &str) -> Option<&'static str> {
-    let described = |parameters: &'static [Parameter], name: &str| {
-        parameters.iter().find(|p| p.name == name).map(|p| p.unit)
-    };
     match path.split_once('.') {
         None if path == "density" => Some("kg/m^3"),
         Some(("parameters", n)) => described(parameters, n),
@@ -604,9 +606,6 @@ impl MaterialFamily for MaterialFile {
         MaterialFile::constant_slot(self, path)
     }
     fn constant_unit(&self, path: &str) -> Option<&'static str> {
-        let described = |parameters: &'static [Parameter], name: &str| {
-            parameters.iter().find(|p| p.name == name).map(|p| p.unit)
-        };
         match path.split_once('.') {
             None => match path {
                 "density" => Some("kg/m^3"),
