@@ -119,6 +119,22 @@ macro_rules! struct_constants {
 #[macro_export]
 macro_rules! enum_constants {
     ($ty:ident, {$($variant:ident {$($field:ident = ($symbol:literal, $unit:literal, $search:expr)),* $(,)?}),* $(,)?}) => {
+        impl $ty {
+            /// The descriptions of every variant's constants, in declaration order (what
+            /// [`Constants::parameters`](crate::parameters::Constants::parameters) gives for
+            /// each variant).
+            pub const VARIANT_PARAMETERS: &'static [&'static [$crate::parameters::Parameter]] = &[$(
+                &[$(
+                    $crate::parameters::Parameter {
+                        name: stringify!($field),
+                        symbol: $symbol,
+                        unit: $unit,
+                        search: $search,
+                    }
+                ),*]
+            ),*];
+        }
+
         impl $crate::parameters::Constants for $ty {
             fn parameters(&self) -> &'static [$crate::parameters::Parameter] {
                 match self {$(

@@ -7,6 +7,10 @@
 //! it once. Compile-time dimension types (`uom`, `dimensioned`) do not parse strings, and the
 //! parsing crates seen (`units-of-measure`-style registries) carry far more than the dozen
 //! dimensions of impact mechanics. The table below is the one home of every unit symbol.
+//! A model constant's dimension comes from its unit in the kernel's descriptor; the name rules
+//! of [`field_dimension`] cover the set-up, campaign and recording fields.
+
+use stoss_kernel::parameters::Parameter;
 
 /// The physical dimension of a quantity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -269,6 +273,12 @@ pub fn quantity_to_si(text: &str, expected: Dimension) -> Result<Option<f64>, St
 /// project's naming convention for fields, so a new field follows them by its name.
 pub fn field_dimension(key: &str) -> Option<Dimension> {
     let key = key.rsplit('.').next().unwrap_or(key).trim_matches('"');
+    // A model constant has the dimension of its unit in the kernel's descriptor.
+    described_dimension(key).unwrap_or_else(|| named_dimension(key))
+}
+
+/// The dimension a set-up, campaign or recording field's name gives (its suffix).
+fn named_dimension(key: &str) -> Option<Dimension> {
     // A numbered field (`saturation_stress_1`) has the dimension of its name.
     let key = match key.rsplit_once('_') {
         Some((stem, number))
@@ -327,6 +337,72 @@ pub fn field_dimension(key: &str) -> Option<Dimension> {
         .find(|(suffixes, _)| suffixes.iter().any(|s| key.ends_with(s)))
         .map(|&(_, dimension)| dimension)
 }
+
+/// Every described constant of the kernel's model families (strength laws and terms, EoS,
+/// heating, RHT and K&C concrete), as [`stoss_kernel::parameters`] describes them.
+pub fn described_constants() -> impl Iterator<Item = &'static Parameter> {
+    use stoss_kernel::eos::{Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial};
+    use stoss_kernel::strength::{
+        Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm, ThermalTerm, TwoRateJohnsonCook,
+        ZerilliArmstrong,
+    };
+    let families: [&'static [Parameter]; 11] = [
+        JohnsonCook::PARAMETERS,
+        ZerilliArmstrong::PARAMETERS,
+        ModifiedJohnsonCook::PARAMETERS,
+        TwoRateJohnsonCook::PARAMETERS,
+        stoss_kernel::rht::RhtParameters::PARAMETERS,
+        stoss_kernel::kc::KcParameters::PARAMETERS,
+        LinearEos::PARAMETERS,
+        MieGruneisen::PARAMETERS,
+        Polynomial::PARAMETERS,
+        Jwl::PARAMETERS,
+        PAlpha::PARAMETERS,
+    ];
+    families
+        .into_iter()
+        .chain(Hardening::VARIANT_PARAMETERS.iter().copied())
+        .chain(RateTerm::VARIANT_PARAMETERS.iter().copied())
+        .chain(ThermalTerm::VARIANT_PARAMETERS.iter().copied())
+        .chain(stoss_kernel::Heating::VARIANT_PARAMETERS.iter().copied())
+        .flatten()
+}
+
+/// The dimension of a kernel descriptor's SI unit; `None` for a pure number or a unit input
+/// files have no dimension for (`1/K`, `1/Pa`: written as plain SI numbers). An energy per
+/// volume (`J/m^3`) is a stress.
+pub fn unit_dimension(unit: &str) -> Option<Dimension> {
+    if unit == "J/m^3" {
+        return Some(Dimension::Stress);
+    }
+    ALL_DIMENSIONS
+        .into_iter()
+        .filter(|dimension| *dimension != Dimension::Dimensionless)
+        .find(|dimension| dimension.si_unit() == unit)
+}
+
+/// The dimension of the model constant named `name` from its descriptor: `Some(None)` for a
+/// described pure number, `None` if no family describes a constant of that name.
+fn described_dimension(name: &str) -> Option<Option<Dimension>> {
+    described_constants()
+        .find(|parameter| parameter.name == name)
+        .map(|parameter| unit_dimension(parameter.unit))
+}
+
+const ALL_DIMENSIONS: [Dimension; 12] = [
+    Dimension::Dimensionless,
+    Dimension::Length,
+    Dimension::Time,
+    Dimension::Velocity,
+    Dimension::Acceleration,
+    Dimension::Stress,
+    Dimension::Density,
+    Dimension::Temperature,
+    Dimension::Mass,
+    Dimension::Energy,
+    Dimension::StrainRate,
+    Dimension::SpecificHeat,
+];
 
 /// The plausible range `(least, most)` of an input of `dimension` in SI, for the magnitude of
 /// the value (0 is always accepted): beyond it a value is far more likely a unit slip (a rod
@@ -442,6 +518,33 @@ mod tests {
         assert!(outside(13_000.0, Dimension::Velocity) && !outside(1700.0, Dimension::Velocity));
         assert!(outside(0.5, Dimension::Temperature) && !outside(298.0, Dimension::Temperature));
         assert!(plausible_range(Dimension::Dimensionless).is_none());
+    }
+
+    #[test]
+    fn model_constants_take_their_dimension_from_the_kernel_descriptor() {
+        // GOAL: a model constant's dimension is its descriptor unit's, whatever its name, and
+        //       one name means one unit in every family (else the reader could not tell).
+        // SETUP: every described constant of every family.
+        // REFERENCE: the descriptor units; ZA's C1 (Pa) and the rate term's upturn rate
+        //            (1/s) have names no suffix rule recognises.
+        for parameter in described_constants() {
+            for other in described_constants().filter(|p| p.name == parameter.name) {
+                assert_eq!(parameter.unit, other.unit, "{}", parameter.name);
+            }
+            assert_eq!(
+                field_dimension(parameter.name),
+                unit_dimension(parameter.unit),
+                "{}",
+                parameter.name
+            );
+        }
+        assert_eq!(field_dimension("strength.c1"), Some(Dimension::Stress));
+        assert_eq!(field_dimension("upturn_rate"), Some(Dimension::StrainRate));
+        assert_eq!(
+            field_dimension("detonation_energy"),
+            Some(Dimension::Stress)
+        );
+        assert_eq!(field_dimension("saturation_rate_1"), None);
     }
 
     #[test]

@@ -24,8 +24,9 @@ use stoss_kernel::strength::{
 };
 use stoss_kernel::{Heating, Material, MaterialState, PartMaterial, PointModel, RateTreatment};
 
-use crate::section::{read_section, rht_constants, section_length};
+use crate::section::{read_section, section_length, to_model};
 use crate::status::{FfiError, StossStatus};
+use stoss_kernel::ParameterError;
 
 /// Version of [`StossMaterialBlock`]'s layout (and of the card layout, slot P1). Bumped on any
 /// change of field order, size or meaning. Version 2 added the rate terms the diagnosis adds
@@ -265,6 +266,21 @@ pub struct StossJohnsonCook {
     pub melting_temperature: f64,
 }
 
+crate::described_section!(
+    StossJohnsonCook,
+    JohnsonCook,
+    [
+        yield_stress,
+        hardening_modulus,
+        hardening_exponent,
+        rate_sensitivity,
+        thermal_exponent,
+        reference_rate,
+        reference_temperature,
+        melting_temperature,
+    ]
+);
+
 /// Zerilli-Armstrong constants (SI); BCC or FCC is chosen by `strength_model`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -286,6 +302,21 @@ pub struct StossZerilliArmstrong {
     /// `e0` (1/s).
     pub reference_rate: f64,
 }
+
+crate::described_section!(
+    StossZerilliArmstrong,
+    ZerilliArmstrong,
+    [
+        athermal_stress,
+        c1,
+        c2,
+        c3,
+        c4,
+        c5,
+        exponent,
+        reference_rate,
+    ]
+);
 
 /// Modified Johnson-Cook constants (SI).
 #[repr(C)]
@@ -316,6 +347,25 @@ pub struct StossModifiedJohnsonCook {
     /// `Tm` (K).
     pub melting_temperature: f64,
 }
+
+crate::described_section!(
+    StossModifiedJohnsonCook,
+    ModifiedJohnsonCook,
+    [
+        yield_stress,
+        hardening_modulus,
+        hardening_exponent,
+        saturation_stress_1,
+        saturation_rate_1,
+        saturation_stress_2,
+        saturation_rate_2,
+        rate_exponent,
+        reference_rate,
+        thermal_exponent,
+        reference_temperature,
+        melting_temperature,
+    ]
+);
 
 /// Two-part-rate Johnson-Cook constants (SI).
 #[repr(C)]
@@ -350,6 +400,27 @@ pub struct StossTwoRateJohnsonCook {
     /// `Tm` (K).
     pub melting_temperature: f64,
 }
+
+crate::described_section!(
+    StossTwoRateJohnsonCook,
+    TwoRateJohnsonCook,
+    [
+        yield_stress,
+        hardening_modulus,
+        hardening_exponent,
+        saturation_stress_1,
+        saturation_rate_1,
+        saturation_stress_2,
+        saturation_rate_2,
+        rate_exponent_1,
+        reference_rate_1,
+        rate_exponent_2,
+        reference_rate_2,
+        thermal_exponent,
+        reference_temperature,
+        melting_temperature,
+    ]
+);
 
 /// Hardening constants of a composed model (read according to `hardening_model`).
 #[repr(C)]
@@ -494,6 +565,33 @@ pub struct StossRht {
     /// `SHRATD` (-).
     pub residual_shear_modulus_ratio: f64,
 }
+
+crate::described_section!(
+    StossRht,
+    RhtParameters,
+    [
+        compressive_strength,
+        tensile_strength_ratio,
+        shear_strength_ratio,
+        failure_a,
+        failure_n,
+        tensile_meridian_ratio,
+        brittle_ductile_transition,
+        shear_modulus_ratio,
+        tensile_elastic_ratio,
+        compressive_elastic_ratio,
+        residual_b,
+        residual_m,
+        compressive_rate_exponent,
+        tensile_rate_exponent,
+        compressive_reference_rate,
+        tensile_reference_rate,
+        damage_d1,
+        damage_d2,
+        minimum_failure_strain,
+        residual_shear_modulus_ratio,
+    ]
+);
 
 /// K&C concrete constants (SI). The shear modulus is the block's `shear_modulus`, the
 /// density its `density`.
@@ -756,6 +854,16 @@ pub struct StossMaterialBlock {
 pub(crate) const BLOCK_SIZE: u32 = std::mem::size_of::<StossMaterialBlock>() as u32;
 
 const _: () = assert!(std::mem::size_of::<StossMaterialBlock>() < u32::MAX as usize);
+
+/// A J2 strength family read from its section, with its validation's outcome, as the block's
+/// strength and the section's name; a validation error names the section.
+fn described<M: Into<Strength>>(
+    validated: Result<M, ParameterError>,
+    section: &'static str,
+) -> Result<(Strength, &'static str), FfiError> {
+    let model = validated.map_err(|e| FfiError::parameter(section, e))?;
+    Ok((model.into(), section))
+}
 
 fn invalid(field: &str, message: impl std::fmt::Display) -> FfiError {
     FfiError::new(StossStatus::InvalidParameter, format!("{field}: {message}"))
@@ -1041,93 +1149,40 @@ impl StossMaterialBlock {
         let s = &self.strength;
         Ok(match StossStrengthModel::from_code(self.strength_model)? {
             StossStrengthModel::JohnsonCook => {
-                let p = s.johnson_cook;
-                let model = JohnsonCook {
-                    yield_stress: p.yield_stress,
-                    hardening_modulus: p.hardening_modulus,
-                    hardening_exponent: p.hardening_exponent,
-                    rate_sensitivity: p.rate_sensitivity,
-                    thermal_exponent: p.thermal_exponent,
-                    reference_rate: p.reference_rate,
-                    reference_temperature: p.reference_temperature,
-                    melting_temperature: p.melting_temperature,
-                };
-                let section = "strength.johnson_cook";
-                model
-                    .validate()
-                    .map_err(|e| FfiError::parameter(section, e))?;
-                (model.into(), section)
+                // Every described constant of the base is overwritten by name.
+                let model = to_model(&s.johnson_cook, JohnsonCook::STEEL_4340);
+                described(model.validate().map(|()| model), "strength.johnson_cook")?
             }
             model @ (StossStrengthModel::ZerilliArmstrongBcc
             | StossStrengthModel::ZerilliArmstrongFcc) => {
-                let p = s.zerilli_armstrong;
                 let structure = if model == StossStrengthModel::ZerilliArmstrongBcc {
                     CrystalStructure::Bcc
                 } else {
                     CrystalStructure::Fcc
                 };
-                let model = ZerilliArmstrong {
+                let base = ZerilliArmstrong {
                     structure,
-                    athermal_stress: p.athermal_stress,
-                    c1: p.c1,
-                    c2: p.c2,
-                    c3: p.c3,
-                    c4: p.c4,
-                    c5: p.c5,
-                    exponent: p.exponent,
-                    reference_rate: p.reference_rate,
+                    ..ZerilliArmstrong::ARMCO_IRON
                 };
-                let section = "strength.zerilli_armstrong";
-                model
-                    .validate()
-                    .map_err(|e| FfiError::parameter(section, e))?;
-                (model.into(), section)
+                let model = to_model(&s.zerilli_armstrong, base);
+                described(
+                    model.validate().map(|()| model),
+                    "strength.zerilli_armstrong",
+                )?
             }
             StossStrengthModel::ModifiedJohnsonCook => {
-                let p = s.modified_johnson_cook;
-                let model = ModifiedJohnsonCook {
-                    yield_stress: p.yield_stress,
-                    hardening_modulus: p.hardening_modulus,
-                    hardening_exponent: p.hardening_exponent,
-                    saturation_stress_1: p.saturation_stress_1,
-                    saturation_rate_1: p.saturation_rate_1,
-                    saturation_stress_2: p.saturation_stress_2,
-                    saturation_rate_2: p.saturation_rate_2,
-                    rate_exponent: p.rate_exponent,
-                    reference_rate: p.reference_rate,
-                    thermal_exponent: p.thermal_exponent,
-                    reference_temperature: p.reference_temperature,
-                    melting_temperature: p.melting_temperature,
-                };
-                let section = "strength.modified_johnson_cook";
-                model
-                    .validate()
-                    .map_err(|e| FfiError::parameter(section, e))?;
-                (model.into(), section)
+                let model = to_model(&s.modified_johnson_cook, ModifiedJohnsonCook::default());
+                described(
+                    model.validate().map(|()| model),
+                    "strength.modified_johnson_cook",
+                )?
             }
             StossStrengthModel::TwoRateJohnsonCook => {
-                let p = s.two_rate_johnson_cook;
-                let model = TwoRateJohnsonCook {
-                    yield_stress: p.yield_stress,
-                    hardening_modulus: p.hardening_modulus,
-                    hardening_exponent: p.hardening_exponent,
-                    saturation_stress_1: p.saturation_stress_1,
-                    saturation_rate_1: p.saturation_rate_1,
-                    saturation_stress_2: p.saturation_stress_2,
-                    saturation_rate_2: p.saturation_rate_2,
-                    rate_exponent_1: p.rate_exponent_1,
-                    reference_rate_1: p.reference_rate_1,
-                    rate_exponent_2: p.rate_exponent_2,
-                    reference_rate_2: p.reference_rate_2,
-                    thermal_exponent: p.thermal_exponent,
-                    reference_temperature: p.reference_temperature,
-                    melting_temperature: p.melting_temperature,
-                };
-                let section = "strength.two_rate_johnson_cook";
-                model
-                    .validate()
-                    .map_err(|e| FfiError::parameter(section, e))?;
-                (model.into(), section)
+                let model = to_model(&s.two_rate_johnson_cook, TwoRateJohnsonCook::default());
+                described(
+                    model.validate().map(|()| model),
+                    "strength.two_rate_johnson_cook",
+                )?
             }
             StossStrengthModel::Rht => {
                 return Err(invalid(
@@ -1460,8 +1515,8 @@ impl StossMaterialBlock {
         let f = &self.failure;
         let r = &self.strength.rht;
         // Every field of the template is overwritten: the options and the shear modulus
-        // here, the described constants by `read_section`.
-        let mut parameters = RhtParameters {
+        // here, the described constants by name (`to_model`).
+        let parameters = RhtParameters {
             shear_modulus: self.shear_modulus,
             elastic_cap: switch("strength.rht.elastic_cap", r.elastic_cap)?,
             tensile_failure: match StossRhtTensileFailure::from_code(r.tensile_failure)? {
@@ -1479,7 +1534,7 @@ impl StossMaterialBlock {
             },
             ..RhtParameters::HPC_92MPA
         };
-        read_section(&mut parameters, rht_constants(r));
+        let parameters = to_model(r, parameters);
         parameters
             .validate()
             .map_err(|error| FfiError::parameter("strength.rht", error))?;

@@ -51,11 +51,12 @@
 use stoss_kernel::PartMaterial;
 
 use crate::block::{
-    initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel,
-    StossMaterialBlock, StossRateModel, StossStrengthModel, StossThermalModel, KC_CONSTANTS,
+    initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel, StossJohnsonCook,
+    StossMaterialBlock, StossModifiedJohnsonCook, StossRateModel, StossRht, StossStrengthModel,
+    StossThermalModel, StossTwoRateJohnsonCook, StossZerilliArmstrong, KC_CONSTANTS,
     STOSS_KC_MAX_DAMAGE_POINTS, STOSS_LAYOUT_VERSION, STOSS_MAX_COMPACTION_POINTS,
 };
-use crate::section::{rht_constants, rht_constants_mut, RHT_CONSTANTS};
+use crate::section::DescribedSection;
 use crate::status::{FfiError, StossStatus};
 
 /// 1-based card position of the shear modulus (LS-DYNA `IG`).
@@ -94,6 +95,18 @@ const KC: usize = 16;
 const KC_CONSTANTS_SLOT: usize = KC + 12;
 
 const _: () = assert!(
+    RHT + 4 + <StossRht as DescribedSection>::FIELDS.len() <= STOSS_CARD_FIXED_LENGTH,
+    "RHT's described constants no longer fit in P21..P41 of the card"
+);
+const _: () = assert!(
+    <StossJohnsonCook as DescribedSection>::FIELDS.len() <= 17
+        && <StossZerilliArmstrong as DescribedSection>::FIELDS.len() <= 17
+        && <StossModifiedJohnsonCook as DescribedSection>::FIELDS.len() <= 17
+        && <StossTwoRateJohnsonCook as DescribedSection>::FIELDS.len() <= 17,
+    "a J2 family's constants no longer fit in the 17 strength slots P25..P41"
+);
+
+const _: () = assert!(
     KC_CONSTANTS_SLOT + KC_CONSTANTS <= STOSS_CARD_FIXED_LENGTH,
     "K&C's described constants no longer fit in P29..P41 of the card"
 );
@@ -118,6 +131,19 @@ fn slot_error(index: usize, what: &str, message: impl std::fmt::Display) -> FfiE
         StossStatus::InvalidParameter,
         format!("card P{} ({what}): {message}", index + 1),
     )
+}
+
+/// Set a named section's constants from the card slots that start at `slots`, in ABI order.
+fn read_constants<S: DescribedSection>(slots: &[f64], section: &mut S) {
+    let constants = section.constants_mut();
+    let count = constants.len();
+    constants.copy_from_slice(&slots[..count]);
+}
+
+/// Write a named section's constants to the card slots that start at `slots`, in ABI order.
+fn write_constants<S: DescribedSection>(slots: &mut [f64], section: &S) {
+    let constants = section.constants();
+    slots[..constants.len()].copy_from_slice(constants);
 }
 
 /// An integer code stored as a double: exact, in `i32` range.
@@ -202,7 +228,7 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
         let cap = code(card, RHT + 3, "RHT elastic cap")?;
         r.elastic_cap = u32::try_from(cap)
             .map_err(|_| slot_error(RHT + 3, "RHT elastic cap", "must be 0 or 1"))?;
-        rht_constants_mut(r).copy_from_slice(&card[RHT + 4..RHT + 4 + RHT_CONSTANTS]);
+        read_constants(&card[RHT + 4..], r);
         read_eos(card, &mut block, bulk_modulus)?;
         return Ok(block);
     }
@@ -239,67 +265,15 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
     match StossStrengthModel::from_code(block.strength_model)? {
         // Read with their own slots above.
         StossStrengthModel::Rht | StossStrengthModel::Kc => {}
-        StossStrengthModel::JohnsonCook => {
-            let p = &mut strength.johnson_cook;
-            [
-                p.yield_stress,
-                p.hardening_modulus,
-                p.hardening_exponent,
-                p.rate_sensitivity,
-                p.thermal_exponent,
-                p.reference_rate,
-                p.reference_temperature,
-                p.melting_temperature,
-            ] = s[..8].try_into().expect("8");
-        }
+        StossStrengthModel::JohnsonCook => read_constants(&s, &mut strength.johnson_cook),
         StossStrengthModel::ZerilliArmstrongBcc | StossStrengthModel::ZerilliArmstrongFcc => {
-            let p = &mut strength.zerilli_armstrong;
-            [
-                p.athermal_stress,
-                p.c1,
-                p.c2,
-                p.c3,
-                p.c4,
-                p.c5,
-                p.exponent,
-                p.reference_rate,
-            ] = s[..8].try_into().expect("8");
+            read_constants(&s, &mut strength.zerilli_armstrong);
         }
         StossStrengthModel::ModifiedJohnsonCook => {
-            let p = &mut strength.modified_johnson_cook;
-            [
-                p.yield_stress,
-                p.hardening_modulus,
-                p.hardening_exponent,
-                p.saturation_stress_1,
-                p.saturation_rate_1,
-                p.saturation_stress_2,
-                p.saturation_rate_2,
-                p.rate_exponent,
-                p.reference_rate,
-                p.thermal_exponent,
-                p.reference_temperature,
-                p.melting_temperature,
-            ] = s[..12].try_into().expect("12");
+            read_constants(&s, &mut strength.modified_johnson_cook);
         }
         StossStrengthModel::TwoRateJohnsonCook => {
-            let p = &mut strength.two_rate_johnson_cook;
-            [
-                p.yield_stress,
-                p.hardening_modulus,
-                p.hardening_exponent,
-                p.saturation_stress_1,
-                p.saturation_rate_1,
-                p.saturation_stress_2,
-                p.saturation_rate_2,
-                p.rate_exponent_1,
-                p.reference_rate_1,
-                p.rate_exponent_2,
-                p.reference_rate_2,
-                p.thermal_exponent,
-                p.reference_temperature,
-                p.melting_temperature,
-            ] = s[..14].try_into().expect("14");
+            read_constants(&s, &mut strength.two_rate_johnson_cook);
         }
         StossStrengthModel::Composed => {
             let p = &mut strength.composed;
@@ -567,7 +541,7 @@ pub fn card_from_block(
             card[RHT + 1] = f64::from(r.meridian);
             card[RHT + 2] = f64::from(r.rate_scaling);
             card[RHT + 3] = f64::from(r.elastic_cap);
-            card[RHT + 4..RHT + 4 + RHT_CONSTANTS].copy_from_slice(rht_constants(r));
+            write_constants(&mut card[RHT + 4..], r);
         }
         StossStrengthModel::Kc => {
             let k = &strength.kc;
@@ -582,67 +556,15 @@ pub fn card_from_block(
             card[KC_CONSTANTS_SLOT..KC_CONSTANTS_SLOT + KC_CONSTANTS]
                 .copy_from_slice(&k.constants[..KC_CONSTANTS]);
         }
-        StossStrengthModel::JohnsonCook => {
-            let p = &strength.johnson_cook;
-            s[..8].copy_from_slice(&[
-                p.yield_stress,
-                p.hardening_modulus,
-                p.hardening_exponent,
-                p.rate_sensitivity,
-                p.thermal_exponent,
-                p.reference_rate,
-                p.reference_temperature,
-                p.melting_temperature,
-            ]);
-        }
+        StossStrengthModel::JohnsonCook => write_constants(s, &strength.johnson_cook),
         StossStrengthModel::ZerilliArmstrongBcc | StossStrengthModel::ZerilliArmstrongFcc => {
-            let p = &strength.zerilli_armstrong;
-            s[..8].copy_from_slice(&[
-                p.athermal_stress,
-                p.c1,
-                p.c2,
-                p.c3,
-                p.c4,
-                p.c5,
-                p.exponent,
-                p.reference_rate,
-            ]);
+            write_constants(s, &strength.zerilli_armstrong);
         }
         StossStrengthModel::ModifiedJohnsonCook => {
-            let p = &strength.modified_johnson_cook;
-            s[..12].copy_from_slice(&[
-                p.yield_stress,
-                p.hardening_modulus,
-                p.hardening_exponent,
-                p.saturation_stress_1,
-                p.saturation_rate_1,
-                p.saturation_stress_2,
-                p.saturation_rate_2,
-                p.rate_exponent,
-                p.reference_rate,
-                p.thermal_exponent,
-                p.reference_temperature,
-                p.melting_temperature,
-            ]);
+            write_constants(s, &strength.modified_johnson_cook);
         }
         StossStrengthModel::TwoRateJohnsonCook => {
-            let p = &strength.two_rate_johnson_cook;
-            s[..14].copy_from_slice(&[
-                p.yield_stress,
-                p.hardening_modulus,
-                p.hardening_exponent,
-                p.saturation_stress_1,
-                p.saturation_rate_1,
-                p.saturation_stress_2,
-                p.saturation_rate_2,
-                p.rate_exponent_1,
-                p.reference_rate_1,
-                p.rate_exponent_2,
-                p.reference_rate_2,
-                p.thermal_exponent,
-                p.reference_temperature,
-                p.melting_temperature,
-            ]);
+            write_constants(s, &strength.two_rate_johnson_cook);
         }
         StossStrengthModel::Composed => {
             let p = &strength.composed;

@@ -12,18 +12,17 @@ use stoss_kernel::eos::Eos;
 use stoss_kernel::kc::{KcMaterial, KcParameters, RateEnhancement};
 use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters, TensileFailure};
 use stoss_kernel::strength::{
-    ComposedStrength, CrystalStructure, Hardening, RateTerm, Strength, ThermalTerm,
+    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, RateTerm, Strength, ThermalTerm,
 };
 use stoss_kernel::{Heating, Material, RateTreatment};
 
 use crate::block::{
     StossComposed, StossEosModel, StossHardening, StossHardeningModel, StossHeatingModel,
-    StossJohnsonCook, StossJohnsonCookFailure, StossKc, StossKcRate, StossMaterialBlock,
-    StossRateModel, StossRateTerm, StossRateTreatment, StossRht, StossRhtMeridian,
-    StossRhtRateScaling, StossRhtTensileFailure, StossStrengthModel, StossThermalModel,
-    StossThermalTerm,
+    StossJohnsonCookFailure, StossKc, StossKcRate, StossMaterialBlock, StossRateModel,
+    StossRateTerm, StossRateTreatment, StossRht, StossRhtMeridian, StossRhtRateScaling,
+    StossRhtTensileFailure, StossStrengthModel, StossThermalModel, StossThermalTerm,
 };
-use crate::section::{rht_constants_mut, write_section};
+use crate::section::{from_model, write_section};
 use crate::status::FfiError;
 
 /// The block of `material` at `initial_temperature` (K), and whether host-only failure
@@ -157,7 +156,7 @@ fn rht_block(p: &RhtParameters) -> StossRht {
         elastic_cap: u32::from(p.elastic_cap),
         ..StossRht::default()
     };
-    write_section(&mut p.clone(), rht_constants_mut(&mut section));
+    from_model(&mut p.clone(), &mut section);
     section
 }
 
@@ -214,50 +213,17 @@ fn write_strength(block: &mut StossMaterialBlock, strength: &Strength) {
                 CrystalStructure::Bcc => StossStrengthModel::ZerilliArmstrongBcc,
                 CrystalStructure::Fcc => StossStrengthModel::ZerilliArmstrongFcc,
             } as i32;
-            let z = &mut block.strength.zerilli_armstrong;
-            z.athermal_stress = za.athermal_stress;
-            z.c1 = za.c1;
-            z.c2 = za.c2;
-            z.c3 = za.c3;
-            z.c4 = za.c4;
-            z.c5 = za.c5;
-            z.exponent = za.exponent;
-            z.reference_rate = za.reference_rate;
-        }
-        Strength::Composed(ComposedStrength {
-            hardening:
-                Hardening::Power {
-                    yield_stress,
-                    hardening_modulus,
-                    exponent,
-                },
-            rate:
-                RateTerm::JohnsonCookLog {
-                    rate_sensitivity,
-                    reference_rate,
-                },
-            thermal:
-                ThermalTerm::HomologousPower {
-                    exponent: thermal_exponent,
-                    reference_temperature,
-                    melting_temperature,
-                },
-        }) => {
-            block.strength_model = StossStrengthModel::JohnsonCook as i32;
-            block.strength.johnson_cook = StossJohnsonCook {
-                yield_stress: *yield_stress,
-                hardening_modulus: *hardening_modulus,
-                hardening_exponent: *exponent,
-                rate_sensitivity: *rate_sensitivity,
-                thermal_exponent: *thermal_exponent,
-                reference_rate: *reference_rate,
-                reference_temperature: *reference_temperature,
-                melting_temperature: *melting_temperature,
-            };
+            let mut model = *za;
+            from_model(&mut model, &mut block.strength.zerilli_armstrong);
         }
         Strength::Composed(composed) => {
-            block.strength_model = StossStrengthModel::Composed as i32;
-            block.strength.composed = composed_block(composed);
+            if let Some(mut jc) = JohnsonCook::from_composed(composed) {
+                block.strength_model = StossStrengthModel::JohnsonCook as i32;
+                from_model(&mut jc, &mut block.strength.johnson_cook);
+            } else {
+                block.strength_model = StossStrengthModel::Composed as i32;
+                block.strength.composed = composed_block(composed);
+            }
         }
     }
 }

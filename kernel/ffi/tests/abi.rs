@@ -8,8 +8,12 @@ use std::ptr::{null, null_mut};
 use stoss_kernel::damage::JohnsonCookFailure;
 use stoss_kernel::drivers::{uniaxial_strain, LastRecord, UniaxialStrainLoading};
 use stoss_kernel::{Material, MaterialState};
-use stoss_kernel_ffi::block::{StossEosModel, StossMieGruneisen};
+use stoss_kernel_ffi::block::{
+    StossEosModel, StossJohnsonCook, StossMieGruneisen, StossModifiedJohnsonCook, StossRht,
+    StossTwoRateJohnsonCook, StossZerilliArmstrong,
+};
 use stoss_kernel_ffi::card::STOSS_CARD_MAX_LENGTH;
+use stoss_kernel_ffi::section::DescribedSection;
 use stoss_kernel_ffi::*;
 
 /// Structure-of-arrays storage for `n` points.
@@ -949,7 +953,7 @@ fn kc_blocks_refuse_what_concrete_does_not_have() {
 }
 
 #[test]
-fn descriptor_ordered_sections_match_the_generated_header() {
+fn described_sections_match_the_generated_header() {
     // GOAL: the sections read through the kernel's descriptor have, in the generated C
     //       header, the descriptor's constants in its order (RHT: named fields; K&C: an
     //       array as long as the descriptor allows).
@@ -971,17 +975,43 @@ fn descriptor_ordered_sections_match_the_generated_header() {
             .map(str::to_owned)
             .collect()
     };
-    let rht: Vec<String> = body("StossRht")
-        .iter()
-        .filter_map(|line| line.strip_prefix("double "))
-        .map(|field| field.trim_end_matches(';').to_owned())
-        .collect();
+    // A named section's doubles, in the header's order, are its `FIELDS`, which the
+    // compile-time checks of `described_section!` prove to be the struct's fields and exactly
+    // the family's described constants.
+    fn doubles(lines: &[String]) -> Vec<String> {
+        lines
+            .iter()
+            .filter_map(|line| line.strip_prefix("double "))
+            .map(|field| field.trim_end_matches(';').to_owned())
+            .collect()
+    }
+    fn fields<S: DescribedSection>() -> Vec<String> {
+        S::FIELDS.iter().map(|name| name.to_string()).collect()
+    }
+    assert_eq!(doubles(&body("StossRht")), fields::<StossRht>());
+    assert_eq!(
+        doubles(&body("StossJohnsonCook")),
+        fields::<StossJohnsonCook>()
+    );
+    assert_eq!(
+        doubles(&body("StossZerilliArmstrong")),
+        fields::<StossZerilliArmstrong>()
+    );
+    assert_eq!(
+        doubles(&body("StossModifiedJohnsonCook")),
+        fields::<StossModifiedJohnsonCook>()
+    );
+    assert_eq!(
+        doubles(&body("StossTwoRateJohnsonCook")),
+        fields::<StossTwoRateJohnsonCook>()
+    );
+    // RHT's public order happens to be its descriptor's.
     let described: Vec<&str> = stoss_kernel::rht::RhtParameters::PARAMETERS
         .iter()
         .map(|p| p.name)
         .filter(|name| *name != "shear_modulus")
         .collect();
-    assert_eq!(rht, described);
+    assert_eq!(<StossRht as DescribedSection>::FIELDS, described.as_slice());
     let kc = body("StossKc");
     assert!(kc.contains(&"double constants[STOSS_KC_MAX_CONSTANTS];".to_owned()));
     assert!(header.contains(&format!(

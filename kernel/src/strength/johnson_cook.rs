@@ -4,7 +4,7 @@
 
 use super::{ComposedStrength, Hardening, RateTerm, Strength, ThermalTerm};
 use crate::error::ParameterError;
-use crate::parameters;
+use crate::parameters::{self, ConstantPaths, Constants};
 
 /// Johnson-Cook constants (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,6 +90,29 @@ impl JohnsonCook {
                 melting_temperature: self.melting_temperature,
             },
         }
+    }
+
+    /// The Johnson-Cook model a composed strength is, if its terms are Johnson-Cook's (power
+    /// hardening, JC log rate, homologous-power thermal term): the inverse of
+    /// [`JohnsonCook::composed`], each constant read from its [`JohnsonCook::COMPOSED_PATHS`]
+    /// entry.
+    pub fn from_composed(composed: &ComposedStrength) -> Option<JohnsonCook> {
+        let johnson_cook_form = matches!(
+            (&composed.hardening, &composed.rate, &composed.thermal),
+            (
+                Hardening::Power { .. },
+                RateTerm::JohnsonCookLog { .. },
+                ThermalTerm::HomologousPower { .. }
+            )
+        );
+        if !johnson_cook_form {
+            return None;
+        }
+        let mut model = JohnsonCook::STEEL_4340;
+        for (index, path) in Self::COMPOSED_PATHS.iter().enumerate() {
+            *model.slot(index)? = composed.get(path)?;
+        }
+        Some(model)
     }
 
     /// Reject non-physical constants (same rules as the composed terms).
