@@ -26,28 +26,7 @@ struct Allowed {
 }
 
 /// The known violations. Remove an entry when its import goes (the test says when).
-const ALLOWED: &[Allowed] = &[
-    Allowed {
-        krate: "kernel",
-        from: "parameters",
-        to: "strength",
-        reason: "test only: parameters' unit tests check the strength families' composed \
-                 paths; they belong in strength's tests",
-    },
-    Allowed {
-        krate: "kernel",
-        from: "eos",
-        to: "update",
-        reason: "test only: the P-alpha test runs the full stress update (crate::update) to \
-                 check the distension history; it belongs in update's tests",
-    },
-    Allowed {
-        krate: "kernel",
-        from: "eos",
-        to: "material",
-        reason: "test only: the same P-alpha test builds a Material (crate::Material)",
-    },
-];
+const ALLOWED: &[Allowed] = &[];
 
 /// The module a file belongs to: its first path component under `src` (`.rs` removed).
 fn top_module(src: &Path, file: &Path) -> Option<String> {

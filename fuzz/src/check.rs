@@ -2,7 +2,7 @@
 //! checks made on every update.
 
 use stoss_kernel::tensor;
-use stoss_kernel::update::{MAX_RETURN_ITERATIONS, RETURN_TOLERANCE};
+use stoss_kernel::j2::update::{MAX_RETURN_ITERATIONS, RETURN_TOLERANCE};
 use stoss_kernel::{
     update, update_with_tangent, Heating, Material, MaterialState, RateTreatment, StateFlags,
     StepInput, StepOutput, UpdateError,

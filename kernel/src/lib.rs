@@ -13,11 +13,14 @@
 //! - [`eos`]: equations of state (pressure from compression and internal energy).
 //! - [`damage`]: Johnson-Cook failure and the erosion flags shared by every model.
 //! - [`parameters`]: one description (name, symbol, unit, search range) per model constant.
+//! - [`point_model`]: the [`PointModel`] trait every law implements, and the step's input and
+//!   output.
+//! - [`j2`]: J2 metals: a complete material (elasticity, strength, heating, EoS, damage) and
+//!   its stress update (EoS, elastic predictor, implicit or lagged radial return, heating,
+//!   damage, failure, the consistent tangent and the wave speed).
 //! - [`rht`] and [`kc`]: the RHT and Karagozian & Case concrete models.
-//! - [`material`]: a complete material (elasticity, strength, heating, EoS, damage).
-//! - [`update`](mod@update): the stress update: EoS, elastic predictor, implicit (or lagged) radial
-//!   return, heating, damage, failure, the consistent tangent and the wave speed.
 //! - [`tangent`]: central-difference tangents for models without a closed-form one.
+//! - [`part_material`]: the material of one part, any of the laws.
 //! - [`drivers`]: single-element drivers writing into caller-provided buffers.
 //!
 //! Conventions (SI): stress positive in tension; pressure `p = -tr(sigma)/3` positive in
@@ -33,8 +36,8 @@ pub mod damage;
 pub mod drivers;
 pub mod eos;
 pub mod error;
+pub mod j2;
 pub mod kc;
-pub mod material;
 pub mod math;
 pub mod parameters;
 pub mod part_material;
@@ -44,11 +47,9 @@ pub mod state;
 pub mod strength;
 pub mod tangent;
 pub mod tensor;
-pub mod update;
 
 pub use error::{ParameterError, UpdateError};
-pub use material::{Heating, Material, RateTreatment};
+pub use j2::{update, update_with_tangent, Heating, Material, RateTreatment};
 pub use part_material::PartMaterial;
-pub use point_model::PointModel;
+pub use point_model::{PointModel, StepInput, StepOutput};
 pub use state::{MaterialState, StateFlags, YieldCheck};
-pub use update::{update, update_with_tangent, StepInput, StepOutput};

@@ -3,13 +3,13 @@
 //! against a concrete target).
 
 use crate::error::{ParameterError, UpdateError};
+use crate::j2::Material;
 use crate::kc::KcMaterial;
-use crate::material::Material;
 use crate::point_model::PointModel;
+use crate::point_model::{StepInput, StepOutput};
 use crate::rht::RhtMaterial;
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;
-use crate::update::{StepInput, StepOutput};
 
 /// One part's material model. Every call dispatches to the variant's own update, so a J2
 /// metal computes exactly what [`crate::update()`] computes, bit for bit.

@@ -1,17 +1,15 @@
 //! The material model of one integration point, one step at a time: the trait every law
-//! implements (the J2 metals here, RHT in `rht/`, K&C in `kc/`, either per part in
-//! `part_material`), and what the single-element drivers and a host FE code (stoss's own
-//! solvers among them) call.
+//! implements (the J2 metals in `j2/`, RHT in `rht/`, K&C in `kc/`, either per part in
+//! `part_material`), what the single-element drivers and a host FE code (stoss's own solvers
+//! among them) call, and the step's input and output every law shares.
 
 use crate::error::{ParameterError, UpdateError};
-use crate::material::Material;
 use crate::state::{MaterialState, StateFlags};
-use crate::tensor::Matrix6;
-use crate::update::{update, update_with_tangent, StepInput, StepOutput};
+use crate::tensor::{Matrix6, Sym};
 
 /// A material model at one integration point, one step at a time: what the drivers and a
 /// host FE code (stoss's own explicit solver among them) need of it. Implemented by
-/// [`Material`] (the J2 metal update, [`crate::update()`]), by
+/// [`crate::Material`] (the J2 metal update, [`crate::update()`]), by
 /// [`crate::rht::RhtMaterial`] (the RHT concrete update) and by [`crate::PartMaterial`]
 /// (either, chosen per part).
 pub trait PointModel {
@@ -49,52 +47,6 @@ pub trait PointModel {
         input: &StepInput,
         tangent: &mut Matrix6,
     ) -> Result<StepOutput, UpdateError>;
-}
-
-impl PointModel for Material {
-    fn validate(&self) -> Result<(), ParameterError> {
-        Material::validate(self)
-    }
-
-    fn shear_modulus(&self) -> f64 {
-        self.shear_modulus
-    }
-
-    fn density(&self) -> f64 {
-        self.density
-    }
-
-    fn initial_state(&self, temperature: f64) -> MaterialState {
-        let mut state = MaterialState::initial(temperature);
-        state.eos_history = self.eos.initial_history();
-        state
-    }
-
-    fn kinematic_strain_bound(&self) -> Option<f64> {
-        self.failure.kinematic_strain_bound()
-    }
-
-    fn kinematic_flags(&self, principal_strains: [f64; 3]) -> StateFlags {
-        self.failure.kinematic_flags(principal_strains)
-    }
-
-    #[inline]
-    fn update(
-        &self,
-        state: &mut MaterialState,
-        input: &StepInput,
-    ) -> Result<StepOutput, UpdateError> {
-        update(self, state, input)
-    }
-
-    fn update_with_tangent(
-        &self,
-        state: &mut MaterialState,
-        input: &StepInput,
-        tangent: &mut Matrix6,
-    ) -> Result<StepOutput, UpdateError> {
-        update_with_tangent(self, state, input, tangent)
-    }
 }
 
 impl<T: PointModel + ?Sized> PointModel for &T {
@@ -138,4 +90,30 @@ impl<T: PointModel + ?Sized> PointModel for &T {
     ) -> Result<StepOutput, UpdateError> {
         (**self).update_with_tangent(state, input, tangent)
     }
+}
+
+/// What the host gives for one step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StepInput {
+    /// Strain increment, Voigt order, **tensor** shear (Jaumann/Green-Naghdi-rotated by the host).
+    pub strain_increment: Sym,
+    /// Time step (s), `> 0`.
+    pub dt: f64,
+    /// Relative volume `V/V0` at the end of the step, `> 0`.
+    pub relative_volume: f64,
+}
+
+/// Per-step results besides the updated state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StepOutput {
+    /// Longitudinal wave speed (m/s) for the host's CFL time step.
+    pub wave_speed: f64,
+    /// Plastic multiplier `dl` = equivalent plastic strain increment of this step.
+    pub plastic_increment: f64,
+    /// Flow stress used in the return (Pa); the current flow stress if elastic.
+    pub yield_stress: f64,
+    /// Return-mapping iterations (0 if elastic or lagged).
+    pub iterations: u32,
 }

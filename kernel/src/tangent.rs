@@ -3,8 +3,8 @@
 
 use crate::error::UpdateError;
 use crate::math::exp;
+use crate::point_model::StepInput;
 use crate::tensor::{Matrix6, Sym};
-use crate::update::StepInput;
 
 /// Relative size of the strain perturbation of [`central_difference_tangent`].
 pub const TANGENT_PERTURBATION: f64 = 1e-6;

@@ -8,7 +8,7 @@
 use std::path::PathBuf;
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
 use stoss::input::material::{self, MaterialFile};
-use stoss_kernel::material::Heating;
+use stoss_kernel::Heating;
 use stoss_kernel::Material;
 
 /// The shot and the target's and rod's material files as loaded.

@@ -1,9 +1,9 @@
 //! Driver output records and where they go.
 
 use crate::error::{ParameterError, UpdateError};
+use crate::point_model::StepOutput;
 use crate::state::MaterialState;
 use crate::tensor::Sym;
-use crate::update::StepOutput;
 
 /// The state of the point after one driver step.
 #[derive(Clone, Copy, Debug, PartialEq)]

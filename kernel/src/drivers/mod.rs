@@ -2,7 +2,7 @@
 //! writes one [`Record`] per step into a caller-provided [`HistorySink`]: a `heapless::Vec`, a
 //! `&mut [Record]` through [`SliceSink`], or anything else implementing the trait.
 //!
-//! Every driver takes any [`PointModel`]: a [`Material`] (J2 metals) or a
+//! Every driver takes any [`PointModel`]: a [`crate::Material`] (J2 metals) or a
 //! [`crate::rht::RhtMaterial`] (RHT concrete).
 //!
 //! Strains are logarithmic (sums of the increments); the relative volume follows as
@@ -24,9 +24,9 @@ pub use uniaxial_stress::{uniaxial_stress, UniaxialStressLoading, LATERAL_TOLERA
 
 use crate::math::exp;
 use crate::point_model::PointModel;
+use crate::point_model::{StepInput, StepOutput};
 use crate::state::MaterialState;
 use crate::tensor::{self, Sym};
-use crate::update::{StepInput, StepOutput};
 
 /// Apply one strain increment, advance the driver clock and record the result.
 pub(crate) fn step_and_record<S: HistorySink + ?Sized>(

@@ -3,9 +3,9 @@
 //! the consistent tangent (shear strains zero).
 
 use super::{positive, step_and_record, DriverError, HistorySink, PointModel};
+use crate::point_model::StepInput;
 use crate::state::MaterialState;
 use crate::tensor::{self, solve2, Matrix6};
-use crate::update::StepInput;
 
 /// Lateral stress accepted as zero, relative to `max(|sigma_xx|, 1e-6 G)`.
 pub const LATERAL_TOLERANCE: f64 = 1e-13;

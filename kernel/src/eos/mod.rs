@@ -9,7 +9,7 @@
 mod jwl;
 mod linear;
 mod mie_gruneisen;
-mod p_alpha;
+pub(crate) mod p_alpha;
 mod polynomial;
 mod tabulated_compaction;
 

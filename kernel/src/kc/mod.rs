@@ -62,9 +62,9 @@ use crate::damage::Failure;
 use crate::eos::{Eos, TabulatedCompaction};
 use crate::error::{check, ParameterError, UpdateError};
 use crate::point_model::PointModel;
+use crate::point_model::{StepInput, StepOutput};
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;
-use crate::update::{StepInput, StepOutput};
 
 /// A complete K&C material: density, constants, EoS, erosion.
 #[derive(Clone, Copy, Debug, PartialEq)]

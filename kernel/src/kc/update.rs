@@ -20,12 +20,12 @@
 use super::surfaces::Strengths;
 use super::KcMaterial;
 use crate::error::UpdateError;
+use crate::point_model::{StepInput, StepOutput};
 use crate::rht::update::{book_energy, check_input, pressure_predictor};
 use crate::rht::{strain_rate, Lode};
 use crate::state::{MaterialState, StateFlags};
 use crate::tangent::central_difference_tangent;
 use crate::tensor::{self, Matrix6};
-use crate::update::{StepInput, StepOutput};
 
 /// Update `state` over one step with the K&C model. On error, `state` is unchanged.
 pub fn update(

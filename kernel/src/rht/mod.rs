@@ -117,9 +117,9 @@ use crate::damage::Failure;
 use crate::eos::{Eos, PAlpha, Polynomial};
 use crate::error::{check, ParameterError, UpdateError};
 use crate::point_model::PointModel;
+use crate::point_model::{StepInput, StepOutput};
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;
-use crate::update::{StepInput, StepOutput};
 
 /// A complete RHT material: density, RHT constants, EoS, erosion.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -36,10 +36,10 @@ use super::{RhtMaterial, RhtParameters, TensileFailure};
 use crate::eos::{EnergyLinearPressure, Eos};
 use crate::error::UpdateError;
 use crate::math::{clamp, sqrt};
+use crate::point_model::{StepInput, StepOutput};
 use crate::state::{MaterialState, StateFlags};
 use crate::tangent::central_difference_tangent;
 use crate::tensor::{self, Matrix6, Sym};
-use crate::update::{StepInput, StepOutput};
 
 /// Update `state` over one step with the RHT model. On error, `state` is unchanged.
 pub fn update(

@@ -425,3 +425,108 @@ mod tests {
         assert!(along(&mjc).same_branch(10.0, 1.0e-9, 1.0));
     }
 }
+
+/// The families' constants read and written by name, index and composed path
+/// ([`crate::parameters`]).
+#[cfg(test)]
+mod described_tests {
+    use super::{ComposedStrength, JohnsonCook, ModifiedJohnsonCook, RateTerm, TwoRateJohnsonCook};
+    use crate::parameters::{ConstantPaths, Constants};
+
+    /// Distinct values in every slot of `model`, written by index.
+    fn numbered<M: Constants>(mut model: M) -> M {
+        for index in 0..model.parameters().len() {
+            *model.slot(index).unwrap() = 1000.0 + index as f64;
+        }
+        assert!(model.slot(model.parameters().len()).is_none());
+        model
+    }
+
+    fn check_paths(model: ComposedStrength, values: &[f64], paths: &[&str]) {
+        assert_eq!(values.len(), paths.len());
+        for (value, path) in values.iter().zip(paths) {
+            assert_eq!(model.get(path), Some(*value), "{path}");
+        }
+        assert_eq!(model.parameters().count(), paths.len());
+    }
+
+    #[test]
+    fn the_families_composed_paths_find_each_constant_where_composed_puts_it() {
+        // GOAL: a family constant keeps its value when the family is rewritten as composed
+        //       terms (the diagnosis adds physics terms to that form).
+        // SETUP: JC, MJC, TJC with a distinct number in every constant, by index.
+        // REFERENCE: `composed()` holds constant i at COMPOSED_PATHS[i], and the composed
+        //            form has no other constant.
+        let jc = numbered(JohnsonCook::STEEL_4340);
+        let values: std::vec::Vec<f64> = (0..8).map(|i| 1000.0 + i as f64).collect();
+        check_paths(jc.composed(), &values, &JohnsonCook::COMPOSED_PATHS);
+        let mjc = numbered(ModifiedJohnsonCook {
+            yield_stress: 0.0,
+            hardening_modulus: 0.0,
+            hardening_exponent: 0.0,
+            saturation_stress_1: 0.0,
+            saturation_rate_1: 0.0,
+            saturation_stress_2: 0.0,
+            saturation_rate_2: 0.0,
+            rate_exponent: 0.0,
+            reference_rate: 0.0,
+            thermal_exponent: 0.0,
+            reference_temperature: 0.0,
+            melting_temperature: 0.0,
+        });
+        let values: std::vec::Vec<f64> = (0..12).map(|i| 1000.0 + i as f64).collect();
+        check_paths(
+            mjc.composed(),
+            &values,
+            &ModifiedJohnsonCook::COMPOSED_PATHS,
+        );
+        let tjc = numbered(TwoRateJohnsonCook {
+            yield_stress: 0.0,
+            hardening_modulus: 0.0,
+            hardening_exponent: 0.0,
+            saturation_stress_1: 0.0,
+            saturation_rate_1: 0.0,
+            saturation_stress_2: 0.0,
+            saturation_rate_2: 0.0,
+            rate_exponent_1: 0.0,
+            reference_rate_1: 0.0,
+            rate_exponent_2: 0.0,
+            reference_rate_2: 0.0,
+            thermal_exponent: 0.0,
+            reference_temperature: 0.0,
+            melting_temperature: 0.0,
+        });
+        let values: std::vec::Vec<f64> = (0..14).map(|i| 1000.0 + i as f64).collect();
+        check_paths(tjc.composed(), &values, &TwoRateJohnsonCook::COMPOSED_PATHS);
+    }
+
+    #[test]
+    fn constants_are_read_and_written_by_name_and_path() {
+        // GOAL: named access reads and writes the field of that name, nothing else.
+        // SETUP: JC 4340 and its composed form with a high-rate upturn.
+        // REFERENCE: the struct fields themselves.
+        let mut jc = JohnsonCook::STEEL_4340;
+        assert_eq!(jc.get("rate_sensitivity"), Some(0.014));
+        jc.set("rate_sensitivity", 0.02).unwrap();
+        assert_eq!(jc.rate_sensitivity, 0.02);
+        assert_eq!(jc.yield_stress, JohnsonCook::STEEL_4340.yield_stress);
+        assert!(jc.set("upturn_exponent", 0.1).is_none());
+        let mut composed = JohnsonCook::STEEL_4340.composed();
+        composed.rate = RateTerm::LogUpturn {
+            rate_sensitivity: 0.014,
+            reference_rate: 1.0,
+            upturn_exponent: 0.0,
+            upturn_rate: 1.0e3,
+        };
+        composed.set("rate.upturn_exponent", 0.2).unwrap();
+        assert_eq!(composed.get("rate.upturn_exponent"), Some(0.2));
+        assert_eq!(composed.get("hardening.exponent"), Some(0.26));
+        assert!(composed.set("rate.coupling", 1.0).is_none());
+        assert!(composed.get("thermal").is_none());
+        let symbols: std::vec::Vec<&str> = composed.parameters().map(|(_, p)| p.symbol).collect();
+        assert_eq!(
+            symbols,
+            ["A", "B", "n", "C", "e0", "beta", "e_up", "m", "Tr", "Tm"]
+        );
+    }
+}

@@ -18,9 +18,10 @@
 //! 6. longitudinal wave speed `sqrt(c_bulk^2 + 4G/(3 rho))` for the host's time step, and,
 //!    on request, the consistent (algorithmic) tangent of Simo & Hughes (1998, box 3.2).
 
+use super::material::{Material, RateTreatment};
 use crate::error::UpdateError;
-use crate::material::{Material, RateTreatment};
 use crate::math::sqrt;
+use crate::point_model::{StepInput, StepOutput};
 use crate::state::{MaterialState, StateFlags, YieldCheck};
 use crate::strength::{FlowAtTemperature, PathFlow};
 use crate::tensor::{self, Matrix6, Sym};
@@ -102,32 +103,6 @@ fn final_step(
         let value = flow.value + corrected * (flow.slope + 0.5 * flow.curvature * corrected);
         (accepted, value)
     })
-}
-
-/// What the host gives for one step.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct StepInput {
-    /// Strain increment, Voigt order, **tensor** shear (Jaumann/Green-Naghdi-rotated by the host).
-    pub strain_increment: Sym,
-    /// Time step (s), `> 0`.
-    pub dt: f64,
-    /// Relative volume `V/V0` at the end of the step, `> 0`.
-    pub relative_volume: f64,
-}
-
-/// Per-step results besides the updated state.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct StepOutput {
-    /// Longitudinal wave speed (m/s) for the host's CFL time step.
-    pub wave_speed: f64,
-    /// Plastic multiplier `dl` = equivalent plastic strain increment of this step.
-    pub plastic_increment: f64,
-    /// Flow stress used in the return (Pa); the current flow stress if elastic.
-    pub yield_stress: f64,
-    /// Return-mapping iterations (0 if elastic or lagged).
-    pub iterations: u32,
 }
 
 /// Update `state` over one step. On error, `state` is unchanged.
@@ -942,5 +917,59 @@ mod yield_check_tests {
             assert_eq!(elastic, 400);
             assert!(found >= 399, "{found} of 400: {material:?}");
         }
+    }
+}
+
+#[cfg(test)]
+mod porous_eos_tests {
+    use super::*;
+    use crate::eos::p_alpha::SAMPLE;
+    use crate::eos::Eos;
+
+    #[test]
+    fn stress_update_threads_the_distension_through_a_hydrostatic_cycle() {
+        // GOAL: through the J2 update, MaterialState::eos_history carries alpha: it decreases
+        //   on loading, stays fixed on unloading, and the cycle dissipates energy.
+        // SETUP: 4340 material with the SAMPLE P-alpha EoS and porous density 2750/1.2;
+        //   hydrostatic strain increments tr(deps) = -1e-4 for 1000 steps, then +1e-4 back
+        //   to V = 1; history seeded with Eos::initial_history().
+        // REFERENCE: each step's pressure equals the EoS at the step's mu, the incoming
+        //   history and the step's energy (1e-12 relative); a closed compaction loop leaves
+        //   E > 0 and, with permanent densification, tension at V = 1.
+        let mut material = Material::STEEL_4340;
+        material.density = 2750.0 / SAMPLE.initial_distension;
+        material.eos = Eos::from(SAMPLE);
+        let mut state = MaterialState::initial(293.0);
+        state.eos_history = material.eos.initial_history();
+        let step = |state: &mut MaterialState, sign: f64| {
+            let d = sign * 1e-4 / 3.0;
+            let input = StepInput {
+                strain_increment: [d, d, d, 0.0, 0.0, 0.0],
+                dt: 1e-6,
+                relative_volume: state.relative_volume * crate::math::exp(3.0 * d),
+            };
+            let before = state.eos_history;
+            update(&material, state, &input).unwrap();
+            let mu = 1.0 / state.relative_volume - 1.0;
+            let (terms, alpha) = material.eos.evaluate(mu, before);
+            assert_eq!(alpha, state.eos_history);
+            let p = terms.pressure(state.internal_energy);
+            assert!((state.pressure() - p).abs() <= 1e-12 * p.abs().max(1e3));
+            (before, state.eos_history)
+        };
+        for _ in 0..1000 {
+            let (before, after) = step(&mut state, -1.0);
+            assert!(after <= before);
+        }
+        let compacted = state.eos_history;
+        assert!(compacted < SAMPLE.initial_distension && compacted > 1.0);
+        for _ in 0..1000 {
+            let (before, after) = step(&mut state, 1.0);
+            assert_eq!(after, before);
+        }
+        assert_eq!(state.eos_history, compacted);
+        assert!((state.relative_volume - 1.0).abs() < 1e-12);
+        assert!(state.internal_energy > 0.0, "E = {}", state.internal_energy);
+        assert!(state.pressure() < 0.0);
     }
 }
