@@ -179,7 +179,12 @@ impl Runner<'_> {
     ) -> Result<Vec<Evaluation>, CalibrateError> {
         let mut results = Vec::with_capacity(points.len());
         for (key, point) in keys.iter().zip(points) {
-            results.push(self.log.lookup(key, point)?);
+            let mut logged = self.log.lookup(key, point)?;
+            if let Some(evaluation) = &mut logged {
+                // A log written before stoss named its values carries none.
+                evaluation.label_positional(self.campaign, space);
+            }
+            results.push(logged);
         }
         let fresh: Vec<usize> = (0..points.len())
             .filter(|&i| results[i].is_none())

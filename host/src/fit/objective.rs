@@ -108,7 +108,15 @@ pub enum Status {
 }
 
 /// One evaluated candidate.
+///
+/// Written (result.json, simulations.jsonl, Slurm result files) **by name**:
+/// `{"constants": {"yield_stress": 7.9e8, ..}, "scores": {"experiments/taylor.toml": {..},
+/// ..}, "status": .., "wall_time": ..}`, the constants in the model space's order and the
+/// scores in the campaign's. Files written before stoss named them hold positional `values`
+/// and `scores` arrays; they still read, with empty [`Evaluation::names`] and
+/// [`Evaluation::experiments`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(from = "record::EvaluationRecord", into = "record::EvaluationRecord")]
 pub struct Evaluation {
     /// Fitted constants (SI), in the model space's order.
     pub values: Vec<f64>,
@@ -118,9 +126,56 @@ pub struct Evaluation {
     pub status: Status,
     /// Wall time of the simulations (s).
     pub wall_time: f64,
+    /// The names of `values` (the model space's constants); empty if read from a positional
+    /// file.
+    pub names: Vec<String>,
+    /// The experiments of `scores` (their campaign file entries); empty if read from a
+    /// positional file.
+    pub experiments: Vec<String>,
 }
 
 impl Evaluation {
+    /// An evaluation of `values` in `space`, labelled with its constants' and the campaign's
+    /// experiments' names.
+    pub fn labelled(
+        campaign: &Campaign,
+        space: &ModelSpace,
+        values: &[f64],
+        scores: Vec<Option<Score>>,
+        status: Status,
+        wall_time: f64,
+    ) -> Self {
+        Evaluation {
+            values: values.to_vec(),
+            scores,
+            status,
+            wall_time,
+            names: space.names.clone(),
+            experiments: campaign
+                .file
+                .experiments
+                .iter()
+                .map(|e| e.file.clone())
+                .collect(),
+        }
+    }
+
+    /// Label an evaluation read from a positional file with `space`'s constants and
+    /// `campaign`'s experiments, if their counts match (a labelled one is left as it is).
+    pub fn label_positional(&mut self, campaign: &Campaign, space: &ModelSpace) {
+        if self.names.is_empty() && self.values.len() == space.names.len() {
+            self.names = space.names.clone();
+        }
+        if self.experiments.is_empty() && self.scores.len() == campaign.file.experiments.len() {
+            self.experiments = campaign
+                .file
+                .experiments
+                .iter()
+                .map(|e| e.file.clone())
+                .collect();
+        }
+    }
+
     /// Weighted sum of the min-max errors over `experiments`; `None` if any is missing.
     pub fn total(&self, campaign: &Campaign, experiments: &[usize]) -> Option<f64> {
         experiments
@@ -155,11 +210,9 @@ pub fn evaluate(
 ) -> Evaluation {
     let started = std::time::Instant::now();
     let mut scores = vec![None; campaign.experiments.len()];
-    let finish = |scores, status| Evaluation {
-        values: values.to_vec(),
-        scores,
-        status,
-        wall_time: started.elapsed().as_secs_f64(),
+    let finish = |scores, status| {
+        let wall_time = started.elapsed().as_secs_f64();
+        Evaluation::labelled(campaign, space, values, scores, status, wall_time)
     };
     let material = match space.material(&campaign.base, values) {
         Ok((_, material)) => material,
@@ -216,6 +269,48 @@ mod tests {
     }
 
     #[test]
+    fn evaluations_are_written_by_name_and_positional_ones_still_read() {
+        // GOAL: result.json and simulations.jsonl carry constants and scores by name, in the
+        //       model's and campaign's order (not sorted), and files written before stoss
+        //       named them still read.
+        // SETUP: an evaluation of two constants named against alphabetical order, one
+        //        scored and one unsimulated experiment, and failed; a line as stoss wrote it
+        //        before (positional `values` and `scores`).
+        // REFERENCE: the JSON text; the round trip; the old line's numbers.
+        let evaluation = Evaluation {
+            values: vec![7.9e8, 0.014],
+            scores: vec![
+                Some(Score {
+                    error: 0.1,
+                    chi: 2.0,
+                }),
+                None,
+            ],
+            status: Status::Failed("taylor.toml: inverted".into()),
+            wall_time: 1.5,
+            names: vec!["yield_stress".into(), "rate_sensitivity".into()],
+            experiments: vec!["tension.toml".into(), "taylor.toml".into()],
+        };
+        let text = serde_json::to_string(&evaluation).unwrap();
+        assert!(
+            text.starts_with(
+                r#"{"constants":{"yield_stress":790000000.0,"rate_sensitivity":0.014},"scores":{"tension.toml":{"error":0.1,"chi":2.0},"taylor.toml":null}"#
+            ),
+            "{text}"
+        );
+        let read: Evaluation = serde_json::from_str(&text).unwrap();
+        assert_eq!(read, evaluation);
+        let old = r#"{"values":[790000000.0,0.014],"scores":[{"error":0.1,"chi":2.0},null],"status":{"status":"failed","reason":"taylor.toml: inverted"},"wall_time":1.5}"#;
+        let read: Evaluation = serde_json::from_str(old).unwrap();
+        assert_eq!(read.values, evaluation.values);
+        assert_eq!(read.scores, evaluation.scores);
+        assert_eq!(read.status, evaluation.status);
+        assert!(read.names.is_empty() && read.experiments.is_empty());
+        // Written again, an unlabelled evaluation stays positional rather than inventing names.
+        assert_eq!(serde_json::to_string(&read).unwrap(), old);
+    }
+
+    #[test]
     fn min_max_rmse_matches_a_hand_calculation() {
         // GOAL: the seed 000 error measure. SETUP: recorded 1, 2, 3; predicted 1.5, 2, 2.
         // REFERENCE: range 2; residuals 0.5, 0, -1 -> sqrt((0.0625 + 0 + 0.25)/3) = 0.3227.
@@ -239,5 +334,114 @@ mod tests {
         assert!(check_constraints(&strong, &constraints, 298.0)
             .unwrap_err()
             .contains("outside"));
+    }
+}
+
+/// The file form of an [`Evaluation`]: by name, or positional as written before.
+mod record {
+    use super::{Evaluation, Score, Status};
+    use serde::de::{MapAccess, Visitor};
+    use serde::ser::SerializeMap;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// Name-value pairs written as a JSON object in their order, and read back in the file's
+    /// order (a `BTreeMap` would sort them).
+    #[derive(Clone, Debug, Default)]
+    pub struct Ordered<T>(pub Vec<(String, T)>);
+
+    impl<T: Serialize> Serialize for Ordered<T> {
+        fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+            let mut map = serializer.serialize_map(Some(self.0.len()))?;
+            for (name, value) in &self.0 {
+                map.serialize_entry(name, value)?;
+            }
+            map.end()
+        }
+    }
+
+    impl<'de, T: Deserialize<'de>> Deserialize<'de> for Ordered<T> {
+        fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+            struct Pairs<T>(std::marker::PhantomData<T>);
+            impl<'de, T: Deserialize<'de>> Visitor<'de> for Pairs<T> {
+                type Value = Ordered<T>;
+                fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                    f.write_str("an object of named values")
+                }
+                fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+                    let mut pairs = Vec::new();
+                    while let Some(pair) = map.next_entry::<String, T>()? {
+                        pairs.push(pair);
+                    }
+                    Ok(Ordered(pairs))
+                }
+            }
+            deserializer.deserialize_map(Pairs(std::marker::PhantomData))
+        }
+    }
+
+    /// Scores by experiment, or by position (files written before stoss named them).
+    #[derive(Clone, Debug, Serialize, Deserialize)]
+    #[serde(untagged)]
+    pub enum Scores {
+        Named(Ordered<Option<Score>>),
+        Positional(Vec<Option<Score>>),
+    }
+
+    #[derive(Clone, Debug, Serialize, Deserialize)]
+    pub struct EvaluationRecord {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        constants: Option<Ordered<f64>>,
+        /// Positional constants (files written before stoss named them).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        values: Option<Vec<f64>>,
+        scores: Scores,
+        status: Status,
+        wall_time: f64,
+    }
+
+    impl From<Evaluation> for EvaluationRecord {
+        fn from(e: Evaluation) -> Self {
+            let named = e.names.len() == e.values.len() && e.experiments.len() == e.scores.len();
+            if named {
+                EvaluationRecord {
+                    constants: Some(Ordered(e.names.into_iter().zip(e.values).collect())),
+                    values: None,
+                    scores: Scores::Named(Ordered(
+                        e.experiments.into_iter().zip(e.scores).collect(),
+                    )),
+                    status: e.status,
+                    wall_time: e.wall_time,
+                }
+            } else {
+                EvaluationRecord {
+                    constants: None,
+                    values: Some(e.values),
+                    scores: Scores::Positional(e.scores),
+                    status: e.status,
+                    wall_time: e.wall_time,
+                }
+            }
+        }
+    }
+
+    impl From<EvaluationRecord> for Evaluation {
+        fn from(r: EvaluationRecord) -> Self {
+            let (names, values) = match (r.constants, r.values) {
+                (Some(Ordered(pairs)), _) => pairs.into_iter().unzip(),
+                (None, values) => (Vec::new(), values.unwrap_or_default()),
+            };
+            let (experiments, scores) = match r.scores {
+                Scores::Named(Ordered(pairs)) => pairs.into_iter().unzip(),
+                Scores::Positional(scores) => (Vec::new(), scores),
+            };
+            Evaluation {
+                values,
+                scores,
+                status: r.status,
+                wall_time: r.wall_time,
+                names,
+                experiments,
+            }
+        }
     }
 }

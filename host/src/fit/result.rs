@@ -208,16 +208,22 @@ impl ModelResult {
                 space.names.len()
             ));
         }
-        if self.constants.is_empty() {
-            return Ok(());
-        }
-        for (i, (constant, name)) in self.constants.iter().zip(&space.names).enumerate() {
-            if &constant.name != name {
+        // The constants table's names, and the selected evaluation's own (absent in results
+        // written before stoss named them).
+        let named = self
+            .constants
+            .iter()
+            .map(|c| &c.name)
+            .zip(&space.names)
+            .chain(self.selected.names.iter().zip(&space.names));
+        for (i, (constant, name)) in named.enumerate() {
+            let i = i % space.names.len();
+            if constant != name {
                 return Err(format!(
-                    "model `{}`: constant {} of the result is `{}`, the campaign's is `{name}`",
+                    "model `{}`: constant {} of the result is `{constant}`, the campaign's is \
+                     `{name}`",
                     self.model,
                     i + 1,
-                    constant.name
                 ));
             }
         }
@@ -257,6 +263,8 @@ mod tests {
                 scores: Vec::new(),
                 status: Status::Ok,
                 wall_time: 0.0,
+                names: Vec::new(),
+                experiments: Vec::new(),
             },
             fit_error: 1.0,
             holdout_error: None,

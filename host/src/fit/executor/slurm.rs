@@ -898,12 +898,14 @@ impl SlurmExecutor {
             }
             AfterFailure::RecordFailed(reason) => {
                 let candidate = batch.candidates[task.index];
-                let evaluation = Evaluation {
-                    values: candidate.values.to_vec(),
-                    scores: vec![None; batch.campaign.experiments.len()],
-                    status: Status::Failed(reason),
-                    wall_time: 0.0,
-                };
+                let evaluation = Evaluation::labelled(
+                    batch.campaign,
+                    batch.space,
+                    candidate.values,
+                    vec![None; batch.campaign.experiments.len()],
+                    Status::Failed(reason),
+                    0.0,
+                );
                 let mut origin = Origin::this_process(self.executor_name());
                 origin.attempts = task.failures.len() as u32;
                 record(task.index, &evaluation, &origin)?;
