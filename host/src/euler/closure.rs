@@ -19,6 +19,13 @@
 //!   pressure expands towards zero pressure, `dV_k <= V_k p_k / K_k`, and the void opens for
 //!   the rest: material next to void cannot be pulled into tension by it.
 //!
+//! - **Void insertion** (tensile failure, CTH's fracture model, McGlaun et al. 1990): a
+//!   material with a fracture pressure `p_f < 0` whose pressure would fall below it over the
+//!   step, `p_k - K_k dV_k / V_k < p_f`, does not stretch: it takes the volume change that
+//!   returns it to zero pressure to first order, `dV_k = V_k p_k / B_k` with its bulk modulus
+//!   `B_k`, and void is inserted for the rest of the cell's change. From then on the void beside
+//!   it keeps it from being pulled into tension (the rule above) until the cell closes again.
+//!
 //! Materials below [`super::ACTIVE_FRACTION`] of the cell take no share (their state is
 //! carried unchanged).
 
@@ -30,7 +37,7 @@ use super::MAX_PHASES;
 pub const VOID_FRACTION: f64 = 1e-6;
 
 /// One phase of a cell as the closure sees it.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Phase {
     /// Current volume.
     pub volume: f64,
@@ -40,11 +47,55 @@ pub struct Phase {
     pub pressure: f64,
     /// `true` if the phase takes part (an active material, or void with volume).
     pub active: bool,
+    /// Bulk modulus `rho c^2 - 4G/3` (Pa), for the return to zero pressure of a fractured
+    /// material; ignored for void.
+    pub bulk_modulus: f64,
+    /// Fracture pressure (Pa, negative): below it void is inserted; `-inf` for a material that
+    /// never fractures, and for void.
+    pub fracture_pressure: f64,
+}
+
+impl Default for Phase {
+    fn default() -> Self {
+        Phase {
+            volume: 0.0,
+            stiffness: 0.0,
+            pressure: 0.0,
+            active: false,
+            bulk_modulus: 0.0,
+            fracture_pressure: f64::NEG_INFINITY,
+        }
+    }
 }
 
 /// Share the cell's volume change `change` among `phases` (void last): returns each phase's
-/// volume change; they sum to `change` (to round-off) unless no phase can take it.
+/// volume change; they sum to `change` (to round-off) unless no phase can take it. A material
+/// the shares would pull below its fracture pressure returns to zero pressure instead, and
+/// void is inserted for the difference.
 pub fn share(change: f64, phases: &[Phase; MAX_PHASES], materials: usize) -> [f64; MAX_PHASES] {
+    let void = MAX_PHASES - 1;
+    let mut out = closure_share(change, phases, materials);
+    let mut fractured = false;
+    for k in 0..materials {
+        let phase = &phases[k];
+        if !phase.active || phase.stiffness <= 0.0 || phase.volume <= 0.0 {
+            continue;
+        }
+        let predicted = phase.pressure - phase.stiffness * out[k] / phase.volume;
+        if predicted < phase.fracture_pressure && phase.bulk_modulus > 0.0 {
+            out[k] = phase.volume * phase.pressure / phase.bulk_modulus;
+            fractured = true;
+        }
+    }
+    if fractured {
+        let materials_change: f64 = out[..materials].iter().sum();
+        out[void] = change - materials_change;
+    }
+    out
+}
+
+/// The shares without fracture: void first, equal pressure increments, relaxation beside void.
+fn closure_share(change: f64, phases: &[Phase; MAX_PHASES], materials: usize) -> [f64; MAX_PHASES] {
     let void = MAX_PHASES - 1;
     let mut out = [0.0; MAX_PHASES];
     let void_volume = phases[void].volume.max(0.0);
@@ -98,6 +149,8 @@ mod tests {
             stiffness,
             pressure,
             active: true,
+            bulk_modulus: stiffness,
+            fracture_pressure: f64::NEG_INFINITY,
         }
     }
 
@@ -162,5 +215,40 @@ mod tests {
             phase(2.0 * VOID_FRACTION, 0.0, 0.0),
         ];
         assert_eq!(share(0.3, &phases, 3)[3], 0.3);
+    }
+
+    #[test]
+    fn a_material_pulled_past_its_fracture_pressure_returns_to_zero_and_void_opens() {
+        // GOAL: void insertion: a full cell stretched past a material's fracture pressure
+        //       inserts void so the material returns to zero pressure; short of it, nothing
+        //       changes. REFERENCE: dV = V p / B (first order), the rest void.
+        let fracturing = |pressure: f64| Phase {
+            fracture_pressure: -1.0,
+            bulk_modulus: 6.0,
+            ..phase(1.0, 10.0, pressure)
+        };
+        let full = [
+            fracturing(-0.5),
+            Phase::default(),
+            Phase::default(),
+            Phase::default(),
+        ];
+        // Stretched by 0.04: predicted -0.5 - 10 * 0.04 = -0.9, above -1: as before.
+        let out = share(0.04, &full, 3);
+        assert_eq!(out[0], 0.04);
+        assert_eq!(out[3], 0.0);
+        // Stretched by 0.06: -1.1, past -1: the material returns to zero pressure.
+        let out = share(0.06, &full, 3);
+        assert!((out[0] - (-0.5 / 6.0)).abs() < 1e-15);
+        assert!((out[0] + out[3] - 0.06).abs() < 1e-15);
+        assert!(out[3] > 0.06);
+        // A material without a fracture pressure stretches as before.
+        let strong = [
+            phase(1.0, 10.0, -0.5),
+            Phase::default(),
+            Phase::default(),
+            Phase::default(),
+        ];
+        assert_eq!(share(0.06, &strong, 3)[0], 0.06);
     }
 }

@@ -346,14 +346,18 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
             let mut phases = [Phase::default(); MAX_PHASES];
             for k in 0..materials.len() {
                 let f = volumes[k] / total;
+                let model = &materials[k].model;
+                let stiffness = model.density() / states[k].relative_volume * waves[k] * waves[k];
+                // The kernel's wave speed is sqrt((B + 4G V/3) / rho0): take the shear part off.
+                let bulk = stiffness - 4.0 / 3.0 * model.shear_modulus();
                 phases[k] = Phase {
                     volume: volumes[k],
-                    stiffness: materials[k].model.density() / states[k].relative_volume
-                        * waves[k]
-                        * waves[k],
+                    stiffness,
                     pressure: -(states[k].stress[0] + states[k].stress[1] + states[k].stress[2])
                         / 3.0,
                     active: masses[k] > 0.0 && f >= super::ACTIVE_FRACTION,
+                    bulk_modulus: if bulk > 0.0 { bulk } else { stiffness },
+                    fracture_pressure: materials[k].fracture_pressure.unwrap_or(f64::NEG_INFINITY),
                 };
             }
             phases[MAX_PHASES - 1].volume = volumes[MAX_PHASES - 1];

@@ -174,6 +174,11 @@ pub struct EulerMaterial<P> {
     pub name: String,
     /// The constitutive model (any kernel model).
     pub model: P,
+    /// Void insertion (tensile failure on the grid, [`closure`]): the pressure (Pa, negative)
+    /// below which the material does not stretch but void opens beside it, returning it to
+    /// zero pressure (CTH's fracture pressure, with its default void pressure 0); `None`: the
+    /// material carries whatever tension its model gives.
+    pub fracture_pressure: Option<f64>,
 }
 
 /// The energy booked by an Eulerian run, per the whole body (J, 2 pi per radian).

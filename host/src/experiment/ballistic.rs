@@ -317,6 +317,7 @@ impl BallisticLimitSpec {
             rigid_rod: self.projectile_rigid,
             hourglass: self.hourglass,
             bulk_viscosity: self.bulk_viscosity,
+            void_insertion: false,
             end_time: self.end_time,
             temperature: self.temperature,
             rod: self.projectile.clone(),

@@ -99,6 +99,14 @@ impl PenetrationSpec {
         )
     }
 
+    /// A material's fracture pressure on the grid: its hydrodynamic tensile limit if void
+    /// insertion is on (J2 metals; the concrete models' tensile failure is their own).
+    fn fracture_pressure(&self, material: &PartMaterial) -> Option<f64> {
+        self.void_insertion
+            .then(|| material.j2().and_then(|m| m.failure.pressure_cutoff))
+            .flatten()
+    }
+
     /// The void layer below the target's rear face (m).
     fn void_below(&self) -> f64 {
         (0.2 * self.target_thickness).max(8.0 * self.element_size)
@@ -192,10 +200,12 @@ impl PenetrationSpec {
                 EulerMaterial {
                     name: "rod".into(),
                     model: rod,
+                    fracture_pressure: self.fracture_pressure(&rod),
                 },
                 EulerMaterial {
                     name: "target".into(),
                     model: *target,
+                    fracture_pressure: self.fracture_pressure(target),
                 },
             ],
             &regions,

@@ -225,6 +225,12 @@ pub struct PenetrationSpec {
     /// viscosity); absent: the run's settings (LS-DYNA's 1.5 and 0.06).
     #[serde(default)]
     pub bulk_viscosity: Option<BulkViscosity>,
+    /// Void insertion on the Eulerian grid (`solver = "euler"` only): a material with a
+    /// hydrodynamic tensile limit (`[failure] pressure_cutoff`) fractures there, and void opens
+    /// beside it instead of the material stretching at the limit (CTH's fracture model; the
+    /// Eulerian counterpart of erosion by spall). Default `false`.
+    #[serde(default)]
+    pub void_insertion: bool,
     /// End of the simulated time after impact (s).
     pub end_time: f64,
     /// Initial temperature (K).
@@ -435,6 +441,12 @@ impl PenetrationSpec {
         if self.solver == PenetrationSolver::Euler {
             return self.validate_euler(check);
         }
+        check(
+            "void_insertion",
+            !self.void_insertion,
+            "applies to the Eulerian solver only (solver = \"euler\"): the Lagrangian model \
+             fails and erodes elements instead",
+        )?;
         // A run must stay affordable: the element count at the given size, and the steps to
         // `end_time` at the undeformed stable step (distortion near the erosion strain makes
         // the real count several times larger).
@@ -1097,6 +1109,7 @@ mod tests {
             rigid_rod: false,
             hourglass: default_hourglass(),
             bulk_viscosity: None,
+            void_insertion: false,
             end_time: 1.0e-6,
             temperature: 298.0,
             rod: None,
