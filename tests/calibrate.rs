@@ -408,6 +408,71 @@ fn a_model_with_no_feasible_candidate_says_why_the_first_failed() {
 }
 
 #[test]
+fn a_calibration_whose_first_candidate_was_infeasible_writes_a_result_its_diagnosis_reads() {
+    // GOAL: issue 54, defect 1: `stoss diagnose` refused the result.json of a calibration whose
+    //       first candidate was infeasible (its best-so-far history began with NaN, written as
+    //       null into a number field). A report is never written in a form its reader refuses.
+    // SETUP: the synthetic-flow campaign with yield_stress bounds [2, 9] GPa (above 5 GPa the
+    //        flow-stress realism limit rejects a candidate), 10 simulations, one instance, no
+    //        polish; then `stoss diagnose` on the folder (one refit, two iterations).
+    // REFERENCE: the history starts with null (no feasible candidate yet) and then holds a
+    //            number; both commands exit 0 and the diagnosis writes its report.
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
+    let out = temporary("first-infeasible");
+    let campaign = out.join("campaign.toml");
+    let edited = text
+        .replace(
+            "yield_stress = [0.5e9, 2.0e9]",
+            "yield_stress = [2.0e9, 9.0e9]",
+        )
+        .replace("\"../", &format!("\"{root}/fixtures/"));
+    assert_ne!(edited, text);
+    std::fs::write(&campaign, edited).unwrap();
+    let folder = out.join("run");
+    let output = stoss()
+        .arg("calibrate")
+        .arg(&campaign)
+        .args([
+            "--budget",
+            "10",
+            "--polish",
+            "0",
+            "--instances",
+            "1",
+            "--quiet",
+        ])
+        .arg("--output")
+        .arg(&folder)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let results: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("report/result.json")).unwrap())
+            .unwrap();
+    let history = results[0]["instances"][0]["history"].as_array().unwrap();
+    assert!(history[0].is_null(), "{history:?}");
+    assert!(history.last().unwrap().is_f64(), "{history:?}");
+    let output = stoss()
+        .arg("diagnose")
+        .arg(&folder)
+        .args(["--max-refits", "1", "--iterations", "2", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(folder.join("diagnosis/report.md").exists());
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
 fn a_failed_resume_leaves_the_logged_runs_inputs_as_they_were() {
     // GOAL: a resume that fails does not overwrite the inputs of the run it tried to continue.
     // SETUP: synthetic-flow campaign, 6 simulations, one instance; then --resume on the same
@@ -991,7 +1056,7 @@ fn calibration_does_not_depend_on_the_order_tasks_finish_in() {
             r[0].fit_error.to_bits(),
             r[0].instances
                 .iter()
-                .flat_map(|i| i.history.iter().map(|h| h.to_bits()))
+                .flat_map(|i| i.history.iter().map(|h| h.map(f64::to_bits)))
                 .collect::<Vec<_>>(),
         )
     };

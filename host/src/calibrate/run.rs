@@ -106,7 +106,7 @@ struct Place<'p> {
 #[derive(Default)]
 struct Tally {
     best: Option<(Evaluation, f64)>,
-    history: Vec<f64>,
+    history: Vec<Option<f64>>,
     simulated: usize,
     failed: usize,
     /// Why the first failed or infeasible candidate was rejected.
@@ -132,7 +132,7 @@ impl Tally {
                 self.best = Some((evaluation, value));
             }
         }
-        self.history.push(self.best_value().unwrap_or(f64::NAN));
+        self.history.push(self.best_value());
     }
 
     /// Offer an earlier simulation (a warm start) as a candidate for the best, without

@@ -21,8 +21,9 @@ pub struct InstanceResult {
     pub best: Evaluation,
     /// Its total error on the fitted experiments.
     pub fit_error: f64,
-    /// Best total error after each candidate (convergence history).
-    pub history: Vec<f64>,
+    /// Best total error after each candidate (convergence history); `None` (written `null`)
+    /// until the first feasible candidate.
+    pub history: Vec<Option<f64>>,
     /// Candidates simulated (not infeasible) and failed.
     pub simulated: usize,
     /// Candidates that failed.

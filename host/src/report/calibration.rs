@@ -104,6 +104,11 @@ pub fn write(
     }
     std::fs::write(directory.join("report.md"), report.md).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(results).map_err(|e| e.to_string())?;
+    // A result stoss's own reader refuses (a non-finite number written as null into a number
+    // field) must never be written: `stoss diagnose` reads it back.
+    serde_json::from_str::<Vec<ModelResult>>(&json).map_err(|e| {
+        format!("result.json would not read back ({e}): a non-finite value in the results")
+    })?;
     std::fs::write(directory.join("result.json"), json).map_err(|e| e.to_string())
 }
 
@@ -327,7 +332,7 @@ impl<'a> Report<'a> {
                     .history
                     .iter()
                     .enumerate()
-                    .map(|(n, v)| ((n + 1) as f64, *v))
+                    .filter_map(|(n, v)| v.map(|v| ((n + 1) as f64, v)))
                     .collect(),
                 style: Style::Line,
                 colour: k,
