@@ -29,6 +29,8 @@ pub trait DescribedSection {
     type Model: Constants;
     /// The section's doubles, by their field (and descriptor) names, in ABI order.
     const FIELDS: &'static [&'static str];
+    /// The descriptor index of each of [`DescribedSection::FIELDS`] (found at compile time).
+    const INDICES: &'static [usize];
 
     /// The section's constants in ABI order.
     fn constants(&self) -> &[f64];
@@ -40,21 +42,36 @@ pub trait DescribedSection {
 /// `base` with every constant of `section` written in by name; fields the descriptor does not
 /// cover (options, the shear modulus) keep `base`'s values.
 pub fn to_model<S: DescribedSection>(section: &S, mut base: S::Model) -> S::Model {
-    for (name, value) in S::FIELDS.iter().zip(section.constants()) {
-        // Every name is a described constant of `S::Model` (checked at compile time by
+    for (&index, value) in S::INDICES.iter().zip(section.constants()) {
+        // Every index is a described constant of `S::Model` (found at compile time by
         // `described_section!`), so the write cannot miss.
-        let _ = base.set(name, *value);
+        if let Some(slot) = base.slot(index) {
+            *slot = *value;
+        }
     }
     base
 }
 
-/// Write the constants of `model` into `section` by name.
+/// Write the constants of `model` into `section` by name (through their descriptor indices).
 pub fn from_model<S: DescribedSection>(model: &mut S::Model, section: &mut S) {
-    for (name, out) in S::FIELDS.iter().zip(section.constants_mut()) {
-        if let Some(value) = model.named_slot(name) {
+    for (&index, out) in S::INDICES.iter().zip(section.constants_mut()) {
+        if let Some(value) = model.slot(index) {
             *out = *value;
         }
     }
+}
+
+/// Index of the constant `name` in `parameters`; fails to compile (in a const context) if
+/// there is none.
+pub const fn descriptor_index(parameters: &'static [Parameter], name: &str) -> usize {
+    let mut i = 0;
+    while i < parameters.len() {
+        if str_eq(parameters[i].name, name) {
+            return i;
+        }
+        i += 1;
+    }
+    panic!("a section field is not a described constant of its model");
 }
 
 /// Implement [`DescribedSection`] for a `#[repr(C)]` struct whose fields from `first` to its
@@ -71,6 +88,10 @@ macro_rules! described_section {
         impl $crate::section::DescribedSection for $section {
             type Model = $model;
             const FIELDS: &'static [&'static str] = &[stringify!($first) $(, stringify!($field))*];
+            const INDICES: &'static [usize] = &[
+                $crate::section::descriptor_index(<$model>::PARAMETERS, stringify!($first))
+                $(, $crate::section::descriptor_index(<$model>::PARAMETERS, stringify!($field)))*
+            ];
 
             fn constants(&self) -> &[f64] {
                 let first = std::mem::offset_of!($section, $first);
