@@ -378,6 +378,7 @@ fn parse_metal(
     text: &str,
     document: Document<'_>,
 ) -> Result<(MaterialFile, Material), InputError> {
+    zerilli_armstrong_form_fields(path, text, &document.tree)?;
     let file: MaterialFile = match canonical_elastic(path, text, document.tree)? {
         None => typed(path, &document.si)?,
         Some(table) => {
@@ -397,6 +398,42 @@ fn parse_metal(
         InputError::field(path, text, field, error.to_string())
     })?;
     Ok((file, material))
+}
+
+/// A Zerilli-Armstrong strength gives the constants of its form: BCC `c1`, `c5` and
+/// `exponent`, FCC `c2`. The other form's constants may be left out (they default to 0 and
+/// are not used), but a constant of the chosen form may not: 0 would be a silent default.
+fn zerilli_armstrong_form_fields(
+    path: &Path,
+    text: &str,
+    tree: &toml::Table,
+) -> Result<(), InputError> {
+    let Some(strength) = tree.get("strength").and_then(toml::Value::as_table) else {
+        return Ok(());
+    };
+    if strength.get("model").and_then(toml::Value::as_str) != Some("zerilli-armstrong") {
+        return Ok(());
+    }
+    let (form, needed): (&str, &[&str]) =
+        match strength.get("structure").and_then(toml::Value::as_str) {
+            Some("bcc") => ("BCC", &["c1", "c5", "exponent"]),
+            Some("fcc") => ("FCC", &["c2"]),
+            // A missing or unknown structure is the typed parse's error.
+            _ => return Ok(()),
+        };
+    if let Some(missing) = needed.iter().find(|key| !strength.contains_key(**key)) {
+        return Err(InputError::Field {
+            path: path.into(),
+            line: super::line_of_key(text, "structure"),
+            field: format!("strength.{missing}"),
+            message: format!(
+                "missing field `{missing}`: the {form} form of Zerilli-Armstrong needs {} (the \
+                 other form's constants may be left out)",
+                needed.join(", ")
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// Load a material file.
@@ -799,6 +836,40 @@ melting_temperature = 1793.0
 kind = "linear"
 bulk_modulus = 159e9
 "#;
+
+    #[test]
+    fn a_zerilli_armstrong_file_gives_only_its_forms_constants() {
+        // GOAL: issue 54, defect 3: an FCC file need not give the BCC-only C1, C5 and n (nor a
+        //       BCC file the FCC-only C2); a constant of the chosen form is still required.
+        // SETUP: the 4340 text with an FCC strength of copper-like constants (no c1, c5,
+        //        exponent); the same with a BCC strength lacking c5.
+        // REFERENCE: FCC parses with the absent constants 0; BCC is refused naming
+        //            `strength.c5` at the line of `structure`.
+        let za = |body: &str| {
+            let start = JC_4340.find("[strength]").unwrap();
+            let end = JC_4340.find("[eos]").unwrap();
+            format!("{}[strength]\n{body}\n{}", &JC_4340[..start], &JC_4340[end..])
+        };
+        let fcc = za("model = \"zerilli-armstrong\"\nstructure = \"fcc\"\n\
+                      athermal_stress = 65e6\nc2 = 890e6\nc3 = 0.0028\nc4 = 0.000115\n\
+                      reference_rate = 1.0\n");
+        let (file, _) = parse(Path::new("copper.toml"), &fcc).unwrap();
+        let StrengthSpec::ZerilliArmstrong(model) = file.strength else {
+            panic!("not ZA")
+        };
+        assert_eq!((model.c1, model.c2, model.c5, model.exponent), (0.0, 890e6, 0.0, 0.0));
+        let bcc = za("model = \"zerilli-armstrong\"\nstructure = \"bcc\"\n\
+                      athermal_stress = 65e6\nc1 = 1033e6\nc3 = 0.00698\nc4 = 0.000415\n\
+                      exponent = 0.289\nreference_rate = 1.0\n");
+        let error = parse(Path::new("iron.toml"), &bcc).unwrap_err();
+        let InputError::Field { line, field, .. } = &error else {
+            panic!("{error}")
+        };
+        assert_eq!(field, "strength.c5", "{error}");
+        let structure_line = bcc.lines().position(|l| l.starts_with("structure")).unwrap() + 1;
+        assert_eq!(*line, Some(structure_line), "{error}");
+        assert!(error.to_string().contains("BCC form"), "{error}");
+    }
 
     #[test]
     fn every_family_reads_and_describes_its_constants_by_dotted_path() {

@@ -36,17 +36,21 @@ pub struct ZerilliArmstrong {
     pub structure: CrystalStructure,
     /// Athermal stress `sigma_a` including Hall-Petch `k d^-1/2` (Pa).
     pub athermal_stress: f64,
-    /// `C1` (Pa), BCC thermal-activation stress.
+    /// `C1` (Pa), BCC thermal-activation stress. 0 when absent from a file: the other form does not use it.
+    #[cfg_attr(feature = "serde", serde(default))]
     pub c1: f64,
-    /// `C2` (Pa), FCC thermal-activation stress.
+    /// `C2` (Pa), FCC thermal-activation stress. 0 when absent from a file: the other form does not use it.
+    #[cfg_attr(feature = "serde", serde(default))]
     pub c2: f64,
     /// `C3` (1/K).
     pub c3: f64,
     /// `C4` (1/K).
     pub c4: f64,
-    /// `C5` (Pa), BCC strain-hardening modulus.
+    /// `C5` (Pa), BCC strain-hardening modulus. 0 when absent from a file: the other form does not use it.
+    #[cfg_attr(feature = "serde", serde(default))]
     pub c5: f64,
-    /// `n` (-), BCC strain-hardening exponent.
+    /// `n` (-), BCC strain-hardening exponent. 0 when absent from a file: the other form does not use it.
+    #[cfg_attr(feature = "serde", serde(default))]
     pub exponent: f64,
     /// Reference rate `e0` (1/s).
     pub reference_rate: f64,
