@@ -473,6 +473,90 @@ fn a_calibration_whose_first_candidate_was_infeasible_writes_a_result_its_diagno
 }
 
 #[test]
+fn a_diagnosis_of_total_strain_curves_names_the_total_strain() {
+    // GOAL: issue 54, defect 3: with `recorded_strain = "total"` the diagnosis labelled the
+    //       curves' positions "plastic strain"; it names the recording's measure.
+    // SETUP: the synthetic-flow campaign's four curves, their experiments copied with
+    //        `recorded_strain = "total"` (the numbers read as total strains), 6 simulations,
+    //        then `stoss diagnose` (one refit, two iterations).
+    // REFERENCE: the residual figures' axis says "true total strain", none says "true plastic
+    //            strain".
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let out = temporary("total-strain");
+    let experiments = out.join("experiments");
+    std::fs::create_dir_all(&experiments).unwrap();
+    for rate in ["0.001", "1", "1000", "3000"] {
+        let name = format!("synthetic-flow-hha-{rate}s");
+        let text =
+            std::fs::read_to_string(fixtures().join(format!("experiments/{name}.toml"))).unwrap();
+        let edited = text
+            .replace("\"../materials/", &format!("\"{root}/fixtures/materials/"))
+            .replace("[setup]\n", "[setup]\nrecorded_strain = \"total\"\n");
+        assert_ne!(edited, text);
+        std::fs::write(experiments.join(format!("{name}.toml")), edited).unwrap();
+        std::fs::copy(
+            fixtures().join(format!("experiments/{name}.csv")),
+            experiments.join(format!("{name}.csv")),
+        )
+        .unwrap();
+    }
+    let campaign_text =
+        std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
+    let campaign = out.join("campaign.toml");
+    std::fs::write(
+        &campaign,
+        campaign_text
+            .replace("\"../materials/", &format!("\"{root}/fixtures/materials/"))
+            .replace("\"../experiments/", "\"experiments/"),
+    )
+    .unwrap();
+    let folder = out.join("run");
+    let output = stoss()
+        .arg("calibrate")
+        .arg(&campaign)
+        .args([
+            "--budget",
+            "6",
+            "--polish",
+            "0",
+            "--instances",
+            "1",
+            "--quiet",
+        ])
+        .arg("--output")
+        .arg(&folder)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let output = stoss()
+        .arg("diagnose")
+        .arg(&folder)
+        .args(["--max-refits", "1", "--iterations", "2", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let mut labels = (0, 0);
+    for entry in std::fs::read_dir(folder.join("diagnosis")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "svg") {
+            let svg = std::fs::read_to_string(&path).unwrap();
+            labels.0 += usize::from(svg.contains("true total strain"));
+            labels.1 += usize::from(svg.contains("true plastic strain"));
+        }
+    }
+    assert!(labels.0 > 0 && labels.1 == 0, "figures labelled {labels:?}");
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
 fn a_failed_resume_leaves_the_logged_runs_inputs_as_they_were() {
     // GOAL: a resume that fails does not overwrite the inputs of the run it tried to continue.
     // SETUP: synthetic-flow campaign, 6 simulations, one instance; then --resume on the same

@@ -540,7 +540,39 @@ fn runaway_sizes_are_refused_before_anything_runs() {
         .unwrap_err()
         .to_string();
     assert!(
-        error.contains("field `position`") && error.contains("not percent"),
+        error.contains("field `position`") && error.contains("in percent"),
+        "{error}"
+    );
+    // A digitised curve's first strain scattered just below 0 (issue 54): named as such, at
+    // its line, not as a percent slip.
+    let mut first = true;
+    let mut negative_line = 0;
+    let scattered: String = recording
+        .lines()
+        .enumerate()
+        .map(
+            |(number, line)| match line.split(',').collect::<Vec<_>>()[..] {
+                ["true_stress", _, value, sigma] if first => {
+                    first = false;
+                    negative_line = number + 1;
+                    format!("true_stress,-0.000175,{value},{sigma}\n")
+                }
+                _ => format!("{line}\n"),
+            },
+        )
+        .collect();
+    std::fs::write(
+        folder.join("flow-4340-ly-compression-500s-298K.csv"),
+        scattered,
+    )
+    .unwrap();
+    let error = Experiment::load(&folder.join("flow.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains(&format!(".csv:{negative_line}: field `position`"))
+            && error.contains("below 0")
+            && !error.contains("in percent"),
         "{error}"
     );
     let _ = std::fs::remove_dir_all(&scratch);

@@ -6,6 +6,7 @@
 //! through there (tracked plastic strain, strain rate, temperature, triaxiality, pressure).
 
 use super::stats::{chi_square_upper_tail, lag1_autocorrelation, runs_test, RunsTest};
+use crate::experiment::uniaxial::RecordedStrain;
 use crate::experiment::{Experiment, Outcome, Setup};
 use crate::measure::StateSample;
 use serde::{Deserialize, Serialize};
@@ -213,15 +214,24 @@ pub(super) fn conditions(
     end: f64,
 ) -> Option<Conditions> {
     let (region, samples): (String, Vec<&StateSample>) = match &experiment.file.setup {
-        Setup::Uniaxial(_) => {
+        Setup::Uniaxial(spec) => {
             let history = outcome.states.first()?;
+            // The band is in the recording's strain measure: the total strain of the
+            // constant-rate driver is its rate times the time.
+            let strain = |s: &StateSample| match spec.recorded_strain {
+                RecordedStrain::Plastic => s.plastic_strain,
+                RecordedStrain::Total => spec.strain_rate * s.time,
+            };
             let samples: Vec<&StateSample> = history
                 .samples
                 .iter()
-                .filter(|s| s.plastic_strain >= start && s.plastic_strain <= end)
+                .filter(|s| strain(s) >= start && strain(s) <= end)
                 .collect();
             (
-                format!("the homogeneous specimen at plastic strain {start:.3}-{end:.3}"),
+                format!(
+                    "the homogeneous specimen at {} {start:.3}-{end:.3}",
+                    spec.recorded_strain.name()
+                ),
                 samples,
             )
         }

@@ -36,9 +36,12 @@ fn span_words(campaign: &Campaign, index: usize, band: &Band) -> String {
             band.start * 1e3,
             band.end * 1e3
         ),
-        (Setup::Uniaxial(_), _) => {
-            format!(" over plastic strain {:.2}-{:.2}", band.start, band.end)
-        }
+        (Setup::Uniaxial(spec), _) => format!(
+            " over {} {:.2}-{:.2}",
+            spec.recorded_strain.name(),
+            band.start,
+            band.end
+        ),
         _ => format!(" over positions {:.3e}-{:.3e}", band.start, band.end),
     }
 }
@@ -230,8 +233,8 @@ fn capitalise_if(text: &str, yes: bool) -> String {
 }
 
 fn x_label(campaign: &Campaign, index: usize) -> &'static str {
-    match campaign.experiments[index].file.setup {
-        Setup::Uniaxial(_) => "true plastic strain",
+    match &campaign.experiments[index].file.setup {
+        Setup::Uniaxial(spec) => spec.recorded_strain.name(),
         Setup::Taylor(_) => "distance from the impact face (m); scalars at 0",
         _ => "position",
     }

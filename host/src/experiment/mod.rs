@@ -276,7 +276,7 @@ impl Experiment {
             if !known.contains(&point.quantity.as_str()) {
                 return Err(InputError::Field {
                     path: recording_path.clone(),
-                    line: None,
+                    line: recording::point_line(&recording_path, index),
                     field: "quantity".into(),
                     message: format!(
                         "point {}: `{}` is not measured by a {} experiment (known: {})",
@@ -294,7 +294,7 @@ impl Experiment {
                 if history && !(point.position >= 0.0 && point.position <= spec.end_time) {
                     return Err(InputError::Field {
                         path: recording_path.clone(),
-                        line: None,
+                        line: recording::point_line(&recording_path, index),
                         field: "position".into(),
                         message: format!(
                             "point {}: time {} s is outside the simulated 0..{} s after impact \
@@ -311,13 +311,21 @@ impl Experiment {
             for (index, point) in recording.iter().enumerate() {
                 let curve = point.quantity == "true_stress";
                 if curve && !(0.0..=uniaxial::MAXIMUM_PLASTIC_STRAIN).contains(&point.position) {
+                    // A negative strain is not a unit slip: say what it is.
+                    let why = if point.position < 0.0 {
+                        "a strain below 0 (digitisation scatter near the curve's start? set \
+                         it to 0 or drop the point)"
+                    } else {
+                        "above the range: a strain in percent? write `position [%]` in the \
+                         header"
+                    };
                     return Err(InputError::Field {
                         path: recording_path.clone(),
-                        line: None,
+                        line: recording::point_line(&recording_path, index),
                         field: "position".into(),
                         message: format!(
-                            "point {}: `true_stress` is recorded at a true plastic strain in \
-                             0..={} (not percent), not {}",
+                            "point {}: `true_stress` is recorded at a strain in 0..={}, not {} \
+                             ({why})",
                             index + 1,
                             uniaxial::MAXIMUM_PLASTIC_STRAIN,
                             point.position

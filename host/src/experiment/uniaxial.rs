@@ -59,6 +59,16 @@ pub enum RecordedStrain {
     Total,
 }
 
+impl RecordedStrain {
+    /// The measure's name in sentences and axis labels.
+    pub fn name(self) -> &'static str {
+        match self {
+            RecordedStrain::Plastic => "true plastic strain",
+            RecordedStrain::Total => "true total strain",
+        }
+    }
+}
+
 impl UniaxialSpec {
     pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
         check(

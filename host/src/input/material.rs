@@ -848,7 +848,11 @@ bulk_modulus = 159e9
         let za = |body: &str| {
             let start = JC_4340.find("[strength]").unwrap();
             let end = JC_4340.find("[eos]").unwrap();
-            format!("{}[strength]\n{body}\n{}", &JC_4340[..start], &JC_4340[end..])
+            format!(
+                "{}[strength]\n{body}\n{}",
+                &JC_4340[..start],
+                &JC_4340[end..]
+            )
         };
         let fcc = za("model = \"zerilli-armstrong\"\nstructure = \"fcc\"\n\
                       athermal_stress = 65e6\nc2 = 890e6\nc3 = 0.0028\nc4 = 0.000115\n\
@@ -857,7 +861,10 @@ bulk_modulus = 159e9
         let StrengthSpec::ZerilliArmstrong(model) = file.strength else {
             panic!("not ZA")
         };
-        assert_eq!((model.c1, model.c2, model.c5, model.exponent), (0.0, 890e6, 0.0, 0.0));
+        assert_eq!(
+            (model.c1, model.c2, model.c5, model.exponent),
+            (0.0, 890e6, 0.0, 0.0)
+        );
         let bcc = za("model = \"zerilli-armstrong\"\nstructure = \"bcc\"\n\
                       athermal_stress = 65e6\nc1 = 1033e6\nc3 = 0.00698\nc4 = 0.000415\n\
                       exponent = 0.289\nreference_rate = 1.0\n");
@@ -866,7 +873,11 @@ bulk_modulus = 159e9
             panic!("{error}")
         };
         assert_eq!(field, "strength.c5", "{error}");
-        let structure_line = bcc.lines().position(|l| l.starts_with("structure")).unwrap() + 1;
+        let structure_line = bcc
+            .lines()
+            .position(|l| l.starts_with("structure"))
+            .unwrap()
+            + 1;
         assert_eq!(*line, Some(structure_line), "{error}");
         assert!(error.to_string().contains("BCC form"), "{error}");
     }

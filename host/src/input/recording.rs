@@ -61,6 +61,21 @@ pub(crate) fn header_cell(cell: &str) -> Result<(&str, Option<Unit>), String> {
     Ok((name.trim(), Some(unit)))
 }
 
+/// The 1-based line of the `index`-th (0-based) recorded point of the file at `path`: the
+/// data rows after the header, skipping blank and `#` lines (for errors found after loading;
+/// `None` if the file cannot be read again or has fewer points).
+pub fn point_line(path: &Path, index: usize) -> Option<usize> {
+    let text = std::fs::read_to_string(path).ok()?;
+    text.lines()
+        .enumerate()
+        .filter(|(_, raw)| {
+            let line = raw.trim();
+            !line.is_empty() && !line.starts_with('#')
+        })
+        .nth(index + 1)
+        .map(|(number, _)| number + 1)
+}
+
 /// Parse recording CSV text.
 pub fn parse(path: &Path, text: &str) -> Result<Vec<RecordedPoint>, InputError> {
     let mut points = Vec::new();
