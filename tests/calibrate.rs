@@ -451,6 +451,18 @@ fn a_calibration_whose_first_candidate_was_infeasible_writes_a_result_its_diagno
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
+    // Why candidates were rejected is said on the console and in the report (issue 54,
+    // defect 2), not only in simulations.jsonl.
+    let console = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        console.contains("candidates infeasible") && console.contains("the first: flow stress"),
+        "{console}"
+    );
+    let report = std::fs::read_to_string(folder.join("report/report.md")).unwrap();
+    assert!(
+        report.contains("candidates infeasible") && report.contains("lower flow-stress limit"),
+        "report.md does not say why candidates were rejected"
+    );
     let results: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(folder.join("report/result.json")).unwrap())
             .unwrap();
@@ -553,6 +565,48 @@ fn a_diagnosis_of_total_strain_curves_names_the_total_strain() {
         }
     }
     assert!(labels.0 > 0 && labels.1 == 0, "figures labelled {labels:?}");
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn the_lower_flow_stress_limit_scales_with_the_starting_material() {
+    // GOAL: issue 54, defect 2: the default lower flow-stress limit was a steel's 50 MPa, which
+    //       marked every copper or aluminium candidate infeasible. It is now a twentieth of the
+    //       starting material's initial yield stress; a campaign's own `min_flow_stress` wins.
+    // SETUP: the synthetic-flow campaign on 4340 (A 792 MPa) and on a copper-like JC material
+    //        (A 90 MPa, Johnson & Cook 1983 OFHC constants); then with min_flow_stress = 1 MPa.
+    // REFERENCE: 0.05 x A (the rate factor is 1 at 1 /s, the thermal factor 1 at 298 K).
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let out = temporary("flow-floor");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
+    let steel = text.replace("\"../", &format!("\"{root}/fixtures/"));
+    let load = |name: &str, campaign: &str| {
+        let path = out.join(name);
+        std::fs::write(&path, campaign).unwrap();
+        stoss::fit::Campaign::load(&path).unwrap()
+    };
+    let floor = load("steel.toml", &steel).flow_stress_floor();
+    assert!((floor / (0.05 * 792.0e6) - 1.0).abs() < 1e-12, "{floor}");
+    let copper = std::fs::read_to_string(fixtures().join("materials/4340-jc.toml"))
+        .unwrap()
+        .replace("yield_stress = 792.0e6", "yield_stress = 90.0e6")
+        .replace("hardening_modulus = 510.0e6", "hardening_modulus = 292.0e6")
+        .replace("hardening_exponent = 0.26", "hardening_exponent = 0.31")
+        .replace("rate_sensitivity = 0.014", "rate_sensitivity = 0.025")
+        .replace(
+            "melting_temperature = 1793.0",
+            "melting_temperature = 1356.0",
+        );
+    std::fs::write(out.join("copper.toml"), copper).unwrap();
+    let on_copper = steel.replace(
+        &format!("material = \"{root}/fixtures/materials/4340-jc.toml\""),
+        &format!("material = \"{}\"", out.join("copper.toml").display()),
+    );
+    assert_ne!(on_copper, steel);
+    let floor = load("copper-campaign.toml", &on_copper).flow_stress_floor();
+    assert!((floor / (0.05 * 90.0e6) - 1.0).abs() < 1e-12, "{floor}");
+    let explicit = format!("{on_copper}\n[constraints]\nmin_flow_stress = 1.0e6\n");
+    assert_eq!(load("explicit.toml", &explicit).flow_stress_floor(), 1.0e6);
     std::fs::remove_dir_all(&out).unwrap();
 }
 

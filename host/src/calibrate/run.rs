@@ -109,6 +109,7 @@ struct Tally {
     history: Vec<Option<f64>>,
     simulated: usize,
     failed: usize,
+    infeasible: usize,
     /// Why the first failed or infeasible candidate was rejected.
     first_failure: Option<String>,
 }
@@ -124,6 +125,7 @@ impl Tally {
                 self.first_failure.get_or_insert_with(|| reason.clone());
             }
             Status::Infeasible(reason) => {
+                self.infeasible += 1;
                 self.first_failure.get_or_insert_with(|| reason.clone());
             }
         }
@@ -535,11 +537,15 @@ impl Runner<'_> {
             history,
             simulated,
             failed,
+            infeasible,
             first_failure,
         } = tally;
-        let (best, fit_error) = best.ok_or_else(|| {
-            CalibrateError::NoFeasibleCandidate(space.name.clone(), first_failure)
-        })?;
+        let Some((best, fit_error)) = best else {
+            return Err(CalibrateError::NoFeasibleCandidate(
+                space.name.clone(),
+                first_failure,
+            ));
+        };
         Ok(InstanceResult {
             model: space.name.clone(),
             fold: fold.map(str::to_string),
@@ -550,6 +556,8 @@ impl Runner<'_> {
             history,
             simulated,
             failed,
+            infeasible,
+            first_rejection: first_failure,
         })
     }
 }

@@ -299,6 +299,9 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     }
     println!();
     for r in &results {
+        if let Some(rejections) = r.rejection_summary() {
+            println!("{rejections}.");
+        }
         if let Some(verdict) = r.baseline_verdict() {
             println!("{verdict}.");
         }

@@ -19,6 +19,7 @@
 //!
 //! [constraints]
 //! max_flow_stress = 4.0e9                  # flow stress over the check grid must stay below
+//! min_flow_stress = 20e6                   # ... and above (default: 5 % of the base's yield)
 //!
 //! [optimiser]
 //! budget = 40                              # simulations per instance, Latin hypercube included
@@ -94,9 +95,10 @@ pub struct Constraints {
     /// Upper limit of the flow stress (Pa).
     #[serde(default = "default_max_flow_stress")]
     pub max_flow_stress: f64,
-    /// Lower limit of the flow stress (Pa).
-    #[serde(default = "default_min_flow_stress")]
-    pub min_flow_stress: f64,
+    /// Lower limit of the flow stress (Pa); absent: [`FLOOR_FRACTION`] of the starting
+    /// material's initial yield stress ([`Campaign::flow_stress_floor`]).
+    #[serde(default)]
+    pub min_flow_stress: Option<f64>,
     /// The flow stress must not decrease with plastic strain (isothermal).
     #[serde(default = "yes")]
     pub monotone_hardening: bool,
@@ -108,9 +110,11 @@ pub struct Constraints {
 fn default_max_flow_stress() -> f64 {
     5.0e9
 }
-fn default_min_flow_stress() -> f64 {
-    50.0e6
-}
+/// The default lower flow-stress limit as a fraction of the starting material's initial
+/// yield stress: a candidate whose flow stress falls to a twentieth of where the calibration
+/// started has lost its strength, whatever the metal (a fixed 50 MPa, the limit before, held
+/// copper and aluminium candidates to a steel's floor and marked them all infeasible).
+pub const FLOOR_FRACTION: f64 = 0.05;
 fn yes() -> bool {
     true
 }
@@ -119,7 +123,7 @@ impl Default for Constraints {
     fn default() -> Self {
         Self {
             max_flow_stress: default_max_flow_stress(),
-            min_flow_stress: default_min_flow_stress(),
+            min_flow_stress: None,
             monotone_hardening: true,
             monotone_rate: true,
         }
@@ -308,6 +312,21 @@ pub struct Campaign {
 }
 
 impl Campaign {
+    /// The lower flow-stress realism limit (Pa): the campaign's `min_flow_stress`, or
+    /// [`FLOOR_FRACTION`] of the starting material's flow stress at plastic strain 0, 1 /s and
+    /// 298 K; 0 for a starting material without a J2 flow stress (concrete).
+    pub fn flow_stress_floor(&self) -> f64 {
+        if let Some(floor) = self.file.constraints.min_flow_stress {
+            return floor;
+        }
+        match self.base.material() {
+            Ok(material) => material.j2().map_or(0.0, |metal| {
+                FLOOR_FRACTION * metal.strength.flow_stress(0.0, 1.0, 298.0).value
+            }),
+            Err(_) => 0.0,
+        }
+    }
+
     /// The campaign's model entry named `name`.
     pub fn model(&self, name: &str) -> Option<&ModelEntry> {
         self.file.models.iter().find(|m| m.name == name)

@@ -59,6 +59,7 @@ pub fn score(recording: &[RecordedPoint], predicted: &[f64]) -> Option<Score> {
 pub fn check_constraints(
     material: &Material,
     constraints: &Constraints,
+    floor: f64,
     temperature: f64,
 ) -> Result<(), String> {
     let strains: Vec<f64> = (0..=20).map(|k| 0.05 * k as f64).collect();
@@ -70,10 +71,10 @@ pub fn check_constraints(
             .map(|&e| material.strength.flow_stress(e, rate, temperature).value)
             .collect();
         for (&strain, &stress) in strains.iter().zip(&row) {
-            if !(stress >= constraints.min_flow_stress && stress <= constraints.max_flow_stress) {
+            if !(stress >= floor && stress <= constraints.max_flow_stress) {
                 return Err(format!(
                     "flow stress {:.3e} Pa at strain {strain}, rate {rate} /s outside [{:.3e}, {:.3e}]",
-                    stress, constraints.min_flow_stress, constraints.max_flow_stress
+                    stress, floor, constraints.max_flow_stress
                 ));
             }
         }
@@ -221,9 +222,13 @@ pub fn evaluate(
     let reference_temperature = 298.0;
     // The flow-stress realism constraints are for J2 metals.
     if let Some(metal) = material.j2() {
-        if let Err(message) =
-            check_constraints(metal, &campaign.file.constraints, reference_temperature)
-        {
+        let floor = campaign.flow_stress_floor();
+        if let Err(message) = check_constraints(
+            metal,
+            &campaign.file.constraints,
+            floor,
+            reference_temperature,
+        ) {
             return finish(scores, Status::Infeasible(message));
         }
     }
@@ -327,11 +332,11 @@ mod tests {
         // SETUP: 4340 JC (feasible); yield 10 GPa (too strong).
         // REFERENCE: Ok for 4340; an error naming the flow-stress bound otherwise.
         let constraints = Constraints::default();
-        assert!(check_constraints(&Material::STEEL_4340, &constraints, 298.0).is_ok());
+        assert!(check_constraints(&Material::STEEL_4340, &constraints, 50e6, 298.0).is_ok());
         let mut jc = stoss_kernel::strength::JohnsonCook::STEEL_4340;
         jc.yield_stress = 10.0e9;
         let strong = Material::STEEL_4340.with_strength(jc);
-        assert!(check_constraints(&strong, &constraints, 298.0)
+        assert!(check_constraints(&strong, &constraints, 50e6, 298.0)
             .unwrap_err()
             .contains("outside"));
     }

@@ -28,6 +28,12 @@ pub struct InstanceResult {
     pub simulated: usize,
     /// Candidates that failed.
     pub failed: usize,
+    /// Candidates rejected before simulation (realism constraints, invalid constants).
+    #[serde(default)]
+    pub infeasible: usize,
+    /// Why the first failed or infeasible candidate was rejected.
+    #[serde(default)]
+    pub first_rejection: Option<String>,
 }
 
 /// The result of a model.
@@ -76,6 +82,31 @@ pub struct Baseline {
 }
 
 impl ModelResult {
+    /// How many candidates the model's instances could not use and why the first was
+    /// rejected, as a sentence (console and report); `None` if every candidate simulated.
+    pub fn rejection_summary(&self) -> Option<String> {
+        let infeasible: usize = self.instances.iter().map(|i| i.infeasible).sum();
+        let failed: usize = self.instances.iter().map(|i| i.failed).sum();
+        let total: usize = self
+            .instances
+            .iter()
+            .map(|i| i.simulated + i.infeasible)
+            .sum();
+        if infeasible + failed == 0 {
+            return None;
+        }
+        let first = self
+            .instances
+            .iter()
+            .find_map(|i| i.first_rejection.as_deref())
+            .unwrap_or("-");
+        Some(format!(
+            "{}: {infeasible} of {total} candidates infeasible (rejected before simulation) and \
+             {failed} failed in simulation; the first: {first}",
+            self.model
+        ))
+    }
+
     /// What the console and the report say about the starting constants against the fit:
     /// their errors, and plainly when they predict the held-out experiments better (or fit
     /// better) than the calibrated constants. `None` without a baseline.

@@ -216,6 +216,13 @@ impl<'a> Report<'a> {
             campaign.base.name()
         );
         for r in results {
+            if let Some(rejections) = r.rejection_summary() {
+                let _ = writeln!(
+                    md,
+                    "- {rejections} (the lower flow-stress limit is {:.3e} Pa).",
+                    campaign.flow_stress_floor()
+                );
+            }
             if let Some(verdict) = r.baseline_verdict() {
                 let _ = writeln!(md, "- {verdict}.");
             }
