@@ -112,8 +112,9 @@ pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
                     refit.assessment.at_bounds.join(", ")
                 )
             };
+            let left = what_remains(&refit.assessment, diagnosis.options.alpha);
             let sentence = format!(
-                "the form of {} cannot follow the recordings: replace it by {} ({}). With its {} constants refitted it cuts the total error from {:.3} to {:.3}{} (BIC {:.1} -> {:.1}).{bounded}",
+                "the form of {} cannot follow the recordings: replace it by {} ({}). With its {} constants refitted it cuts the total error from {:.3} to {:.3}{} (BIC {:.1} -> {:.1}).{bounded}{left}",
                 diagnosis.model,
                 name,
                 super::families::describe(name).unwrap_or("another strength family"),
@@ -144,14 +145,15 @@ pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
             _ => String::new(),
         };
         return format!(
-            "{}{}{} explains {:.0} % of the misfit; adding it cuts the total error from {:.3} to {:.3}{}.",
+            "{}{}{} explains {:.0} % of the misfit; adding it cuts the total error from {:.3} to {:.3}{}.{}",
             where_.unwrap_or_default(),
             if diagnosis.misfit_before.iter().any(|m| m.structured) { "; " } else { "" },
             capitalise_if(&test.physics, !diagnosis.misfit_before.iter().any(|m| m.structured)),
             100.0 * test.share,
             diagnosis.before.fit_error,
             refit.assessment.fit_error,
-            held_out
+            held_out,
+            what_remains(&refit.assessment, diagnosis.options.alpha)
         );
     }
     let significant: Vec<_> = diagnosis.tests.iter().filter(|t| t.significant).collect();
@@ -230,6 +232,29 @@ fn capitalise_if(text: &str, yes: bool) -> String {
     chars.next().map_or_else(String::new, |c| {
         c.to_uppercase().collect::<String>() + chars.as_str()
     })
+}
+
+/// What an accepted model leaves (issue 54, item 8): its reduced chi-square against the
+/// recorded uncertainty, and whether that is still significantly above the noise (the
+/// chi-square test at the diagnosis' level).
+fn what_remains(assessment: &Assessment, alpha: f64) -> String {
+    let dof = assessment
+        .residuals
+        .saturating_sub(assessment.constants_fitted)
+        .max(1) as f64;
+    let reduced = assessment.chi_square / dof;
+    let p = super::stats::chi_square_upper_tail(assessment.chi_square, dof);
+    if p < alpha {
+        format!(
+            " What remains is still above the recorded noise: chi-square/dof = {reduced:.1} \
+             (p = {p:.1e}); another effect, or an understated uncertainty, is left."
+        )
+    } else {
+        format!(
+            " What remains is within the recorded uncertainty (chi-square/dof = {reduced:.2}, \
+             p = {p:.2})."
+        )
+    }
 }
 
 fn x_label(campaign: &Campaign, index: usize) -> &'static str {
@@ -776,5 +801,24 @@ mod tests {
         );
         let within = verdict(&campaign, &diagnosis(70.0));
         assert!(within.starts_with("No missing physics found"), "{within}");
+    }
+
+    #[test]
+    fn an_accepted_model_says_what_it_leaves() {
+        // GOAL: issue 54, item 8: after an accepted term or family the verdict states the
+        //       reduced chi-square left and whether it is still above the noise.
+        // SETUP: the assessment of 72 residuals and 5 constants at chi-square 500 and 70.
+        // REFERENCE: dof 67; 500/67 = 7.5 with p ~ 1e-66 (above the noise); 70/67 = 1.04 with
+        //            p ~ 0.38 (within it).
+        let above = what_remains(&diagnosis(500.0).before, 0.01);
+        assert!(
+            above.contains("still above the recorded noise: chi-square/dof = 7.5"),
+            "{above}"
+        );
+        let within = what_remains(&diagnosis(70.0).before, 0.01);
+        assert!(
+            within.contains("within the recorded uncertainty (chi-square/dof = 1.04"),
+            "{within}"
+        );
     }
 }
