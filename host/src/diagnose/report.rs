@@ -104,14 +104,7 @@ pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
                 (Some(b), Some(a)) => format!(" and the held-out error from {b:.3} to {a:.3}"),
                 _ => String::new(),
             };
-            let bounded = if refit.assessment.at_bounds.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    " Its fit ends with {}: the family's optimum may lie beyond the range searched.",
-                    refit.assessment.at_bounds.join(", ")
-                )
-            };
+            let bounded = at_bounds(&refit.assessment);
             let left = what_remains(&refit.assessment, diagnosis.options.alpha);
             let sentence = format!(
                 "the form of {} cannot follow the recordings: replace it by {} ({}). With its {} constants refitted it cuts the total error from {:.3} to {:.3}{} (BIC {:.1} -> {:.1}).{bounded}{left}",
@@ -153,7 +146,7 @@ pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
             diagnosis.before.fit_error,
             refit.assessment.fit_error,
             held_out,
-            what_remains(&refit.assessment, diagnosis.options.alpha)
+            what_remains(&refit.assessment, diagnosis.options.alpha) + &at_bounds(&refit.assessment)
         );
     }
     let significant: Vec<_> = diagnosis.tests.iter().filter(|t| t.significant).collect();
@@ -232,6 +225,19 @@ fn capitalise_if(text: &str, yes: bool) -> String {
     chars.next().map_or_else(String::new, |c| {
         c.to_uppercase().collect::<String>() + chars.as_str()
     })
+}
+
+/// The constants an accepted refit ended at a bound of, as a sentence (issue 54, item 12);
+/// empty if none did.
+fn at_bounds(assessment: &Assessment) -> String {
+    if assessment.at_bounds.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " Its fit ends with {}: the optimum may lie beyond the range searched.",
+            assessment.at_bounds.join(", ")
+        )
+    }
 }
 
 /// What an accepted model leaves (issue 54, item 8): its reduced chi-square against the
