@@ -25,6 +25,7 @@
 //! experiments reach, each drop [`DROP_WIDTH_SPACINGS`] grid spacings wide.
 
 use crate::experiment::Setup;
+use crate::fit::campaign::RecordingSource;
 use crate::fit::hypothesis::{
     other_rate_treatment, Hypothesis, Parameter, ANVIL_FRICTION, EROSION_INTENSITY, LAGGED_MIXTURE,
 };
@@ -217,7 +218,16 @@ pub fn library(
     library.anvil_friction(campaign);
     library.erosion(visited.max_plastic_strain);
     library.eos_nonlinearity();
-    library.lagged_rate();
+    if campaign.file.recordings == RecordingSource::Simulation {
+        library.lagged_rate();
+    } else {
+        library.skip(
+            "lagged-rate",
+            "a rate update of an FE code, not a property of a material: offered only for \
+             recordings that are simulations (the campaign's `recordings = \"simulation\"`)"
+                .into(),
+        );
+    }
     (library.candidates, library.skipped)
 }
 

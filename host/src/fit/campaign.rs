@@ -283,6 +283,10 @@ pub struct CampaignFile {
     pub description: String,
     /// Base material file (fixed constants), relative to the campaign file.
     pub material: String,
+    /// Where the recordings come from: laboratory measurements (the default) or another
+    /// code's simulations (code-to-code tables, synthetic data).
+    #[serde(default)]
+    pub recordings: RecordingSource,
     /// Models to fit.
     pub models: Vec<ModelEntry>,
     /// Experiments.
@@ -296,6 +300,19 @@ pub struct CampaignFile {
     /// Where the simulations run (default: this machine).
     #[serde(default)]
     pub executor: super::executor::ExecutorEntry,
+}
+
+/// Where a campaign's recordings come from. A numerical property of an FE code (the lagged
+/// rate update of seed 001 eq. 3.7) can explain a simulation's output, never a material's
+/// measured response, so the diagnosis offers it only for simulated recordings.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RecordingSource {
+    /// Laboratory measurements.
+    #[default]
+    Experiment,
+    /// Another code's (or stoss's own) simulations.
+    Simulation,
 }
 
 /// A loaded campaign: file, base material and experiments.
