@@ -915,7 +915,7 @@ fn campaign_errors_name_the_file_line_and_field() {
                 "yield_stress = [0.5e9, 2.0e9]",
                 "yeld_stress = [0.5e9, 2.0e9]",
             ),
-            "c.toml:10: field `yeld_stress`: model jc: `yeld_stress` is not a constant of this \
+            "c.toml:12: field `yeld_stress`: model jc: `yeld_stress` is not a constant of this \
              model; its constants are yield_stress (A, Pa), hardening_modulus (B, Pa), \
              hardening_exponent (n, -), rate_sensitivity (C, -), thermal_exponent (m, -), \
              reference_rate (e0, 1/s), reference_temperature (Tr, K), melting_temperature (Tm, K)",
@@ -930,7 +930,7 @@ fn campaign_errors_name_the_file_line_and_field() {
                 "[[models]]\nname = \"jc\"\n[models.parameters]\nyield_stress = [0.5e9, 2.0e9]\n\n[[experiments]]",
                 1,
             ),
-            "c.toml:17: field `name`: model name `jc` is used twice",
+            "c.toml:19: field `name`: model name `jc` is used twice",
         ),
         (
             text.replace("parallel = 2", "parallel = 100000"),
