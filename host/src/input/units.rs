@@ -190,8 +190,9 @@ const UNITS: &[(&[&str], Dimension, f64)] = &[
     ),
 ];
 
-/// The unit written `symbol` (case-sensitive: `mm` is not `Mm`); °C (`degC`, `°C`, `C`) is an
-/// absolute temperature.
+/// The unit written `symbol` (case-sensitive: `mm` is not `Mm`); °C (`degC`, `°C`, `C`) and
+/// °F (`degF`, `°F`, `F`: `T = (F - 32) 5/9 + 273.15` K) are absolute temperatures (their
+/// differences and uncertainties scale without the offset).
 pub fn unit(symbol: &str) -> Option<Unit> {
     let symbol = symbol.trim();
     if matches!(symbol, "degC" | "°C" | "C") {
@@ -199,6 +200,13 @@ pub fn unit(symbol: &str) -> Option<Unit> {
             dimension: Dimension::Temperature,
             factor: 1.0,
             offset: 273.15,
+        });
+    }
+    if matches!(symbol, "degF" | "°F" | "F") {
+        return Some(Unit {
+            dimension: Dimension::Temperature,
+            factor: 5.0 / 9.0,
+            offset: 273.15 - 32.0 * 5.0 / 9.0,
         });
     }
     UNITS
@@ -221,6 +229,7 @@ pub fn symbols_of(dimension: Dimension) -> Vec<&'static str> {
         .collect();
     if dimension == Dimension::Temperature {
         symbols.push("degC");
+        symbols.push("degF");
     }
     symbols
 }
@@ -474,6 +483,11 @@ mod tests {
             1e3 * 6_894.757_293_168_361
         );
         assert_eq!(si("20 degC", Dimension::Temperature), 293.15);
+        // 68 °F = 20 °C; 212 °F = 100 °C; a difference of 9 °F is 5 K.
+        assert!((si("68 degF", Dimension::Temperature) - 293.15).abs() < 1e-12);
+        assert!((si("212 °F", Dimension::Temperature) - 373.15).abs() < 1e-12);
+        let fahrenheit = unit("degF").unwrap();
+        assert!((fahrenheit.parse_difference_to_si("9").unwrap() - 5.0).abs() < 1e-14);
         assert_eq!(si("7.85 g/cc", Dimension::Density), 7850.0);
         assert_eq!(si("55 us", Dimension::Time), 55.0e-6);
         assert_eq!(si("37.5 g", Dimension::Mass), 0.0375);
