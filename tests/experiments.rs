@@ -185,6 +185,66 @@ fn a_value_with_a_unit_in_an_experiment_is_read_or_named_with_its_line() {
 }
 
 #[test]
+fn a_necking_tail_is_trimmed_on_request_and_the_run_says_so() {
+    // GOAL: issue 54, item 4: `trim_at_maximum = true` leaves out the `true_stress` points
+    //       recorded after the largest stress (necking), and the run's report says how many.
+    // SETUP: the 4340 JC 570 /s tension curve with three points appended beyond its last
+    //        strain, falling to 90 %, 80 % and 70 % of its largest stress; loaded with and
+    //        without the option.
+    // REFERENCE: without it every point is kept; with it the three are dropped (the largest
+    //            stress is the original curve's) and the report counts 3.
+    let directory = std::env::temp_dir().join(format!("stoss-trim-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let name = "flow-4340-jc-tension-570s-298K";
+    let toml = std::fs::read_to_string(fixture(&format!("experiments/{name}.toml"))).unwrap();
+    let toml = toml
+        .replace("\"../", &format!("\"{}/", fixture("").display()))
+        .replace(
+            &format!("recording = \"{name}.csv\""),
+            "recording = \"necking.csv\"",
+        );
+    let original = Experiment::load(&fixture(&format!("experiments/{name}.toml"))).unwrap();
+    let (last, peak) = original
+        .recording
+        .iter()
+        .fold((0.0_f64, 0.0_f64), |(e, s), p| {
+            (e.max(p.position), s.max(p.value))
+        });
+    let mut csv = std::fs::read_to_string(fixture(&format!("experiments/{name}.csv"))).unwrap();
+    for (k, fraction) in [0.9, 0.8, 0.7].iter().enumerate() {
+        csv.push_str(&format!(
+            "true_stress,{:e},{:e},{:e}\n",
+            last + 0.02 * (k + 1) as f64,
+            fraction * peak,
+            0.02 * peak
+        ));
+    }
+    std::fs::write(directory.join("necking.csv"), csv).unwrap();
+    let kept_path = directory.join("kept.toml");
+    std::fs::write(&kept_path, &toml).unwrap();
+    let kept = Experiment::load(&kept_path).unwrap();
+    assert_eq!(kept.recording.len(), original.recording.len() + 3);
+    let trimmed_path = directory.join("trimmed.toml");
+    std::fs::write(
+        &trimmed_path,
+        toml.replace("[setup]\n", "[setup]\ntrim_at_maximum = true\n"),
+    )
+    .unwrap();
+    let trimmed = Experiment::load(&trimmed_path).unwrap();
+    assert_eq!(trimmed.recording.len(), original.recording.len());
+    let (_, material) = material::load(&trimmed.default_material_path().unwrap()).unwrap();
+    let outcome = trimmed
+        .simulate(&material.into(), &SolverSettings::default())
+        .unwrap();
+    let report = outcome.report.expect("a report").text;
+    assert!(
+        report.contains("3 recorded points after the largest stress were left out"),
+        "{report}"
+    );
+    std::fs::remove_dir_all(&directory).unwrap();
+}
+
+#[test]
 fn a_flow_curve_in_total_strain_gives_the_plastic_strain_curve() {
     // GOAL: a flow curve recorded against true total strain (what a test machine gives), with
     //       `recorded_strain = "total"`, is compared at the right points (issue 17).

@@ -334,6 +334,15 @@ impl Experiment {
                 }
             }
         }
+        // Trimmed after the checks above, so their line numbers are the file's.
+        let mut recording = recording;
+        if let Setup::Uniaxial(spec) = &mut file.setup {
+            if spec.trim_at_maximum {
+                let (kept, trimmed) = uniaxial::trimmed_at_maximum(recording);
+                recording = kept;
+                spec.trimmed = trimmed;
+            }
+        }
         if let Setup::BallisticLimit(spec) | Setup::Perforation(spec) = &file.setup {
             let wants_limit = recording.iter().any(|p| p.quantity == "ballistic_limit");
             check(

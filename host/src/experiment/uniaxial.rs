@@ -46,6 +46,36 @@ pub struct UniaxialSpec {
     /// records (`"total"`), elastic part included.
     #[serde(default)]
     pub recorded_strain: RecordedStrain,
+    /// Leave out the `true_stress` points recorded after the largest recorded stress (a
+    /// tension test past its maximum load necks: the stress there is no longer the homogeneous
+    /// uniaxial flow stress this experiment simulates). Default `false`.
+    #[serde(default)]
+    pub trim_at_maximum: bool,
+    /// How many points `trim_at_maximum` left out (set on load; said in the run's report).
+    #[serde(skip)]
+    pub trimmed: usize,
+}
+
+/// The recording with its `true_stress` points after the largest recorded stress left out,
+/// and how many were (the curve's order is the recording's; other quantities are kept).
+pub fn trimmed_at_maximum(recording: Vec<RecordedPoint>) -> (Vec<RecordedPoint>, usize) {
+    let curve = |p: &RecordedPoint| p.quantity == "true_stress";
+    let Some(peak) = recording
+        .iter()
+        .filter(|p| curve(p))
+        .map(|p| (p.position, p.value.abs()))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(position, _)| position)
+    else {
+        return (recording, 0);
+    };
+    let before = recording.len();
+    let kept: Vec<RecordedPoint> = recording
+        .into_iter()
+        .filter(|p| !curve(p) || p.position <= peak)
+        .collect();
+    let trimmed = before - kept.len();
+    (kept, trimmed)
 }
 
 /// The strain measure of a flow curve's positions.
@@ -70,6 +100,25 @@ impl RecordedStrain {
 }
 
 impl UniaxialSpec {
+    /// What a run says about how its recording was read (total strain, trimmed points).
+    fn report_text(&self) -> Option<String> {
+        let mut text = String::new();
+        if self.recorded_strain == RecordedStrain::Total {
+            text.push_str(
+                "flow curve recorded against true total strain (elastic part included): the \
+                 simulated curve is compared at rate x time, its own elasticity included\n",
+            );
+        }
+        if self.trimmed > 0 {
+            text.push_str(&format!(
+                "{} recorded points after the largest stress were left out (trim_at_maximum: \
+                 necking)\n",
+                self.trimmed
+            ));
+        }
+        (!text.is_empty()).then_some(text)
+    }
+
     pub(super) fn validate(&self, check: &Check) -> Result<(), InputError> {
         check(
             "strain_rate",
@@ -190,11 +239,8 @@ impl UniaxialSpec {
             states: vec![history],
             field: None,
             element_cycles: 0,
-            report: (self.recorded_strain == RecordedStrain::Total).then(|| ExperimentReport {
-                text: "flow curve recorded against true total strain (elastic part included): \
-                       the simulated curve is compared at rate x time, its own elasticity \
-                       included\n"
-                    .into(),
+            report: self.report_text().map(|text| ExperimentReport {
+                text,
                 ..ExperimentReport::default()
             }),
         })
