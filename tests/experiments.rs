@@ -245,6 +245,76 @@ fn a_necking_tail_is_trimmed_on_request_and_the_run_says_so() {
 }
 
 #[test]
+fn an_engineering_curve_is_read_as_true_stress_and_strain() {
+    // GOAL: issue 54, item 4: a curve recorded as engineering stress and strain
+    //       (`recorded_measure = "engineering"`) is converted on load to true stress and true
+    //       total strain, and the run says so; without `recorded_strain = "total"` it is
+    //       refused naming the field.
+    // SETUP: true total strains 0.01..0.20 and stresses 800..1000 MPa written as engineering
+    //        points e = exp(eps) - 1, s = sigma / (1 + e), in tension.
+    // REFERENCE: the true points back to 1e-12 relative (Dieter sec. 8-2).
+    let directory = std::env::temp_dir().join(format!("stoss-engineering-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let name = "flow-4340-jc-tension-570s-298K";
+    let toml = std::fs::read_to_string(fixture(&format!("experiments/{name}.toml"))).unwrap();
+    let toml = toml
+        .replace("\"../", &format!("\"{}/", fixture("").display()))
+        .replace(
+            &format!("recording = \"{name}.csv\""),
+            "recording = \"engineering.csv\"",
+        );
+    assert!(toml.contains("compression = false") || !toml.contains("compression = true"));
+    let truth: Vec<(f64, f64)> = (1..=20)
+        .map(|k| (0.01 * k as f64, 800.0e6 + 10.0e6 * k as f64))
+        .collect();
+    let mut csv = String::from("quantity,position,value,uncertainty\n");
+    for (strain, stress) in &truth {
+        let e = strain.exp() - 1.0;
+        csv.push_str(&format!(
+            "true_stress,{:e},{:e},{:e}\n",
+            e,
+            stress / (1.0 + e),
+            1.0e7
+        ));
+    }
+    std::fs::write(directory.join("engineering.csv"), csv).unwrap();
+    let path = directory.join("engineering.toml");
+    std::fs::write(
+        &path,
+        toml.replace(
+            "[setup]\n",
+            "[setup]\nrecorded_measure = \"engineering\"\nrecorded_strain = \"total\"\n",
+        ),
+    )
+    .unwrap();
+    let experiment = Experiment::load(&path).unwrap();
+    for (point, (strain, stress)) in experiment.recording.iter().zip(&truth) {
+        assert!((point.position / strain - 1.0).abs() < 1e-12, "{point:?}");
+        assert!((point.value / stress - 1.0).abs() < 1e-12, "{point:?}");
+    }
+    let (_, material) = material::load(&experiment.default_material_path().unwrap()).unwrap();
+    let outcome = experiment
+        .simulate(&material.into(), &SolverSettings::default())
+        .unwrap();
+    assert!(outcome
+        .report
+        .expect("a report")
+        .text
+        .contains("converted on load to true stress"));
+    std::fs::write(
+        &path,
+        toml.replace("[setup]\n", "[setup]\nrecorded_measure = \"engineering\"\n"),
+    )
+    .unwrap();
+    let error = Experiment::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains("recorded_measure") && error.contains("total strain"),
+        "{error}"
+    );
+    std::fs::remove_dir_all(&directory).unwrap();
+}
+
+#[test]
 fn a_flow_curve_in_total_strain_gives_the_plastic_strain_curve() {
     // GOAL: a flow curve recorded against true total strain (what a test machine gives), with
     //       `recorded_strain = "total"`, is compared at the right points (issue 17).

@@ -334,9 +334,35 @@ impl Experiment {
                 }
             }
         }
-        // Trimmed after the checks above, so their line numbers are the file's.
+        // Converted and trimmed after the checks above, so their line numbers are the file's.
         let mut recording = recording;
         if let Setup::Uniaxial(spec) = &mut file.setup {
+            if spec.recorded_measure == uniaxial::RecordedMeasure::Engineering {
+                check(
+                    "recorded_measure",
+                    spec.recorded_strain == uniaxial::RecordedStrain::Total,
+                    "an engineering strain is a total strain (elongation over initial \
+                     length): set recorded_strain = \"total\" with it",
+                )?;
+                for (index, point) in recording.iter_mut().enumerate() {
+                    if point.quantity != "true_stress" {
+                        continue;
+                    }
+                    if spec.compression && point.position >= 1.0 {
+                        return Err(InputError::Field {
+                            path: recording_path.clone(),
+                            line: recording::point_line(&recording_path, index),
+                            field: "position".into(),
+                            message: format!(
+                                "an engineering compressive strain of {} (at least 1) has no \
+                                 true strain",
+                                point.position
+                            ),
+                        });
+                    }
+                    *point = uniaxial::engineering_to_true(point, spec.compression);
+                }
+            }
             if spec.trim_at_maximum {
                 let (kept, trimmed) = uniaxial::trimmed_at_maximum(recording);
                 recording = kept;

@@ -54,6 +54,44 @@ pub struct UniaxialSpec {
     /// How many points `trim_at_maximum` left out (set on load; said in the run's report).
     #[serde(skip)]
     pub trimmed: usize,
+    /// What the recording's stress and strain are: true (the default) or engineering
+    /// (`"engineering"`: force over initial area against elongation over initial length, a
+    /// total strain, so `recorded_strain = "total"` is required). Engineering points are
+    /// converted on load to true stress and true total strain for uniform deformation,
+    /// [`engineering_to_true`]; the run's report says so.
+    #[serde(default)]
+    pub recorded_measure: RecordedMeasure,
+}
+
+/// Whether a flow curve's stress and strain are true or engineering measures.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RecordedMeasure {
+    /// True stress and true strain.
+    #[default]
+    True,
+    /// Engineering stress (force / initial area) and strain (elongation / initial length).
+    Engineering,
+}
+
+/// A `true_stress` point given as engineering stress `s` and strain `e` (magnitudes) as true
+/// stress and true total strain, for uniform deformation at constant volume: in tension
+/// `sigma = s (1 + e)`, `eps = ln(1 + e)`; in compression `sigma = s (1 - e)`,
+/// `eps = -ln(1 - e)` (Dieter, Mechanical Metallurgy, sec. 8-2). The uncertainty scales as the
+/// stress. Valid up to the maximum load (necking in tension); `trim_at_maximum` drops the rest.
+pub fn engineering_to_true(point: &RecordedPoint, compression: bool) -> RecordedPoint {
+    let e = point.position;
+    let (factor, strain) = if compression {
+        (1.0 - e, -libm::log(1.0 - e))
+    } else {
+        (1.0 + e, libm::log1p(e))
+    };
+    RecordedPoint {
+        quantity: point.quantity.clone(),
+        position: strain,
+        value: point.value * factor,
+        uncertainty: point.uncertainty * factor,
+    }
 }
 
 /// The recording with its `true_stress` points after the largest recorded stress left out,
@@ -107,6 +145,13 @@ impl UniaxialSpec {
             text.push_str(
                 "flow curve recorded against true total strain (elastic part included): the \
                  simulated curve is compared at rate x time, its own elasticity included\n",
+            );
+        }
+        if self.recorded_measure == RecordedMeasure::Engineering {
+            text.push_str(
+                "recorded as engineering stress and strain: converted on load to true stress \
+                 s (1 + e) and true strain ln(1 + e) (compression: s (1 - e), -ln(1 - e)), \
+                 valid for uniform deformation, before necking\n",
             );
         }
         if self.trimmed > 0 {
