@@ -407,6 +407,45 @@ fn a_model_with_no_feasible_candidate_says_why_the_first_failed() {
     std::fs::remove_dir_all(&out).unwrap();
 }
 
+/// `stoss calibrate <campaign> --budget <budget> --polish 0 --instances 1 --quiet` into
+/// `folder`, then `stoss diagnose` on it with one refit of two iterations; both must succeed.
+/// Returns the calibration's console output.
+fn quick_calibration_and_diagnosis(campaign: &Path, folder: &Path, budget: &str) -> String {
+    let output = stoss()
+        .arg("calibrate")
+        .arg(campaign)
+        .args([
+            "--budget",
+            budget,
+            "--polish",
+            "0",
+            "--instances",
+            "1",
+            "--quiet",
+        ])
+        .arg("--output")
+        .arg(folder)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let diagnosed = stoss()
+        .arg("diagnose")
+        .arg(folder)
+        .args(["--max-refits", "1", "--iterations", "2", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        diagnosed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&diagnosed.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
 #[test]
 fn a_calibration_whose_first_candidate_was_infeasible_writes_a_result_its_diagnosis_reads() {
     // GOAL: issue 54, defect 1: `stoss diagnose` refused the result.json of a calibration whose
@@ -430,30 +469,9 @@ fn a_calibration_whose_first_candidate_was_infeasible_writes_a_result_its_diagno
     assert_ne!(edited, text);
     std::fs::write(&campaign, edited).unwrap();
     let folder = out.join("run");
-    let output = stoss()
-        .arg("calibrate")
-        .arg(&campaign)
-        .args([
-            "--budget",
-            "10",
-            "--polish",
-            "0",
-            "--instances",
-            "1",
-            "--quiet",
-        ])
-        .arg("--output")
-        .arg(&folder)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let console = quick_calibration_and_diagnosis(&campaign, &folder, "10");
     // Why candidates were rejected is said on the console and in the report (issue 54,
     // defect 2), not only in simulations.jsonl.
-    let console = String::from_utf8_lossy(&output.stdout);
     assert!(
         console.contains("candidates infeasible") && console.contains("the first: flow stress"),
         "{console}"
@@ -469,17 +487,6 @@ fn a_calibration_whose_first_candidate_was_infeasible_writes_a_result_its_diagno
     let history = results[0]["instances"][0]["history"].as_array().unwrap();
     assert!(history[0].is_null(), "{history:?}");
     assert!(history.last().unwrap().is_f64(), "{history:?}");
-    let output = stoss()
-        .arg("diagnose")
-        .arg(&folder)
-        .args(["--max-refits", "1", "--iterations", "2", "--quiet"])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
     assert!(folder.join("diagnosis/report.md").exists());
     // The campaign's recordings are declared simulations: the lagged rate update, a code
     // property, is among the tested terms.
@@ -533,38 +540,7 @@ fn a_diagnosis_of_total_strain_curves_names_the_total_strain() {
     )
     .unwrap();
     let folder = out.join("run");
-    let output = stoss()
-        .arg("calibrate")
-        .arg(&campaign)
-        .args([
-            "--budget",
-            "6",
-            "--polish",
-            "0",
-            "--instances",
-            "1",
-            "--quiet",
-        ])
-        .arg("--output")
-        .arg(&folder)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let output = stoss()
-        .arg("diagnose")
-        .arg(&folder)
-        .args(["--max-refits", "1", "--iterations", "2", "--quiet"])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    quick_calibration_and_diagnosis(&campaign, &folder, "6");
     let mut labels = (0, 0);
     for entry in std::fs::read_dir(folder.join("diagnosis")).unwrap() {
         let path = entry.unwrap().path();
