@@ -2,7 +2,9 @@
 # The Slurm executor against a real Slurm: a single-node cluster on this machine
 # (.ci/slurm-cluster.sh), then
 #   1. a small calibration with --executor slurm (job arrays) and with --slurm-mode allocation,
-#      each compared bit for bit with the local run of the same campaign;
+#      each compared bit for bit with the local run of the same campaign; a diagnosis whose
+#      least-squares refits run as Slurm tasks (prediction tasks), compared with the local
+#      diagnosis;
 #   2. a task cancelled in the queue (scancel of one array element): it is rerun, and the
 #      calibration is still the local one;
 #   3. the coordinator killed (SIGKILL) mid-run: --resume adopts the results its tasks wrote
@@ -138,6 +140,37 @@ run_calibration "$work/allocation" --executor slurm --slurm-mode allocation --ma
 allocation_seconds=$((SECONDS - started))
 python3 .ci/compare-calibrations.py "$work/local" "$work/allocation" || fail "allocation run differs from local"
 echo "wall time: local ${local_seconds} s, job arrays ${array_seconds} s, allocation ${allocation_seconds} s"
+
+echo "=== diagnosis refits as Slurm tasks: identical to local"
+# The synthetic flow curves (simulations of milliseconds): the refits' many small batches
+# cost the executor's overhead only. One allocation, as a diagnosis of long simulations would
+# also use it.
+flow="$work/flow-diagnosis.toml"
+sed -e "s|\"\.\./|\"$root/fixtures/|" "$root/fixtures/campaigns/synthetic-flow.toml" >"$flow"
+printf '[executor]\npoll_interval = 0.1\nresult_wait = 3\nprobe_timeout = 120\n' >>"$flow"
+timeout 600 "$stoss" calibrate "$flow" --output "$work/diagnosis-local" --budget 12 --polish 0 \
+    --instances 1 --quiet >/dev/null
+cp -r "$work/diagnosis-local" "$work/diagnosis-slurm"
+started=$SECONDS
+timeout 600 "$stoss" diagnose "$work/diagnosis-local" --max-refits 1 --iterations 3 --quiet >/dev/null
+diagnosis_local_seconds=$((SECONDS - started))
+started=$SECONDS
+timeout 900 "$stoss" diagnose "$work/diagnosis-slurm" --max-refits 1 --iterations 3 --quiet \
+    --executor slurm --slurm-mode allocation --max-concurrent 2 >/dev/null
+diagnosis_slurm_seconds=$((SECONDS - started))
+grep -q '"executor":"slurm-allocation"' "$work/diagnosis-slurm/diagnosis.jsonl" \
+    || fail "no slurm-allocation origin in the diagnosis journal"
+compgen -G "$work/diagnosis-slurm/slurm/tasks/predict-*.result.json" >/dev/null \
+    || fail "no prediction task ran on the cluster"
+python3 - "$work/diagnosis-local/diagnosis/diagnosis.json" "$work/diagnosis-slurm/diagnosis/diagnosis.json" <<'PY' \
+    || fail "the diagnosis on Slurm differs from the local one"
+import json, sys
+local, slurm = (json.load(open(p)) for p in sys.argv[1:3])
+for d in (local, slurm):
+    d.pop("cost", None)
+sys.exit(0 if local == slurm else 1)
+PY
+echo "diagnosis: local ${diagnosis_local_seconds} s, slurm allocation ${diagnosis_slurm_seconds} s, identical"
 
 # Job names are stoss-<hash of the run folder>; wait for no job of that name to be queued or running.
 wait_for_jobs_to_end() { # wait_for_jobs_to_end SECONDS

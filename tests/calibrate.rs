@@ -6,7 +6,10 @@ use std::process::Command;
 use stoss::calibrate::proposer::bayesian_factory;
 use stoss::calibrate::run::{calibrate, RunOptions};
 use stoss::fit::campaign::LeaveOneOut;
-use stoss::fit::executor::{Batch, Executor, ExecutorError, Local, Origin, Record};
+use stoss::fit::executor::{
+    Batch, Executor, ExecutorError, Local, Origin, Prediction, PredictionBatch, Record,
+    RecordPrediction,
+};
 use stoss::fit::result::ModelResult;
 use stoss::fit::{evaluate, Campaign, Evaluation};
 use stoss::input::material;
@@ -1131,6 +1134,26 @@ impl Executor for LastFirst {
         }
         Ok(results.into_iter().map(Option::unwrap).collect())
     }
+
+    fn predict(
+        &mut self,
+        batch: &PredictionBatch<'_>,
+        record: &RecordPrediction<'_>,
+    ) -> Result<Vec<Prediction>, ExecutorError> {
+        let settings = SolverSettings {
+            threads: Some(2),
+            ..SolverSettings::default()
+        };
+        let mut results = vec![None; batch.jobs.len()];
+        for (index, job) in batch.jobs.iter().enumerate().rev() {
+            let prediction = job
+                .realisation
+                .predict(&batch.campaign.experiments[job.experiment], &settings);
+            record(index, &prediction, &Origin::this_process("last-first"))?;
+            results[index] = Some(prediction);
+        }
+        Ok(results.into_iter().map(Option::unwrap).collect())
+    }
 }
 
 #[test]
@@ -1361,4 +1384,72 @@ fn a_slurm_run_without_slurm_or_with_bad_settings_says_so() {
         "{stderr}"
     );
     std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn a_prediction_task_simulated_by_a_worker_gives_the_coordinators_prediction_bit_for_bit() {
+    // GOAL: the diagnosis' refits (and the least-squares finish) can run on Slurm (issue 49):
+    //       a prediction job written as a task file and simulated by `stoss evaluate`'s worker
+    //       side gives exactly the prediction the coordinator would compute, and a task whose
+    //       campaign changed since the run started is refused.
+    // SETUP: the synthetic-flow campaign with a Taylor test; the calibrated-model hypothesis
+    //        of JC at the material's constants, realised at constants moved off them (A +3 %,
+    //        n -5 %); one task per experiment, run with 2 solver threads.
+    // REFERENCE: the realisation's own prediction on this process (1 thread), bit for bit;
+    //        the result's key is the task's.
+    use stoss::fit::executor::task::{
+        run_task, PredictionResultFile, PredictionTaskFile, RealisationRecord,
+    };
+    use stoss::fit::Hypothesis;
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml")).unwrap();
+    let with_taylor = text.replace("\"../", &format!("\"{root}/fixtures/"))
+        + &format!(
+            "\n[[experiments]]\nfile = \"{root}/fixtures/experiments/synthetic-taylor-hha-184.toml\"\n"
+        );
+    let folder = temporary("prediction-task");
+    let path = folder.join("campaign.toml");
+    std::fs::write(&path, &with_taylor).unwrap();
+    let campaign = Campaign::load(&path).unwrap();
+    let space = campaign.space(&campaign.file.models[0]);
+    let start = space.starting_values(&campaign.base).unwrap();
+    let hypothesis = Hypothesis::base(&campaign.base, &space, &start).unwrap();
+    let mut values = hypothesis.values().unwrap();
+    values[0] *= 1.03;
+    values[2] *= 0.95;
+    let realisation = hypothesis.realise(&values).unwrap();
+    let settings = SolverSettings {
+        threads: Some(1),
+        ..SolverSettings::default()
+    };
+    let sha = stoss::fit::executor::task::sha256_hex(with_taylor.as_bytes());
+    for (index, experiment) in campaign.experiments.iter().enumerate() {
+        let task = PredictionTaskFile {
+            campaign: path.canonicalize().unwrap(),
+            campaign_sha256: sha.clone(),
+            key: format!("{index:016x}"),
+            experiment: index,
+            realisation: RealisationRecord::of(&realisation),
+            executor: "slurm-array".into(),
+        };
+        let task_path = folder.join(format!("predict-{index}.task.json"));
+        std::fs::write(&task_path, serde_json::to_vec_pretty(&task).unwrap()).unwrap();
+        let result_path = run_task(&task_path, 2).unwrap();
+        let result: PredictionResultFile =
+            serde_json::from_str(&std::fs::read_to_string(&result_path).unwrap()).unwrap();
+        assert_eq!(result.key, task.key);
+        let here = realisation.predict(experiment, &settings).unwrap();
+        let there = result.prediction().unwrap();
+        assert_eq!(
+            here.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            there.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            "{}",
+            experiment.file.name
+        );
+    }
+    // The campaign changed since the run started: the worker refuses the task.
+    std::fs::write(&path, with_taylor + "\n# edited\n").unwrap();
+    let error = run_task(&folder.join("predict-0.task.json"), 1).unwrap_err();
+    assert!(error.contains("changed since the run started"), "{error}");
+    std::fs::remove_dir_all(&folder).unwrap();
 }

@@ -184,8 +184,8 @@ fn main() {
         let mut found = None;
         for iterations in 1..=6 {
             let mut quiet = |_: stoss::fit::Progress<'_>| {};
-            let mut engine =
-                Engine::new(&campaign.experiments, 2, None, &mut quiet).expect("engine");
+            let mut pool = stoss::fit::executor::Local::new(2).expect("thread pool");
+            let mut engine = Engine::new(&campaign, &mut pool, None, &mut quiet).expect("engine");
             let Ok(fit) =
                 levenberg_marquardt(&mut engine, &hypothesis, &start_values, &fitted, iterations)
             else {

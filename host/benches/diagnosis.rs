@@ -151,6 +151,7 @@ fn main() {
                         parallel: 2,
                         ..Options::default()
                     },
+                    &mut Local::new(2).expect("thread pool"),
                     None,
                     &mut |_| {},
                 )

@@ -311,7 +311,7 @@ impl Runner<'_> {
         start: &[f64],
         iterations: usize,
     ) -> Result<Option<Vec<f64>>, CalibrateError> {
-        use crate::fit::{levenberg_marquardt, Engine, Hypothesis, Progress};
+        use crate::fit::{levenberg_marquardt, Engine, FitError, Hypothesis, Progress};
         let Ok(hypothesis) = Hypothesis::base(&self.campaign.base, space, start) else {
             return Ok(None);
         };
@@ -328,14 +328,15 @@ impl Runner<'_> {
             space.name
         ));
         let mut quiet = |_: Progress<'_>| {};
-        let simulated = &self.campaign.experiments;
-        let mut engine = Engine::new(simulated, self.batch.max(1), Some(&log), &mut quiet)
+        let mut engine = Engine::new(self.campaign, &mut *self.executor, Some(&log), &mut quiet)
             .map_err(|e| CalibrateError::LeastSquares(e.to_string()))?;
-        Ok(
-            levenberg_marquardt(&mut engine, &hypothesis, &values, experiments, iterations)
-                .ok()
-                .map(|fit| fit.values),
-        )
+        match levenberg_marquardt(&mut engine, &hypothesis, &values, experiments, iterations) {
+            Ok(fit) => Ok(Some(fit.values)),
+            // The executor could not run the simulations: the calibration's error, as in
+            // its batches.
+            Err(FitError::Executor(error)) => Err(error.into()),
+            Err(_) => Ok(None),
+        }
     }
 
     /// The proposer's batches up to `budget` candidates (or the noise floor): each batch

@@ -3,10 +3,9 @@
 //! the end `report/` (report.md, figures, cards, result.json). `--resume` continues a killed
 //! run without re-running any logged simulation.
 
+use super::executor_args::{start_executor, ExecutorArgs};
 use super::output_folder::{write_folder, Leftovers};
 use crate::calibrate::run::{calibrate, RunOptions};
-use crate::fit::executor::slurm::SlurmExecutor;
-use crate::fit::executor::{Executor, ExecutorEntry, ExecutorKind, Local, SlurmMode};
 use crate::fit::Campaign;
 use crate::report::calibration;
 use clap::Args;
@@ -46,64 +45,9 @@ pub struct CalibrateArgs {
     /// No progress output (the bar on a terminal, the progress lines otherwise).
     #[arg(long)]
     pub quiet: bool,
-    /// Where the simulations run: `local` (this machine) or `slurm` (tasks of a Slurm
-    /// cluster); overrides the campaign's `[executor] kind`.
-    #[arg(long, value_enum)]
-    pub executor: Option<ExecutorKind>,
-    /// Slurm placement: `array` (a job array per batch) or `allocation` (one allocation,
-    /// an `srun` step per candidate).
-    #[arg(long, value_enum)]
-    pub slurm_mode: Option<SlurmMode>,
-    /// Slurm partition.
-    #[arg(long)]
-    pub partition: Option<String>,
-    /// Slurm time limit of one candidate's simulations (`MM:SS`, `HH:MM:SS`, `D-HH:MM:SS`...).
-    #[arg(long)]
-    pub time_limit: Option<String>,
-    /// CPUs (solver threads) per Slurm task.
-    #[arg(long)]
-    pub cpus_per_task: Option<usize>,
-    /// Slurm tasks running at once.
-    #[arg(long)]
-    pub max_concurrent: Option<usize>,
-    /// An extra argument of sbatch (array) or salloc (allocation); repeat for several.
-    #[arg(long = "sbatch-arg", value_name = "ARG", allow_hyphen_values = true)]
-    pub sbatch_args: Vec<String>,
-}
-
-/// The campaign's `[executor]` table with the command line's overrides, checked; errors name
-/// the flag.
-fn executor_settings(
-    args: &CalibrateArgs,
-    campaign: &ExecutorEntry,
-) -> Result<ExecutorEntry, String> {
-    let mut entry = campaign.clone();
-    if let Some(kind) = args.executor {
-        entry.kind = kind;
-    }
-    if let Some(mode) = args.slurm_mode {
-        entry.mode = mode;
-    }
-    if let Some(partition) = &args.partition {
-        entry.partition = Some(partition.clone());
-    }
-    if let Some(limit) = &args.time_limit {
-        entry.time_limit = Some(limit.clone());
-    }
-    if let Some(cpus) = args.cpus_per_task {
-        entry.cpus_per_task = cpus;
-    }
-    if let Some(n) = args.max_concurrent {
-        entry.max_concurrent = Some(n);
-    }
-    entry.sbatch_args.extend(args.sbatch_args.iter().cloned());
-    entry.check().map_err(|(field, message)| {
-        format!(
-            "--{} (or [executor] {field}): {message}",
-            field.replace('_', "-")
-        )
-    })?;
-    Ok(entry)
+    /// Where the simulations run (this machine, a Slurm cluster) and how.
+    #[command(flatten)]
+    pub executor: ExecutorArgs,
 }
 
 /// Run `stoss calibrate`.
@@ -127,7 +71,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         return Err("--instances 0: give at least 1".into());
     }
     let campaign = Campaign::load(&args.campaign).map_err(|e| e.to_string())?;
-    let executor_entry = executor_settings(args, &campaign.file.executor)?;
+    let executor_entry = args.executor.settings(&campaign.file.executor)?;
     let output = args.output.clone().unwrap_or_else(|| {
         PathBuf::from("out").join(format!(
             "calibrate-{}",
@@ -257,20 +201,13 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             ));
         }
     };
-    let parallel = campaign.file.optimiser.parallel;
-    let mut executor: Box<dyn Executor> = match executor_entry.kind {
-        ExecutorKind::Local => Box::new(Local::new(parallel).map_err(|e| e.to_string())?),
-        ExecutorKind::Slurm => Box::new(
-            SlurmExecutor::start(
-                &executor_entry,
-                executor_entry.max_concurrent.unwrap_or(parallel),
-                &campaign,
-                &output,
-                args.quiet,
-            )
-            .map_err(|e| e.to_string())?,
-        ),
-    };
+    let mut executor = start_executor(
+        &executor_entry,
+        campaign.file.optimiser.parallel,
+        &campaign,
+        &output,
+        args.quiet,
+    )?;
     let factory = crate::calibrate::proposer::bayesian_factory(campaign.file.optimiser.design);
     let results = calibrate(
         &campaign,

@@ -4,6 +4,7 @@
 //! material) into the calibration folder; every simulation is logged in `diagnosis.jsonl`, so
 //! a killed diagnosis rerun replays instead of simulating again.
 
+use super::executor_args::{start_executor, ExecutorArgs};
 use super::output_folder::{write_folder, Leftovers};
 use crate::diagnose::{self, Options};
 use crate::fit::result::ModelResult;
@@ -42,6 +43,10 @@ pub struct DiagnoseArgs {
     /// No progress lines (stages and simulation counts).
     #[arg(long)]
     pub quiet: bool,
+    /// Where the refits' simulations run (this machine, a Slurm cluster) and how; the
+    /// campaign's `[executor]` table is the default, as for `stoss calibrate`.
+    #[command(flatten)]
+    pub executor: ExecutorArgs,
 }
 
 /// Least time between two lines of simulation counts.
@@ -154,6 +159,14 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         return Ok(());
     }
     let log = args.calibration.join("diagnosis.jsonl");
+    let executor_entry = args.executor.settings(&campaign.file.executor)?;
+    let mut executor = start_executor(
+        &executor_entry,
+        options.parallel,
+        &campaign,
+        &args.calibration,
+        args.quiet,
+    )?;
     // A line per stage, and within a stage the simulation counts at most every
     // PROGRESS_INTERVAL (a refit of penetration or blast experiments runs for minutes).
     let started = std::time::Instant::now();
@@ -188,8 +201,15 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         diagnosis,
         before,
         after,
-    } = diagnose::diagnose(&campaign, model, &options, Some(&log), &mut progress)
-        .map_err(|e| e.to_string())?;
+    } = diagnose::diagnose(
+        &campaign,
+        model,
+        &options,
+        executor.as_mut(),
+        Some(&log),
+        &mut progress,
+    )
+    .map_err(|e| e.to_string())?;
     println!(
         "\n{:<28} {:>10} {:>10}  significant",
         "term", "statistic", "p"

@@ -4,6 +4,7 @@ pub mod analyse_shpb;
 mod calibrate;
 pub(crate) mod diagnose;
 mod evaluate;
+mod executor_args;
 mod fit_jc;
 mod output_folder;
 mod simulate;

@@ -39,6 +39,7 @@ pub mod score;
 pub mod state_space;
 pub mod stats;
 
+use crate::fit::executor::Executor;
 use crate::fit::least_squares::{self, levenberg_marquardt, Fit};
 use crate::fit::linear;
 use crate::fit::result::ModelResult;
@@ -64,9 +65,9 @@ pub enum DiagnoseError {
     /// The calibration folder is incomplete or inconsistent.
     #[error("calibration: {0}")]
     Calibration(String),
-    /// The thread pool could not be built.
-    #[error("thread pool: {0}")]
-    Threads(String),
+    /// The executor (this machine's pool, Slurm) could not run the simulations.
+    #[error("executor: {0}")]
+    Executor(String),
     /// A simulation the diagnosis cannot do without failed.
     #[error("simulation failed: {0}")]
     Simulation(String),
@@ -76,7 +77,7 @@ impl From<FitError> for DiagnoseError {
     fn from(error: FitError) -> Self {
         match error {
             FitError::Io(e) => Self::Io(e),
-            FitError::Threads(e) => Self::Threads(e),
+            FitError::Executor(e) => Self::Executor(e.to_string()),
             FitError::Simulation(e) => Self::Simulation(e),
         }
     }
@@ -808,19 +809,20 @@ fn calibrated_hypothesis(
         .map_err(DiagnoseError::Calibration)
 }
 
-/// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations are logged
-/// in `log` (a rerun replays them).
+/// Diagnose the calibrated `model` (constants `values`) of `campaign`. Simulations run through
+/// `executor` (this machine's pool or Slurm) and are logged in `log` (a rerun replays them).
 pub fn diagnose(
     campaign: &Campaign,
     model: &ModelResult,
     options: &Options,
+    executor: &mut dyn Executor,
     log: Option<&Path>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Outcome, DiagnoseError> {
     let base = calibrated_hypothesis(campaign, model)?;
     let start = base.values().map_err(DiagnoseError::Calibration)?;
     let fitted = campaign.fitted();
-    let mut engine = Engine::new(&campaign.experiments, options.parallel, log, progress)?;
+    let mut engine = Engine::new(campaign, executor, log, progress)?;
     let mut cost = Cost::default();
     let stage = |engine: &Engine, name: &str, before: usize, cost: &mut Cost| {
         cost.stages.push((name.into(), engine.points - before));

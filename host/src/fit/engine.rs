@@ -1,19 +1,24 @@
-//! Runs the simulations of a least-squares fit (the diagnosis, the calibration's finish): batches of candidate constants in parallel (one
-//! thread per simulation, so results do not depend on the thread count), every result appended
-//! to the [`Journal`] `diagnosis.jsonl` as it ends; a rerun over the same folder replays the log
-//! instead of simulating again, so a killed diagnosis loses nothing.
+//! Runs the simulations of a least-squares fit (the diagnosis, the calibration's finish):
+//! batches of candidate constants handed to an [`Executor`] (this machine's pool or Slurm, the
+//! same executor a calibration uses), every result appended to the [`Journal`]
+//! (`diagnosis.jsonl`, `least-squares-*.jsonl`) as it ends, with where it was computed; a rerun
+//! over the same folder replays the log instead of simulating again, so a killed diagnosis
+//! loses nothing.
 //!
 //! A log entry is keyed by a 64-bit FNV-1a hash of everything that determines the simulation:
 //! the realised material file, the anvil friction, the lagged-rate mixture and the experiment
 //! file; a changed calibration therefore never reuses stale results.
 
-use super::hypothesis::Hypothesis;
+use super::campaign::Campaign;
+use super::executor::{
+    Executor, ExecutorError, Origin, Prediction, PredictionBatch, PredictionJob,
+};
+use super::hypothesis::{Hypothesis, Realisation};
 use super::FitError;
 use crate::experiment::Experiment;
 use crate::hash::fnv1a;
 use crate::journal::Journal;
 use crate::solver::SolverSettings;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::path::Path;
@@ -28,6 +33,11 @@ struct LogEntry {
     predicted: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     error: Option<String>,
+    /// Where and by which stoss binary it was computed (absent in journals written before
+    /// the engine ran through the executors, and for a hypothesis that could not be
+    /// realised).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    origin: Option<Origin>,
 }
 
 /// What a diagnosis reports while it runs.
@@ -46,13 +56,15 @@ pub enum Progress<'s> {
 
 /// The simulation engine of one diagnosis or least-squares fit.
 pub struct Engine<'a> {
-    /// The experiments simulated (a campaign's, in its order).
+    /// The campaign whose experiments are simulated.
+    pub campaign: &'a Campaign,
+    /// The experiments simulated (the campaign's, in its order).
     pub experiments: &'a [Experiment],
     /// Where stages and simulation counts are reported.
     progress: &'a mut dyn FnMut(Progress<'_>),
-    pool: rayon::ThreadPool,
+    executor: &'a mut dyn Executor,
     settings: SolverSettings,
-    known: HashMap<String, Result<Vec<f64>, String>>,
+    known: HashMap<String, Prediction>,
     log: Option<Journal>,
     /// Points (sets of constants) evaluated, fresh or replayed.
     pub points: usize,
@@ -63,18 +75,14 @@ pub struct Engine<'a> {
 }
 
 impl<'a> Engine<'a> {
-    /// An engine with `parallel` simulations at once, logging to `log` (replaying what it
-    /// already holds).
+    /// An engine simulating `campaign`'s experiments through `executor`, logging to `log`
+    /// (replaying what it already holds).
     pub fn new(
-        experiments: &'a [Experiment],
-        parallel: usize,
+        campaign: &'a Campaign,
+        executor: &'a mut dyn Executor,
         log: Option<&Path>,
         progress: &'a mut dyn FnMut(Progress<'_>),
     ) -> Result<Self, FitError> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(parallel.max(1))
-            .build()
-            .map_err(|e| FitError::Threads(e.to_string()))?;
         let mut known = HashMap::new();
         let log = match log {
             None => None,
@@ -96,9 +104,10 @@ impl<'a> Engine<'a> {
             }
         };
         Ok(Self {
-            experiments,
+            campaign,
+            experiments: &campaign.experiments,
             progress,
-            pool,
+            executor,
             settings: SolverSettings {
                 threads: Some(1),
                 ..SolverSettings::default()
@@ -148,59 +157,87 @@ impl<'a> Engine<'a> {
         Ok(per_point)
     }
 
-    /// Simulate each job `(constants, experiment)` once, in parallel; results in job order.
+    /// Simulate each job `(constants, experiment)` once, through the executor; results in job
+    /// order. A job already in the journal is replayed; one whose hypothesis cannot be realised
+    /// at its constants is a failed prediction (journalled, not simulated).
     pub fn run(
         &mut self,
         hypothesis: &Hypothesis,
         jobs: &[(&[f64], usize)],
-    ) -> Result<Vec<Result<Vec<f64>, String>>, FitError> {
+    ) -> Result<Vec<Prediction>, FitError> {
         let keys: Vec<String> = jobs
             .iter()
             .map(|(values, e)| self.key(hypothesis, values, *e))
             .collect();
-        let experiments = self.experiments;
-        let settings = &self.settings;
-        let known = &self.known;
-        // Each new simulation is appended to the journal as soon as it finishes.
-        let journal = std::sync::Mutex::new(&mut self.log);
-        let fresh: Vec<Option<Result<Prediction, FitError>>> = self.pool.install(|| {
-            jobs.par_iter()
-                .zip(&keys)
-                .map(|((values, e), key)| {
-                    if known.contains_key(key) {
-                        return None;
-                    }
-                    let result = hypothesis
-                        .realise(values)
-                        .and_then(|r| r.predict(&experiments[*e], settings));
-                    let mut journal = journal
-                        .lock()
-                        .unwrap_or_else(std::sync::PoisonError::into_inner);
-                    Some(append(journal.as_mut(), key, &result).map(|()| result))
-                })
-                .collect()
-        });
-        let mut results = Vec::with_capacity(jobs.len());
-        for (key, new) in keys.iter().zip(fresh) {
-            let result = match new {
-                Some(result) => {
-                    let result = result?;
+        let mut results: Vec<Option<Prediction>> = vec![None; jobs.len()];
+        // Realised once per distinct constants; jobs the journal holds are not realised.
+        let mut realisations: Vec<(usize, Realisation)> = Vec::new();
+        let mut fresh: Vec<usize> = Vec::new();
+        for (index, ((values, _), key)) in jobs.iter().zip(&keys).enumerate() {
+            if let Some(known) = self.known.get(key) {
+                self.replayed += 1;
+                results[index] = Some(known.clone());
+                continue;
+            }
+            match hypothesis.realise(values) {
+                Ok(realisation) => {
+                    realisations.push((index, realisation));
+                    fresh.push(index);
+                }
+                Err(message) => {
+                    let failed: Prediction = Err(message);
+                    append(self.log.as_mut(), key, &failed, None)?;
                     self.simulated += 1;
-                    self.known.insert(key.clone(), result.clone());
-                    result
+                    self.known.insert(key.clone(), failed.clone());
+                    results[index] = Some(failed);
                 }
-                None => {
-                    self.replayed += 1;
-                    self.known[key].clone()
-                }
+            }
+        }
+        if !realisations.is_empty() {
+            let batch = PredictionBatch {
+                campaign: self.campaign,
+                jobs: realisations
+                    .iter()
+                    .map(|(index, realisation)| PredictionJob {
+                        key: &keys[*index],
+                        realisation,
+                        experiment: jobs[*index].1,
+                    })
+                    .collect(),
             };
-            results.push(result);
+            // Each new simulation is appended to the journal as soon as it finishes.
+            let journal = std::sync::Mutex::new(&mut self.log);
+            let record = |at: usize, prediction: &Prediction, origin: &Origin| {
+                let mut journal = journal
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                append(
+                    journal.as_mut(),
+                    batch.jobs[at].key,
+                    prediction,
+                    Some(origin),
+                )
+                .map_err(|e| ExecutorError::Executor(e.to_string()))
+            };
+            let predictions = self.executor.predict(&batch, &record)?;
+            if predictions.len() != fresh.len() {
+                return Err(FitError::Simulation(format!(
+                    "the executor returned {} predictions for {} jobs",
+                    predictions.len(),
+                    fresh.len()
+                )));
+            }
+            for (&index, prediction) in fresh.iter().zip(predictions) {
+                self.simulated += 1;
+                self.known.insert(keys[index].clone(), prediction.clone());
+                results[index] = Some(prediction);
+            }
         }
         (self.progress)(Progress::Simulations {
             run: self.simulated,
             replayed: self.replayed,
         });
-        Ok(results)
+        Ok(results.into_iter().flatten().collect())
     }
 
     /// Report the start of a stage.
@@ -230,11 +267,13 @@ impl<'a> Engine<'a> {
     }
 }
 
-/// A simulation's predictions, or why it failed.
-type Prediction = Result<Vec<f64>, String>;
-
 /// Append one simulation's result to the journal, if there is one.
-fn append(journal: Option<&mut Journal>, key: &str, result: &Prediction) -> Result<(), FitError> {
+fn append(
+    journal: Option<&mut Journal>,
+    key: &str,
+    result: &Prediction,
+    origin: Option<&Origin>,
+) -> Result<(), FitError> {
     let Some(journal) = journal else {
         return Ok(());
     };
@@ -242,6 +281,7 @@ fn append(journal: Option<&mut Journal>, key: &str, result: &Prediction) -> Resu
         key: key.into(),
         predicted: result.as_ref().ok().cloned(),
         error: result.as_ref().err().cloned(),
+        origin: origin.cloned(),
     };
     journal
         .append(&entry)

@@ -49,9 +49,9 @@ pub enum FitError {
     /// Reading or writing the journal failed.
     #[error("{0}")]
     Io(String),
-    /// The thread pool could not be built.
-    #[error("thread pool: {0}")]
-    Threads(String),
+    /// The executor (this machine's pool, Slurm) could not run the simulations.
+    #[error(transparent)]
+    Executor(#[from] executor::ExecutorError),
     /// A simulation the fit cannot do without failed.
     #[error("simulation failed: {0}")]
     Simulation(String),

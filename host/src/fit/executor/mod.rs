@@ -1,6 +1,13 @@
-//! Executors: where the candidates of an optimiser batch are simulated. `local` runs them on
-//! this machine's cores; `slurm` runs each as a task of a Slurm cluster (`slurm.rs`), a
-//! `stoss evaluate` process that reads a task file and writes a result file (`task.rs`).
+//! Executors: where simulations run. Two kinds of work go through the same executor:
+//! - the candidates of an optimiser batch ([`Executor::evaluate`]: a model's constants, scored
+//!   on a campaign's experiments);
+//! - the prediction jobs of a least-squares fit ([`Executor::predict`]: a realised hypothesis,
+//!   one experiment, its predictions), as the diagnosis' refits and the calibration's
+//!   least-squares finish run them.
+//!
+//! `local` runs them on this machine's cores; `slurm` runs each as a task of a Slurm cluster
+//! (`slurm.rs`), a `stoss evaluate` process that reads a task file and writes a result file
+//! (`task.rs`).
 //!
 //! Every executor hands each evaluation to the coordinator as soon as it ends (the coordinator
 //! appends it to the simulation log, so `--resume` works the same for all) and returns the
@@ -16,6 +23,7 @@ pub use settings::{ExecutorEntry, ExecutorKind, SlurmMode};
 pub use task::Origin;
 
 use super::campaign::Campaign;
+use super::hypothesis::Realisation;
 use super::log::Key;
 use super::log::LogError;
 use super::objective::{evaluate, Evaluation};
@@ -64,6 +72,34 @@ pub struct Batch<'a> {
 /// evaluation, origin)`.
 pub type Record<'r> = dyn Fn(usize, &Evaluation, &Origin) -> Result<(), ExecutorError> + Sync + 'r;
 
+/// Predictions of one experiment (the recording's points), or why its simulation failed.
+pub type Prediction = Result<Vec<f64>, String>;
+
+/// One prediction job: a realised hypothesis simulated on one campaign experiment.
+#[derive(Clone, Copy)]
+pub struct PredictionJob<'a> {
+    /// The job's journal key (a hash of everything that determines the simulation; it names
+    /// the job's Slurm task, so a resumed run finds a result its task wrote).
+    pub key: &'a str,
+    /// The material and settings to simulate with.
+    pub realisation: &'a Realisation,
+    /// The experiment (campaign index).
+    pub experiment: usize,
+}
+
+/// Prediction jobs on one campaign's experiments.
+pub struct PredictionBatch<'a> {
+    /// The campaign (its experiments; its file, which Slurm workers load).
+    pub campaign: &'a Campaign,
+    /// The jobs.
+    pub jobs: Vec<PredictionJob<'a>>,
+}
+
+/// Called once per prediction job as it ends, in any order: `(index in the batch, prediction,
+/// origin)`.
+pub type RecordPrediction<'r> =
+    dyn Fn(usize, &Prediction, &Origin) -> Result<(), ExecutorError> + Sync + 'r;
+
 /// Runs the simulations of batches.
 pub trait Executor {
     /// Evaluate every candidate of `batch`, calling `record` as each ends; the evaluations in
@@ -73,6 +109,14 @@ pub trait Executor {
         batch: &Batch<'_>,
         record: &Record<'_>,
     ) -> Result<Vec<Evaluation>, ExecutorError>;
+
+    /// Simulate every job of `batch`, calling `record` as each ends; the predictions in the
+    /// batch's order.
+    fn predict(
+        &mut self,
+        batch: &PredictionBatch<'_>,
+        record: &RecordPrediction<'_>,
+    ) -> Result<Vec<Prediction>, ExecutorError>;
 }
 
 /// This machine's cores: one candidate per thread of a pool, one solver thread each (a batch
@@ -124,6 +168,30 @@ impl Executor for Local {
                     );
                     record(index, &evaluation, origin)?;
                     Ok(evaluation)
+                })
+                .collect()
+        })
+    }
+
+    fn predict(
+        &mut self,
+        batch: &PredictionBatch<'_>,
+        record: &RecordPrediction<'_>,
+    ) -> Result<Vec<Prediction>, ExecutorError> {
+        let settings = &self.settings;
+        let origin = &self.origin;
+        let experiments = &batch.campaign.experiments;
+        self.pool.install(|| {
+            batch
+                .jobs
+                .par_iter()
+                .enumerate()
+                .map(|(index, job)| {
+                    let prediction = job
+                        .realisation
+                        .predict(&experiments[job.experiment], settings);
+                    record(index, &prediction, origin)?;
+                    Ok(prediction)
                 })
                 .collect()
         })

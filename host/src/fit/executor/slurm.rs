@@ -1,8 +1,9 @@
-//! The Slurm executor: each candidate of a batch is a Slurm task running
-//! `stoss evaluate <task file>` (`task.rs`), which writes its result file atomically into the
-//! run folder on the shared filesystem; the coordinator (`stoss calibrate`) polls the folder
-//! and the queue, logs each result as it arrives, reruns tasks that end without one, and
-//! returns the batch in order.
+//! The Slurm executor: each item of a batch (a calibration candidate, or a prediction job of
+//! a least-squares fit) is a Slurm task running `stoss evaluate <task file>` (`task.rs`),
+//! which writes its result file atomically into the run folder on the shared filesystem; the
+//! coordinator (`stoss calibrate`, `stoss diagnose`) polls the folder and the queue, logs each
+//! result as it arrives, reruns tasks that end without one, and returns the batch in order.
+//! Both kinds of batch go through one machinery ([`Work`]).
 //!
 //! Two placements (`[executor] mode`):
 //! - `array`: one job array per batch (`sbatch --parsable --array=0-(n-1)%max`). Each batch
@@ -17,14 +18,15 @@
 //! running them again.
 
 use super::super::campaign::Campaign;
-use super::super::log::Key;
 use super::super::objective::{Evaluation, Status};
 use super::settings::{ExecutorEntry, SlurmMode};
 use super::task::{
-    binary_sha256, result_path, sha256_hex, task_name, write_atomically, Origin, ResultFile,
-    TaskFile,
+    binary_sha256, prediction_task_name, result_path, sha256_hex, task_name, write_atomically,
+    Origin, PredictionResultFile, PredictionTaskFile, RealisationRecord, ResultFile, TaskFile,
 };
-use super::{Batch, Executor, ExecutorError, Record};
+use super::{
+    Batch, Executor, ExecutorError, Prediction, PredictionBatch, Record, RecordPrediction,
+};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -100,6 +102,151 @@ fn tail_of(path: &Path, lines: usize) -> String {
     let text = std::fs::read_to_string(path).unwrap_or_default();
     let kept: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
     kept[kept.len().saturating_sub(lines)..].join(" | ")
+}
+
+/// A batch of work as the Slurm executor runs it: one task file per item, one result file
+/// back, each result recorded as it arrives.
+trait Work {
+    /// What one item gives.
+    type Output: Clone;
+    /// Items in the batch.
+    fn len(&self) -> usize;
+    /// The item's task file name (without `.task.json`), stable across runs so that a
+    /// resumed run finds a result its task wrote.
+    fn task_name(&self, index: usize) -> String;
+    /// The item's task file (JSON).
+    fn task_json(&self, index: usize, executor: &SlurmExecutor) -> Result<Vec<u8>, String>;
+    /// The item's output from a result file's text, if the file answers this very item and
+    /// was written by this binary.
+    fn read_result(&self, index: usize, text: &str) -> Option<(Self::Output, Origin)>;
+    /// The output of an item whose task ended without a result on every run allowed.
+    fn failed(&self, index: usize, reason: String) -> Self::Output;
+    /// Record an item's output as it arrives (the coordinator's log).
+    fn record(
+        &self,
+        index: usize,
+        output: &Self::Output,
+        origin: &Origin,
+    ) -> Result<(), ExecutorError>;
+}
+
+/// The candidates of an optimiser batch.
+struct Candidates<'b, 'a> {
+    batch: &'b Batch<'a>,
+    record: &'b Record<'b>,
+}
+
+impl Work for Candidates<'_, '_> {
+    type Output = Evaluation;
+
+    fn len(&self) -> usize {
+        self.batch.candidates.len()
+    }
+
+    fn task_name(&self, index: usize) -> String {
+        task_name(self.batch.candidates[index].key)
+    }
+
+    fn task_json(&self, index: usize, executor: &SlurmExecutor) -> Result<Vec<u8>, String> {
+        let candidate = self.batch.candidates[index];
+        let file = TaskFile {
+            campaign: executor.campaign.clone(),
+            campaign_sha256: executor.campaign_sha256.clone(),
+            model: self.batch.space.name.clone(),
+            key: candidate.key.clone(),
+            seed: self.batch.seed,
+            experiments: self.batch.experiments.to_vec(),
+            constants: TaskFile::named(self.batch.space, candidate.values),
+            values: Vec::new(),
+            executor: executor.executor_name().into(),
+        };
+        serde_json::to_vec_pretty(&file).map_err(|e| e.to_string())
+    }
+
+    fn read_result(&self, index: usize, text: &str) -> Option<(Evaluation, Origin)> {
+        let candidate = self.batch.candidates[index];
+        let result: ResultFile = serde_json::from_str(text).ok()?;
+        let values = &result.evaluation.values;
+        let same_values = values.len() == candidate.values.len()
+            && values
+                .iter()
+                .zip(candidate.values)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+        (result.key == *candidate.key
+            && same_values
+            && result.origin.binary_sha256 == binary_sha256())
+        .then_some((result.evaluation, result.origin))
+    }
+
+    fn failed(&self, index: usize, reason: String) -> Evaluation {
+        Evaluation::labelled(
+            self.batch.campaign,
+            self.batch.space,
+            self.batch.candidates[index].values,
+            vec![None; self.batch.campaign.experiments.len()],
+            Status::Failed(reason),
+            0.0,
+        )
+    }
+
+    fn record(
+        &self,
+        index: usize,
+        output: &Evaluation,
+        origin: &Origin,
+    ) -> Result<(), ExecutorError> {
+        (self.record)(index, output, origin)
+    }
+}
+
+/// The prediction jobs of a least-squares fit.
+struct Predictions<'b, 'a> {
+    batch: &'b PredictionBatch<'a>,
+    record: &'b RecordPrediction<'b>,
+}
+
+impl Work for Predictions<'_, '_> {
+    type Output = Prediction;
+
+    fn len(&self) -> usize {
+        self.batch.jobs.len()
+    }
+
+    fn task_name(&self, index: usize) -> String {
+        prediction_task_name(self.batch.jobs[index].key)
+    }
+
+    fn task_json(&self, index: usize, executor: &SlurmExecutor) -> Result<Vec<u8>, String> {
+        let job = self.batch.jobs[index];
+        let file = PredictionTaskFile {
+            campaign: executor.campaign.clone(),
+            campaign_sha256: executor.campaign_sha256.clone(),
+            key: job.key.into(),
+            experiment: job.experiment,
+            realisation: RealisationRecord::of(job.realisation),
+            executor: executor.executor_name().into(),
+        };
+        serde_json::to_vec_pretty(&file).map_err(|e| e.to_string())
+    }
+
+    fn read_result(&self, index: usize, text: &str) -> Option<(Prediction, Origin)> {
+        let result: PredictionResultFile = serde_json::from_str(text).ok()?;
+        (result.key == self.batch.jobs[index].key && result.origin.binary_sha256 == binary_sha256())
+            .then(|| (result.prediction(), result.origin))
+    }
+
+    fn failed(&self, _: usize, reason: String) -> Prediction {
+        Err(reason)
+    }
+
+    fn record(
+        &self,
+        index: usize,
+        output: &Prediction,
+        origin: &Origin,
+    ) -> Result<(), ExecutorError> {
+        (self.record)(index, output, origin)
+    }
 }
 
 /// Why one run of a task ended without a result.
@@ -295,8 +442,8 @@ impl SlurmExecutor {
             .iter()
             .map(|line| format!("{line}\n"))
             .collect();
-        let header = "#!/bin/sh\n# Written by stoss calibrate (Slurm executor); runs one \
-                      candidate of the calibration.\n";
+        let header = "#!/bin/sh\n# Written by stoss (Slurm executor); runs one task of a \
+                      calibration or diagnosis.\n";
         let scripts = [
             (
                 "array.sh",
@@ -622,18 +769,9 @@ impl SlurmExecutor {
     }
 
     /// Read and check a task's result file.
-    fn read_result(&self, task: &Task, key: &Key, values: &[f64]) -> Option<ResultFile> {
+    fn read_result<W: Work>(&self, work: &W, task: &Task) -> Option<(W::Output, Origin)> {
         let text = std::fs::read_to_string(&task.result).ok()?;
-        let result: ResultFile = serde_json::from_str(&text).ok()?;
-        let same_values = result.evaluation.values.len() == values.len()
-            && result
-                .evaluation
-                .values
-                .iter()
-                .zip(values)
-                .all(|(a, b)| a.to_bits() == b.to_bits());
-        (result.key == *key && same_values && result.origin.binary_sha256 == binary_sha256())
-            .then_some(result)
+        work.read_result(task.index, &text)
     }
 }
 
@@ -655,9 +793,9 @@ impl Drop for SlurmExecutor {
 
 /// One batch on the cluster: its tasks, the results so far, the tasks due to (re)start, and
 /// when the queue was last read and the waiting tasks last reported.
-struct BatchRun {
+struct BatchRun<O> {
     tasks: Vec<Task>,
-    results: Vec<Option<Evaluation>>,
+    results: Vec<Option<O>>,
     to_start: Vec<usize>,
     queue_unreadable_since: Option<Instant>,
     last_queue_read: Option<Instant>,
@@ -706,16 +844,12 @@ impl SlurmExecutor {
     }
 
     /// The batch's tasks: a result a task of a killed coordinator wrote is adopted, every
-    /// other candidate gets a fresh task file.
-    fn prepare(
-        &mut self,
-        batch: &Batch<'_>,
-        record: &Record<'_>,
-    ) -> Result<BatchRun, ExecutorError> {
-        let mut results: Vec<Option<Evaluation>> = vec![None; batch.candidates.len()];
-        let mut tasks: Vec<Task> = Vec::with_capacity(batch.candidates.len());
-        for (index, candidate) in batch.candidates.iter().enumerate() {
-            let name = task_name(candidate.key);
+    /// other item gets a fresh task file.
+    fn prepare<W: Work>(&mut self, work: &W) -> Result<BatchRun<W::Output>, ExecutorError> {
+        let mut results: Vec<Option<W::Output>> = vec![None; work.len()];
+        let mut tasks: Vec<Task> = Vec::with_capacity(work.len());
+        for (index, result) in results.iter_mut().enumerate() {
+            let name = work.task_name(index);
             let path = self.folder.join("tasks").join(format!("{name}.task.json"));
             let mut task = Task {
                 index,
@@ -729,26 +863,14 @@ impl SlurmExecutor {
                 ended_state: None,
                 done: false,
             };
-            if let Some(result) = self.read_result(&task, candidate.key, candidate.values) {
-                record(index, &result.evaluation, &result.origin)?;
-                results[index] = Some(result.evaluation);
+            if let Some((output, origin)) = self.read_result(work, &task) {
+                work.record(index, &output, &origin)?;
+                *result = Some(output);
                 task.done = true;
                 self.adopted += 1;
             } else {
                 let _ = std::fs::remove_file(&task.result);
-                let file = TaskFile {
-                    campaign: self.campaign.clone(),
-                    campaign_sha256: self.campaign_sha256.clone(),
-                    model: batch.space.name.clone(),
-                    key: candidate.key.clone(),
-                    seed: batch.seed,
-                    experiments: batch.experiments.to_vec(),
-                    constants: TaskFile::named(batch.space, candidate.values),
-                    values: Vec::new(),
-                    executor: self.executor_name().into(),
-                };
-                let json =
-                    serde_json::to_vec_pretty(&file).map_err(|e| executor_error(e.to_string()))?;
+                let json = work.task_json(index, self).map_err(executor_error)?;
                 write_atomically(&task.path, &json)
                     .map_err(|e| executor_error(format!("{}: {e}", task.path.display())))?;
             }
@@ -773,7 +895,7 @@ impl SlurmExecutor {
 
     /// Start what is due: a job array of every task to (re)run, or steps up to the
     /// concurrency limit.
-    fn start_due(&mut self, run: &mut BatchRun) -> Result<(), ExecutorError> {
+    fn start_due<O>(&mut self, run: &mut BatchRun<O>) -> Result<(), ExecutorError> {
         match self.entry.mode {
             SlurmMode::Array => {
                 if !run.to_start.is_empty() {
@@ -799,18 +921,16 @@ impl SlurmExecutor {
     }
 
     /// Record the results that have arrived.
-    fn collect_arrived(
+    fn collect_arrived<W: Work>(
         &self,
-        batch: &Batch<'_>,
-        record: &Record<'_>,
-        run: &mut BatchRun,
+        work: &W,
+        run: &mut BatchRun<W::Output>,
     ) -> Result<(), ExecutorError> {
         for task in run.tasks.iter_mut().filter(|t| !t.done && t.job.is_some()) {
-            let candidate = batch.candidates[task.index];
-            if let Some(mut result) = self.read_result(task, candidate.key, candidate.values) {
-                result.origin.attempts = task.failures.len() as u32 + 1;
-                record(task.index, &result.evaluation, &result.origin)?;
-                run.results[task.index] = Some(result.evaluation);
+            if let Some((output, mut origin)) = self.read_result(work, task) {
+                origin.attempts = task.failures.len() as u32 + 1;
+                work.record(task.index, &output, &origin)?;
+                run.results[task.index] = Some(output);
                 task.done = true;
                 if let Some(mut child) = task.step.take() {
                     let _ = child.wait();
@@ -822,9 +942,9 @@ impl SlurmExecutor {
 
     /// The queue's states (job arrays, at most every [`QUEUE_READ_INTERVAL`]); an error when
     /// it has been unreadable for [`QUEUE_UNREADABLE_LIMIT`].
-    fn read_queue(
+    fn read_queue<O>(
         &self,
-        run: &mut BatchRun,
+        run: &mut BatchRun<O>,
         now: Instant,
         poll: Duration,
     ) -> Result<Option<QueueStates>, ExecutorError> {
@@ -856,13 +976,12 @@ impl SlurmExecutor {
 
     /// A run that ended without a result within the wait: booked as a failure, then rerun,
     /// recorded as a failed candidate, or (time limit too short) the batch's error.
-    fn after_failed_run(
+    fn after_failed_run<W: Work>(
         &self,
-        batch: &Batch<'_>,
-        record: &Record<'_>,
+        work: &W,
         task: &mut Task,
         to_start: &mut Vec<usize>,
-        results: &mut [Option<Evaluation>],
+        results: &mut [Option<W::Output>],
     ) -> Result<(), ExecutorError> {
         let (state, reason) = task.ended_state.take().unwrap_or_default();
         let output_tail = tail_of(&task.output, 3);
@@ -897,19 +1016,11 @@ impl SlurmExecutor {
                 to_start.push(task.index);
             }
             AfterFailure::RecordFailed(reason) => {
-                let candidate = batch.candidates[task.index];
-                let evaluation = Evaluation::labelled(
-                    batch.campaign,
-                    batch.space,
-                    candidate.values,
-                    vec![None; batch.campaign.experiments.len()],
-                    Status::Failed(reason),
-                    0.0,
-                );
+                let output = work.failed(task.index, reason);
                 let mut origin = Origin::this_process(self.executor_name());
                 origin.attempts = task.failures.len() as u32;
-                record(task.index, &evaluation, &origin)?;
-                results[task.index] = Some(evaluation);
+                work.record(task.index, &output, &origin)?;
+                results[task.index] = Some(output);
                 task.done = true;
             }
             AfterFailure::TimeLimitTooShort(message) => {
@@ -921,11 +1032,10 @@ impl SlurmExecutor {
 
     /// Runs that ended without a result: failed once the result wait has passed; and the
     /// pending tasks' reasons, reported every [`WAITING_REPORT_INTERVAL`].
-    fn check_ended(
+    fn check_ended<W: Work>(
         &self,
-        batch: &Batch<'_>,
-        record: &Record<'_>,
-        run: &mut BatchRun,
+        work: &W,
+        run: &mut BatchRun<W::Output>,
         poll: Duration,
     ) -> Result<(), ExecutorError> {
         let now = Instant::now();
@@ -947,7 +1057,7 @@ impl SlurmExecutor {
             if now.duration_since(first).as_secs_f64() < self.entry.result_wait {
                 continue;
             }
-            self.after_failed_run(batch, record, task, to_start, results)?;
+            self.after_failed_run(work, task, to_start, results)?;
         }
         if !waiting.is_empty()
             && now.duration_since(run.last_waiting_report) >= WAITING_REPORT_INTERVAL
@@ -963,13 +1073,11 @@ impl SlurmExecutor {
     }
 }
 
-impl Executor for SlurmExecutor {
-    fn evaluate(
-        &mut self,
-        batch: &Batch<'_>,
-        record: &Record<'_>,
-    ) -> Result<Vec<Evaluation>, ExecutorError> {
-        let mut run = self.prepare(batch, record)?;
+impl SlurmExecutor {
+    /// Run every item of `work` as a task, recording each result as it arrives; the outputs
+    /// in the batch's order.
+    fn run_batch<W: Work>(&mut self, work: &W) -> Result<Vec<W::Output>, ExecutorError> {
+        let mut run = self.prepare(work)?;
         let poll = Duration::from_secs_f64(self.entry.poll_interval);
         let outcome = (|| -> Result<(), ExecutorError> {
             loop {
@@ -978,8 +1086,8 @@ impl Executor for SlurmExecutor {
                     return Ok(());
                 }
                 std::thread::sleep(poll);
-                self.collect_arrived(batch, record, &mut run)?;
-                self.check_ended(batch, record, &mut run, poll)?;
+                self.collect_arrived(work, &mut run)?;
+                self.check_ended(work, &mut run, poll)?;
             }
         })();
         // Steps still running when the batch stops on an error.
@@ -996,6 +1104,24 @@ impl Executor for SlurmExecutor {
             .into_iter()
             .map(|r| r.ok_or_else(|| executor_error("a task of the batch has no result")))
             .collect()
+    }
+}
+
+impl Executor for SlurmExecutor {
+    fn evaluate(
+        &mut self,
+        batch: &Batch<'_>,
+        record: &Record<'_>,
+    ) -> Result<Vec<Evaluation>, ExecutorError> {
+        self.run_batch(&Candidates { batch, record })
+    }
+
+    fn predict(
+        &mut self,
+        batch: &PredictionBatch<'_>,
+        record: &RecordPrediction<'_>,
+    ) -> Result<Vec<Prediction>, ExecutorError> {
+        self.run_batch(&Predictions { batch, record })
     }
 }
 

@@ -1,9 +1,15 @@
-//! One candidate as a unit of work outside the coordinating process: the task file a
-//! coordinator writes, the result file a worker (`stoss evaluate`) writes back atomically
-//! (temporary file, then rename), and the origin every result records (stoss version, binary
-//! hash, host), so that results computed on other machines stay traceable.
+//! Work outside the coordinating process: the task file a coordinator writes, the result file
+//! a worker (`stoss evaluate`) writes back atomically (temporary file, then rename), and the
+//! origin every result records (stoss version, binary hash, host), so that results computed on
+//! other machines stay traceable. A task is one of two kinds:
+//! - a calibration candidate ([`TaskFile`] -> [`ResultFile`]): a model's constants, scored on
+//!   a campaign's experiments;
+//! - a prediction job ([`PredictionTaskFile`] -> [`PredictionResultFile`]): a realised
+//!   hypothesis of a least-squares fit (the material file with its values written in, the
+//!   anvil friction, the lagged-rate mixture) simulated on one campaign experiment.
 
 use super::super::campaign::Campaign;
+use super::super::hypothesis::Realisation;
 use super::super::log::Key;
 use super::super::objective::{evaluate, Evaluation};
 use crate::fit::ModelSpace;
@@ -171,6 +177,102 @@ pub struct ResultFile {
     pub origin: Origin,
 }
 
+/// A realised hypothesis as a task carries it: every value the simulation depends on.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RealisationRecord {
+    /// The material file with the hypothesis' values written in (SI; JSON numbers
+    /// round-trip exactly).
+    pub material: crate::input::material::MaterialFile,
+    /// The anvil friction override of Taylor tests, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub anvil_friction: Option<f64>,
+    /// The lagged-rate mixture weight.
+    pub lagged_mixture: f64,
+    /// The erosion intensity (already applied to `material`; recorded for the reader).
+    pub erosion_intensity: f64,
+}
+
+impl RealisationRecord {
+    /// The record of `realisation`.
+    pub fn of(realisation: &Realisation) -> Self {
+        Self {
+            material: realisation.file.clone(),
+            anvil_friction: realisation.anvil_friction,
+            lagged_mixture: realisation.lagged_mixture,
+            erosion_intensity: realisation.erosion_intensity,
+        }
+    }
+
+    /// The realisation again: the kernel material built from the file, as the coordinator
+    /// built it.
+    pub fn realisation(&self) -> Result<Realisation, String> {
+        let material = self.material.material().map_err(|e| e.to_string())?;
+        Ok(Realisation {
+            file: self.material.clone(),
+            material,
+            anvil_friction: self.anvil_friction,
+            lagged_mixture: self.lagged_mixture,
+            erosion_intensity: self.erosion_intensity,
+        })
+    }
+}
+
+/// One prediction job of a least-squares fit, as a coordinator writes it for a worker.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PredictionTaskFile {
+    /// The campaign file (absolute path; its experiment paths are relative to it).
+    pub campaign: PathBuf,
+    /// SHA-256 of the campaign file's text when the run started.
+    pub campaign_sha256: String,
+    /// The job's journal key (checked against the result).
+    pub key: String,
+    /// The campaign experiment to simulate (index).
+    pub experiment: usize,
+    /// The material and settings to simulate with.
+    pub realisation: RealisationRecord,
+    /// Executor name recorded in the origin (`slurm-array`, `slurm-allocation`).
+    pub executor: String,
+}
+
+/// A worker's answer to a prediction task.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PredictionResultFile {
+    /// The task's key.
+    pub key: String,
+    /// The predictions (the recording's points), if the simulation succeeded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predicted: Option<Vec<f64>>,
+    /// Why the simulation failed, if it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// Where it ran.
+    pub origin: Origin,
+}
+
+impl PredictionResultFile {
+    /// The prediction it carries.
+    pub fn prediction(&self) -> super::Prediction {
+        match (&self.predicted, &self.error) {
+            (Some(p), _) => Ok(p.clone()),
+            (None, Some(e)) => Err(e.clone()),
+            (None, None) => Err("the result file holds neither predictions nor an error".into()),
+        }
+    }
+}
+
+/// A file name for the prediction task of journal key `key` (stable across runs).
+pub fn prediction_task_name(key: &str) -> String {
+    let key: String = key
+        .chars()
+        .filter(char::is_ascii_alphanumeric)
+        .take(32)
+        .collect();
+    format!("predict-{key}")
+}
+
 /// The result file of a task file: `<name>.task.json` -> `<name>.result.json`.
 pub fn result_path(task: &Path) -> PathBuf {
     let name = task
@@ -223,23 +325,20 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
     let text =
         std::fs::read_to_string(task_path).map_err(|e| format!("{}: {e}", task_path.display()))?;
+    let settings = SolverSettings {
+        threads: Some(threads),
+        ..SolverSettings::default()
+    };
+    // A prediction task is the one kind that carries a realisation.
+    let is_prediction = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .is_some_and(|v| v.get("realisation").is_some());
+    if is_prediction {
+        return run_prediction_task(task_path, &text, &settings);
+    }
     let task: TaskFile =
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", task_path.display()))?;
-    let campaign_text = std::fs::read(&task.campaign).map_err(|e| {
-        format!(
-            "{} (campaign of {}): {e}",
-            task.campaign.display(),
-            task_path.display()
-        )
-    })?;
-    if sha256_hex(&campaign_text) != task.campaign_sha256 {
-        return Err(format!(
-            "{}: the campaign file changed since the calibration started (its SHA-256 differs \
-             from the task's); restart the calibration",
-            task.campaign.display()
-        ));
-    }
-    let campaign = Campaign::load(&task.campaign).map_err(|e| e.to_string())?;
+    let campaign = load_campaign(task_path, &task.campaign, &task.campaign_sha256)?;
     let model = campaign.model(&task.model).ok_or_else(|| {
         format!(
             "{}: model {:?} is not in {}",
@@ -264,16 +363,67 @@ pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
             campaign.experiments.len()
         ));
     }
-    let settings = SolverSettings {
-        threads: Some(threads),
-        ..SolverSettings::default()
-    };
     let evaluation = evaluate(&campaign, &space, &values, &task.experiments, &settings);
     let mut origin = Origin::this_process(&task.executor);
     origin.slurm_job = slurm_job_of_environment();
     let result = ResultFile {
         key: task.key,
         evaluation,
+        origin,
+    };
+    let path = result_path(task_path);
+    let json = serde_json::to_vec(&result).map_err(|e| e.to_string())?;
+    write_atomically(&path, &json).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path)
+}
+
+/// The campaign a task names, checked to be the one the coordinator started from.
+fn load_campaign(task_path: &Path, campaign: &Path, sha256: &str) -> Result<Campaign, String> {
+    let campaign_text = std::fs::read(campaign).map_err(|e| {
+        format!(
+            "{} (campaign of {}): {e}",
+            campaign.display(),
+            task_path.display()
+        )
+    })?;
+    if sha256_hex(&campaign_text) != sha256 {
+        return Err(format!(
+            "{}: the campaign file changed since the run started (its SHA-256 differs from the \
+             task's); restart the run",
+            campaign.display()
+        ));
+    }
+    Campaign::load(campaign).map_err(|e| e.to_string())
+}
+
+/// Run a prediction task: simulate the realisation on the task's experiment and write the
+/// result file atomically. A failed simulation is a result (its error), not an error.
+fn run_prediction_task(
+    task_path: &Path,
+    text: &str,
+    settings: &SolverSettings,
+) -> Result<PathBuf, String> {
+    let task: PredictionTaskFile =
+        serde_json::from_str(text).map_err(|e| format!("{}: {e}", task_path.display()))?;
+    let campaign = load_campaign(task_path, &task.campaign, &task.campaign_sha256)?;
+    let experiment = campaign.experiments.get(task.experiment).ok_or_else(|| {
+        format!(
+            "{}: experiment {} is not in the campaign ({} experiments)",
+            task_path.display(),
+            task.experiment,
+            campaign.experiments.len()
+        )
+    })?;
+    let prediction = task
+        .realisation
+        .realisation()
+        .and_then(|r| r.predict(experiment, settings));
+    let mut origin = Origin::this_process(&task.executor);
+    origin.slurm_job = slurm_job_of_environment();
+    let result = PredictionResultFile {
+        key: task.key,
+        predicted: prediction.as_ref().ok().cloned(),
+        error: prediction.err(),
         origin,
     };
     let path = result_path(task_path);
