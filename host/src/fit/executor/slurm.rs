@@ -289,8 +289,8 @@ pub fn after_failure(failures: &[TaskFailure], retries: usize, time_limit: &str)
         .join("; ");
     if failures.iter().all(|f| f.timed_out) {
         AfterFailure::TimeLimitTooShort(format!(
-            "a candidate ran past the Slurm time limit ({time_limit}) on all {} runs: raise \
-             [executor] time_limit (or --time-limit) above one candidate's simulation time",
+            "a task ran past the Slurm time limit ({time_limit}) on all {} runs: raise \
+             [executor] time_limit (or --time-limit) above one task's simulation time",
             failures.len()
         ))
     } else {
