@@ -1453,3 +1453,204 @@ fn a_prediction_task_simulated_by_a_worker_gives_the_coordinators_prediction_bit
     assert!(error.contains("changed since the run started"), "{error}");
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+#[test]
+fn a_set_up_value_hidden_in_a_recording_is_recovered_beside_the_constants() {
+    // GOAL: set-up parameters are calibrated beside the material constants (issue 48): a
+    //       field of an experiment's set-up that its file states wrongly is found within its
+    //       interval, with the constants; the result and report carry it apart from the
+    //       constants, cards never do; a resumed run gives the same values bit for bit; bad
+    //       `[models.setup]` entries are refused naming the line and field.
+    // SETUP: the synthetic HHA truth material; flow curves at 1 and 1000 /s, 298 K, and a
+    //        third at 1000 /s whose recording this test generates from the truth at 420 K
+    //        (1 % uncertainty, no noise) while its file says 298 K. Fitted: the yield stress
+    //        (bounds 0.5-2 GPa) and `hidden.temperature` (250-600 K); 24 Bayesian
+    //        simulations, 12 polish, a least-squares finish of 4 iterations.
+    // REFERENCE: the truth: 420 K, A as the truth material states it; within 1 % (the
+    //        recording is exact, so the fit is limited by the search only), and each within
+    //        its reported 95 % interval.
+    use stoss::experiment::Experiment;
+    use stoss::solver::SolverSettings;
+    let folder = temporary("setup-parameter");
+    let fixtures = fixtures();
+    let truth_path = fixtures.join("materials/synthetic-hha-truth.toml");
+    for stem in ["synthetic-flow-hha-1s", "synthetic-flow-hha-1000s"] {
+        for ext in ["toml", "csv"] {
+            let text = std::fs::read_to_string(fixtures.join(format!("experiments/{stem}.{ext}")))
+                .unwrap();
+            std::fs::write(folder.join(format!("{stem}.{ext}")), text).unwrap();
+        }
+    }
+    // The hidden experiment: first at the truth's 420 K to generate its recording.
+    let source =
+        std::fs::read_to_string(fixtures.join("experiments/synthetic-flow-hha-1000s.toml"))
+            .unwrap()
+            .replace("synthetic-flow-hha-1000s.csv", "hidden.csv");
+    let hot = source.replace("temperature = 298.0", "temperature = 420.0");
+    assert_ne!(hot, source, "the fixture states 298 K");
+    std::fs::write(folder.join("hidden.toml"), &hot).unwrap();
+    std::fs::copy(
+        fixtures.join("experiments/synthetic-flow-hha-1000s.csv"),
+        folder.join("hidden.csv"),
+    )
+    .unwrap();
+    let experiment = Experiment::load(&folder.join("hidden.toml")).unwrap();
+    let (_, truth) = material::load_part(&truth_path).unwrap();
+    let outcome = experiment
+        .simulate(&truth, &SolverSettings::default())
+        .unwrap();
+    let mut csv = String::from("quantity,position,value,uncertainty\n");
+    for (point, value) in experiment.recording.iter().zip(&outcome.predicted) {
+        csv += &format!(
+            "true_stress,{},{value:e},{:e}\n",
+            point.position,
+            0.01 * value
+        );
+    }
+    std::fs::write(folder.join("hidden.csv"), csv).unwrap();
+    std::fs::write(folder.join("hidden.toml"), &source).unwrap();
+    let truth_text = std::fs::read_to_string(&truth_path).unwrap();
+    std::fs::write(folder.join("truth.toml"), &truth_text).unwrap();
+    let campaign_text = |setup: &str| {
+        format!(
+            "name = \"nuisance test\"\nmaterial = \"truth.toml\"\nrecordings = \"simulation\"\n\
+             [[models]]\nname = \"jc\"\n[models.parameters]\nyield_stress = [\"0.5 GPa\", \"2 GPa\"]\n\
+             [models.setup]\n{setup}\n\
+             [[experiments]]\nfile = \"synthetic-flow-hha-1s.toml\"\n\
+             [[experiments]]\nfile = \"synthetic-flow-hha-1000s.toml\"\n\
+             [[experiments]]\nfile = \"hidden.toml\"\n\
+             [optimiser]\nbudget = 24\ninstances = 1\nseed = 5\nparallel = 2\n"
+        )
+    };
+    let path = folder.join("campaign.toml");
+    std::fs::write(
+        &path,
+        campaign_text("\"hidden.temperature\" = [\"250 K\", \"600 K\"]"),
+    )
+    .unwrap();
+    let campaign = Campaign::load(&path).unwrap();
+    let space = campaign.space(&campaign.file.models[0]);
+    assert_eq!(space.names, ["yield_stress", "setup.hidden.temperature"]);
+    let options = RunOptions {
+        least_squares: Some(4),
+        ..options(24, 12, false)
+    };
+    let output = folder.join("run");
+    std::fs::create_dir_all(&output).unwrap();
+    let results = calibrate_quietly(&campaign, &output, &options);
+    let result = &results[0];
+    // The base material is the truth: its yield stress is the one to find; the file's
+    // temperature is the start.
+    let start = space.starting_values(&campaign.base).unwrap();
+    assert_eq!(start[1], 298.0);
+    let truth_a = start[0];
+    let found = &result.selected.values;
+    eprintln!(
+        "found A {:.6e} (truth {truth_a:.6e}), T {:.3} K (truth 420)",
+        found[0], found[1]
+    );
+    assert!((found[0] / truth_a - 1.0).abs() < 0.01, "A {}", found[0]);
+    assert!((found[1] / 420.0 - 1.0).abs() < 0.01, "T {}", found[1]);
+    let intervals = &result
+        .uncertainty
+        .as_ref()
+        .expect("intervals")
+        .half_width_95;
+    eprintln!("95 % half widths {intervals:?}");
+    assert!(
+        (found[0] - truth_a).abs() <= intervals[0].unwrap(),
+        "{intervals:?}"
+    );
+    assert!(
+        (found[1] - 420.0).abs() <= intervals[1].unwrap(),
+        "{intervals:?}"
+    );
+    // Apart from the constants in result.json and the report; never on a card.
+    assert_eq!(result.constants.len(), 1);
+    assert_eq!(result.setup[0].name, "setup.hidden.temperature");
+    assert_eq!(result.setup[0].unit, "K");
+    let written = serde_json::to_string(&results).unwrap();
+    assert!(
+        written.contains("\"setup\":{\"hidden.temperature\""),
+        "{written}"
+    );
+    // A resumed run replays the log: the same values, bit for bit.
+    let again = calibrate_quietly(&campaign, &output, &options);
+    assert_eq!(
+        again[0]
+            .selected
+            .values
+            .iter()
+            .map(|v| v.to_bits())
+            .collect::<Vec<_>>(),
+        found.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    );
+    // The diagnosis refits the set-up parameter with the constants.
+    let diagnosis = stoss::diagnose::diagnose(
+        &campaign,
+        result,
+        &stoss::diagnose::Options {
+            parallel: 2,
+            ..stoss::diagnose::Options::default()
+        },
+        &mut Local::new(2).unwrap(),
+        None,
+        &mut |_| {},
+    )
+    .expect("a diagnosis with a set-up parameter");
+    assert!(diagnosis.diagnosis.before.chi_square.is_finite());
+    // The command line's report: a table of its own; the cards and material file never
+    // carry it.
+    let cli = folder.join("cli");
+    let status = Command::new(env!("CARGO_BIN_EXE_stoss"))
+        .args([
+            "calibrate",
+            path.to_str().unwrap(),
+            "--output",
+            cli.to_str().unwrap(),
+        ])
+        .args(["--budget", "6", "--polish", "0", "--quiet"])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let report = std::fs::read_to_string(cli.join("report/report.md")).unwrap();
+    assert!(
+        report.contains("### Set-up parameters")
+            && report.contains("| hidden.temperature | hidden |"),
+        "{report}"
+    );
+    for card in std::fs::read_dir(cli.join("report/cards")).unwrap() {
+        let card = card.unwrap().path();
+        let text = std::fs::read_to_string(&card).unwrap();
+        assert!(
+            !text.contains("hidden.temperature") && !text.contains("setup."),
+            "{}",
+            card.display()
+        );
+    }
+    // Bad entries: each refused with the line and field.
+    for (setup, words) in [
+        (
+            "\"hidden.element_size\" = [1e-4, 2e-4]",
+            "not a set-up field",
+        ),
+        (
+            "\"nowhere.temperature\" = [250.0, 600.0]",
+            "neither an experiment",
+        ),
+        ("\"hidden.temperature\" = [600.0, 250.0]", "lower < upper"),
+        (
+            "\"hidden.temperature\" = [250.0, 400.0, 600.0]",
+            "give [lower, upper]",
+        ),
+        ("\"uniaxial.strain_rate\" = [-1.0, 10.0]", "invalid"),
+    ] {
+        std::fs::write(&path, campaign_text(setup)).unwrap();
+        let error = Campaign::load(&path).unwrap_err().to_string();
+        assert!(
+            error.contains("campaign.toml:") && error.contains(words),
+            "{setup}: {error}"
+        );
+    }
+    std::fs::remove_dir_all(&folder).unwrap();
+}

@@ -801,7 +801,7 @@ impl Runner<'_> {
         } else {
             None
         };
-        let constants = space
+        let mut constants: Vec<NamedConstant> = space
             .names
             .iter()
             .zip(&selected.values)
@@ -812,11 +812,13 @@ impl Runner<'_> {
                 unit: unit.to_string(),
             })
             .collect();
+        let setup = constants.split_off(space.constant_count());
         Ok(ModelResult {
             uncertainty,
             baseline,
             at_bounds,
             constants,
+            setup,
             model: space.name.clone(),
             instances: run.instances,
             finalists: run.finalists,

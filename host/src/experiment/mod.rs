@@ -104,6 +104,127 @@ impl Setup {
     }
 }
 
+/// The set-up fields a campaign may calibrate beside the material constants (nuisance
+/// parameters, `[models.setup]`): the physical quantities of a test that its report may leave
+/// uncertain (a projectile's geometry, a striking velocity, a friction, a temperature), never
+/// the model's discretisation (element sizes, end times, counts). Each is an `f64` of the
+/// kind's spec (or an `Option<f64>` the file gives).
+impl Setup {
+    /// The fields of this kind a campaign may calibrate, in the order the docs list them.
+    pub fn calibratable_fields(&self) -> &'static [&'static str] {
+        match self {
+            Setup::Uniaxial(_) => &["strain_rate", "temperature"],
+            Setup::Tension(_) => &["radius", "length", "strain_rate", "temperature"],
+            Setup::Taylor(_) => &[
+                "length",
+                "diameter",
+                "velocity",
+                "temperature",
+                "anvil_friction",
+            ],
+            Setup::Shpb(_) => &[
+                "specimen_diameter",
+                "specimen_length",
+                "striker_velocity",
+                "striker_length",
+                "rise_time",
+                "friction",
+                "temperature",
+            ],
+            Setup::Penetration(_) => &[
+                "rod_length",
+                "rod_diameter",
+                "nose_length",
+                "tip_radius",
+                "velocity",
+                "target_thickness",
+                "friction",
+                "temperature",
+            ],
+            Setup::BallisticLimit(_) | Setup::Perforation(_) => &[
+                "projectile_length",
+                "projectile_diameter",
+                "nose_length",
+                "tip_radius",
+                "plate_thickness",
+                "gap",
+                "friction",
+                "temperature",
+            ],
+            Setup::BlastPlate(_) => &["thickness", "exposed_radius", "temperature"],
+            Setup::DropWeightBeam(_) => &["drop_mass", "impact_velocity", "striker_friction"],
+        }
+    }
+
+    /// The calibratable field `name` (one of [`Setup::calibratable_fields`]), if this kind has
+    /// it and the file gives it a value.
+    pub fn calibratable_mut(&mut self, name: &str) -> Option<&mut f64> {
+        if !self.calibratable_fields().contains(&name) {
+            return None;
+        }
+        match (self, name) {
+            (Setup::Uniaxial(s), "strain_rate") => Some(&mut s.strain_rate),
+            (Setup::Uniaxial(s), "temperature") => Some(&mut s.temperature),
+            (Setup::Tension(s), "radius") => Some(&mut s.radius),
+            (Setup::Tension(s), "length") => Some(&mut s.length),
+            (Setup::Tension(s), "strain_rate") => Some(&mut s.strain_rate),
+            (Setup::Tension(s), "temperature") => Some(&mut s.temperature),
+            (Setup::Taylor(s), "length") => Some(&mut s.length),
+            (Setup::Taylor(s), "diameter") => Some(&mut s.diameter),
+            (Setup::Taylor(s), "velocity") => Some(&mut s.velocity),
+            (Setup::Taylor(s), "temperature") => Some(&mut s.temperature),
+            (Setup::Taylor(s), "anvil_friction") => Some(&mut s.anvil_friction),
+            (Setup::Shpb(s), "specimen_diameter") => Some(&mut s.specimen_diameter),
+            (Setup::Shpb(s), "specimen_length") => Some(&mut s.specimen_length),
+            (Setup::Shpb(s), "striker_velocity") => Some(&mut s.striker_velocity),
+            (Setup::Shpb(s), "striker_length") => Some(&mut s.striker_length),
+            (Setup::Shpb(s), "rise_time") => Some(&mut s.rise_time),
+            (Setup::Shpb(s), "friction") => Some(&mut s.friction),
+            (Setup::Shpb(s), "temperature") => Some(&mut s.temperature),
+            (Setup::Penetration(s), "rod_length") => Some(&mut s.rod_length),
+            (Setup::Penetration(s), "rod_diameter") => Some(&mut s.rod_diameter),
+            (Setup::Penetration(s), "nose_length") => s.nose_length.as_mut(),
+            (Setup::Penetration(s), "tip_radius") => s.tip_radius.as_mut(),
+            (Setup::Penetration(s), "velocity") => Some(&mut s.velocity),
+            (Setup::Penetration(s), "target_thickness") => Some(&mut s.target_thickness),
+            (Setup::Penetration(s), "friction") => Some(&mut s.friction),
+            (Setup::Penetration(s), "temperature") => Some(&mut s.temperature),
+            (Setup::BallisticLimit(s) | Setup::Perforation(s), field) => match field {
+                "projectile_length" => Some(&mut s.projectile_length),
+                "projectile_diameter" => Some(&mut s.projectile_diameter),
+                "nose_length" => s.nose_length.as_mut(),
+                "tip_radius" => s.tip_radius.as_mut(),
+                "plate_thickness" => Some(&mut s.plate_thickness),
+                "gap" => Some(&mut s.gap),
+                "friction" => Some(&mut s.friction),
+                "temperature" => Some(&mut s.temperature),
+                _ => None,
+            },
+            (Setup::BlastPlate(s), "thickness") => Some(&mut s.thickness),
+            (Setup::BlastPlate(s), "exposed_radius") => Some(&mut s.exposed_radius),
+            (Setup::BlastPlate(s), "temperature") => Some(&mut s.temperature),
+            (Setup::DropWeightBeam(s), "drop_mass") => Some(&mut s.drop_mass),
+            (Setup::DropWeightBeam(s), "impact_velocity") => s.impact_velocity.as_mut(),
+            (Setup::DropWeightBeam(s), "striker_friction") => Some(&mut s.striker_friction),
+            _ => None,
+        }
+    }
+
+    /// The kind's own checks of a set-up (the ones its file passes when it loads).
+    pub fn validate(&self, check: &Check<'_>) -> Result<(), InputError> {
+        match self {
+            Setup::Uniaxial(spec) => spec.validate(check),
+            Setup::Tension(spec) => spec.validate(check),
+            Setup::Taylor(spec) => spec.validate(check),
+            Setup::Shpb(spec) => spec.validate(check),
+            Setup::Penetration(spec) => spec.validate(check),
+            Setup::BallisticLimit(spec) | Setup::Perforation(spec) => spec.validate(check),
+            Setup::BlastPlate(spec) => spec.validate(check),
+            Setup::DropWeightBeam(spec) => spec.validate(check),
+        }
+    }
+}
+
 impl Setup {
     /// Whether this kind can use `material` as its calibrated part: the uniaxial driver and
     /// the penetration and ballistic kinds take either model family, the perforation kind RHT
@@ -214,16 +335,7 @@ impl Experiment {
                 Err(InputError::field(path, &text, field, message))
             }
         };
-        match &file.setup {
-            Setup::Uniaxial(spec) => spec.validate(&check)?,
-            Setup::Tension(spec) => spec.validate(&check)?,
-            Setup::Taylor(spec) => spec.validate(&check)?,
-            Setup::Shpb(spec) => spec.validate(&check)?,
-            Setup::Penetration(spec) => spec.validate(&check)?,
-            Setup::BallisticLimit(spec) | Setup::Perforation(spec) => spec.validate(&check)?,
-            Setup::BlastPlate(spec) => spec.validate(&check)?,
-            Setup::DropWeightBeam(spec) => spec.validate(&check)?,
-        }
+        file.setup.validate(&check)?;
         if let Setup::BlastPlate(spec) = &mut file.setup {
             spec.cache_folder = Some(match &spec.load_cache {
                 Some(folder) => path.parent().unwrap_or(Path::new(".")).join(folder),

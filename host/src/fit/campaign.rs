@@ -46,6 +46,7 @@
 //! flow-curve figures, cards and the diagnosis are for J2 metals and are skipped.
 
 use crate::experiment::Experiment;
+use crate::fit::space::{experiment_stem, with_setup, SetupParameter, SetupValue, SETUP_PREFIX};
 use crate::fit::ModelSpace;
 use crate::input::material::{self, AnyMaterialFile, StrengthSpec};
 use crate::input::{self, InputError};
@@ -85,7 +86,16 @@ pub struct ModelEntry {
     /// (`hardening.yield_stress`). For RHT concrete they are dotted paths into the material
     /// file (`parameters.residual_b`).
     pub parameters: BTreeMap<String, [f64; 2]>,
+    /// Set-up fields to search beside the constants, `"<target>.<field>" = [lower, upper]`
+    /// (SI, or with units): `<target>` is an experiment's file stem (that experiment) or an
+    /// experiment kind (every experiment of the campaign of that kind, as one parameter).
+    /// Nuisance parameters: reported with the constants, never written into a material.
+    #[serde(default)]
+    pub setup: BTreeMap<String, [f64; 2]>,
 }
+
+/// Most set-up parameters a model may search (its corners, 2^n, are each checked at load).
+pub const MAX_SETUP_PARAMETERS: usize = 8;
 
 /// Realism constraints on the flow stress, checked before any simulation on a grid of
 /// plastic strain 0-1, rates 1e-4-1e4 /s and the reference temperature.
@@ -408,6 +418,7 @@ impl Campaign {
                 ));
             }
         }
+        self.check_setup(model, &error_at)?;
         let middle: Vec<f64> = space
             .lower
             .iter()
@@ -435,8 +446,7 @@ impl Campaign {
                 .iter()
                 .map(|(n, p)| format!("{n} ({}, {})", p.symbol, p.unit))
                 .collect();
-            if let Some(name) = space
-                .names
+            if let Some(name) = space.names[..space.constant_count()]
                 .iter()
                 .find(|n| !constants.contains(&n.as_str()))
             {
@@ -460,14 +470,105 @@ impl Campaign {
         Ok(())
     }
 
+    /// A model's `[models.setup]`: each key names experiments and a field they may
+    /// calibrate, its bounds are finite and ordered, and every experiment it names is a valid
+    /// set-up at every corner of the set-up box (each parameter at either bound), checked with
+    /// the experiment kind's own rules.
+    fn check_setup(
+        &self,
+        model: &ModelEntry,
+        error_at: &dyn Fn(&[&str], String) -> InputError,
+    ) -> Result<(), InputError> {
+        let mut parameters = Vec::new();
+        for (key, &[lower, upper]) in &model.setup {
+            let parameter = self.setup_parameter(key).map_err(|message| {
+                error_at(&["setup", key], format!("model {}: {message}", model.name))
+            })?;
+            if !(lower.is_finite() && upper.is_finite() && lower < upper) {
+                return Err(error_at(
+                    &["setup", key],
+                    format!("bounds [{lower}, {upper}] must be finite with lower < upper"),
+                ));
+            }
+            parameters.push((key, parameter, [lower, upper]));
+        }
+        if parameters.len() > MAX_SETUP_PARAMETERS {
+            return Err(error_at(
+                &["setup"],
+                format!(
+                    "model {}: {} set-up parameters; at most {MAX_SETUP_PARAMETERS}",
+                    model.name,
+                    parameters.len()
+                ),
+            ));
+        }
+        for corner in 0..(1_usize << parameters.len()) {
+            let values: Vec<SetupValue> = parameters
+                .iter()
+                .enumerate()
+                .map(|(bit, (key, p, bounds))| SetupValue {
+                    name: format!("{SETUP_PREFIX}{key}"),
+                    field: p.field.clone(),
+                    experiments: p.experiments.clone(),
+                    value: bounds[(corner >> bit) & 1],
+                })
+                .collect();
+            for experiment in &self.experiments {
+                let stem = experiment_stem(experiment);
+                let Some((key, _, _)) = parameters
+                    .iter()
+                    .find(|(_, p, _)| p.experiments.contains(&stem))
+                else {
+                    continue;
+                };
+                let changed = with_setup(experiment, &values)
+                    .map_err(|message| error_at(&["setup", key], message))?;
+                let corner_text: Vec<String> = parameters
+                    .iter()
+                    .zip(&values)
+                    .filter(|((_, p, _), _)| p.experiments.contains(&stem))
+                    .map(|((k, _, _), v)| format!("{k} = {}", v.value))
+                    .collect();
+                let check = |field: &str, ok: bool, message: &str| {
+                    if ok {
+                        Ok(())
+                    } else {
+                        Err(error_at(
+                            &["setup", key],
+                            format!(
+                                "model {}: at {} the set-up of {stem} is invalid: {field}: \
+                                 {message}",
+                                model.name,
+                                corner_text.join(", ")
+                            ),
+                        ))
+                    }
+                };
+                changed.file.setup.validate(&check)?;
+            }
+        }
+        Ok(())
+    }
+
     /// The resolved search space of a model.
     pub fn space(&self, model: &ModelEntry) -> ModelSpace {
-        let (names, bounds): (Vec<String>, Vec<[f64; 2]>) = model
+        let (mut names, mut bounds): (Vec<String>, Vec<[f64; 2]>) = model
             .parameters
             .iter()
             .map(|(n, b)| (n.clone(), *b))
             .unzip();
+        let mut setup = Vec::new();
+        for (key, range) in &model.setup {
+            let Ok(parameter) = self.setup_parameter(key) else {
+                // Refused when the campaign loads ([`Campaign::check_model`]).
+                continue;
+            };
+            names.push(format!("{SETUP_PREFIX}{key}"));
+            bounds.push(*range);
+            setup.push(parameter);
+        }
         ModelSpace {
+            setup,
             name: model.name.clone(),
             strength: match &self.base {
                 AnyMaterialFile::J2(base) => Some(model.strength.unwrap_or(base.strength)),
@@ -477,6 +578,83 @@ impl Campaign {
             lower: bounds.iter().map(|b| b[0]).collect(),
             upper: bounds.iter().map(|b| b[1]).collect(),
         }
+    }
+
+    /// The set-up parameter `"<target>.<field>"` of `[models.setup]`: the experiments it
+    /// names (by file stem, or every one of a kind) and the value their files give; an error
+    /// says what is wrong and what is allowed.
+    pub fn setup_parameter(&self, key: &str) -> Result<SetupParameter, String> {
+        let Some((target, field)) = key.rsplit_once('.') else {
+            return Err(format!(
+                "`{key}`: write \"<experiment file stem or kind>.<field>\" = [lower, upper]"
+            ));
+        };
+        let stems: Vec<String> = self.experiments.iter().map(experiment_stem).collect();
+        let by_stem: Vec<usize> = (0..stems.len()).filter(|&i| stems[i] == target).collect();
+        let by_kind: Vec<usize> = (0..stems.len())
+            .filter(|&i| crate::experiment::kind_name(&self.experiments[i].file.setup) == target)
+            .collect();
+        let chosen = match (by_stem.is_empty(), by_kind.is_empty()) {
+            (false, true) if by_stem.len() == 1 => by_stem,
+            (false, true) => {
+                return Err(format!(
+                    "`{target}` names {} experiments of the campaign (files of one stem in \
+                     different folders): rename one",
+                    by_stem.len()
+                ))
+            }
+            (true, false) => by_kind,
+            (false, false) => {
+                return Err(format!(
+                    "`{target}` is both an experiment's file stem and an experiment kind: \
+                     rename the file"
+                ))
+            }
+            (true, true) => {
+                let kinds: std::collections::BTreeSet<&str> = self
+                    .experiments
+                    .iter()
+                    .map(|e| crate::experiment::kind_name(&e.file.setup))
+                    .collect();
+                return Err(format!(
+                    "`{target}` is neither an experiment of the campaign (file stems: {}) nor \
+                     the kind of one ({})",
+                    stems.join(", "),
+                    kinds.into_iter().collect::<Vec<_>>().join(", ")
+                ));
+            }
+        };
+        let mut start = None;
+        for &i in &chosen {
+            let experiment = &self.experiments[i];
+            let mut setup = experiment.file.setup.clone();
+            let allowed = setup.calibratable_fields();
+            match setup.calibratable_mut(field) {
+                Some(value) => {
+                    start.get_or_insert(*value);
+                }
+                None if allowed.contains(&field) => {
+                    return Err(format!(
+                        "`{field}`: {} gives no value for it; give one in its [setup] first",
+                        stems[i]
+                    ))
+                }
+                None => {
+                    return Err(format!(
+                        "`{field}` is not a set-up field a {} experiment may calibrate ({}); \
+                         those are: {}",
+                        crate::experiment::kind_name(&experiment.file.setup),
+                        stems[i],
+                        allowed.join(", ")
+                    ))
+                }
+            }
+        }
+        Ok(SetupParameter {
+            field: field.to_string(),
+            experiments: chosen.iter().map(|&i| stems[i].clone()).collect(),
+            start: start.unwrap_or_default(),
+        })
     }
 
     /// Indices of the fitted (not held-out) experiments.
@@ -492,15 +670,17 @@ impl Campaign {
 fn check_bound_pairs(path: &Path, text: &str, tree: &toml::Table) -> Result<(), InputError> {
     let models = tree.get("models").and_then(toml::Value::as_array);
     for (index, model) in models.into_iter().flatten().enumerate() {
-        let parameters = model.get("parameters").and_then(toml::Value::as_table);
-        for (name, bounds) in parameters.into_iter().flatten() {
-            if let Some(items) = bounds.as_array().filter(|a| a.len() != 2) {
-                return Err(InputError::at(
-                    path,
-                    text,
-                    &["models", &index.to_string(), "parameters", name],
-                    format!("give [lower, upper], not {} numbers", items.len()),
-                ));
+        for table in ["parameters", "setup"] {
+            let parameters = model.get(table).and_then(toml::Value::as_table);
+            for (name, bounds) in parameters.into_iter().flatten() {
+                if let Some(items) = bounds.as_array().filter(|a| a.len() != 2) {
+                    return Err(InputError::at(
+                        path,
+                        text,
+                        &["models", &index.to_string(), table, name],
+                        format!("give [lower, upper], not {} numbers", items.len()),
+                    ));
+                }
             }
         }
     }

@@ -121,15 +121,23 @@ impl<'a> Engine<'a> {
     }
 
     fn key(&self, hypothesis: &Hypothesis, values: &[f64], experiment: usize) -> String {
-        let realised = hypothesis.realise(values).ok().map(|r| {
+        let realisation = hypothesis.realise(values).ok();
+        let realised = realisation.as_ref().map(|r| {
             (
                 toml::to_string(&r.file).unwrap_or_default(),
                 r.anvil_friction.map(f64::to_bits),
                 r.lagged_mixture.to_bits(),
             )
         });
+        // The set-up parameters enter the key only when there are any, so that journals
+        // written before they existed keep their keys.
+        let setup = realisation
+            .as_ref()
+            .filter(|r| !r.setup.is_empty())
+            .map(|r| format!("|{:?}", r.setup))
+            .unwrap_or_default();
         let text = format!(
-            "{realised:?}|{}|{:?}",
+            "{realised:?}|{}|{:?}{setup}",
             self.experiments[experiment].path.display(),
             self.experiments[experiment].file.setup
         );

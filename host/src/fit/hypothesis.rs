@@ -10,9 +10,11 @@
 //!   `(1 - lambda) P(current treatment) + lambda P(other treatment)` (the linear family
 //!   through which the score test sees the seed 001 rate-treatment defect);
 //! - [`EROSION_INTENSITY`]: `gamma = 1 / eps_f`, elements erode at plastic strain `eps_f`
-//!   (`gamma = 0`: no failure).
+//!   (`gamma = 0`: no failure);
+//! - `setup.<target>.<field>`: a set-up parameter of the calibration (a nuisance parameter,
+//!   [`super::space::SetupParameter`]), written into the experiments it names.
 
-use super::space::ModelSpace;
+use super::space::{with_setup, ModelSpace, SetupValue, SETUP_PREFIX};
 use super::unit_cube;
 use crate::experiment::{Experiment, Setup};
 use crate::input::material::{AnyMaterialFile, MaterialFile, StrengthSpec};
@@ -65,6 +67,9 @@ pub struct Hypothesis {
     /// Erosion intensity `1 / eps_f` (0: the material file's failure model alone).
     #[serde(default)]
     pub erosion_intensity: f64,
+    /// The set-up parameters' current values (the calibration's nuisance parameters).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub setup: Vec<SetupValue>,
     /// Fitted constants.
     pub parameters: Vec<Parameter>,
 }
@@ -82,6 +87,8 @@ pub struct Realisation {
     pub lagged_mixture: f64,
     /// Erosion intensity (already applied to `file` and `material`).
     pub erosion_intensity: f64,
+    /// Set-up parameters, written into the experiments they name.
+    pub setup: Vec<SetupValue>,
 }
 
 impl Hypothesis {
@@ -117,6 +124,14 @@ impl Hypothesis {
         };
         let mut parameters = Vec::new();
         for (i, name) in space.names.iter().enumerate() {
+            if i >= space.constant_count() {
+                parameters.push(Parameter {
+                    name: name.clone(),
+                    lower: space.lower[i],
+                    upper: space.upper[i],
+                });
+                continue;
+            }
             let path = paths
                 .iter()
                 .find(|(family, _)| family == name)
@@ -134,6 +149,7 @@ impl Hypothesis {
             anvil_friction: None,
             lagged_mixture: 0.0,
             erosion_intensity: 0.0,
+            setup: space.setup_values(values),
             parameters,
         })
     }
@@ -146,6 +162,12 @@ impl Hypothesis {
                 ANVIL_FRICTION => Ok(self.anvil_friction.unwrap_or(0.0)),
                 LAGGED_MIXTURE => Ok(self.lagged_mixture),
                 EROSION_INTENSITY => Ok(self.erosion_intensity),
+                name if name.starts_with(SETUP_PREFIX) => self
+                    .setup
+                    .iter()
+                    .find(|s| s.name == name)
+                    .map(|s| s.value)
+                    .ok_or_else(|| format!("`{name}` is not a set-up parameter of the hypothesis")),
                 path => self
                     .material
                     .constant(path)
@@ -160,11 +182,21 @@ impl Hypothesis {
         let mut anvil_friction = self.anvil_friction;
         let mut lagged_mixture = self.lagged_mixture;
         let mut erosion_intensity = self.erosion_intensity;
+        let mut setup = self.setup.clone();
         for (parameter, value) in self.parameters.iter().zip(values) {
             match parameter.name.as_str() {
                 ANVIL_FRICTION => anvil_friction = Some(*value),
                 LAGGED_MIXTURE => lagged_mixture = *value,
                 EROSION_INTENSITY => erosion_intensity = *value,
+                name if name.starts_with(SETUP_PREFIX) => {
+                    setup
+                        .iter_mut()
+                        .find(|s| s.name == name)
+                        .ok_or_else(|| {
+                            format!("`{name}` is not a set-up parameter of the hypothesis")
+                        })?
+                        .value = *value;
+                }
                 path => file
                     .set_constant(path, *value)
                     .ok_or_else(|| format!("`{path}` is not a constant of the material"))?,
@@ -182,6 +214,7 @@ impl Hypothesis {
             anvil_friction,
             lagged_mixture,
             erosion_intensity,
+            setup,
         })
     }
 
@@ -193,6 +226,7 @@ impl Hypothesis {
             anvil_friction: realised.anvil_friction,
             lagged_mixture: realised.lagged_mixture,
             erosion_intensity: realised.erosion_intensity,
+            setup: realised.setup,
             ..self.clone()
         })
     }
@@ -230,6 +264,8 @@ impl Realisation {
         experiment: &Experiment,
         settings: &SolverSettings,
     ) -> Result<Vec<f64>, String> {
+        let experiment = with_setup(experiment, &self.setup)?;
+        let experiment = experiment.as_ref();
         let run = |material: &Material| -> Result<Vec<f64>, String> {
             let outcome = adjusted(experiment, self.anvil_friction)
                 .simulate(&PartMaterial::from(*material), settings)
@@ -261,7 +297,8 @@ impl Realisation {
         experiment: &Experiment,
         settings: &SolverSettings,
     ) -> Result<crate::experiment::Outcome, String> {
-        adjusted(experiment, self.anvil_friction)
+        let experiment = with_setup(experiment, &self.setup)?;
+        adjusted(experiment.as_ref(), self.anvil_friction)
             .simulate(&PartMaterial::from(self.material), settings)
             .map_err(|e| format!("{}: {e}", experiment.file.name))
     }

@@ -232,8 +232,11 @@ pub fn evaluate(
             return finish(scores, Status::Infeasible(message));
         }
     }
+    // The set-up parameters (nuisance) written into the experiments they name.
+    let setup = space.setup_values(values);
     let run = |&index: &usize| {
-        let experiment = &campaign.experiments[index];
+        let experiment = super::space::with_setup(&campaign.experiments[index], &setup)
+            .map_err(Status::Failed)?;
         match experiment.simulate(&material, settings) {
             Ok(outcome) => score(&experiment.recording, &outcome.predicted).ok_or_else(|| {
                 Status::Failed(format!("{}: non-finite prediction", experiment.file.name))
@@ -345,6 +348,7 @@ mod tests {
 /// The file form of an [`Evaluation`]: by name, or positional as written before.
 mod record {
     use super::{Evaluation, Score, Status};
+    use crate::fit::space::SETUP_PREFIX;
     use serde::de::{MapAccess, Visitor};
     use serde::ser::SerializeMap;
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -396,6 +400,10 @@ mod record {
     pub struct EvaluationRecord {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         constants: Option<Ordered<f64>>,
+        /// The set-up parameters (nuisance), by their names without the `setup.` prefix,
+        /// apart from the material constants.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        setup: Option<Ordered<f64>>,
         /// Positional constants (files written before stoss named them).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         values: Option<Vec<f64>>,
@@ -408,8 +416,19 @@ mod record {
         fn from(e: Evaluation) -> Self {
             let named = e.names.len() == e.values.len() && e.experiments.len() == e.scores.len();
             if named {
+                type Named = Vec<(String, f64)>;
+                let (setup, constants): (Named, Named) = e
+                    .names
+                    .into_iter()
+                    .zip(e.values)
+                    .partition(|(name, _)| name.starts_with(SETUP_PREFIX));
+                let setup: Vec<(String, f64)> = setup
+                    .into_iter()
+                    .map(|(name, value)| (name[SETUP_PREFIX.len()..].to_string(), value))
+                    .collect();
                 EvaluationRecord {
-                    constants: Some(Ordered(e.names.into_iter().zip(e.values).collect())),
+                    constants: Some(Ordered(constants)),
+                    setup: (!setup.is_empty()).then_some(Ordered(setup)),
                     values: None,
                     scores: Scores::Named(Ordered(
                         e.experiments.into_iter().zip(e.scores).collect(),
@@ -420,6 +439,7 @@ mod record {
             } else {
                 EvaluationRecord {
                     constants: None,
+                    setup: None,
                     values: Some(e.values),
                     scores: Scores::Positional(e.scores),
                     status: e.status,
@@ -431,8 +451,16 @@ mod record {
 
     impl From<EvaluationRecord> for Evaluation {
         fn from(r: EvaluationRecord) -> Self {
+            let setup = r.setup.map(|Ordered(pairs)| pairs).unwrap_or_default();
             let (names, values) = match (r.constants, r.values) {
-                (Some(Ordered(pairs)), _) => pairs.into_iter().unzip(),
+                (Some(Ordered(pairs)), _) => pairs
+                    .into_iter()
+                    .chain(
+                        setup
+                            .into_iter()
+                            .map(|(name, value)| (format!("{SETUP_PREFIX}{name}"), value)),
+                    )
+                    .unzip(),
                 (None, values) => (Vec::new(), values.unwrap_or_default()),
             };
             let (experiments, scores) = match r.scores {

@@ -56,6 +56,10 @@ pub struct ModelResult {
     /// 2026-11-25.
     #[serde(default)]
     pub constants: Vec<NamedConstant>,
+    /// The selected set-up parameters (nuisance parameters, `setup.<target>.<field>`): the
+    /// set-up the constants were found with; never written into a material or a card.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub setup: Vec<NamedConstant>,
     /// The starting constants (the model's `strength`, or the base material's), scored on
     /// the same experiments: what the calibration has to beat.
     #[serde(default)]
@@ -242,14 +246,12 @@ impl ModelResult {
         }
         // The constants table's names, and the selected evaluation's own (absent in results
         // written before stoss named them).
-        let named = self
-            .constants
-            .iter()
-            .map(|c| &c.name)
+        let table = self.constants.iter().chain(&self.setup).map(|c| &c.name);
+        let named = table
             .zip(&space.names)
-            .chain(self.selected.names.iter().zip(&space.names));
-        for (i, (constant, name)) in named.enumerate() {
-            let i = i % space.names.len();
+            .enumerate()
+            .chain(self.selected.names.iter().zip(&space.names).enumerate());
+        for (i, (constant, name)) in named {
             if constant != name {
                 return Err(format!(
                     "model `{}`: constant {} of the result is `{constant}`, the campaign's is \
@@ -275,6 +277,7 @@ mod tests {
         // SETUP: a JC result fitting A and C, checked against spaces naming A, C / C, A / A.
         // REFERENCE: accepted only in the same order; the error names both constants.
         let space = |names: &[&str]| ModelSpace {
+            setup: Vec::new(),
             name: "jc".into(),
             strength: None,
             names: names.iter().map(|n| n.to_string()).collect(),
@@ -287,6 +290,7 @@ mod tests {
             unit: unit.into(),
         };
         let result = ModelResult {
+            setup: Vec::new(),
             model: "jc".into(),
             instances: Vec::new(),
             finalists: Vec::new(),

@@ -1,9 +1,13 @@
 //! The search space of a model: its fitted constants by name with their search bounds
-//! (SI), and the strength or concrete file they are written into. Built by a campaign
-//! (`Campaign::space` in the calibration) and read by both the calibration and the
-//! diagnosis; bounds map to unit coordinates through [`super::unit_cube`].
+//! (SI), and the strength or concrete file they are written into, then its set-up parameters
+//! (nuisance parameters: fields of experiments' set-ups searched beside the constants, never
+//! written into a material). Built by a campaign (`Campaign::space` in the calibration) and
+//! read by both the calibration and the diagnosis; bounds map to unit coordinates through
+//! [`super::unit_cube`].
 
+use crate::experiment::Experiment;
 use crate::input::material::{AnyMaterialFile, StrengthSpec};
+use serde::{Deserialize, Serialize};
 use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::PartMaterial;
 
@@ -16,15 +20,107 @@ pub struct ModelSpace {
     /// Starting strength (fitted constants are overwritten); `None` for RHT concrete, whose
     /// constants are edited in the base file itself.
     pub strength: Option<StrengthSpec>,
-    /// Fitted constant names.
+    /// Searched names: the fitted constants, then the set-up parameters (`setup.<target>.<field>`,
+    /// in the order of [`ModelSpace::setup`]).
     pub names: Vec<String>,
     /// Lower bounds.
     pub lower: Vec<f64>,
     /// Upper bounds.
     pub upper: Vec<f64>,
+    /// The set-up parameters: the last `setup.len()` entries of `names`, `lower`, `upper`.
+    pub setup: Vec<SetupParameter>,
+}
+
+/// A set-up field searched beside the constants (`[models.setup]`), shared by every
+/// experiment it names.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SetupParameter {
+    /// The set-up field (one of its kind's [`crate::experiment::Setup::calibratable_fields`]).
+    pub field: String,
+    /// The experiments whose set-up holds it, by their files' stems.
+    pub experiments: Vec<String>,
+    /// The value the experiments' files give (the first one's), SI.
+    pub start: f64,
+}
+
+/// A set-up field at a value, as a realised hypothesis carries it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SetupValue {
+    /// The parameter's name (`setup.<target>.<field>`).
+    pub name: String,
+    /// The set-up field.
+    pub field: String,
+    /// The experiments it applies to, by their files' stems.
+    pub experiments: Vec<String>,
+    /// Its value (SI).
+    pub value: f64,
+}
+
+/// The prefix of a set-up parameter's name.
+pub const SETUP_PREFIX: &str = "setup.";
+
+/// The stem of an experiment's file: how `[models.setup]` names it.
+pub fn experiment_stem(experiment: &Experiment) -> String {
+    experiment
+        .path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// `experiment` with the set-up values that name it written in (borrowed if none does).
+pub fn with_setup<'e>(
+    experiment: &'e Experiment,
+    values: &[SetupValue],
+) -> Result<std::borrow::Cow<'e, Experiment>, String> {
+    let stem = experiment_stem(experiment);
+    let mine: Vec<&SetupValue> = values
+        .iter()
+        .filter(|v| v.experiments.contains(&stem))
+        .collect();
+    if mine.is_empty() {
+        return Ok(std::borrow::Cow::Borrowed(experiment));
+    }
+    let mut changed = experiment.clone();
+    for value in mine {
+        let slot = changed
+            .file
+            .setup
+            .calibratable_mut(&value.field)
+            .ok_or_else(|| {
+                format!(
+                    "{}: set-up field `{}` cannot be calibrated",
+                    experiment.file.name, value.field
+                )
+            })?;
+        *slot = value.value;
+    }
+    Ok(std::borrow::Cow::Owned(changed))
 }
 
 impl ModelSpace {
+    /// Number of fitted material constants (the first entries of `names`).
+    pub fn constant_count(&self) -> usize {
+        self.names.len() - self.setup.len()
+    }
+
+    /// The set-up values of a point of the space (its last `setup.len()` values).
+    pub fn setup_values(&self, values: &[f64]) -> Vec<SetupValue> {
+        let first = self.constant_count();
+        self.setup
+            .iter()
+            .zip(&self.names[first..])
+            .zip(values.iter().skip(first))
+            .map(|((parameter, name), &value)| SetupValue {
+                name: name.clone(),
+                field: parameter.field.clone(),
+                experiments: parameter.experiments.clone(),
+                value,
+            })
+            .collect()
+    }
+
     /// The strength with `values` for the fitted constants (J2 metals).
     pub fn strength_with(&self, values: &[f64]) -> Result<StrengthSpec, String> {
         let mut strength = self.strength.ok_or_else(|| {
@@ -33,7 +129,8 @@ impl ModelSpace {
                 self.name
             )
         })?;
-        for (name, value) in self.names.iter().zip(values) {
+        let constants = self.constant_count();
+        for (name, value) in self.names[..constants].iter().zip(values) {
             strength
                 .set(name, *value)
                 .ok_or_else(|| format!("`{name}` is not a constant of this model"))?;
@@ -53,7 +150,8 @@ impl ModelSpace {
             metal.strength = self.strength_with(values)?;
         } else {
             let family = file.family_mut();
-            for (name, value) in self.names.iter().zip(values) {
+            let constants = self.constant_count();
+            for (name, value) in self.names[..constants].iter().zip(values) {
                 let (kind, paths) = (family.family(), family.constant_paths());
                 *family.constant_slot(name).ok_or_else(|| {
                     format!("`{name}` is not a constant of the {kind} file ({paths})")
@@ -67,7 +165,8 @@ impl ModelSpace {
     /// The starting values of the fitted constants: what the model's strength (or the base
     /// material file) holds before any fit. `None` if a name is not found.
     pub fn starting_values(&self, base: &AnyMaterialFile) -> Option<Vec<f64>> {
-        self.names
+        let constants = self.constant_count();
+        self.names[..constants]
             .iter()
             .map(|name| match (&self.strength, base) {
                 (Some(strength), _) => strength.get(name),
@@ -79,6 +178,7 @@ impl ModelSpace {
                     .constant_slot(name)
                     .map(|value| *value),
             })
+            .chain(self.setup.iter().map(|p| Some(p.start)))
             .collect()
     }
 
@@ -86,7 +186,8 @@ impl ModelSpace {
     /// no description covers; the campaign refuses those when it loads).
     pub fn units(&self, base: &AnyMaterialFile) -> Vec<&'static str> {
         let strength = self.strength.map(|s| s.constants()).unwrap_or_default();
-        self.names
+        let constants = self.constant_count();
+        self.names[..constants]
             .iter()
             .map(|name| {
                 if let Some((_, p)) = strength.iter().find(|(n, _)| n == name) {
@@ -94,6 +195,10 @@ impl ModelSpace {
                 }
                 base.family().constant_unit(name).unwrap_or("?")
             })
+            .chain(self.setup.iter().map(|p| {
+                crate::input::units::field_dimension(&p.field)
+                    .map_or("-", crate::input::units::Dimension::si_unit)
+            }))
             .collect()
     }
 
@@ -145,6 +250,7 @@ mod tests {
         // SETUP: bounds [0, 1] for two constants; values 0.004, 0.5, 0.996, 0.006.
         // REFERENCE: 0.5 % of the range: 0.004 (lower) and 0.996 (upper) flagged, not 0.006.
         let space = ModelSpace {
+            setup: Vec::new(),
             name: "jc".into(),
             strength: None,
             names: vec!["n".into(), "C".into()],

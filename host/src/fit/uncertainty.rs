@@ -61,9 +61,10 @@ fn residuals(
     settings: &SolverSettings,
 ) -> Result<Vec<f64>, String> {
     let (_, material) = space.material(&campaign.base, values)?;
+    let setup = space.setup_values(values);
     let mut out = Vec::new();
     for &e in experiments {
-        let experiment = &campaign.experiments[e];
+        let experiment = super::space::with_setup(&campaign.experiments[e], &setup)?;
         let weight = libm::sqrt(campaign.file.experiments[e].weight);
         let outcome = experiment
             .simulate(&material, settings)

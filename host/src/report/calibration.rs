@@ -268,11 +268,37 @@ impl<'a> Report<'a> {
     fn constants(&mut self, result: &ModelResult, space: &ModelSpace) {
         let md = &mut self.md;
         let _ = writeln!(md, "## Model `{}`\n\n### Constants\n\n| constant | lower | upper | selected |\n|---|---|---|---|", result.model);
-        for (k, name) in space.names.iter().enumerate() {
+        let constants = space.constant_count();
+        for (k, name) in space.names.iter().enumerate().take(constants) {
             let _ = writeln!(
                 md,
                 "| {name} | {:.4e} | {:.4e} | {:.6e} |",
                 space.lower[k], space.upper[k], result.selected.values[k]
+            );
+        }
+        if space.setup.is_empty() {
+            return;
+        }
+        let units = space.units(&self.campaign.base);
+        let _ = writeln!(
+            md,
+            "\n### Set-up parameters\n\nSearched beside the constants (nuisance parameters): \
+             the constants above were found with these set-up values. Material files and cards \
+             never carry them.\n\n| parameter | experiments | file value | lower | upper | \
+             selected | unit |\n|---|---|---|---|---|---|---|"
+        );
+        for (k, parameter) in space.setup.iter().enumerate() {
+            let at = constants + k;
+            let _ = writeln!(
+                md,
+                "| {} | {} | {:.4e} | {:.4e} | {:.4e} | {:.6e} | {} |",
+                &space.names[at][crate::fit::space::SETUP_PREFIX.len()..],
+                parameter.experiments.join(", "),
+                parameter.start,
+                space.lower[at],
+                space.upper[at],
+                result.selected.values[at],
+                units[at]
             );
         }
     }
@@ -709,10 +735,17 @@ pub fn selected_outcomes(
             let Ok((_, material)) = space.material(&campaign.base, &r.selected.values) else {
                 return Vec::new();
             };
+            // With the set-up the constants were found with.
+            let setup = space.setup_values(&r.selected.values);
             campaign
                 .experiments
                 .iter()
-                .map(|e| e.simulate(&material, &SolverSettings::default()).ok())
+                .map(|e| {
+                    crate::fit::space::with_setup(e, &setup)
+                        .ok()?
+                        .simulate(&material, &SolverSettings::default())
+                        .ok()
+                })
                 .collect()
         })
         .collect()

@@ -191,6 +191,9 @@ pub struct RealisationRecord {
     pub lagged_mixture: f64,
     /// The erosion intensity (already applied to `material`; recorded for the reader).
     pub erosion_intensity: f64,
+    /// Set-up parameters, written into the experiments they name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub setup: Vec<crate::fit::space::SetupValue>,
 }
 
 impl RealisationRecord {
@@ -201,6 +204,7 @@ impl RealisationRecord {
             anvil_friction: realisation.anvil_friction,
             lagged_mixture: realisation.lagged_mixture,
             erosion_intensity: realisation.erosion_intensity,
+            setup: realisation.setup.clone(),
         }
     }
 
@@ -214,6 +218,7 @@ impl RealisationRecord {
             anvil_friction: self.anvil_friction,
             lagged_mixture: self.lagged_mixture,
             erosion_intensity: self.erosion_intensity,
+            setup: self.setup.clone(),
         })
     }
 }
@@ -499,6 +504,7 @@ mod tests {
         //        positional task of two values and one of three.
         // REFERENCE: [1.5e9, 0.02] in the space's order; errors naming the constant.
         let space = ModelSpace {
+            setup: Vec::new(),
             name: "jc".into(),
             strength: None,
             names: vec!["yield_stress".into(), "rate_sensitivity".into()],
