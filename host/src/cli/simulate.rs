@@ -268,17 +268,27 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
         println!("{name:<24} {value:.6e}");
     }
     println!(
-        "\n{:<20} {:>12} {:>12} {:>12} {:>10}",
-        "quantity", "position", "recorded", "predicted", "diff %"
+        "\n{:<20} {:>12} {:>12} {:>12} {:>10} {:>8}",
+        "quantity", "position", "recorded", "predicted", "diff %", "diff/u"
     );
     for (point, predicted) in experiment.recording.iter().zip(&outcome.predicted) {
+        // A recorded 0 (a stopped projectile) has no relative difference: the difference in
+        // recorded uncertainties says it.
+        let relative = if point.value == 0.0 {
+            format!("{:>10}", "-")
+        } else {
+            format!(
+                "{:>+9.2}%",
+                100.0 * (predicted - point.value) / point.value.abs()
+            )
+        };
         println!(
-            "{:<20} {:>12.4e} {:>12.4e} {:>12.4e} {:>+9.2}%",
+            "{:<20} {:>12.4e} {:>12.4e} {:>12.4e} {relative} {:>+8.2}",
             point.quantity,
             point.position,
             point.value,
             predicted,
-            100.0 * (predicted - point.value) / point.value.abs().max(1e-300)
+            (predicted - point.value) / point.uncertainty
         );
     }
     if let (Setup::Penetration(spec), Some(metal)) = (&experiment.file.setup, material.j2()) {
