@@ -1,6 +1,6 @@
 //! Long-rod penetration: eroding contact, energy, threads, the Walker–Anderson cross-check and
-//! bad input. The 0.2 / 0.1 mm meshes and the full seed 000 runs are in `stoss validate
-//! penetration` (docs/solver.md), not here.
+//! bad input. The 0.2 / 0.1 mm meshes and the full seed 000 runs are in the benchmark
+//! (`cargo bench -p stoss --bench penetration`, docs/solver.md), not here.
 
 use std::path::{Path, PathBuf};
 use stoss::analytic::penetration::{
@@ -412,8 +412,8 @@ fn a_driven_rigid_rod_meets_the_cavity_expansion_resistance_and_stays_outside_th
     //       resistance of cavity-expansion theory, and hourglass deformation ahead of a blunt
     //       rod does not let target material pass through it.
     // SETUP: driven_rigid_rod at 300 m/s to 14 mm: (a) an ogive nose (CRH 3), (b) a flat
-    //        nose, both with the stiffness hourglass form (the penetration default); (c) the
-    //        flat nose with the viscous form.
+    //        nose, both with the stiffness hourglass form (set here; the penetration default
+    //        is the viscous form); (c) the flat nose with the viscous form.
     // REFERENCE: Forrestal's static resistance pi a^2 sigma_s with Hill's cavity pressure
     //   (Forrestal, Okajima & Luk, J. Appl. Mech. 55 (1988) 755), 100.9 kN here; the dynamic
     //   term N* B rho V^2 adds 2 % for the ogive, about 15 % for a flat nose. (a) the mean
