@@ -128,10 +128,13 @@ pub struct Local {
 }
 
 impl Local {
-    /// A pool of `parallel` threads.
+    /// A pool for batches of `parallel` candidates: `parallel` threads, but never more than
+    /// this machine's cores (a thread per candidate beyond them only competes for the same
+    /// cores; the results do not depend on the pool's size).
     pub fn new(parallel: usize) -> Result<Self, ExecutorError> {
+        let cores = std::thread::available_parallelism().map_or(1, usize::from);
         let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(parallel)
+            .num_threads(parallel.clamp(1, cores))
             .build()
             .map_err(|e| ExecutorError::Threads(e.to_string()))?;
         Ok(Self {
@@ -142,6 +145,11 @@ impl Local {
             },
             origin: Origin::this_process("local"),
         })
+    }
+
+    /// Threads of the pool.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
     }
 }
 
@@ -195,5 +203,23 @@ impl Executor for Local {
                 })
                 .collect()
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_local_pool_never_exceeds_the_machines_cores() {
+        // GOAL: `parallel = 256` on a small machine does not start 256 threads (issue 52,
+        //       item 2): the pool is capped at the cores, the batch size stays the campaign's.
+        // SETUP: pools for 1, 2 and 256 candidates at once.
+        // REFERENCE: min(parallel, available_parallelism), at least 1.
+        let cores = std::thread::available_parallelism().map_or(1, usize::from);
+        for parallel in [1, 2, 256] {
+            let local = Local::new(parallel).unwrap();
+            assert_eq!(local.threads(), parallel.min(cores));
+        }
     }
 }
