@@ -269,6 +269,13 @@ impl<'a> Report<'a> {
         let md = &mut self.md;
         let _ = writeln!(md, "## Model `{}`\n\n### Constants\n\n| constant | lower | upper | selected |\n|---|---|---|---|", result.model);
         let constants = space.constant_count();
+        if constants == 0 {
+            let _ = writeln!(
+                md,
+                "| (none: the material's constants are fixed; only set-up parameters are \
+                 searched) | | | |"
+            );
+        }
         for (k, name) in space.names.iter().enumerate().take(constants) {
             let _ = writeln!(
                 md,
