@@ -227,3 +227,78 @@ fn residual_velocities_at_fixed_impact_velocities_are_simulated_for_calibration(
     assert_eq!(slow, 0.0);
     let _ = std::fs::remove_dir_all(&folder);
 }
+
+#[test]
+fn foi_code_to_code_tables_load_as_marked_simulations_and_give_the_seeds_limits() {
+    // GOAL: FOI's Autodyn tables 3.4-3.9 are bundled as code-to-code recordings (issue 48):
+    //       each experiment loads, records only exit velocities, says in its recording that it
+    //       is a simulation, and its rows are the seed's (the Lambert–Jonas limit of tables 3.4
+    //       and 3.5 is the one seed 001 quotes); the core-geometry campaign loads with its
+    //       three set-up parameters and no fitted constant.
+    // SETUP: fixtures/experiments/ballistic-foi-t3{4..9}.toml and their CSVs;
+    //        fixtures/campaigns/ballistic-geometry.toml.
+    // REFERENCE: seed 001 sec. 3.5: V_bl 754 (table 3.4) and 688 m/s (table 3.5), +-2 m/s;
+    //        every other table's limit inside its own bracket (highest stop, lowest
+    //        perforation); shots per table as SEED_NUMBERS.md sec. E lists them.
+    use stoss::analytic::ballistic::{fit_lambert_jonas, Shot};
+    let expected: [(&str, usize, Option<f64>); 6] = [
+        ("34", 5, Some(754.0)),
+        ("35", 6, Some(688.0)),
+        ("36", 6, None),
+        ("37", 5, None),
+        ("38", 5, None),
+        ("39", 4, None),
+    ];
+    for (table, count, limit) in expected {
+        let path = fixture(&format!("experiments/ballistic-foi-t{table}.toml"));
+        let experiment = Experiment::load(&path).unwrap();
+        assert!(matches!(experiment.file.setup, Setup::BallisticLimit(_)));
+        let csv = std::fs::read_to_string(fixture(&format!("experiments/foi-table-{table}.csv")))
+            .unwrap();
+        assert!(csv.contains("SIMULATION, NOT AN EXPERIMENT"), "{table}");
+        let recording = &experiment.recording;
+        assert_eq!(recording.len(), count, "{table}");
+        assert!(recording.iter().all(|p| p.quantity == "residual_velocity"));
+        let mut shots: Vec<Shot> = recording
+            .iter()
+            .map(|p| Shot {
+                impact_velocity: p.position,
+                residual_velocity: p.value,
+            })
+            .collect();
+        shots.sort_by(|a, b| a.impact_velocity.total_cmp(&b.impact_velocity));
+        let highest_stop = shots
+            .iter()
+            .filter(|s| s.residual_velocity == 0.0)
+            .map(|s| s.impact_velocity)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let lowest_perforation = shots
+            .iter()
+            .filter(|s| s.residual_velocity > 0.0)
+            .map(|s| s.impact_velocity)
+            .fold(f64::INFINITY, f64::min);
+        let fit = fit_lambert_jonas(&shots, None).unwrap();
+        assert!(
+            fit.ballistic_limit >= highest_stop && fit.ballistic_limit <= lowest_perforation,
+            "{table}: {fit:?}"
+        );
+        if let Some(limit) = limit {
+            assert!(
+                (fit.ballistic_limit - limit).abs() <= 2.0,
+                "{table}: {fit:?}"
+            );
+        }
+    }
+    let campaign =
+        stoss::fit::Campaign::load(&fixture("campaigns/ballistic-geometry.toml")).unwrap();
+    let space = campaign.space(&campaign.file.models[0]);
+    assert_eq!(space.constant_count(), 0);
+    assert_eq!(
+        space.names,
+        [
+            "setup.ballistic-foi-t34.nose_length",
+            "setup.ballistic-foi-t34.projectile_diameter",
+            "setup.ballistic-foi-t34.projectile_length"
+        ]
+    );
+}
