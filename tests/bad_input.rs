@@ -419,6 +419,18 @@ fn cases() -> Vec<Case> {
     let calibrate_args: Vec<String> = ["calibrate", "{dir}/campaign.toml", "--output", "{dir}/out"]
         .map(String::from)
         .to_vec();
+    // The campaign with its first experiment fitted and every other held out.
+    let one_fitted = {
+        let (head, rest) = campaign.split_once("[[experiments]]").unwrap();
+        let (first, others) = rest.split_once("[[experiments]]").unwrap();
+        let others = others
+            .replace("holdout = true\n", "")
+            .replace("[[experiments]]", "[[experiments]]\nholdout = true");
+        let (others, optimiser) = others.split_once("[optimiser]").unwrap();
+        format!(
+            "{head}[[experiments]]{first}[[experiments]]\nholdout = true{others}[optimiser]{optimiser}"
+        )
+    };
     let campaign_cases: Vec<(&str, String, &str, bool)> = vec![
         ("three bounds", campaign.replace("yield_stress = [0.5e9, 2.0e9]", "yield_stress = [0.5e9, 1.0e9, 2.0e9]"), "yield_stress", true),
         ("one bound", campaign.replace("yield_stress = [0.5e9, 2.0e9]", "yield_stress = [0.5e9]"), "yield_stress", true),
@@ -456,6 +468,10 @@ fn cases() -> Vec<Case> {
         ("executor partition blank", format!("{campaign}\n[executor]\npartition = \"two words\"\n"), "partition", true),
         ("executor unknown field", format!("{campaign}\n[executor]\npartitoin = \"x\"\n"), "partitoin", true),
         ("syntax error", campaign.replace("[optimiser]", "[optimiser"), "", true),
+        ("fold budget without leave-one-out", campaign.replace("[optimiser]", "[optimiser]\nfold_budget = 2"), "fold_budget", true),
+        ("leave-one-out with one fitted experiment", one_fitted.replace("[optimiser]", "[optimiser]\nleave_one_out = true"), "leave_one_out", true),
+        ("set-up field not calibratable", campaign.replacen("[[experiments]]", "[models.setup]\n\"synthetic-flow-hha-1s.isothermal\" = [0.0, 1.0]\n\n[[experiments]]", 1), "isothermal", true),
+        ("set-up bounds invalid at a corner", campaign.replacen("[[experiments]]", "[models.setup]\n\"uniaxial.temperature\" = [\"-10 K\", \"400 K\"]\n\n[[experiments]]", 1), "uniaxial.temperature", true),
     ];
     for (name, text, field, line) in campaign_cases {
         cases.push(Case {

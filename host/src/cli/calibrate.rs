@@ -71,6 +71,13 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         return Err("--instances 0: give at least 1".into());
     }
     let campaign = Campaign::load(&args.campaign).map_err(|e| e.to_string())?;
+    if args.leave_one_out && campaign.fitted().len() < 2 {
+        return Err(format!(
+            "--leave-one-out: needs at least 2 fitted experiments; {} fits {}",
+            args.campaign.display(),
+            campaign.fitted().len()
+        ));
+    }
     let executor_entry = args.executor.settings(&campaign.file.executor)?;
     let output = args.output.clone().unwrap_or_else(|| {
         PathBuf::from("out").join(format!(

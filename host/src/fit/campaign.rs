@@ -764,6 +764,28 @@ fn check_experiments_and_optimiser(
             format!("must be between 1 and the budget ({})", o.budget),
         ));
     }
+    // Options that would be silently ignored are errors (issue 52, item 5).
+    let fitted = file.experiments.iter().filter(|e| !e.holdout).count();
+    if o.leave_one_out != LeaveOneOut::Off && fitted < 2 {
+        return Err(InputError::field(
+            path,
+            text,
+            "leave_one_out",
+            format!(
+                "leave-one-out needs at least 2 fitted experiments; the campaign fits {fitted} \
+                 (set leave_one_out = false, or fit more experiments)"
+            ),
+        ));
+    }
+    if o.fold_budget.is_some() && o.leave_one_out == LeaveOneOut::Off {
+        return Err(InputError::field(
+            path,
+            text,
+            "fold_budget",
+            "takes effect only with leave-one-out: set leave_one_out = true or \"selected\", \
+             or remove fold_budget",
+        ));
+    }
     if o.fold_budget == Some(0) {
         return Err(InputError::field(
             path,
