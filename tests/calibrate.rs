@@ -1307,6 +1307,17 @@ fn the_evaluate_worker_reproduces_the_in_process_evaluation() {
     assert_eq!(result.origin.stoss_version, env!("CARGO_PKG_VERSION"));
     assert_eq!(result.origin.binary_sha256.len(), 64);
 
+    // A task that names no experiment is refused, not reported `ok`.
+    let empty = TaskFile {
+        experiments: Vec::new(),
+        ..task.clone()
+    };
+    let empty_path = folder.join("jc-0-empty.task.json");
+    std::fs::write(&empty_path, serde_json::to_vec(&empty).unwrap()).unwrap();
+    let output = stoss().arg("evaluate").arg(&empty_path).output().unwrap();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("names no experiment"));
+    assert!(!result_path(&empty_path).exists());
     // The campaign edited after the task was written.
     std::fs::write(&campaign_path, text.replace("seed = 3", "seed = 4")).unwrap();
     let output = stoss().arg("evaluate").arg(&task_path).output().unwrap();

@@ -356,6 +356,13 @@ pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
     let values = task
         .values_for(&space)
         .map_err(|e| format!("{}: {e}", task_path.display()))?;
+    if task.experiments.is_empty() {
+        return Err(format!(
+            "{}: the task names no experiment to simulate (an evaluation of nothing would \
+             report `ok`)",
+            task_path.display()
+        ));
+    }
     if task
         .experiments
         .iter()
