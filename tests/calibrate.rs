@@ -1665,3 +1665,53 @@ fn a_set_up_value_hidden_in_a_recording_is_recovered_beside_the_constants() {
     }
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+#[test]
+fn slurm_settings_on_a_local_run_are_said_to_be_ignored() {
+    // GOAL: an option that has no effect is said, not silently dropped (issue 52, item 5):
+    //       Slurm-only `[executor]` fields on a local run get one warning naming them.
+    // SETUP: the synthetic-flow campaign with `partition` and `time_limit` set, 4 simulations,
+    //        no polish, run locally (the default kind); the same campaign without them.
+    // REFERENCE: success both times; one warning naming both fields, and none without them.
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let text = std::fs::read_to_string(fixtures().join("campaigns/synthetic-flow.toml"))
+        .unwrap()
+        .replace("\"../", &format!("\"{root}/fixtures/"));
+    let folder = temporary("ignored-slurm");
+    for (name, extra) in [
+        (
+            "with",
+            "\n[executor]\npartition = \"compute\"\ntime_limit = \"00:10:00\"\n",
+        ),
+        ("without", ""),
+    ] {
+        let path = folder.join(format!("{name}.toml"));
+        std::fs::write(&path, format!("{text}{extra}")).unwrap();
+        let output = stoss()
+            .arg("calibrate")
+            .arg(&path)
+            .arg("--output")
+            .arg(folder.join(name))
+            .args([
+                "--budget",
+                "4",
+                "--polish",
+                "0",
+                "--instances",
+                "1",
+                "--quiet",
+            ])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success(), "{stderr}");
+        let warnings = stderr.matches("warning: [executor]").count();
+        if extra.is_empty() {
+            assert_eq!(warnings, 0, "{stderr}");
+        } else {
+            assert_eq!(warnings, 1, "{stderr}");
+            assert!(stderr.contains("partition, time_limit only apply to the slurm executor"));
+        }
+    }
+    std::fs::remove_dir_all(&folder).unwrap();
+}

@@ -79,7 +79,18 @@ pub fn start_executor(
     quiet: bool,
 ) -> Result<Box<dyn Executor>, String> {
     Ok(match entry.kind {
-        ExecutorKind::Local => Box::new(Local::new(parallel).map_err(|e| e.to_string())?),
+        ExecutorKind::Local => {
+            // Options that would be silently ignored: said once (issue 52, item 5).
+            let ignored = entry.slurm_only_fields_set();
+            if !ignored.is_empty() {
+                eprintln!(
+                    "warning: [executor] {} only apply to the slurm executor; this run is \
+                     local, so they are ignored",
+                    ignored.join(", ")
+                );
+            }
+            Box::new(Local::new(parallel).map_err(|e| e.to_string())?)
+        }
         ExecutorKind::Slurm => Box::new(
             SlurmExecutor::start(
                 entry,

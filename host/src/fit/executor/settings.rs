@@ -128,6 +128,24 @@ impl Default for ExecutorEntry {
 pub const MAXIMUM_TASKS: usize = 10_000;
 
 impl ExecutorEntry {
+    /// The fields set here that only the Slurm executor reads (a local run ignores them).
+    pub fn slurm_only_fields_set(&self) -> Vec<&'static str> {
+        [
+            ("partition", self.partition.is_some()),
+            ("time_limit", self.time_limit.is_some()),
+            (
+                "allocation_time_limit",
+                self.allocation_time_limit.is_some(),
+            ),
+            ("max_concurrent", self.max_concurrent.is_some()),
+            ("sbatch_args", !self.sbatch_args.is_empty()),
+            ("prologue", !self.prologue.is_empty()),
+        ]
+        .into_iter()
+        .filter_map(|(name, set)| set.then_some(name))
+        .collect()
+    }
+
     /// Check the settings; `Err((field, message))` names the first bad one.
     pub fn check(&self) -> Result<(), (&'static str, String)> {
         for (field, limit) in [
