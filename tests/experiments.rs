@@ -311,6 +311,28 @@ fn an_engineering_curve_is_read_as_true_stress_and_strain() {
         error.contains("recorded_measure") && error.contains("total strain"),
         "{error}"
     );
+    // A compressive engineering strain of 0.995 is a true strain of 5.3: above the range that
+    // bounds the driver's steps, refused at its line rather than run.
+    std::fs::write(
+        directory.join("engineering.csv"),
+        "quantity,position,value,uncertainty\ntrue_stress,0.1,9e8,1e7\ntrue_stress,0.995,9e8,1e7\n",
+    )
+    .unwrap();
+    std::fs::write(
+        &path,
+        toml.replace(
+            "[setup]\n",
+            "[setup]\nrecorded_measure = \"engineering\"\nrecorded_strain = \"total\"\n",
+        )
+        .replace("compression = false", "compression = true"),
+    )
+    .unwrap();
+    let error = Experiment::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains("engineering.csv:3: field `position`")
+            && error.contains("true strain of 5.298"),
+        "{error}"
+    );
     std::fs::remove_dir_all(&directory).unwrap();
 }
 

@@ -472,7 +472,23 @@ impl Experiment {
                             ),
                         });
                     }
-                    *point = uniaxial::engineering_to_true(point, spec.compression);
+                    let converted = uniaxial::engineering_to_true(point, spec.compression);
+                    // The range that bounds the driver's steps holds for the strain it runs to.
+                    if !(0.0..=uniaxial::MAXIMUM_PLASTIC_STRAIN).contains(&converted.position) {
+                        return Err(InputError::Field {
+                            path: recording_path.clone(),
+                            line: recording::point_line(&recording_path, index),
+                            field: "position".into(),
+                            message: format!(
+                                "the engineering strain {} is a true strain of {:.3}, above \
+                                 the {} a flow curve may reach",
+                                point.position,
+                                converted.position,
+                                uniaxial::MAXIMUM_PLASTIC_STRAIN
+                            ),
+                        });
+                    }
+                    *point = converted;
                 }
             }
             if spec.trim_at_maximum {
