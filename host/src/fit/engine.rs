@@ -120,9 +120,10 @@ impl<'a> Engine<'a> {
         })
     }
 
-    fn key(&self, hypothesis: &Hypothesis, values: &[f64], experiment: usize) -> String {
-        let realisation = hypothesis.realise(values).ok();
-        let realised = realisation.as_ref().map(|r| {
+    /// The journal key of simulating `experiment` with `realisation` (`None`: the
+    /// hypothesis could not be realised at these constants).
+    fn key(&self, realisation: Option<&Realisation>, experiment: usize) -> String {
+        let realised = realisation.map(|r| {
             (
                 toml::to_string(&r.file).unwrap_or_default(),
                 r.anvil_friction.map(f64::to_bits),
@@ -132,7 +133,6 @@ impl<'a> Engine<'a> {
         // The set-up parameters enter the key only when there are any, so that journals
         // written before they existed keep their keys.
         let setup = realisation
-            .as_ref()
             .filter(|r| !r.setup.is_empty())
             .map(|r| format!("|{:?}", r.setup))
             .unwrap_or_default();
@@ -173,25 +173,26 @@ impl<'a> Engine<'a> {
         hypothesis: &Hypothesis,
         jobs: &[(&[f64], usize)],
     ) -> Result<Vec<Prediction>, FitError> {
-        let keys: Vec<String> = jobs
+        // Each job realised once: its key is read from the realisation it then runs.
+        let realised: Vec<Result<Realisation, String>> = jobs
             .iter()
-            .map(|(values, e)| self.key(hypothesis, values, *e))
+            .map(|(values, _)| hypothesis.realise(values))
+            .collect();
+        let keys: Vec<String> = realised
+            .iter()
+            .zip(jobs)
+            .map(|(r, (_, e))| self.key(r.as_ref().ok(), *e))
             .collect();
         let mut results: Vec<Option<Prediction>> = vec![None; jobs.len()];
-        // Realised once per distinct constants; jobs the journal holds are not realised.
         let mut realisations: Vec<(usize, Realisation)> = Vec::new();
-        let mut fresh: Vec<usize> = Vec::new();
-        for (index, ((values, _), key)) in jobs.iter().zip(&keys).enumerate() {
+        for (index, (realisation, key)) in realised.into_iter().zip(&keys).enumerate() {
             if let Some(known) = self.known.get(key) {
                 self.replayed += 1;
                 results[index] = Some(known.clone());
                 continue;
             }
-            match hypothesis.realise(values) {
-                Ok(realisation) => {
-                    realisations.push((index, realisation));
-                    fresh.push(index);
-                }
+            match realisation {
+                Ok(realisation) => realisations.push((index, realisation)),
                 Err(message) => {
                     let failed: Prediction = Err(message);
                     append(self.log.as_mut(), key, &failed, None)?;
@@ -228,14 +229,14 @@ impl<'a> Engine<'a> {
                 .map_err(|e| ExecutorError::Executor(e.to_string()))
             };
             let predictions = self.executor.predict(&batch, &record)?;
-            if predictions.len() != fresh.len() {
+            if predictions.len() != realisations.len() {
                 return Err(FitError::Simulation(format!(
                     "the executor returned {} predictions for {} jobs",
                     predictions.len(),
-                    fresh.len()
+                    realisations.len()
                 )));
             }
-            for (&index, prediction) in fresh.iter().zip(predictions) {
+            for (&(index, _), prediction) in realisations.iter().zip(predictions) {
                 self.simulated += 1;
                 self.known.insert(keys[index].clone(), prediction.clone());
                 results[index] = Some(prediction);
