@@ -184,6 +184,24 @@ fn a_value_with_a_unit_in_an_experiment_is_read_or_named_with_its_line() {
     std::fs::remove_dir_all(&directory).unwrap();
 }
 
+/// The 4340 JC 570 /s tension curve, whose experiment file the recording tests copy.
+const TENSION: &str = "flow-4340-jc-tension-570s-298K";
+
+/// A fresh temporary folder and the tension experiment's file text with its paths absolute
+/// and its recording renamed to `recording` (a file of that folder).
+fn tension_copy(tag: &str, recording: &str) -> (PathBuf, String) {
+    let directory = std::env::temp_dir().join(format!("stoss-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let toml = std::fs::read_to_string(fixture(&format!("experiments/{TENSION}.toml"))).unwrap();
+    let toml = toml
+        .replace("\"../", &format!("\"{}/", fixture("").display()))
+        .replace(
+            &format!("recording = \"{TENSION}.csv\""),
+            &format!("recording = \"{recording}\""),
+        );
+    (directory, toml)
+}
+
 #[test]
 fn a_necking_tail_is_trimmed_on_request_and_the_run_says_so() {
     // GOAL: issue 54, item 4: `trim_at_maximum = true` leaves out the `true_stress` points
@@ -193,16 +211,8 @@ fn a_necking_tail_is_trimmed_on_request_and_the_run_says_so() {
     //        without the option.
     // REFERENCE: without it every point is kept; with it the three are dropped (the largest
     //            stress is the original curve's) and the report counts 3.
-    let directory = std::env::temp_dir().join(format!("stoss-trim-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
-    let name = "flow-4340-jc-tension-570s-298K";
-    let toml = std::fs::read_to_string(fixture(&format!("experiments/{name}.toml"))).unwrap();
-    let toml = toml
-        .replace("\"../", &format!("\"{}/", fixture("").display()))
-        .replace(
-            &format!("recording = \"{name}.csv\""),
-            "recording = \"necking.csv\"",
-        );
+    let (directory, toml) = tension_copy("trim", "necking.csv");
+    let name = TENSION;
     let original = Experiment::load(&fixture(&format!("experiments/{name}.toml"))).unwrap();
     let (last, peak) = original
         .recording
@@ -253,16 +263,7 @@ fn an_engineering_curve_is_read_as_true_stress_and_strain() {
     // SETUP: true total strains 0.01..0.20 and stresses 800..1000 MPa written as engineering
     //        points e = exp(eps) - 1, s = sigma / (1 + e), in tension.
     // REFERENCE: the true points back to 1e-12 relative (Dieter sec. 8-2).
-    let directory = std::env::temp_dir().join(format!("stoss-engineering-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
-    let name = "flow-4340-jc-tension-570s-298K";
-    let toml = std::fs::read_to_string(fixture(&format!("experiments/{name}.toml"))).unwrap();
-    let toml = toml
-        .replace("\"../", &format!("\"{}/", fixture("").display()))
-        .replace(
-            &format!("recording = \"{name}.csv\""),
-            "recording = \"engineering.csv\"",
-        );
+    let (directory, toml) = tension_copy("engineering", "engineering.csv");
     assert!(toml.contains("compression = false") || !toml.contains("compression = true"));
     let truth: Vec<(f64, f64)> = (1..=20)
         .map(|k| (0.01 * k as f64, 800.0e6 + 10.0e6 * k as f64))
