@@ -315,8 +315,8 @@ pub fn rod_extent<P: PointModel + Sync + Send + Clone>(
 
 /// `(velocity, mass)` of the rod: the mass-averaged velocity along the flight of the rod
 /// material within `reach` of the tail, and the rod mass above the nose inside `radius`.
-pub fn rod_body(
-    s: &EulerSolver<PartMaterial>,
+pub fn rod_body<P: PointModel + Sync + Send + Clone>(
+    s: &EulerSolver<P>,
     tail: f64,
     nose: f64,
     radius: f64,
