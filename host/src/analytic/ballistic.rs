@@ -1,7 +1,10 @@
 //! Ballistic-limit laws and estimators:
 //! - the **Lambert–Jonas** residual-velocity law `Vr = a (Vi^p - V_bl^p)^(1/p)` for
-//!   `Vi > V_bl`, else 0 (Lambert & Jonas 1976, BRL-R-1852), fitted by bounded least squares
-//!   ([`fit_lambert_jonas`]); with `p = 2` it is the **Recht–Ipson** law (Recht & Ipson 1963);
+//!   `Vi > V_bl`, else 0 (Lambert & Jonas 1976, BRL-R-1852), fitted by least squares over every
+//!   shot, stops included, in the law's own box (`0 < a <= 1`, `1 <= p <= 4`, `V_bl` below the
+//!   lowest perforation), which says when a value ends on an edge of the box or contradicts a
+//!   recorded stop ([`fit_lambert_jonas`], [`FitBound`]); with `p = 2` it is the
+//!   **Recht–Ipson** law (Recht & Ipson 1963);
 //! - **V50** from perforate/stop outcomes by maximum likelihood, logistic or probit, with a
 //!   profile-likelihood confidence interval ([`fit_v50`]).
 //!
@@ -18,7 +21,7 @@ pub struct Shot {
 }
 
 /// A Lambert–Jonas fit.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct LambertJonas {
     /// Momentum-transfer factor `a` (0 < a <= 1).
     pub a: f64,
@@ -26,10 +29,57 @@ pub struct LambertJonas {
     pub p: f64,
     /// Ballistic limit `V_bl` (m/s).
     pub ballistic_limit: f64,
-    /// Root-mean-square residual over the perforating shots (m/s).
+    /// Root-mean-square residual over the shots used (m/s).
     pub rms_residual: f64,
-    /// Perforating shots used.
+    /// Shots used (stops and perforations).
     pub points_used: usize,
+    /// The edges of the law's box the fit ended on, and a recorded stop its `V_bl` lies
+    /// below: each says the law does not describe the shots freely (empty: an interior fit).
+    pub bounds: Vec<FitBound>,
+}
+
+/// An edge of the Lambert–Jonas box the fit ended on, or a contradiction with a shot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FitBound {
+    /// `a` at 1 (all the momentum kept).
+    AAtOne,
+    /// A free `p` at its lower end, 1.
+    PAtLowest,
+    /// A free `p` at its upper end, 4.
+    PAtHighest,
+    /// `V_bl` at the lowest perforation (the law would put the limit above a perforation).
+    LimitAtLowestPerforation,
+    /// `V_bl` on (or below) the highest recorded stop: the perforations alone would put it
+    /// at `perforations_alone`, below the stop, so the shots rise from the limit more steeply
+    /// than the law can and the stop, not the law, sets `V_bl` (m/s).
+    LimitAtStop {
+        /// The highest stop (m/s).
+        stop: f64,
+        /// `V_bl` of the same law fitted to the perforating shots alone (m/s).
+        perforations_alone: f64,
+    },
+}
+
+impl core::fmt::Display for FitBound {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            FitBound::AAtOne => write!(f, "a at its bound 1"),
+            FitBound::PAtLowest => write!(f, "p at its bound 1"),
+            FitBound::PAtHighest => write!(f, "p at its bound 4"),
+            FitBound::LimitAtLowestPerforation => {
+                write!(f, "V_bl at the lowest perforation")
+            }
+            FitBound::LimitAtStop {
+                stop,
+                perforations_alone,
+            } => write!(
+                f,
+                "V_bl on the stop at {stop:.1} m/s; the perforations alone put it at \
+                 {perforations_alone:.1} m/s (the shots rise from the limit more steeply than \
+                 the law)"
+            ),
+        }
+    }
 }
 
 impl LambertJonas {
@@ -134,13 +184,15 @@ fn best_a(points: &[Shot], p: f64, limit: f64) -> (f64, f64) {
     (a, sum)
 }
 
-/// Bounded least-squares Lambert–Jonas fit over the perforating shots (`Vr > 0`): `0 < a <=
-/// 1`, `1 <= p <= 4` (or `p = p_fixed`), `V_bl` between the highest stop (0 if none) and the
-/// lowest perforation. Needs 3 perforations with a free `p`, 2 with a fixed one.
+/// Least-squares Lambert–Jonas fit over every shot, stops included (a stop's residual is the
+/// law's `Vr` there, zero when `V_bl` is above it), in the law's box: `0 < a <= 1`, `1 <= p <=
+/// 4` (or `p = p_fixed`), `0 <= V_bl <` the lowest perforation. The stops are data, not a
+/// constraint; but a law that cannot rise as steeply as the shots near the limit is held on
+/// the highest stop by it, and the fit says so with the limit the perforations alone give
+/// ([`FitBound::LimitAtStop`]), as it says when a value ends on an edge of the box. Needs 3
+/// perforations with a free `p`, 2 with a fixed one.
 ///
-/// Method: `a` is linear least squares for each `(p, V_bl)`; `(p, V_bl)` minimise the sum of
-/// squares on a grid (61 x 401 over the whole box), then on grids shrunk fourfold around the
-/// best point, 16 times (resolution far below 0.01 m/s).
+/// Method: [`least_squares`] (resolution far below 0.01 m/s).
 pub fn fit_lambert_jonas(
     shots: &[Shot],
     p_fixed: Option<f64>,
@@ -186,13 +238,56 @@ pub fn fit_lambert_jonas(
         None => (1.0, 4.0),
     };
     // V_bl strictly below the lowest perforation.
-    let v_low = highest_stop;
+    let v_low = 0.0;
     let v_high = lowest_perforation * (1.0 - 1e-9);
-    let objective = |p: f64, v: f64| best_a(&perforating, p, v).1;
+    let (p, limit, sum) = least_squares(shots, (p_low, p_high), (v_low, v_high));
+    let (a, _) = best_a(shots, p, limit);
+    // An edge is reached when the best point is within a millionth of the box's width of it.
+    let near = |value: f64, edge: f64, width: f64| (value - edge).abs() <= 1e-6 * width;
+    let mut bounds = Vec::new();
+    if a >= 1.0 {
+        bounds.push(FitBound::AAtOne);
+    }
+    if p_fixed.is_none() {
+        if near(p, p_low, p_high - p_low) {
+            bounds.push(FitBound::PAtLowest);
+        } else if near(p, p_high, p_high - p_low) {
+            bounds.push(FitBound::PAtHighest);
+        }
+    }
+    if near(limit, v_high, v_high) {
+        bounds.push(FitBound::LimitAtLowestPerforation);
+    }
+    if highest_stop > 0.0 && limit <= highest_stop * (1.0 + 1e-9) {
+        let (_, alone, _) = least_squares(&perforating, (p_low, p_high), (v_low, v_high));
+        if alone < highest_stop {
+            bounds.push(FitBound::LimitAtStop {
+                stop: highest_stop,
+                perforations_alone: alone,
+            });
+        }
+    }
+    Ok(LambertJonas {
+        a,
+        p,
+        ballistic_limit: limit,
+        rms_residual: libm::sqrt(sum / shots.len() as f64),
+        points_used: shots.len(),
+        bounds,
+    })
+}
+
+/// `(p, V_bl, sum of squares)` minimising the Lambert–Jonas residuals of `shots` over the
+/// box, `a` by linear least squares at each point: a 61 x 401 grid (1 x 401 for a fixed `p`),
+/// then grids shrunk fourfold around the best point, 16 times.
+fn least_squares(shots: &[Shot], p_box: (f64, f64), v_box: (f64, f64)) -> (f64, f64, f64) {
+    let (p_low, p_high) = p_box;
+    let (v_low, v_high) = v_box;
+    let fixed = p_low == p_high;
     let mut best = (p_low, v_low, f64::INFINITY);
-    let mut box_p = (p_low, p_high);
-    let mut box_v = (v_low, v_high);
-    let (mut np, mut nv) = (if p_fixed.is_some() { 1 } else { 61 }, 401);
+    let mut box_p = p_box;
+    let mut box_v = v_box;
+    let (mut np, mut nv) = (if fixed { 1 } else { 61 }, 401);
     for _ in 0..17 {
         for i in 0..np {
             let p = if np == 1 {
@@ -202,7 +297,7 @@ pub fn fit_lambert_jonas(
             };
             for j in 0..nv {
                 let v = box_v.0 + (box_v.1 - box_v.0) * j as f64 / (nv - 1) as f64;
-                let value = objective(p, v);
+                let value = best_a(shots, p, v).1;
                 if value < best.2 {
                     best = (p, v, value);
                 }
@@ -212,20 +307,12 @@ pub fn fit_lambert_jonas(
         let half_v = 0.125 * (box_v.1 - box_v.0);
         box_p = ((best.0 - half_p).max(p_low), (best.0 + half_p).min(p_high));
         box_v = ((best.1 - half_v).max(v_low), (best.1 + half_v).min(v_high));
-        if p_fixed.is_none() {
+        if !fixed {
             np = 21;
         }
         nv = 21;
     }
-    let (p, limit, sum) = best;
-    let (a, _) = best_a(&perforating, p, limit);
-    Ok(LambertJonas {
-        a,
-        p,
-        ballistic_limit: limit,
-        rms_residual: libm::sqrt(sum / perforating.len() as f64),
-        points_used: perforating.len(),
-    })
+    best
 }
 
 /// The link of a V50 model.
@@ -551,6 +638,45 @@ mod tests {
                 "{recht_ipson:?}"
             );
         }
+    }
+
+    #[test]
+    fn lambert_jonas_says_when_the_shots_near_the_limit_rise_too_steeply_for_it() {
+        // GOAL: the fit is free, not pinned to the bracket: when the shots jump from a stop to
+        //       a fast exit more steeply than the law can rise, the fitted V_bl falls below
+        //       the stop, the stop holds the fit there, and the fit says so with the limit the
+        //       perforations alone give; a law-generated table gives an interior fit.
+        // SETUP: stoss's implicit-rate ballistic run (docs/solver.md, "Results": stops up to
+        //        596.3 m/s, then 600 -> 92.1, 700 -> 357.5, 800 -> 520.9, 900 -> 658.9 m/s),
+        //        whose earlier bracket-constrained fit sat on the stop at 596.3 m/s; and
+        //        noise-free points of a 0.9, p 2.5, V_bl 700 with a stop at 690 m/s.
+        // REFERENCE: least squares over all shots and over the perforations alone; the
+        //        latter below the stop is what `FitBound::LimitAtStop` states.
+        let steep = shots(&[
+            (592.6, 0.0),
+            (596.3, 0.0),
+            (600.0, 92.1),
+            (700.0, 357.5),
+            (800.0, 520.9),
+            (900.0, 658.9),
+        ]);
+        let fit = fit_lambert_jonas(&steep, None).unwrap();
+        let Some(FitBound::LimitAtStop {
+            stop,
+            perforations_alone,
+        }) = fit.bounds.last().copied()
+        else {
+            panic!("{fit:?}");
+        };
+        assert!(stop == 596.3 && perforations_alone < 596.3, "{fit:?}");
+        assert!((fit.ballistic_limit - 596.3).abs() < 1e-3, "{fit:?}");
+        let mut table = vec![(690.0, 0.0)];
+        for k in 0..10 {
+            let v = 720.0 + 20.0 * k as f64;
+            table.push((v, lambert_jonas(0.9, 2.5, 700.0, v)));
+        }
+        let free = fit_lambert_jonas(&shots(&table), None).unwrap();
+        assert!(free.bounds.is_empty(), "{free:?}");
     }
 
     #[test]

@@ -17,8 +17,9 @@
 //! 3. **Bisection:** two runs per round at the thirds of the bracket, in parallel, until the
 //!    bracket is at most `2 * bisection_tolerance` wide (the bracket's midpoint is then within
 //!    `bisection_tolerance` of the limit).
-//! 4. **Fit:** Lambert–Jonas (free `p`, bounded) and Recht–Ipson (`p = 2`) on all shots, `V_bl`
-//!    constrained to the bracket.
+//! 4. **Fit:** Lambert–Jonas (free `p`) and Recht–Ipson (`p = 2`) by least squares over all
+//!    shots, stops included; the report says when a fit ends on an edge of the law's box or
+//!    puts `V_bl` below a stop ([`crate::analytic::ballistic::FitBound`]).
 //!
 //! # One shot
 //! The axisymmetric model of [`PenetrationSpec`]: the projectile (part `rod`: an ogive core by
@@ -679,6 +680,9 @@ impl BallisticLimitSpec {
                              points)",
                             fit.a, fit.p, fit.ballistic_limit, fit.rms_residual, fit.points_used
                         );
+                        for bound in &fit.bounds {
+                            let _ = writeln!(text, "{:<20} not a free fit: {bound}", "");
+                        }
                         let v_max = shots
                             .last()
                             .map_or(fit.ballistic_limit, |s| s.impact_velocity);
