@@ -1,5 +1,10 @@
 //! Closed-form and published-number checks of the kernel. Each check runs a single-element
-//! driver and reports the largest error against an independent reference.
+//! driver and reports the largest error against a reference outside the update: the closed
+//! form of the driver's mechanics (stress state, plastic-strain split, EoS) or a published
+//! number. Where a closed form needs the flow stress, it takes the model's own `flow_stress`:
+//! those rows prove the return mapping consistent with the law, not the law; the law of each
+//! named family is checked against independent transcriptions of its published formula in
+//! `kernel/tests/flow_stress_references.rs`.
 
 use super::materials::{reference_materials, ReferenceMaterial};
 use crate::history::History;

@@ -1,0 +1,286 @@
+//! The named strength families against independent transcriptions of their published formulas.
+//!
+//! GOAL: the flow stress the kernel computes for Johnson-Cook, Zerilli-Armstrong (BCC and FCC),
+//! modified Johnson-Cook and two-part-rate Johnson-Cook is the published law, and its strain
+//! and rate derivatives (the return mapping's Newton slopes) are the law's. The kernel's own
+//! checks (`stoss verify`) compare the return mapping with the kernel's `flow_stress`, which
+//! proves consistency, not the law: this file is the law's reference.
+//! SETUP: each formula written out here from its source with the `libm` crate's `pow`, `log`,
+//! `exp` and `sqrt` (FreeBSD msun; not the kernel's table-driven functions, not its terms),
+//! evaluated on a grid of plastic strains (0 to 2), plastic rates (0, below and above the
+//! reference rate, to 1e5 /s) and temperatures (below the reference, up to the melt); the
+//! derivatives against central differences of the transcription.
+//! REFERENCE: Johnson & Cook (1983), Proc. 7th Int. Symp. Ballistics, eq. 1 (rate factor 1
+//! below the reference rate, as LS-DYNA's *MAT_015); Zerilli & Armstrong (1987), J. Appl.
+//! Phys. 61, eqs. 5-6 (BCC: `sa + C1 exp(-C3 T + C4 T ln e*) + C5 eps^n`; FCC: `sa + C2 eps^(1/2)
+//! exp(-C3 T + C4 T ln e*)`); seed 000 (Ryan et al. 2022) sec. 2 for MJC (`A + B eps^n + Q1 (1 -
+//! exp(-c1 eps)) + Q2 (1 - exp(-c2 eps))`, rate `(1 + e*)^beta`) and TJC (the same hardening,
+//! rate `(1 + deps/e01)^beta1 (1 + deps/e02)^beta2`), both with `1 - T*^m`.
+
+use stoss_kernel::strength::{
+    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, Strength, TwoRateJohnsonCook,
+    ZerilliArmstrong,
+};
+
+/// Relative agreement of the value: measured at most 4.4e-16 (two ulps of composition
+/// differences; JC agrees to the bit); a wrong term or branch differs by far more.
+const VALUE_TOLERANCE: f64 = 2e-15;
+/// Relative agreement of a derivative with a central difference of the transcription
+/// (measured at most 6.5e-7: the difference's own truncation and round-off).
+const SLOPE_TOLERANCE: f64 = 2e-6;
+
+/// `T* = (T - Tr) / (Tm - Tr)` in [0, 1]; `1 - T*^m`, exactly 1 at or below `Tr`.
+fn johnson_cook_thermal(t: f64, tr: f64, tm: f64, m: f64) -> f64 {
+    let star = ((t - tr) / (tm - tr)).clamp(0.0, 1.0);
+    if star == 0.0 {
+        1.0
+    } else {
+        1.0 - libm::pow(star, m)
+    }
+}
+
+fn jc_reference(c: &JohnsonCook, eps: f64, rate: f64, t: f64) -> f64 {
+    let star = rate / c.reference_rate;
+    let rate_factor = if star > 1.0 {
+        1.0 + c.rate_sensitivity * libm::log(star)
+    } else {
+        1.0
+    };
+    (c.yield_stress + c.hardening_modulus * libm::pow(eps, c.hardening_exponent))
+        * rate_factor
+        * johnson_cook_thermal(
+            t,
+            c.reference_temperature,
+            c.melting_temperature,
+            c.thermal_exponent,
+        )
+}
+
+fn za_reference(c: &ZerilliArmstrong, eps: f64, rate: f64, t: f64) -> f64 {
+    let star = (rate / c.reference_rate).max(ZerilliArmstrong::MINIMUM_RATE_RATIO);
+    let activation = libm::exp(-c.c3 * t + c.c4 * t * libm::log(star));
+    match c.structure {
+        CrystalStructure::Bcc => {
+            c.athermal_stress + c.c1 * activation + c.c5 * libm::pow(eps, c.exponent)
+        }
+        CrystalStructure::Fcc => c.athermal_stress + c.c2 * libm::sqrt(eps) * activation,
+    }
+}
+
+/// Seed 000's MJC / TJC hardening: power plus two Voce terms.
+fn voce_hardening(a: f64, b: f64, n: f64, q: [(f64, f64); 2], eps: f64) -> f64 {
+    a + b * libm::pow(eps, n)
+        + q.iter()
+            .map(|(q, c)| q * (1.0 - libm::exp(-c * eps)))
+            .sum::<f64>()
+}
+
+fn mjc_reference(c: &ModifiedJohnsonCook, eps: f64, rate: f64, t: f64) -> f64 {
+    voce_hardening(
+        c.yield_stress,
+        c.hardening_modulus,
+        c.hardening_exponent,
+        [
+            (c.saturation_stress_1, c.saturation_rate_1),
+            (c.saturation_stress_2, c.saturation_rate_2),
+        ],
+        eps,
+    ) * libm::pow(1.0 + rate / c.reference_rate, c.rate_exponent)
+        * johnson_cook_thermal(
+            t,
+            c.reference_temperature,
+            c.melting_temperature,
+            c.thermal_exponent,
+        )
+}
+
+fn tjc_reference(c: &TwoRateJohnsonCook, eps: f64, rate: f64, t: f64) -> f64 {
+    voce_hardening(
+        c.yield_stress,
+        c.hardening_modulus,
+        c.hardening_exponent,
+        [
+            (c.saturation_stress_1, c.saturation_rate_1),
+            (c.saturation_stress_2, c.saturation_rate_2),
+        ],
+        eps,
+    ) * libm::pow(1.0 + rate / c.reference_rate_1, c.rate_exponent_1)
+        * libm::pow(1.0 + rate / c.reference_rate_2, c.rate_exponent_2)
+        * johnson_cook_thermal(
+            t,
+            c.reference_temperature,
+            c.melting_temperature,
+            c.thermal_exponent,
+        )
+}
+
+/// The grid: strains, rates and temperatures (K) covering every branch of the laws.
+const STRAINS: [f64; 7] = [0.0, 1e-4, 0.01, 0.05, 0.2, 0.8, 2.0];
+const RATES: [f64; 8] = [0.0, 1e-3, 0.5, 1.0, 2.0, 100.0, 3000.0, 1e5];
+const TEMPERATURES: [f64; 6] = [250.0, 298.0, 400.0, 700.0, 1200.0, 1700.0];
+
+/// Compare `strength` with `reference` on the grid: values, and the strain and rate slopes
+/// where the law is smooth (away from `eps = 0`, the rate floor and JC's kink at the reference
+/// rate, where a central difference straddles a branch). Returns the largest relative errors.
+fn compare(
+    name: &str,
+    strength: Strength,
+    reference: &dyn Fn(f64, f64, f64) -> f64,
+    kink_rate: f64,
+) -> (f64, f64) {
+    let (mut worst_value, mut worst_slope) = (0.0_f64, 0.0_f64);
+    for &t in &TEMPERATURES {
+        for &rate in &RATES {
+            for &eps in &STRAINS {
+                let kernel = strength.flow_stress(eps, rate, t);
+                let exact = reference(eps, rate, t);
+                let error = (kernel.value - exact).abs() / exact.abs().max(1.0);
+                assert!(
+                    error <= VALUE_TOLERANCE,
+                    "{name}: sigma_y({eps}, {rate}, {t}) = {} against {exact} ({error:e})",
+                    kernel.value
+                );
+                worst_value = worst_value.max(error);
+                if exact <= 0.0 {
+                    continue;
+                }
+                if eps >= 1e-3 {
+                    let h = 1e-4 * eps;
+                    let slope =
+                        (reference(eps + h, rate, t) - reference(eps - h, rate, t)) / (2.0 * h);
+                    let error =
+                        (kernel.d_plastic_strain - slope).abs() / slope.abs().max(exact * 1e-3);
+                    assert!(
+                        error <= SLOPE_TOLERANCE,
+                        "{name}: d/deps at ({eps}, {rate}, {t}) = {} against {slope} ({error:e})",
+                        kernel.d_plastic_strain
+                    );
+                    worst_slope = worst_slope.max(error);
+                }
+                let smooth_rate = rate > 0.0 && (rate / kink_rate - 1.0).abs() > 1e-3;
+                if smooth_rate {
+                    let h = 1e-4 * rate;
+                    let slope =
+                        (reference(eps, rate + h, t) - reference(eps, rate - h, t)) / (2.0 * h);
+                    // Relative to the stress change over a decade of rate, so that a slope
+                    // of zero (below JC's reference rate) is compared at a meaningful scale.
+                    let scale = slope.abs().max(exact * 1e-6 / rate);
+                    let error = (kernel.d_rate - slope).abs() / scale;
+                    assert!(
+                        error <= SLOPE_TOLERANCE,
+                        "{name}: d/drate at ({eps}, {rate}, {t}) = {} against {slope} ({error:e})",
+                        kernel.d_rate
+                    );
+                    worst_slope = worst_slope.max(error);
+                }
+            }
+        }
+    }
+    eprintln!("{name}: value {worst_value:.1e}, slopes {worst_slope:.1e}");
+    (worst_value, worst_slope)
+}
+
+#[test]
+fn johnson_cook_is_the_published_law() {
+    let c = JohnsonCook::STEEL_4340;
+    compare(
+        "JC 4340",
+        c.into(),
+        &|e, r, t| jc_reference(&c, e, r, t),
+        c.reference_rate,
+    );
+}
+
+#[test]
+fn zerilli_armstrong_bcc_and_fcc_are_the_published_laws() {
+    let bcc = ZerilliArmstrong::ARMCO_IRON;
+    compare(
+        "ZA BCC Armco iron",
+        bcc.into(),
+        &|e, r, t| za_reference(&bcc, e, r, t),
+        bcc.reference_rate * ZerilliArmstrong::MINIMUM_RATE_RATIO,
+    );
+    // Zerilli & Armstrong (1987) OFHC copper: C2 890 MPa, C3 0.0028 /K, C4 0.000115 /K,
+    // athermal stress 46.5 MPa.
+    let fcc = ZerilliArmstrong {
+        structure: CrystalStructure::Fcc,
+        athermal_stress: 46.5e6,
+        c1: 0.0,
+        c2: 890.0e6,
+        c3: 0.0028,
+        c4: 0.000115,
+        c5: 0.0,
+        exponent: 0.0,
+        reference_rate: 1.0,
+    };
+    compare(
+        "ZA FCC OFHC copper",
+        fcc.into(),
+        &|e, r, t| za_reference(&fcc, e, r, t),
+        fcc.reference_rate * ZerilliArmstrong::MINIMUM_RATE_RATIO,
+    );
+}
+
+#[test]
+fn modified_and_two_part_rate_johnson_cook_are_seed_000s_laws() {
+    // Constants inside seed 000's bounds (its sec. 4: Q 0-3 GPa, c 0-2000, beta 0-0.1), with
+    // both Voce terms and both rate parts active.
+    let mjc = ModifiedJohnsonCook {
+        yield_stress: 1.2e9,
+        hardening_modulus: 0.4e9,
+        hardening_exponent: 0.3,
+        saturation_stress_1: 0.25e9,
+        saturation_rate_1: 40.0,
+        saturation_stress_2: 0.6e9,
+        saturation_rate_2: 3.0,
+        rate_exponent: 0.012,
+        reference_rate: 1.0,
+        thermal_exponent: 1.1,
+        reference_temperature: 298.0,
+        melting_temperature: 1793.0,
+    };
+    compare(
+        "MJC",
+        mjc.into(),
+        &|e, r, t| mjc_reference(&mjc, e, r, t),
+        f64::INFINITY,
+    );
+    let tjc = TwoRateJohnsonCook {
+        yield_stress: 1.2e9,
+        hardening_modulus: 0.4e9,
+        hardening_exponent: 0.3,
+        saturation_stress_1: 0.25e9,
+        saturation_rate_1: 40.0,
+        saturation_stress_2: 0.6e9,
+        saturation_rate_2: 3.0,
+        rate_exponent_1: 0.008,
+        reference_rate_1: 1e-3,
+        rate_exponent_2: 0.05,
+        reference_rate_2: 1e3,
+        thermal_exponent: 1.1,
+        reference_temperature: 298.0,
+        melting_temperature: 1793.0,
+    };
+    compare(
+        "TJC",
+        tjc.into(),
+        &|e, r, t| tjc_reference(&tjc, e, r, t),
+        f64::INFINITY,
+    );
+}
+
+#[test]
+fn a_wrong_term_is_caught_by_the_references() {
+    // GOAL: the comparison can fail: Johnson-Cook with the rate term applied below the
+    // reference rate (a common transcription slip: `1 + C ln e*` for e* < 1) differs from
+    // the kernel's law far beyond the tolerance.
+    let c = JohnsonCook::STEEL_4340;
+    let strength: Strength = c.into();
+    let slipped = |e: f64, r: f64, t: f64| {
+        let star: f64 = r / c.reference_rate;
+        jc_reference(&c, e, r, t) * (1.0 + c.rate_sensitivity * libm::log(star))
+    };
+    let kernel = strength.flow_stress(0.1, 1e-3, 298.0).value;
+    let wrong = slipped(0.1, 1e-3, 298.0);
+    assert!((kernel - wrong).abs() / kernel > 1e3 * VALUE_TOLERANCE);
+}
