@@ -97,7 +97,7 @@ fn euler_bernoulli_frequency(young: f64) -> f64 {
 #[test]
 fn the_concrete_beam_vibrates_at_its_timoshenko_bending_frequency() {
     // GOAL: issue 19's elastic check: the beam's first bending frequency in the 3D solver
-    //       against beam theory within 5 %, with the K&C concrete of seed 001 chapter 5 (the
+    //       against beam theory (measured +0.78 %, asserted within 1.6 %), with the K&C concrete of seed 001 chapter 5 (the
     //       vibration stays far inside its yield surface).
     // SETUP: the plain concrete body simply supported at its end sections 4.0 m apart (the
     //        seed's span, without the 0.1 m overhangs), a quarter model (symmetry at
@@ -161,7 +161,7 @@ fn the_concrete_beam_vibrates_at_its_timoshenko_bending_frequency() {
         100.0 * error,
         run.energy().error_percent()
     );
-    assert!(error.abs() < 0.05, "{error}");
+    assert!(error.abs() < 0.016, "{error}");
     assert!(run.energy().error_percent().abs() <= 1.0);
     assert_eq!(worst_plastic, 0.0, "the vibration must stay elastic");
 }
@@ -175,7 +175,8 @@ fn the_concrete_beam_sags_under_its_own_weight_as_beam_theory_says() {
     //        at twice the first mode's circular frequency (about critical) to reach the static
     //        state; 100 ms (four periods).
     // REFERENCE: mid-span deflection of the neutral axis `5 q L^4/(384 E I)` + `q L^2/(8 k G
-    //            A)` (bending and shear, Cowper's k), `q = rho g A`, within 5 %; energy balance
+    //            A)` (bending and shear, Cowper's k), `q = rho g A`: measured +1.25 %, asserted
+    //            within 2.5 %; energy balance
     //            with gravity's work booked as external work within 1 %; no plastic strain
     //            (bending stress about 0.8 MPa).
     let gravity = 9.81;
@@ -212,7 +213,7 @@ fn the_concrete_beam_sags_under_its_own_weight_as_beam_theory_says() {
         energy.external_work,
         energy.error_percent()
     );
-    assert!(error.abs() < 0.05, "{error}");
+    assert!(error.abs() < 0.025, "{error}");
     assert!(energy.external_work > 0.0);
     assert!(energy.error_percent().abs() <= 1.0, "{}", energy.report());
     assert!(run.states.iter().all(|s| s.plastic_strain == 0.0));
@@ -511,7 +512,8 @@ fn a_drop_weight_decelerates_on_an_elastic_column_by_the_impedance_law() {
     // REFERENCE: (a) a mass M striking a long elastic bar of impedance Z = rho c_p A
     //            (c_p = sqrt((K + 4G/3)/rho), the uniaxial-strain wave speed) slows as
     //            w = v0 exp(-Z t / M) until the reflection from the foot returns at 2L/c_p
-    //            (Timoshenko & Goodier, Theory of Elasticity, sec. 154): within 2 % at 25, 50
+    //            (Timoshenko & Goodier, Theory of Elasticity, sec. 154): measured +0.13 %,
+    //            asserted within 0.3 %, at 25, 50
     //            and 100 us (tau = M/Z = 110 us, 2L/c_p = 173 us); energy error <= 1 %.
     //            (b) displacement v0 t + g t^2 / 2 to 1e-9 of it; energy error 1e-9.
     let steel = elastic_steel();
@@ -580,7 +582,7 @@ fn a_drop_weight_decelerates_on_an_elastic_column_by_the_impedance_law() {
             time * 1e6,
             100.0 * (velocity / expected - 1.0)
         );
-        assert!((velocity / expected - 1.0).abs() < 0.02);
+        assert!((velocity / expected - 1.0).abs() < 0.003);
     }
     let energy = run.energy();
     eprintln!("energy error {:.3} %", energy.error_percent());

@@ -65,9 +65,10 @@ fn penetration_is_thread_independent_balances_energy_and_keeps_surfaces_apart() 
     //       smallest element); (d) elements erode and the nose advances.
     // SETUP: fixtures/experiments/penetration-hzb-1700.toml with end_time 15 us.
     // REFERENCE: (a) exact; (b) |error| <= 1 %; (c) < 15 % of the smallest element (the
-    //   issue's bound; the kinematic stop holds surface nodes at 10 %); (d) the nose of a
-    //   1700 m/s WHA rod in steel moves at ~1 mm/us early on (Walker–Anderson's initial
-    //   u ~ 1.0 km/s): 10-18 mm after 15 us.
+    //   issue's bound; the kinematic stop holds surface nodes at 10 %; measured 10.1 %), and
+    //   the overlap it leaves out, tolerated where erosion exposes a face behind a node
+    //   (measured 2.62 elements, asserted < 4); (d) Walker–Anderson's depth at 15 us with the
+    //   same constants (13.19 mm; measured 13.40 mm, +1.6 %, asserted within 6 %).
     let (_, mut spec, target) = seed_experiment();
     spec.end_time = 15.0e-6;
     let run = |threads: usize| {
@@ -101,10 +102,24 @@ fn penetration_is_thread_independent_balances_energy_and_keeps_surfaces_apart() 
         ratio < 0.15,
         "interpenetration {ratio:.3} of the smallest element"
     );
+    let tolerated = run_one.contact.largest_initial_penetration / built.smallest_element;
     let depth = one.nose_depth.last().unwrap().1;
+    let check = spec.cross_check(&target).unwrap();
+    let walker_anderson = stoss::analytic::penetration::depth_at(&check.walker_anderson, 15.0e-6);
+    eprintln!(
+        "15 us: nose {:.3} mm, Walker-Anderson {:.3} mm ({:+.1} %); interpenetration {ratio:.3}, \
+         tolerated exposure {tolerated:.2} of the smallest element",
+        depth * 1e3,
+        walker_anderson * 1e3,
+        100.0 * (depth / walker_anderson - 1.0)
+    );
     assert!(
-        (10.0e-3..18.0e-3).contains(&depth),
-        "nose depth {depth} after 15 us"
+        tolerated < 4.0,
+        "tolerated exposure {tolerated:.2} of the smallest element"
+    );
+    assert!(
+        (depth / walker_anderson - 1.0).abs() < 0.06,
+        "nose depth {depth} after 15 us against Walker-Anderson's {walker_anderson}"
     );
 }
 
@@ -115,8 +130,10 @@ fn the_whole_1700_m_per_s_shot_keeps_the_surfaces_apart_and_balances_energy() {
     //       surfaces apart and the energy balance closes.
     // SETUP: fixtures/experiments/penetration-hzb-1700.toml as bundled, at the 0.4 mm
     //        calibration mesh, 2 threads.
-    // REFERENCE: the issue: surface interpenetration < 15 % of the smallest element, energy
-    //   error <= 1 % with erosion on.
+    // REFERENCE: the issue: surface interpenetration < 15 % of the smallest element (measured
+    //   10.8 %), energy error <= 1 % with erosion on; what that bound leaves out: the overlap
+    //   tolerated where erosion exposes a face behind a node (measured 3.32 elements, asserted
+    //   < 6) and the debris' depth (0.10, asserted < 0.3).
     let (_, spec, target) = seed_experiment();
     let (_, run, built) = spec
         .run(
@@ -128,10 +145,24 @@ fn the_whole_1700_m_per_s_shot_keeps_the_surfaces_apart_and_balances_energy() {
         )
         .unwrap();
     let ratio = run.contact.largest_penetration / built.smallest_element;
+    let tolerated = run.contact.largest_initial_penetration / built.smallest_element;
+    let debris = run.contact.largest_free_node_penetration / built.smallest_element;
+    eprintln!(
+        "whole shot: interpenetration {ratio:.3}, tolerated exposure {tolerated:.2}, debris \
+         {debris:.2} of the smallest element"
+    );
     assert!(
         ratio < 0.15,
         "interpenetration {ratio:.3} of the smallest element"
     );
+    // What the bound above leaves out, bounded too: the overlap a surface node already has
+    // when erosion exposes the face it lies behind (kept, not pushed out) and the depth of
+    // free mass points (debris).
+    assert!(
+        tolerated < 6.0,
+        "tolerated exposure {tolerated:.2} of the smallest element"
+    );
+    assert!(debris < 0.3, "debris {debris:.2} of the smallest element");
     let energy = run.energy();
     assert!(
         energy.error_percent().abs() <= 1.0,
@@ -417,8 +448,8 @@ fn a_driven_rigid_rod_meets_the_cavity_expansion_resistance_and_stays_outside_th
     // REFERENCE: Forrestal's static resistance pi a^2 sigma_s with Hill's cavity pressure
     //   (Forrestal, Okajima & Luk, J. Appl. Mech. 55 (1988) 755), 100.9 kN here; the dynamic
     //   term N* B rho V^2 adds 2 % for the ogive, about 15 % for a flat nose. (a) the mean
-    //   force over 10-14 mm within 0.85-1.2 of it (measured 0.99-1.11); (b) above 0.85 of it
-    //   (1.4-1.7: the flat face pushes a dead zone and the eroded debris) and no live target
+    //   force over 10-14 mm within 0.85-1.2 of it (measured 0.99-1.11); (b) within 0.85-2.0 of
+    //   it (1.4-1.7: the flat face pushes a dead zone and the eroded debris) and no live target
     //   node inside the rod; (c) the defect this guards against: with the viscous form the
     //   target tangles ahead of the flat face and passes through it (the force falls to a
     //   fraction; 207 target nodes end inside the rod at 25 mm). Energy error <= 1 % in (a), (b).
@@ -443,7 +474,10 @@ fn a_driven_rigid_rod_meets_the_cavity_expansion_resistance_and_stays_outside_th
     let (flat, run, inside) =
         driven_rigid_rod(Nose::Flat, 300.0, 14.0e-3, HourglassControl::Stiffness);
     let ratios = late(&flat);
-    assert!(ratios.iter().all(|r| *r > 0.85), "flat: {ratios:?}");
+    assert!(
+        ratios.iter().all(|r| (0.85..2.0).contains(r)),
+        "flat: {ratios:?}"
+    );
     assert!(run.energy().error_percent().abs() <= 1.0);
     assert_eq!(inside, 0, "target nodes inside the flat rod");
     let (_, _, inside) = driven_rigid_rod(Nose::Flat, 300.0, 14.0e-3, HourglassControl::Viscous);

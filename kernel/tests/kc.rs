@@ -100,15 +100,18 @@ fn uniaxial_compression_and_tension_reach_fc_and_ft() {
     //       strengths of table 5.1.
     // SETUP: quasi-static uniaxial stress, 4000 steps to -1 % (compression) and 12000 to
     //        +3 % (tension, full softening), from the virgin state.
-    // REFERENCE: fc = 100 MPa and ft = 5.2 MPa (table 5.1); tolerance 0.5 % (the peak is
-    //            the maximum surface, reached at lambda_m within one step).
+    // REFERENCE: fc = 100 MPa and ft = 5.2 MPa (table 5.1): measured -0.001 % and -0.035 %,
+    //            asserted within 0.1 % (the peak is the maximum surface, reached at lambda_m
+    //            within one step).
     let material = quasi_static(KcParameters::HPC_100MPA_FOI);
     let compression = uniaxial(&material, -0.01, 4000);
     let peak = peak_axial(&compression, -1.0);
-    assert!((peak / FC - 1.0).abs() < 5e-3, "compressive peak {peak}");
+    eprintln!("compressive peak {:+.4} % of fc", 100.0 * (peak / FC - 1.0));
+    assert!((peak / FC - 1.0).abs() < 1e-3, "compressive peak {peak}");
     let tension = uniaxial(&material, 0.03, 12000);
     let peak = peak_axial(&tension, 1.0);
-    assert!((peak / FT - 1.0).abs() < 5e-3, "tensile peak {peak}");
+    eprintln!("tensile peak {:+.4} % of ft", 100.0 * (peak / FT - 1.0));
+    assert!((peak / FT - 1.0).abs() < 1e-3, "tensile peak {peak}");
     // Softening after the peak, towards zero stress in tension.
     let last = tension.last().unwrap();
     assert!(last.stress[0] < 0.2 * FT, "{}", last.stress[0]);
@@ -140,7 +143,8 @@ fn the_crack_band_releases_the_fracture_energy_at_every_element_size() {
     //       released by cracking does not depend on the mesh and equals table 5.1's Gf.
     // SETUP: quasi-static uniaxial tension of one element with the crack band for 5, 10.6
     //        and 20 mm (`with_fracture_energy(156 N/m, h)`), 20000 steps to full softening.
-    // REFERENCE: Gf = 156 N/m = h x (dissipation per unit volume after the peak); 2 %.
+    // REFERENCE: Gf = 156 N/m = h x (dissipation per unit volume after the peak): measured
+    //            155.69-155.82 N/m (-0.2 %), asserted within 0.5 %.
     //            Without the crack band a 5 mm and a 20 mm element differ by their ratio, 4.
     for width in [5.0e-3, 10.6e-3, 20.0e-3] {
         let material =
@@ -148,7 +152,7 @@ fn the_crack_band_releases_the_fracture_energy_at_every_element_size() {
         let records = uniaxial(&material, 0.06, 20000);
         let released = width * softening_dissipation(&records);
         assert!(
-            (released / FRACTURE_ENERGY - 1.0).abs() < 0.02,
+            (released / FRACTURE_ENERGY - 1.0).abs() < 0.005,
             "h = {width} m: {released} N/m"
         );
         eprintln!("crack band {width} m: {released:.2} N/m");
@@ -156,8 +160,12 @@ fn the_crack_band_releases_the_fracture_energy_at_every_element_size() {
     let plain = quasi_static(KcParameters::HPC_100MPA_FOI);
     let g = softening_dissipation(&uniaxial(&plain, 0.06, 20000));
     let reference = KcParameters::HPC_100MPA_FOI.softening_energy_density();
+    eprintln!(
+        "plain softening energy {:+.3} % of its closed form",
+        100.0 * (g / reference - 1.0)
+    );
     assert!(
-        (g / reference - 1.0).abs() < 0.02,
+        (g / reference - 1.0).abs() < 0.005,
         "{g} against {reference}"
     );
     // Table 5.3 with Gf = 156 N/m was fitted at about 10.6 mm elements.
