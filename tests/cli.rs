@@ -280,3 +280,47 @@ fn fit_jc_fits_the_bundled_tension_curves_and_refuses_other_kinds_without_output
     assert!(!refused.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
+    // GOAL: `stoss validate` compares a quoted figure with a fresh measurement and says pass
+    //       or fail; an unknown row is a clear error listing the rows; every row's experiment
+    //       exists and loads (the simulation rows themselves run in `.ci/run`, in release).
+    // SETUP: the two analytic rows (FOI tables 3.4 and 3.5) by name; a misspelt row; the
+    //        rows' experiments loaded through the library.
+    // REFERENCE: seed 001 sec. 3.5: 754 and 688 m/s, quoted within 2 m/s.
+    let output = stoss()
+        .args(["validate", "foi-t34-limit", "foi-t35-limit"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{text}");
+    assert!(text.contains("2 row(s): 2 pass, 0 fail"), "{text}");
+    let bad = stoss().args(["validate", "foi-t34-limt"]).output().unwrap();
+    let error = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success());
+    assert!(
+        error.contains("unknown row(s) `foi-t34-limt`") && error.contains("euler-1250"),
+        "{error}"
+    );
+    let fixtures = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures"));
+    for row in stoss::validate::ROWS {
+        match row.measure {
+            stoss::validate::Measure::Summary { experiment, .. }
+            | stoss::validate::Measure::Predicted { experiment, .. }
+            | stoss::validate::Measure::LambertJonas { experiment } => {
+                stoss::experiment::Experiment::load(&fixtures.join(experiment))
+                    .unwrap_or_else(|e| panic!("{}: {e}", row.name));
+            }
+            stoss::validate::Measure::Calibration { campaign, .. } => {
+                stoss::fit::Campaign::load(&fixtures.join(campaign))
+                    .unwrap_or_else(|e| panic!("{}: {e}", row.name));
+            }
+        }
+        assert!(
+            row.tolerance > 0.0 && row.stated.is_finite(),
+            "{}",
+            row.name
+        );
+    }
+}

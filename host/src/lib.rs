@@ -23,4 +23,5 @@ pub mod random;
 pub mod report;
 pub mod run_lock;
 pub mod solver;
+pub mod validate;
 pub mod verify;

@@ -9,6 +9,7 @@ mod fit_jc;
 mod output_folder;
 mod simulate;
 pub mod synthesize;
+mod validate;
 mod verify;
 
 use clap::{Parser, Subcommand};
@@ -40,6 +41,9 @@ pub enum Command {
     /// Verify the material kernel against closed forms, published numbers and the golden
     /// bit-exact histories.
     Verify(verify::VerifyArgs),
+    /// Re-run the headline figures of README.md and docs/*.md and compare each with the
+    /// value it is quoted at (pass/fail table; `--fast` for the rows CI runs).
+    Validate(validate::ValidateArgs),
     /// Run one experiment with given constants; print the energy balance and the comparison
     /// with the recording; write measurements, state histories and VTK.
     Simulate(simulate::SimulateArgs),
@@ -61,6 +65,7 @@ pub fn run(cli: Cli) -> ExitCode {
     crate::input::allow_implausible(cli.force);
     match cli.command {
         Command::Verify(args) => verify::run(&args),
+        Command::Validate(args) => validate::run(&args),
         Command::Calibrate(args) => calibrate::run(&args),
         Command::Diagnose(args) => diagnose::run(&args),
         Command::Simulate(args) => simulate::run(&args),

@@ -1,0 +1,123 @@
+//! `stoss validate`: re-run the headline figures of the documents and compare each with the
+//! value it is quoted at ([`crate::validate`]).
+
+use crate::validate::{self, Speed, Validation, ROWS};
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Arguments of `stoss validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// Rows to run, by name (all if none; `--list` shows them).
+    pub rows: Vec<String>,
+    /// Only the fast rows (seconds to a minute each; what CI runs).
+    #[arg(long)]
+    pub fast: bool,
+    /// List the rows (name, speed, figure, where it is quoted, stated value) and stop.
+    #[arg(long)]
+    pub list: bool,
+    /// The fixtures folder the rows' experiments are read from.
+    #[arg(long, default_value = "fixtures")]
+    pub fixtures: PathBuf,
+    /// Worker threads per simulation (results do not depend on it).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Run `stoss validate`.
+pub fn run(args: &ValidateArgs) -> ExitCode {
+    let unknown: Vec<&String> = args
+        .rows
+        .iter()
+        .filter(|name| !ROWS.iter().any(|row| row.name == name.as_str()))
+        .collect();
+    if !unknown.is_empty() {
+        let known: Vec<&str> = ROWS.iter().map(|row| row.name).collect();
+        eprintln!(
+            "error: unknown row(s) {}; the rows are: {}",
+            unknown
+                .iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            known.join(", ")
+        );
+        return ExitCode::FAILURE;
+    }
+    let most = crate::solver::explicit::MAXIMUM_THREADS;
+    if let Some(threads) = args.threads {
+        if !(1..=most).contains(&threads) {
+            eprintln!("error: --threads must be in 1..={most}, got {threads}");
+            return ExitCode::FAILURE;
+        }
+    }
+    if !args.fixtures.is_dir() {
+        eprintln!(
+            "error: {}: the fixtures folder does not exist (give --fixtures)",
+            args.fixtures.display()
+        );
+        return ExitCode::FAILURE;
+    }
+    let selected: Vec<_> = ROWS
+        .iter()
+        .filter(|row| args.rows.is_empty() || args.rows.iter().any(|n| n == row.name))
+        .filter(|row| !args.fast || row.speed == Speed::Fast)
+        .collect();
+    if args.list {
+        for row in &selected {
+            println!(
+                "{:<20} {:<5} {} = {} {} (+-{}) [{}]",
+                row.name,
+                if row.speed == Speed::Fast {
+                    "fast"
+                } else {
+                    "slow"
+                },
+                row.figure,
+                row.stated,
+                row.unit,
+                row.tolerance,
+                row.quoted_in
+            );
+        }
+        return ExitCode::SUCCESS;
+    }
+    println!(
+        "{:<20} {:>12} {:>12} {:>10} {:<5} {:>8}  figure",
+        "row", "stated", "measured", "tolerance", "unit", "wall s"
+    );
+    let mut results: Vec<Validation> = Vec::new();
+    for row in selected {
+        let result = validate::validate(row, &args.fixtures, args.threads);
+        let measured = match &result.measured {
+            Ok(value) => format!("{value:>12.4}"),
+            Err(_) => format!("{:>12}", "error"),
+        };
+        println!(
+            "{:<20} {:>12.4} {measured} {:>10} {:<5} {:>8.1}  {} {}",
+            row.name,
+            row.stated,
+            row.tolerance,
+            row.unit,
+            result.seconds,
+            if result.passed() { "pass" } else { "FAIL" },
+            row.figure
+        );
+        if let Err(reason) = &result.measured {
+            println!("{:<20} error: {reason}", "");
+        }
+        results.push(result);
+    }
+    let failed = results.iter().filter(|r| !r.passed()).count();
+    println!(
+        "\n{} row(s): {} pass, {failed} fail",
+        results.len(),
+        results.len() - failed
+    );
+    if failed > 0 {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
+}

@@ -1,0 +1,542 @@
+//! `stoss validate`: the headline figures of README.md and docs/*.md, re-run and compared with
+//! the value each document states.
+//!
+//! A figure a document quotes is a claim about what stoss computes. Each [`Row`] names the
+//! figure, where it is quoted, the stated value and the tolerance it is quoted to (one unit
+//! of its last printed digit for a deterministic simulation, or the bound the document
+//! claims), and how to measure it: an experiment of `fixtures/` simulated with its own
+//! material (optionally with one set-up field changed), or an analytic evaluation of bundled
+//! data. Rows are fast (seconds to a minute; CI runs them) or slow (minutes to an hour).
+//!
+//! The figures that tests assert already (the verification tables) are not repeated here:
+//! this is for the validation figures, which are too slow for the test suite or rest on a
+//! whole run.
+
+use crate::analytic::ballistic::{fit_lambert_jonas, Shot};
+use crate::experiment::{Experiment, Setup};
+use crate::input::material;
+use crate::solver::SolverSettings;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// How long a row takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Speed {
+    /// Seconds to about a minute on 2 cores: run in CI (`stoss validate --fast`).
+    Fast,
+    /// Minutes or more: run on request.
+    Slow,
+}
+
+/// How a row's figure is measured.
+#[derive(Clone, Copy, Debug)]
+pub enum Measure {
+    /// Simulate `experiment` (a path under the fixtures folder) with its own material, after
+    /// `adjust` changes its set-up, and read the named summary value (SI).
+    Summary {
+        /// Experiment file, relative to the fixtures folder.
+        experiment: &'static str,
+        /// Summary key of the outcome.
+        key: &'static str,
+        /// A change to the set-up (e.g. the element size), or none.
+        adjust: Option<fn(&mut Setup)>,
+    },
+    /// Simulate `experiment` and read the prediction of its first recorded point of
+    /// `quantity` (SI).
+    Predicted {
+        /// Experiment file, relative to the fixtures folder.
+        experiment: &'static str,
+        /// Recorded quantity.
+        quantity: &'static str,
+    },
+    /// Run `stoss calibrate` on `campaign` (relative to the fixtures folder) into a fresh
+    /// temporary folder and read `model`'s held-out error (`held_out`) or fit error from its
+    /// `report/result.json` (the folder is removed afterwards).
+    Calibration {
+        /// Campaign file, relative to the fixtures folder.
+        campaign: &'static str,
+        /// Model name in the campaign.
+        model: &'static str,
+        /// The held-out error (true) or the fit error (false).
+        held_out: bool,
+    },
+    /// The Lambert–Jonas limit (free `p`) of a bundled ballistic recording's shots (m/s).
+    LambertJonas {
+        /// Experiment file whose recording holds the shots, relative to the fixtures folder.
+        experiment: &'static str,
+    },
+}
+
+/// One headline figure.
+#[derive(Clone, Copy, Debug)]
+pub struct Row {
+    /// Short name, used on the command line and cited beside the figure in the documents.
+    pub name: &'static str,
+    /// What the figure is.
+    pub figure: &'static str,
+    /// Where it is quoted.
+    pub quoted_in: &'static str,
+    /// The stated value, in `unit`.
+    pub stated: f64,
+    /// The tolerance it is quoted to, in `unit`.
+    pub tolerance: f64,
+    /// Unit of `stated` and `tolerance`.
+    pub unit: &'static str,
+    /// SI value times `scale` is the value in `unit`.
+    pub scale: f64,
+    /// Fast or slow.
+    pub speed: Speed,
+    /// How to measure it.
+    pub measure: Measure,
+}
+
+fn square_plate_elements(setup: &mut Setup) {
+    if let Setup::BlastPlate(spec) = setup {
+        spec.aspect_ratio = 1.0;
+    }
+}
+
+fn element_size_0_2_mm(setup: &mut Setup) {
+    if let Setup::Penetration(spec) = setup {
+        spec.element_size = 0.2e-3;
+    }
+}
+
+/// Every row, fast ones first.
+pub const ROWS: &[Row] = &[
+    Row {
+        name: "foi-t34-limit",
+        figure: "Lambert-Jonas V_bl of FOI's Autodyn table 3.4 (implicit rate)",
+        quoted_in: "docs/solver.md, Ballistic limit (seed 001 sec. 3.5: 754 m/s)",
+        stated: 754.0,
+        tolerance: 2.0,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::LambertJonas {
+            experiment: "experiments/ballistic-foi-t34.toml",
+        },
+    },
+    Row {
+        name: "foi-t35-limit",
+        figure: "Lambert-Jonas V_bl of FOI's Autodyn table 3.5 (lagged rate)",
+        quoted_in: "docs/solver.md, Ballistic limit (seed 001 sec. 3.5: 688 m/s)",
+        stated: 688.0,
+        tolerance: 2.0,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::LambertJonas {
+            experiment: "experiments/ballistic-foi-t35.toml",
+        },
+    },
+    Row {
+        name: "taylor-208",
+        figure: "final length, 4340 Taylor rod at 208 m/s, published JC",
+        quoted_in: "docs/solver.md, Real 4340 Taylor tests",
+        stated: 22.554,
+        tolerance: 0.001,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Fast,
+        measure: Measure::Summary {
+            experiment: "experiments/taylor-4340-208.toml",
+            key: "final_length",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "taylor-282",
+        figure: "final length, 4340 Taylor rod at 282 m/s, published JC",
+        quoted_in: "docs/solver.md, Real 4340 Taylor tests",
+        stated: 10.338,
+        tolerance: 0.001,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Fast,
+        measure: Measure::Summary {
+            experiment: "experiments/taylor-4340-282.toml",
+            key: "final_length",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "taylor-343",
+        figure: "final length, 4340 Taylor rod at 343 m/s, published JC",
+        quoted_in: "docs/solver.md, Real 4340 Taylor tests",
+        stated: 6.088,
+        tolerance: 0.001,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Fast,
+        measure: Measure::Summary {
+            experiment: "experiments/taylor-4340-343.toml",
+            key: "final_length",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "euler-1250",
+        figure: "nose depth at 55 us, 1250 m/s shot, Eulerian, 0.4 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 24.77,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Fast,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1250-euler.toml",
+            key: "final_nose_depth",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "euler-1700",
+        figure: "nose depth at 60.3 us, 1700 m/s shot, Eulerian, 0.4 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 45.99,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Fast,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1700-euler.toml",
+            key: "final_nose_depth",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "lagrange-1250",
+        figure: "nose depth at 55 us, 1250 m/s shot, eroding Lagrangian, 0.4 mm",
+        quoted_in: "docs/solver.md, Validation runs and throughput",
+        stated: 29.21,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Fast,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1250.toml",
+            key: "final_nose_depth",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "lagrange-1700",
+        figure: "nose depth at 60.3 us, 1700 m/s shot, eroding Lagrangian, 0.4 mm",
+        quoted_in: "docs/solver.md, Validation runs and throughput",
+        stated: 51.72,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Fast,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1700.toml",
+            key: "final_nose_depth",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "euler-1250-fine",
+        figure: "nose depth at 55 us, 1250 m/s shot, Eulerian, 0.2 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 25.72,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1250-euler.toml",
+            key: "final_nose_depth",
+            adjust: Some(element_size_0_2_mm),
+        },
+    },
+    Row {
+        name: "euler-1700-fine",
+        figure: "nose depth at 60.3 us, 1700 m/s shot, Eulerian, 0.2 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 46.69,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1700-euler.toml",
+            key: "final_nose_depth",
+            adjust: Some(element_size_0_2_mm),
+        },
+    },
+    Row {
+        name: "lagrange-1250-fine",
+        figure: "nose depth at 55 us, 1250 m/s shot, eroding Lagrangian, 0.2 mm",
+        quoted_in: "README.md, What is built; docs/solver.md, Validation runs and throughput",
+        stated: 27.99,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1250.toml",
+            key: "final_nose_depth",
+            adjust: Some(element_size_0_2_mm),
+        },
+    },
+    Row {
+        name: "lagrange-1700-fine",
+        figure: "nose depth at 60.3 us, 1700 m/s shot, eroding Lagrangian, 0.2 mm",
+        quoted_in: "README.md, What is built; docs/solver.md, Validation runs and throughput",
+        stated: 48.47,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1700.toml",
+            key: "final_nose_depth",
+            adjust: Some(element_size_0_2_mm),
+        },
+    },
+    Row {
+        name: "ballistic-implicit",
+        figure: "V_bl, WC core through 10.8 mm HNS, implicit rate update",
+        quoted_in: "docs/solver.md, Ballistic limit, Results; README.md",
+        stated: 592.6,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/ballistic-hns-wc.toml",
+            key: "ballistic_limit",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "ballistic-lagged",
+        figure: "V_bl, WC core through 10.8 mm HNS, lagged rate update",
+        quoted_in: "docs/solver.md, Ballistic limit, Results; README.md",
+        stated: 540.7,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/ballistic-hns-wc-lagged.toml",
+            key: "ballistic_limit",
+            adjust: None,
+        },
+    },
+    Row {
+        name: "main-job-jc",
+        figure: "held-out error of the JC calibration of the main job (4340, real recordings)",
+        quoted_in: "docs/benchmarks.md, main job",
+        stated: 2.7217,
+        tolerance: 0.0001,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Calibration {
+            campaign: "campaigns/4340-real.toml",
+            model: "jc",
+            held_out: true,
+        },
+    },
+    Row {
+        name: "main-job-mjc",
+        figure: "held-out error of the MJC calibration of the main job (4340, real recordings)",
+        quoted_in: "docs/benchmarks.md, main job",
+        stated: 2.4381,
+        tolerance: 0.0001,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Calibration {
+            campaign: "campaigns/4340-real.toml",
+            model: "mjc",
+            held_out: true,
+        },
+    },
+    Row {
+        name: "blast-37g",
+        figure: "peak deflection, 37.5 g PE4 at 13 mm, two-way, synthetic HHA, square elements",
+        quoted_in: "docs/solver.md, Blast load, Results on seed 000's two shots",
+        stated: 27.75,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/blast-hha-37g-13mm.toml",
+            key: "peak_deflection",
+            adjust: Some(square_plate_elements),
+        },
+    },
+    Row {
+        name: "blast-57g",
+        figure: "peak deflection, 57.5 g PE4 at 25 mm, two-way, synthetic HHA, square elements",
+        quoted_in: "docs/solver.md, Blast load, Results on seed 000's two shots",
+        stated: 31.02,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/blast-hha-57g-25mm.toml",
+            key: "peak_deflection",
+            adjust: Some(square_plate_elements),
+        },
+    },
+];
+
+/// A measured row.
+#[derive(Clone, Debug)]
+pub struct Validation {
+    /// The row.
+    pub row: Row,
+    /// The measured value in the row's unit, or why it could not be measured.
+    pub measured: Result<f64, String>,
+    /// Wall time (s).
+    pub seconds: f64,
+}
+
+impl Validation {
+    /// Whether the measured value is within the tolerance of the stated one.
+    pub fn passed(&self) -> bool {
+        matches!(&self.measured, Ok(value) if (value - self.row.stated).abs() <= self.row.tolerance)
+    }
+}
+
+/// Measure `row` with the experiments under `fixtures`, on `threads` threads (all if none).
+pub fn validate(row: &Row, fixtures: &Path, threads: Option<usize>) -> Validation {
+    let started = Instant::now();
+    let measured = measure(&row.measure, fixtures, threads).map(|si| si * row.scale);
+    Validation {
+        row: *row,
+        measured,
+        seconds: started.elapsed().as_secs_f64(),
+    }
+}
+
+fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result<f64, String> {
+    match *measure {
+        Measure::Summary {
+            experiment,
+            key,
+            adjust,
+        } => {
+            let mut loaded = load(fixtures, experiment)?;
+            if let Some(adjust) = adjust {
+                adjust(&mut loaded.file.setup);
+            }
+            let outcome = simulate(&loaded, threads)?;
+            outcome
+                .summary
+                .iter()
+                .find(|(name, _)| name == key)
+                .map(|(_, value)| *value)
+                .filter(|value| value.is_finite())
+                .ok_or_else(|| format!("{experiment}: no finite `{key}` in the outcome"))
+        }
+        Measure::Predicted {
+            experiment,
+            quantity,
+        } => {
+            let loaded = load(fixtures, experiment)?;
+            let index = loaded
+                .recording
+                .iter()
+                .position(|p| p.quantity == quantity)
+                .ok_or_else(|| format!("{experiment}: no recorded `{quantity}`"))?;
+            let outcome = simulate(&loaded, threads)?;
+            Ok(outcome.predicted[index])
+        }
+        Measure::Calibration {
+            campaign,
+            model,
+            held_out,
+        } => calibration_error(&fixtures.join(campaign), model, held_out),
+        Measure::LambertJonas { experiment } => {
+            let loaded = load(fixtures, experiment)?;
+            let mut shots: Vec<Shot> = loaded
+                .recording
+                .iter()
+                .filter(|p| p.quantity == "residual_velocity")
+                .map(|p| Shot {
+                    impact_velocity: p.position,
+                    residual_velocity: p.value,
+                })
+                .collect();
+            shots.sort_by(|a, b| a.impact_velocity.total_cmp(&b.impact_velocity));
+            fit_lambert_jonas(&shots, None)
+                .map(|fit| fit.ballistic_limit)
+                .map_err(|e| format!("{experiment}: {e}"))
+        }
+    }
+}
+
+fn load(fixtures: &Path, experiment: &str) -> Result<Experiment, String> {
+    let path: PathBuf = fixtures.join(experiment);
+    Experiment::load(&path).map_err(|e| e.to_string())
+}
+
+fn simulate(
+    experiment: &Experiment,
+    threads: Option<usize>,
+) -> Result<crate::experiment::Outcome, String> {
+    let path = experiment
+        .default_material_path()
+        .ok_or_else(|| format!("{}: no material", experiment.path.display()))?;
+    let (_, part) = material::load_part(&path).map_err(|e| e.to_string())?;
+    let settings = SolverSettings {
+        threads,
+        ..SolverSettings::default()
+    };
+    experiment
+        .simulate(&part, &settings)
+        .map_err(|e| format!("{}: {e}", experiment.path.display()))
+}
+
+/// `model`'s held-out (or fit) error from a fresh `stoss calibrate` of `campaign`, run as a
+/// child process of this binary into a temporary folder that is removed afterwards.
+fn calibration_error(campaign: &Path, model: &str, held_out: bool) -> Result<f64, String> {
+    let folder = std::env::temp_dir().join(format!(
+        "stoss-validate-{}-{model}-{}",
+        std::process::id(),
+        if held_out { "held-out" } else { "fit" }
+    ));
+    let _ = std::fs::remove_dir_all(&folder);
+    let executable = std::env::current_exe().map_err(|e| format!("this executable: {e}"))?;
+    let output = std::process::Command::new(executable)
+        .arg("calibrate")
+        .arg(campaign)
+        .arg("--output")
+        .arg(&folder)
+        .output()
+        .map_err(|e| format!("stoss calibrate: {e}"))?;
+    let result = (|| {
+        if !output.status.success() {
+            return Err(format!(
+                "stoss calibrate {}: {}",
+                campaign.display(),
+                String::from_utf8_lossy(&output.stderr).trim()
+            ));
+        }
+        let path = folder.join("report").join("result.json");
+        let text =
+            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let results: Vec<crate::fit::result::ModelResult> =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let found = results
+            .iter()
+            .find(|r| r.model == model)
+            .ok_or_else(|| format!("{}: no model `{model}`", path.display()))?;
+        if held_out {
+            found
+                .holdout_error
+                .ok_or_else(|| format!("{}: `{model}` has no held-out error", path.display()))
+        } else {
+            Ok(found.fit_error)
+        }
+    })();
+    let _ = std::fs::remove_dir_all(&folder);
+    result
+}
