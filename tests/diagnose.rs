@@ -90,20 +90,28 @@ fn diagnose_case(
 /// experiments near 1 and the predictions within the noise of the noise-free truth. Returns
 /// the diagnosis.
 fn check(case: &str, expected: Option<&str>, budget: &str, polish: &str) -> serde_json::Value {
+    check_among(case, expected.as_slice(), budget, polish)
+}
+
+/// [`check`] where any of `expected` is a right answer (several candidates the recordings
+/// cannot tell apart); none expected: the control's silence.
+fn check_among(case: &str, expected: &[&str], budget: &str, polish: &str) -> serde_json::Value {
     let (diagnosis, work) = diagnose_case(case, "check", budget, polish);
     let accepted = diagnosis["accepted"].as_str();
-    assert_eq!(
-        accepted, expected,
-        "{case}: verdict {}",
+    assert!(
+        match accepted {
+            None => expected.is_empty(),
+            Some(name) => expected.contains(&name),
+        },
+        "{case}: accepted {accepted:?}, expected one of {expected:?}; verdict {}",
         diagnosis["verdict"]
     );
     let verdict = diagnosis["verdict"].as_str().unwrap();
-    if expected.is_none() {
+    let Some(name) = accepted else {
         assert!(verdict.starts_with("No missing physics found"), "{verdict}");
         let _ = std::fs::remove_dir_all(work);
         return diagnosis;
-    }
-    let name = expected.unwrap();
+    };
     // A library term is among the refits, a family switch among the alternatives.
     let refit = diagnosis["refits"]
         .as_array()
@@ -275,11 +283,14 @@ fn heating_that_turns_on_at_high_rate_is_found_with_its_window_and_taylor_quinne
     // SETUP: fixtures/diagnosis/heating-window (truth: JC with heating that turns on between
     //        3 and 300 /s, chi 0.9: isothermal at 1e-3 and 1 /s, adiabatic at 1000 and
     //        3000 /s; the starting model isothermal), JC calibrated 16 + 16.
-    // REFERENCE: TRUTH.toml: the window 1-100 /s of the library's grid (the grid window that
-    //            predicts the truth at these rates) accepted; chi within 20 % of 0.9.
-    let diagnosis = check(
+    // REFERENCE: TRUTH.toml: a window of the library's grid that predicts the truth at these
+    //            rates accepted, 1-100 or 10-1000 /s (isothermal at 1 /s, adiabatic at 1000
+    //            /s: the recordings cannot tell them apart, and which one wins depends on the
+    //            noise: exactly 1-100 in 4 of 10 noise seeds, docs/diagnosis.md); chi within
+    //            20 % of 0.9.
+    let diagnosis = check_among(
         "heating-window",
-        Some("heating-transition-1-100"),
+        &["heating-transition-1-100", "heating-transition-10-1000"],
         "16",
         "16",
     );
