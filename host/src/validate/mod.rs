@@ -14,6 +14,7 @@
 
 use crate::analytic::ballistic::{fit_lambert_jonas, Shot};
 use crate::experiment::{Experiment, Setup};
+use crate::fit::result::ModelResult;
 use crate::input::material;
 use crate::solver::SolverSettings;
 use std::path::{Path, PathBuf};
@@ -495,14 +496,42 @@ fn simulate(
         .map_err(|e| format!("{}: {e}", experiment.path.display()))
 }
 
-/// `model`'s held-out (or fit) error from a fresh `stoss calibrate` of `campaign`, run as a
-/// child process of this binary into a temporary folder that is removed afterwards.
+/// The results of the campaigns calibrated in this process (two rows may read one run).
+static CALIBRATED: std::sync::Mutex<Vec<(PathBuf, Vec<ModelResult>)>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// `model`'s held-out (or fit) error from a fresh `stoss calibrate` of `campaign` (once per
+/// process), run as a child process of this binary into a temporary folder that is removed
+/// afterwards.
 fn calibration_error(campaign: &Path, model: &str, held_out: bool) -> Result<f64, String> {
-    let folder = std::env::temp_dir().join(format!(
-        "stoss-validate-{}-{model}-{}",
-        std::process::id(),
-        if held_out { "held-out" } else { "fit" }
-    ));
+    let mut calibrated = CALIBRATED
+        .lock()
+        .map_err(|_| "a calibration row panicked")?;
+    if !calibrated.iter().any(|(path, _)| path == campaign) {
+        let results = calibrate(campaign)?;
+        calibrated.push((campaign.to_path_buf(), results));
+    }
+    let (_, results) = calibrated
+        .iter()
+        .find(|(path, _)| path == campaign)
+        .ok_or("the calibration is not cached")?;
+    let found = results
+        .iter()
+        .find(|r| r.model == model)
+        .ok_or_else(|| format!("{}: no model `{model}`", campaign.display()))?;
+    if held_out {
+        found
+            .holdout_error
+            .ok_or_else(|| format!("{}: `{model}` has no held-out error", campaign.display()))
+    } else {
+        Ok(found.fit_error)
+    }
+}
+
+/// Run `stoss calibrate campaign` into a temporary folder and read its `result.json`.
+fn calibrate(campaign: &Path) -> Result<Vec<ModelResult>, String> {
+    let folder =
+        std::env::temp_dir().join(format!("stoss-validate-{}-calibration", std::process::id()));
     let _ = std::fs::remove_dir_all(&folder);
     let executable = std::env::current_exe().map_err(|e| format!("this executable: {e}"))?;
     let output = std::process::Command::new(executable)
@@ -512,31 +541,20 @@ fn calibration_error(campaign: &Path, model: &str, held_out: bool) -> Result<f64
         .arg(&folder)
         .output()
         .map_err(|e| format!("stoss calibrate: {e}"))?;
-    let result = (|| {
-        if !output.status.success() {
-            return Err(format!(
-                "stoss calibrate {}: {}",
-                campaign.display(),
-                String::from_utf8_lossy(&output.stderr).trim()
-            ));
-        }
+    let result = if output.status.success() {
         let path = folder.join("report").join("result.json");
-        let text =
-            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let results: Vec<crate::fit::result::ModelResult> =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-        let found = results
-            .iter()
-            .find(|r| r.model == model)
-            .ok_or_else(|| format!("{}: no model `{model}`", path.display()))?;
-        if held_out {
-            found
-                .holdout_error
-                .ok_or_else(|| format!("{}: `{model}` has no held-out error", path.display()))
-        } else {
-            Ok(found.fit_error)
-        }
-    })();
+        std::fs::read_to_string(&path)
+            .map_err(|e| format!("{}: {e}", path.display()))
+            .and_then(|text| {
+                serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+            })
+    } else {
+        Err(format!(
+            "stoss calibrate {}: {}",
+            campaign.display(),
+            String::from_utf8_lossy(&output.stderr).trim()
+        ))
+    };
     let _ = std::fs::remove_dir_all(&folder);
     result
 }
