@@ -360,7 +360,7 @@ pub const ROWS: &[Row] = &[
         name: "blast-37g",
         figure: "peak deflection, 37.5 g PE4 at 13 mm, two-way, synthetic HHA, square elements",
         quoted_in: "docs/solver.md, Blast load, Results on seed 000's two shots",
-        stated: 27.75,
+        stated: 27.76,
         tolerance: 0.01,
         unit: "mm",
         scale: 1e3,
