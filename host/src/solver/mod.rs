@@ -24,7 +24,7 @@ pub mod nonlocal;
 pub mod truss;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
-pub use contact::{ContactPair, ContactStatistics, ErodingContact, NodeToNodeContact};
+pub use contact::{ContactPair, ContactStatistics, ErodingContact, NodeToNodeContact, PartImpulse};
 pub use energy::EnergyBalance;
 pub use explicit::HourglassStress;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun, Snapshot};

@@ -914,18 +914,20 @@ impl PenetrationSpec {
 /// nose: fragments that broke off the nose or flew back from the crater are not the rod whose
 /// nose a radiograph shows. For the target (numbered front face outward, the rim last) it is
 /// the plate held at the rim, without a plug or debris.
-pub(super) struct ConnectedBody {
+pub struct ConnectedBody {
     /// The part's elements, in the order that puts the seed last.
     elements: Vec<usize>,
     /// Positions in `elements` of the elements around each node.
     around: std::collections::HashMap<usize, Vec<usize>>,
-    /// Whether each element belongs to the body.
-    pub(super) member: Vec<bool>,
+    /// Whether each element (in the order of the list given to [`ConnectedBody::new`])
+    /// belongs to the body.
+    pub member: Vec<bool>,
     stack: Vec<usize>,
 }
 
 impl ConnectedBody {
-    pub(super) fn new(mesh: &QuadMesh, elements: &[usize]) -> Self {
+    /// The body of the part made of `elements` (its last element the seed).
+    pub fn new(mesh: &QuadMesh, elements: &[usize]) -> Self {
         let mut around: std::collections::HashMap<usize, Vec<usize>> = Default::default();
         for (k, &e) in elements.iter().enumerate() {
             for &n in &mesh.elements[e] {
@@ -941,7 +943,7 @@ impl ConnectedBody {
     }
 
     /// Mark the body among the live elements, seeded at the last live one of the list.
-    pub(super) fn find(&mut self, mesh: &QuadMesh, eroded: &[bool]) {
+    pub fn find(&mut self, mesh: &QuadMesh, eroded: &[bool]) {
         self.member.iter_mut().for_each(|m| *m = false);
         let Some(seed) = (0..self.elements.len())
             .rev()

@@ -160,8 +160,47 @@ struct Stop {
     limit: f64,
 }
 
-/// Statistics of a run's eroding contact.
+/// The impulse the contact gave the live nodes of one part over a run, split by what met
+/// them (per unit integration measure, as the forces: per radian on an axisymmetric mesh).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PartImpulse {
+    /// Mesh part index.
+    pub part: usize,
+    /// From contacts between live surfaces (penalty and kinematic stop), `(r, z)` (N s).
+    pub surfaces: [f64; 2],
+    /// From free mass points (eroded debris) stopped against the part's surface (N s).
+    pub debris: [f64; 2],
+}
+
+/// Book the impulse `f dt` of a contact distributed over `nodes` (`s` gets `f`, the segment's
+/// `a` and `b` their shares of `-f`) on the parts of the live nodes among them (`node_part`,
+/// `live_around` of the surfaces); `debris`: the slave is a free mass point.
+#[allow(clippy::too_many_arguments)]
+fn book(
+    impulse: &mut [[f64; 4]],
+    node_part: &[usize],
+    live_around: &[u32],
+    nodes: [usize; 3],
+    xi: f64,
+    f: [f64; 2],
+    dt: f64,
+    debris: bool,
+) {
+    let [s, a, b] = nodes;
+    let offset = if debris { 2 } else { 0 };
+    for (node, share) in [(s, 1.0), (a, -(1.0 - xi)), (b, -xi)] {
+        let part = node_part[node];
+        if part == NONE || live_around[node] == 0 {
+            continue;
+        }
+        for d in 0..2 {
+            impulse[part][offset + d] += share * f[d] * dt;
+        }
+    }
+}
+
+/// Statistics of a run's eroding contact.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ContactStatistics {
     /// Largest penetration of a surface node (a node of a live element) the penalty acted on
     /// at any step, beyond tolerated initial penetrations (m): the interpenetration of the
@@ -183,6 +222,9 @@ pub struct ContactStatistics {
     /// Wall time spent in the contact (s): a measurement of this run, not a result (it is
     /// not written into outputs that must be byte-identical).
     pub seconds: f64,
+    /// The impulse on each contact part's live nodes, surfaces and debris apart (the share of
+    /// a penetrator's momentum loss that eroded material delivers).
+    pub impulses: Vec<PartImpulse>,
 }
 
 /// The state of an eroding contact during a run.
@@ -211,6 +253,8 @@ pub(crate) struct ErodingSurfaces {
     tolerated: Vec<f64>,
     /// This step's contacts to be held by the kinematic stop.
     stops: Vec<Stop>,
+    /// Per mesh part: the contact impulse on its live nodes, `[surfaces r, z, debris r, z]`.
+    impulse: Vec<[f64; 4]>,
     /// Penetration of a surface node beyond which its approach is stopped (m).
     stop_depth: f64,
     /// Per node: the degrees of freedom whose velocity a constraint prescribes (an axis
@@ -334,6 +378,7 @@ impl ErodingSurfaces {
             depth: vec![0.0; node_count],
             tolerated: vec![0.0; node_count],
             stops: Vec::new(),
+            impulse: vec![[0.0; 4]; part_count],
             stop_depth: STOP_DEPTH_FRACTION * shortest_edge,
             prescribed: vec![[false; 2]; node_count],
             cell_start: Vec::new(),
@@ -363,11 +408,37 @@ impl ErodingSurfaces {
 
     /// The run's statistics so far.
     pub(crate) fn statistics(&self) -> ContactStatistics {
+        let impulses = self
+            .contact_parts()
+            .into_iter()
+            .map(|part| {
+                let i = self.impulse[part];
+                PartImpulse {
+                    part,
+                    surfaces: [i[0], i[1]],
+                    debris: [i[2], i[3]],
+                }
+            })
+            .collect();
         ContactStatistics {
             segments: self.segments.len(),
             slave_nodes: self.slaves.len(),
-            ..self.statistics
+            impulses,
+            ..self.statistics.clone()
         }
+    }
+
+    /// The mesh parts in the contact, in increasing order.
+    fn contact_parts(&self) -> Vec<usize> {
+        let mut parts: Vec<usize> = self
+            .node_part
+            .iter()
+            .copied()
+            .filter(|&p| p != NONE)
+            .collect();
+        parts.sort_unstable();
+        parts.dedup();
+        parts
     }
 
     /// Rebuild the surfaces from the live elements.
@@ -601,6 +672,16 @@ impl ErodingSurfaces {
                 self.statistics.largest_penetration =
                     self.statistics.largest_penetration.max(acting);
                 distribute(&mut self.forces, [s, a, b], hit.xi, f);
+                book(
+                    &mut self.impulse,
+                    &self.node_part,
+                    &self.live_around,
+                    [s, a, b],
+                    hit.xi,
+                    f,
+                    dt,
+                    false,
+                );
                 self.touched.extend_from_slice(&[s, a, b]);
                 self.stops.push(Stop {
                     nodes: [s, a, b],
@@ -694,6 +775,16 @@ impl ErodingSurfaces {
                 }
             }
             distribute(&mut self.forces, nodes, xi, f);
+            book(
+                &mut self.impulse,
+                &self.node_part,
+                &self.live_around,
+                nodes,
+                xi,
+                f,
+                dt,
+                limit <= 0.0,
+            );
             self.touched.extend_from_slice(&nodes);
         }
         self.stops = stops;
@@ -857,7 +948,22 @@ mod tests {
         assert!((force[7][1] + 2.0 * k * d).abs() < 1e-9, "{:?}", force[7]);
         let sum: f64 = force.iter().map(|f| f[1]).sum();
         assert!(sum.abs() < 1e-9);
-        assert!((contact.statistics().largest_penetration - d).abs() < 1e-9);
+        let statistics = contact.statistics();
+        assert!((statistics.largest_penetration - d).abs() < 1e-9);
+        // The booked impulses: part 1 (nodes 9 on) pushed +z by its bottom nodes' forces,
+        // part 0 -z by node 7's, over dt 0.1; no debris; the two balance.
+        let [lower, upper] = [&statistics.impulses[0], &statistics.impulses[1]];
+        assert_eq!((lower.part, upper.part), (0, 1));
+        let upper_z: f64 = force[9..].iter().map(|f| f[1]).sum::<f64>() * 0.1;
+        assert!(
+            upper_z > 0.0 && (upper.surfaces[1] - upper_z).abs() < 1e-12,
+            "{upper:?}"
+        );
+        assert!(
+            (lower.surfaces[1] + upper.surfaces[1]).abs() < 1e-12,
+            "{lower:?}"
+        );
+        assert_eq!(lower.debris, [0.0; 2]);
     }
 
     #[test]

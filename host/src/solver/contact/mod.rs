@@ -45,8 +45,8 @@
 mod eroding;
 pub mod node_to_node;
 
-pub use eroding::ContactStatistics;
 pub(crate) use eroding::ErodingSurfaces;
+pub use eroding::{ContactStatistics, PartImpulse};
 pub use eroding::{ErodingContact, DEFAULT_ERODING_PENALTY_SCALE};
 pub use node_to_node::NodeToNodeContact;
 
