@@ -26,7 +26,7 @@ use semi_infinite::{perfectly_plastic, shot};
 use std::path::PathBuf;
 use std::time::Instant;
 use stoss::analytic::penetration::{default_crater_radius, depth_at};
-use stoss::experiment::penetration::euler::{EulerPenetration, TARGET};
+use stoss::experiment::penetration::euler::{rod_extent, EulerPenetration, ROD, TARGET};
 use stoss::experiment::penetration::PenetrationSolver;
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
 use stoss::input::material;
@@ -35,7 +35,8 @@ use stoss::solver::SolverSettings;
 use stoss_kernel::PartMaterial;
 
 fn sections() -> String {
-    std::env::var("STOSS_EULER_BENCH").unwrap_or_else(|_| "shots,strength,smooth,threads".into())
+    std::env::var("STOSS_EULER_BENCH")
+        .unwrap_or_else(|_| "shots,strength,smooth,crater,threads".into())
 }
 
 fn fixture(name: &str) -> (PenetrationSpec, PartMaterial) {
@@ -153,6 +154,72 @@ fn strength() {
     }
 }
 
+/// The crater measured as the eroding Lagrangian model's is (`penetration_crater` bench): the
+/// same shots (the fixture's 1250 m/s rod into an 80 mm HzB-W target, its JC `A` varied),
+/// averaged over 10-30 us, `R_c` the radius at which the target's volume fraction crosses one
+/// half (between cell centres) in the rows one to three rod radii above the nose.
+fn crater() {
+    let shot = shot();
+    let a = 0.5 * shot.spec.rod_diameter;
+    println!("| target A (GPa) | element | rate FE / WA | R_c / a (WA 1.59) | wall (s) |");
+    println!("|---|---|---|---|---|");
+    for element in [0.4e-3, 0.2e-3] {
+        for yield_stress in [0.5, 1.0, 1.5, 2.0, 3.0, 4.0] {
+            let started = Instant::now();
+            let mut file = shot.target.clone();
+            file.set_constant("strength.yield_stress", yield_stress * 1e9)
+                .expect("a Johnson-Cook target");
+            let target = file.material().expect("valid target");
+            let mut spec = shot.spec.clone();
+            spec.solver = PenetrationSolver::Euler;
+            spec.element_size = element;
+            let check = spec.cross_check(&target).expect("cross-check");
+            let mut solver = spec
+                .euler_model(&target.into(), &settings(2))
+                .expect("model");
+            let impact = spec.gap() / spec.velocity;
+            let (start, end) = (impact + 10.0e-6, impact + 30.0e-6);
+            let mut noses: Vec<(f64, f64)> = Vec::new();
+            let mut radii: Vec<f64> = Vec::new();
+            let outcome = solver.run(end, 0.5e-6, &mut |s| {
+                let (nose, _) = rod_extent(s, ROD);
+                noses.push((s.time, -nose));
+                if s.time >= start && nose.is_finite() {
+                    let (hr, hz, cells_r) = (s.grid.spacing_r, s.grid.spacing_z, s.grid.cells_r);
+                    for j in 0..s.grid.cells_z {
+                        let z = s.origin_z + (j as f64 + 0.5) * hz;
+                        if z < nose + a || z > nose + 3.0 * a {
+                            continue;
+                        }
+                        let f = |i: usize| s.fraction(j * cells_r + i, TARGET);
+                        if let Some(i) = (1..cells_r).find(|&i| f(i) >= 0.5) {
+                            let (f0, f1) = (f(i - 1), f(i));
+                            let r0 = (i as f64 - 0.5) * hr;
+                            radii.push(r0 + hr * (0.5 - f0) / (f1 - f0));
+                        }
+                    }
+                }
+                std::ops::ControlFlow::Continue(())
+            });
+            if outcome.is_err() {
+                println!("| {yield_stress:.1} | {:.1} mm | failed |", element * 1e3);
+                continue;
+            }
+            let fe_rate = (interpolate(&noses, end) - interpolate(&noses, start)) / (end - start);
+            let wa = |t: f64| depth_at(&check.walker_anderson, t - impact);
+            let wa_rate = (wa(end) - wa(start)) / (end - start);
+            let radius = radii.iter().sum::<f64>() / radii.len().max(1) as f64;
+            println!(
+                "| {yield_stress:.1} | {:.1} mm | {:.2} | {:.2} | {:.0} |",
+                element * 1e3,
+                fe_rate / wa_rate,
+                radius / a,
+                started.elapsed().as_secs_f64()
+            );
+        }
+    }
+}
+
 fn smooth() {
     let (base, target) = fixture("penetration-hzb-1250.toml");
     let depth = |spec: &PenetrationSpec, target: &PartMaterial| -> f64 {
@@ -246,6 +313,9 @@ fn main() {
     }
     if sections.contains("smooth") {
         smooth();
+    }
+    if sections.contains("crater") {
+        crater();
     }
     if sections.contains("threads") {
         threads();
