@@ -725,6 +725,102 @@ fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
 }
 
 #[test]
+fn an_interrupted_run_stops_after_its_batch_says_how_to_resume_and_resumes_bit_identically() {
+    // GOAL: SIGINT (a user's Ctrl-C) and SIGTERM (what Slurm sends before it kills a job) stop
+    //       a calibration cleanly: the simulations in flight finish and are logged, the run
+    //       says how to resume and exits 130, and `--resume` gives the uninterrupted result.
+    // SETUP: synthetic-flow campaign, 30 + 6 simulations, one instance; one run interrupted by
+    //        SIGINT once 8 candidates are logged, one by SIGTERM once 20 are; both resumed; a
+    //        third run uninterrupted.
+    // REFERENCE: exit 130 and the resume hint; no logged line lost at the stop; every key once
+    //        in the resumed logs; the selected constants bit-identical to the reference's.
+    let args = |out: &Path| {
+        vec![
+            "calibrate".to_string(),
+            "fixtures/campaigns/synthetic-flow.toml".into(),
+            "--budget".into(),
+            "30".into(),
+            "--polish".into(),
+            "6".into(),
+            "--instances".into(),
+            "1".into(),
+            "--output".into(),
+            out.display().to_string(),
+        ]
+    };
+    let selected = |dir: &Path| -> serde_json::Value {
+        let text = std::fs::read_to_string(dir.join("report/result.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()[0]["selected"]["constants"]
+            .clone()
+    };
+    let reference = temporary("interrupt-reference");
+    assert!(stoss()
+        .args(args(&reference))
+        .output()
+        .unwrap()
+        .status
+        .success());
+    for (signal, at) in [("-INT", 8), ("-TERM", 20)] {
+        let out = temporary(&format!("interrupted{signal}"));
+        let child = stoss()
+            .args(args(&out))
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let started = std::time::Instant::now();
+        while log_lines(&out).len() < at && started.elapsed().as_secs() < 120 {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        let at_signal = log_lines(&out).len();
+        let sent = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(sent.success());
+        let output = child.wait_with_output().unwrap();
+        let message = String::from_utf8_lossy(&output.stderr);
+        if output.status.success() {
+            // The run ended before the signal arrived: nothing to check but the result.
+            eprintln!("{signal}: the run ended before the signal");
+            assert_eq!(selected(&out), selected(&reference));
+            std::fs::remove_dir_all(&out).unwrap();
+            continue;
+        }
+        eprintln!("{signal}: stopped with {at_signal} lines logged at the signal");
+        assert_eq!(output.status.code(), Some(130), "{signal}: {message}");
+        assert!(
+            message.contains("interrupted") && message.contains("--resume"),
+            "{signal}: {message}"
+        );
+        assert!(
+            log_lines(&out).len() >= at_signal,
+            "{signal}: a logged line was lost"
+        );
+        let mut resume = args(&out);
+        resume.push("--resume".into());
+        let resumed = stoss().args(&resume).output().unwrap();
+        assert!(
+            resumed.status.success(),
+            "{}",
+            String::from_utf8_lossy(&resumed.stderr)
+        );
+        let keys: std::collections::HashSet<String> = log_lines(&out)
+            .iter()
+            .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["key"].to_string())
+            .collect();
+        assert_eq!(
+            keys.len(),
+            log_lines(&out).len(),
+            "{signal}: a candidate ran twice"
+        );
+        assert_eq!(selected(&out), selected(&reference), "{signal}");
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+    std::fs::remove_dir_all(&reference).unwrap();
+}
+
+#[test]
 fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
     // GOAL: `--resume` continues a killed run; no logged simulation is run again and the
     //       result equals an uninterrupted run's.

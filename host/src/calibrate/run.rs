@@ -50,6 +50,9 @@ pub enum CalibrateError {
     /// The least-squares finish could not start (its log or thread pool).
     #[error("least-squares finish: {0}")]
     LeastSquares(String),
+    /// Stopped on request (SIGINT, SIGTERM) after the batch in flight was logged.
+    #[error(transparent)]
+    Interrupted(#[from] crate::fit::interrupt::Interrupted),
 }
 
 impl From<ExecutorError> for CalibrateError {
@@ -194,6 +197,8 @@ impl Runner<'_> {
         if fresh.is_empty() {
             return Ok(results.into_iter().flatten().collect());
         }
+        // A stop requested before new simulations start: none is started.
+        crate::fit::interrupt::check()?;
         let batch = Batch {
             campaign: self.campaign,
             space,
@@ -223,6 +228,8 @@ impl Runner<'_> {
                 .map_err(ExecutorError::from)
         };
         let evaluations = self.executor.evaluate(&batch, &record)?;
+        // A stop requested while the batch ran: it is logged; nothing after it starts.
+        crate::fit::interrupt::check()?;
         for (&i, evaluation) in fresh.iter().zip(evaluations) {
             results[i] = Some(evaluation);
         }
@@ -335,6 +342,7 @@ impl Runner<'_> {
             // The executor could not run the simulations: the calibration's error, as in
             // its batches.
             Err(FitError::Executor(error)) => Err(error.into()),
+            Err(FitError::Interrupted(stop)) => Err(stop.into()),
             Err(_) => Ok(None),
         }
     }

@@ -52,8 +52,18 @@ pub struct CalibrateArgs {
 
 /// Run `stoss calibrate`.
 pub fn run(args: &CalibrateArgs) -> ExitCode {
+    if let Err(message) = crate::fit::interrupt::install_handler() {
+        eprintln!("warning: {message}: an interrupt will stop the run at once");
+    }
     match run_calibration(args) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(message) if crate::fit::interrupt::requested() => {
+            eprintln!(
+                "{message}\nresume with the same command and --resume: no logged simulation \
+                 runs again"
+            );
+            ExitCode::from(130)
+        }
         Err(message) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE

@@ -54,8 +54,18 @@ const PROGRESS_INTERVAL: std::time::Duration = std::time::Duration::from_secs(10
 
 /// Run `stoss diagnose`.
 pub fn run(args: &DiagnoseArgs) -> ExitCode {
+    if let Err(message) = crate::fit::interrupt::install_handler() {
+        eprintln!("warning: {message}: an interrupt will stop the run at once");
+    }
     match run_diagnosis(args) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(message) if crate::fit::interrupt::requested() => {
+            eprintln!(
+                "{message}\nrun the same command again: the journalled simulations are replayed, \
+                 none runs twice"
+            );
+            ExitCode::from(130)
+        }
         Err(message) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE

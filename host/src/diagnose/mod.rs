@@ -71,6 +71,9 @@ pub enum DiagnoseError {
     /// A simulation the diagnosis cannot do without failed.
     #[error("simulation failed: {0}")]
     Simulation(String),
+    /// Stopped on request (SIGINT, SIGTERM) after the batch in flight was journalled.
+    #[error(transparent)]
+    Interrupted(#[from] crate::fit::interrupt::Interrupted),
 }
 
 impl From<FitError> for DiagnoseError {
@@ -79,6 +82,7 @@ impl From<FitError> for DiagnoseError {
             FitError::Io(e) => Self::Io(e),
             FitError::Executor(e) => Self::Executor(e.to_string()),
             FitError::Simulation(e) => Self::Simulation(e),
+            FitError::Interrupted(stop) => Self::Interrupted(stop),
         }
     }
 }
@@ -448,6 +452,10 @@ fn try_alternatives(
         );
         let refit = match fit {
             Ok(fit) => fit,
+            // A stop request is not a failed fit.
+            Err(_) if crate::fit::interrupt::requested() => {
+                return Err(crate::fit::interrupt::Interrupted.into());
+            }
             Err(error) => {
                 cost.stages.push((stage_name, engine.points - mark));
                 alternatives.push(Refit {
@@ -594,6 +602,10 @@ fn refit_candidate(
     let (hypothesis, start) = candidate.refit(&base_fit.values);
     let refit = match levenberg_marquardt(engine, &hypothesis, &start, fitted, options.iterations) {
         Ok(fit) => fit,
+        // A stop request is not a failed refit.
+        Err(_) if crate::fit::interrupt::requested() => {
+            return Err(crate::fit::interrupt::Interrupted.into());
+        }
         Err(error) => {
             cost.stages.push((stage_name, engine.points - mark));
             return Ok((

@@ -125,6 +125,10 @@ pub fn score_tests(
         };
         let stepped = match stepped {
             Ok(r) => r,
+            // A stop request is not a failed step.
+            Err(_) if crate::fit::interrupt::requested() => {
+                return Err(crate::fit::interrupt::Interrupted.into());
+            }
             Err(error) => {
                 test.note = Some(format!("the simulation a small step away failed: {error}"));
                 tests.push(test);

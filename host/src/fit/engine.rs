@@ -203,6 +203,8 @@ impl<'a> Engine<'a> {
             }
         }
         if !realisations.is_empty() {
+            // A stop requested before new simulations start: none is started.
+            super::interrupt::check()?;
             let batch = PredictionBatch {
                 campaign: self.campaign,
                 jobs: realisations
@@ -229,6 +231,8 @@ impl<'a> Engine<'a> {
                 .map_err(|e| ExecutorError::Executor(e.to_string()))
             };
             let predictions = self.executor.predict(&batch, &record)?;
+            // A stop requested while the batch ran: it is journalled; nothing after it starts.
+            super::interrupt::check()?;
             if predictions.len() != realisations.len() {
                 return Err(FitError::Simulation(format!(
                     "the executor returned {} predictions for {} jobs",

@@ -25,6 +25,7 @@ pub mod campaign;
 pub mod engine;
 pub mod executor;
 pub mod hypothesis;
+pub mod interrupt;
 pub mod least_squares;
 pub mod linear;
 pub mod log;
@@ -55,4 +56,7 @@ pub enum FitError {
     /// A simulation the fit cannot do without failed.
     #[error("simulation failed: {0}")]
     Simulation(String),
+    /// Stopped on request after the batch in flight was journalled ([`interrupt`]).
+    #[error(transparent)]
+    Interrupted(#[from] interrupt::Interrupted),
 }
