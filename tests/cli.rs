@@ -324,3 +324,58 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
         );
     }
 }
+
+#[test]
+fn a_calibration_that_fails_before_its_first_simulation_leaves_no_folder() {
+    // GOAL: issue 52 item 6: a run that fails after creating its output folder but before
+    //       logging a simulation removes the folder it created (no empty run left behind); a
+    //       folder that existed before is left alone.
+    // SETUP: the synthetic-flow campaign with the Slurm executor on a machine without Slurm's
+    //        client commands (skipped where `sbatch` is on PATH): the executor fails to start.
+    // REFERENCE: non-zero exit, the error names sbatch; the new folder is gone, the existing
+    //        one (with a file of the user's) is still there.
+    let on_path = std::env::var_os("PATH")
+        .is_some_and(|paths| std::env::split_paths(&paths).any(|dir| dir.join("sbatch").exists()));
+    if on_path {
+        eprintln!("sbatch is on PATH: skipped");
+        return;
+    }
+    let fresh = std::env::temp_dir().join(format!("stoss-no-folder-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&fresh);
+    let output = stoss()
+        .args([
+            "calibrate",
+            "fixtures/campaigns/synthetic-flow.toml",
+            "--executor",
+            "slurm",
+        ])
+        .arg("--output")
+        .arg(&fresh)
+        .output()
+        .unwrap();
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success() && error.contains("sbatch"),
+        "{error}"
+    );
+    assert!(!fresh.exists(), "the failed run left {}", fresh.display());
+    std::fs::create_dir_all(&fresh).unwrap();
+    std::fs::write(fresh.join("notes.txt"), "mine").unwrap();
+    let again = stoss()
+        .args([
+            "calibrate",
+            "fixtures/campaigns/synthetic-flow.toml",
+            "--executor",
+            "slurm",
+        ])
+        .arg("--output")
+        .arg(&fresh)
+        .output()
+        .unwrap();
+    assert!(!again.status.success());
+    assert!(
+        fresh.join("notes.txt").exists(),
+        "an existing folder was removed"
+    );
+    std::fs::remove_dir_all(&fresh).unwrap();
+}

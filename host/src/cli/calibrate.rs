@@ -104,6 +104,9 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             output.display()
         ));
     }
+    // A folder this run creates is removed again if the run ends before it logs anything (a
+    // bad executor, a campaign that fails its checks late): no empty run is left behind.
+    let mut created = (!output.exists()).then(|| CreatedFolder(output.clone()));
     std::fs::create_dir_all(&output).map_err(|e| format!("{}: {e}", output.display()))?;
     let _lock = crate::run_lock::RunLock::acquire(&output)?;
     // The run's inputs: a copy of the campaign and where it lives (its experiment paths are
@@ -278,5 +281,31 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         calibration::write(folder, &campaign, &results, &outcomes)
     })?;
     println!("\nreport: {}", report.join("report.md").display());
+    if let Some(folder) = created.as_mut() {
+        folder.keep();
+    }
     Ok(())
+}
+
+/// A run's output folder that the run created: removed on drop unless kept or the run logged
+/// a simulation into it.
+struct CreatedFolder(PathBuf);
+
+impl CreatedFolder {
+    /// Keep the folder (the run succeeded).
+    fn keep(&mut self) {
+        self.0 = PathBuf::new();
+    }
+}
+
+impl Drop for CreatedFolder {
+    fn drop(&mut self) {
+        if self.0.as_os_str().is_empty() {
+            return;
+        }
+        let logged = std::fs::metadata(self.0.join("simulations.jsonl")).is_ok_and(|m| m.len() > 0);
+        if !logged {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
 }
