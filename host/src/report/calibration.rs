@@ -13,7 +13,7 @@ use super::plots::{self, Series, Style};
 use super::units::{display_units, DisplayUnits};
 use crate::experiment::{Experiment, Outcome};
 use crate::fit::campaign::LeaveOneOut;
-use crate::fit::result::ModelResult;
+use crate::fit::result::{recommend, ModelResult, SetScore};
 use crate::fit::{Campaign, Evaluation, ModelSpace};
 use crate::input::material::AnyMaterialFile;
 use crate::measure::StateSample;
@@ -97,6 +97,7 @@ pub fn write(
     }
     let mut report = Report::new(campaign, figures, cards);
     report.header();
+    report.recommendation(results);
     report.model_selection(results);
     report.against_starting_constants(results);
     for (m, result) in results.iter().enumerate() {
@@ -170,6 +171,34 @@ impl<'a> Report<'a> {
         let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n");
     }
 
+    /// Which constant set to use and why ([`recommend`]), at the top of the report.
+    fn recommendation(&mut self, results: &[ModelResult]) {
+        let sets: Vec<SetScore> = results
+            .iter()
+            .flat_map(|r| r.set_scores(&self.fitted))
+            .collect();
+        let Some(r) = recommend(&sets) else {
+            return;
+        };
+        let md = &mut self.md;
+        let _ = writeln!(md, "## Recommendation\n\n**Use {}.**\n", r.set.label());
+        for reason in &r.reasons {
+            let mut chars = reason.chars();
+            let sentence = chars.next().map_or(String::new(), |first| {
+                first.to_uppercase().collect::<String>() + chars.as_str()
+            });
+            let _ = writeln!(md, "- {sentence}.");
+        }
+        if r.set.starting {
+            let _ = writeln!(
+                md,
+                "- The cards in `cards/` hold the calibrated sets; the starting constants are \
+                 the model's own (`strength` in the campaign, or the base material file)."
+            );
+        }
+        let _ = writeln!(md);
+    }
+
     /// The model selection table (errors of each model's selected solution) and the selected
     /// model.
     fn model_selection(&mut self, results: &[ModelResult]) {
@@ -196,7 +225,8 @@ impl<'a> Report<'a> {
         if let Some(best) = best {
             let _ = writeln!(
                 md,
-                "\nSelected model: **{}** (lowest fit error).\n",
+                "\nSelected model: **{}** (lowest fit error; the one leave-one-out runs for with \
+                 `leave_one_out = \"selected\"`; the recommendation above weighs prediction).\n",
                 best.model
             );
         }
