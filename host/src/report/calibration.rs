@@ -124,6 +124,8 @@ struct Report<'a> {
     fitted: Vec<usize>,
     /// Every experiment's name, `(held out)` added to the held-out ones: the table columns.
     names: Vec<String>,
+    /// The recommended constant set ([`recommend`]), once the recommendation is written.
+    recommended: Option<SetScore>,
     md: String,
 }
 
@@ -145,6 +147,7 @@ impl<'a> Report<'a> {
             cards,
             fitted: campaign.fitted(),
             names,
+            recommended: None,
             md: String::new(),
         }
     }
@@ -192,11 +195,13 @@ impl<'a> Report<'a> {
         if r.set.starting {
             let _ = writeln!(
                 md,
-                "- The cards in `cards/` hold the calibrated sets; the starting constants are \
-                 the model's own (`strength` in the campaign, or the base material file)."
+                "- Its cards are `cards/{}-starting.*`, beside each model's calibrated cards \
+                 (`cards/<model>.*`).",
+                slug(&r.set.model)
             );
         }
         let _ = writeln!(md);
+        self.recommended = Some(r.set);
     }
 
     /// The model selection table (errors of each model's selected solution) and the selected
@@ -291,7 +296,39 @@ impl<'a> Report<'a> {
         }
         self.overlays(result, outcomes)?;
         self.validity_range(result, outcomes)?;
-        self.cards(result, material_file)
+        self.cards(result, material_file)?;
+        // The recommended starting constants get their own cards, named apart.
+        let starting_recommended = self
+            .recommended
+            .as_ref()
+            .is_some_and(|set| set.starting && set.model == result.model);
+        if let (true, Some(baseline)) = (starting_recommended, &result.baseline) {
+            let (mut file, _) = space.material(&self.campaign.base, &baseline.evaluation.values)?;
+            file.rename(
+                format!(
+                    "{} / {} starting constants (recommended by stoss)",
+                    self.campaign.file.name, result.model
+                ),
+                format!(
+                    "the starting constants of model {} in {}, recommended by stoss calibrate: \
+                     they predict the held-out experiments best",
+                    result.model,
+                    self.campaign.path.display()
+                ),
+            );
+            let stem = format!("{}-starting", slug(&result.model));
+            let written = write_cards(&self.cards, &stem, &file)?;
+            let _ = writeln!(
+                self.md,
+                "\n### Cards of the starting constants (recommended)\n\n{}\n",
+                written
+                    .iter()
+                    .map(|w| format!("- `{w}`"))
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            );
+        }
+        Ok(())
     }
 
     /// The model's heading and its constants table (bounds and selected values).
