@@ -345,6 +345,29 @@ fn stoss() -> Command {
     command
 }
 
+/// `stoss calibrate` arguments of the synthetic-flow campaign, 30 + 6 simulations, one
+/// instance, into `out` (the resume tests' run).
+fn synthetic_flow_run(out: &Path) -> Vec<String> {
+    vec![
+        "calibrate".to_string(),
+        "fixtures/campaigns/synthetic-flow.toml".into(),
+        "--budget".into(),
+        "30".into(),
+        "--polish".into(),
+        "6".into(),
+        "--instances".into(),
+        "1".into(),
+        "--output".into(),
+        out.display().to_string(),
+    ]
+}
+
+/// The first model's selected constants in a run folder's `report/result.json`.
+fn selected_constants(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("report/result.json")).unwrap();
+    serde_json::from_str::<serde_json::Value>(&text).unwrap()[0]["selected"]["constants"].clone()
+}
+
 fn log_lines(dir: &Path) -> Vec<String> {
     std::fs::read_to_string(dir.join("simulations.jsonl"))
         .map(|t| t.lines().map(String::from).collect())
@@ -734,28 +757,9 @@ fn an_interrupted_run_stops_after_its_batch_says_how_to_resume_and_resumes_bit_i
     //        third run uninterrupted.
     // REFERENCE: exit 130 and the resume hint; no logged line lost at the stop; every key once
     //        in the resumed logs; the selected constants bit-identical to the reference's.
-    let args = |out: &Path| {
-        vec![
-            "calibrate".to_string(),
-            "fixtures/campaigns/synthetic-flow.toml".into(),
-            "--budget".into(),
-            "30".into(),
-            "--polish".into(),
-            "6".into(),
-            "--instances".into(),
-            "1".into(),
-            "--output".into(),
-            out.display().to_string(),
-        ]
-    };
-    let selected = |dir: &Path| -> serde_json::Value {
-        let text = std::fs::read_to_string(dir.join("report/result.json")).unwrap();
-        serde_json::from_str::<serde_json::Value>(&text).unwrap()[0]["selected"]["constants"]
-            .clone()
-    };
     let reference = temporary("interrupt-reference");
     assert!(stoss()
-        .args(args(&reference))
+        .args(synthetic_flow_run(&reference))
         .output()
         .unwrap()
         .status
@@ -763,7 +767,7 @@ fn an_interrupted_run_stops_after_its_batch_says_how_to_resume_and_resumes_bit_i
     for (signal, at) in [("-INT", 8), ("-TERM", 20)] {
         let out = temporary(&format!("interrupted{signal}"));
         let child = stoss()
-            .args(args(&out))
+            .args(synthetic_flow_run(&out))
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::piped())
             .spawn()
@@ -783,7 +787,7 @@ fn an_interrupted_run_stops_after_its_batch_says_how_to_resume_and_resumes_bit_i
         if output.status.success() {
             // The run ended before the signal arrived: nothing to check but the result.
             eprintln!("{signal}: the run ended before the signal");
-            assert_eq!(selected(&out), selected(&reference));
+            assert_eq!(selected_constants(&out), selected_constants(&reference));
             std::fs::remove_dir_all(&out).unwrap();
             continue;
         }
@@ -797,7 +801,7 @@ fn an_interrupted_run_stops_after_its_batch_says_how_to_resume_and_resumes_bit_i
             log_lines(&out).len() >= at_signal,
             "{signal}: a logged line was lost"
         );
-        let mut resume = args(&out);
+        let mut resume = synthetic_flow_run(&out);
         resume.push("--resume".into());
         let resumed = stoss().args(&resume).output().unwrap();
         assert!(
@@ -814,7 +818,11 @@ fn an_interrupted_run_stops_after_its_batch_says_how_to_resume_and_resumes_bit_i
             log_lines(&out).len(),
             "{signal}: a candidate ran twice"
         );
-        assert_eq!(selected(&out), selected(&reference), "{signal}");
+        assert_eq!(
+            selected_constants(&out),
+            selected_constants(&reference),
+            "{signal}"
+        );
         std::fs::remove_dir_all(&out).unwrap();
     }
     std::fs::remove_dir_all(&reference).unwrap();
@@ -832,22 +840,8 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
     //        reference log (wall times aside); the selected constants are bit-identical.
     let killed = temporary("killed");
     let reference = temporary("reference");
-    let args = |out: &Path| {
-        vec![
-            "calibrate".to_string(),
-            "fixtures/campaigns/synthetic-flow.toml".into(),
-            "--budget".into(),
-            "30".into(),
-            "--polish".into(),
-            "6".into(),
-            "--instances".into(),
-            "1".into(),
-            "--output".into(),
-            out.display().to_string(),
-        ]
-    };
     let mut child = stoss()
-        .args(args(&killed))
+        .args(synthetic_flow_run(&killed))
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
         .spawn()
@@ -862,7 +856,7 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
         .status()
         .unwrap();
     assert!(frozen.success());
-    let mut concurrent = args(&killed);
+    let mut concurrent = synthetic_flow_run(&killed);
     concurrent.push("--resume".into());
     let second = stoss().args(&concurrent).output().unwrap();
     let message = String::from_utf8_lossy(&second.stderr);
@@ -878,12 +872,12 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
         before >= 8,
         "the run ended before it could be killed ({before} lines)"
     );
-    let refused = stoss().args(args(&killed)).output().unwrap();
+    let refused = stoss().args(synthetic_flow_run(&killed)).output().unwrap();
     assert!(
         !refused.status.success(),
         "an existing run must not be overwritten without --resume"
     );
-    let mut resume = args(&killed);
+    let mut resume = synthetic_flow_run(&killed);
     resume.push("--resume".into());
     let resumed = stoss().args(&resume).output().unwrap();
     assert!(
@@ -891,7 +885,10 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
         "{}",
         String::from_utf8_lossy(&resumed.stderr)
     );
-    let finished = stoss().args(args(&reference)).output().unwrap();
+    let finished = stoss()
+        .args(synthetic_flow_run(&reference))
+        .output()
+        .unwrap();
     assert!(finished.status.success());
     let strip = |line: &String| -> String {
         let mut value: serde_json::Value = serde_json::from_str(line).unwrap();
@@ -912,13 +909,11 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
     resumed_lines.sort();
     reference_lines.sort();
     assert_eq!(resumed_lines, reference_lines);
-    let selected = |dir: &Path| -> serde_json::Value {
-        let text = std::fs::read_to_string(dir.join("report/result.json")).unwrap();
-        serde_json::from_str::<serde_json::Value>(&text).unwrap()[0]["selected"]["constants"]
-            .clone()
-    };
-    assert!(selected(&reference).is_object(), "constants by name");
-    assert_eq!(selected(&killed), selected(&reference));
+    assert!(
+        selected_constants(&reference).is_object(),
+        "constants by name"
+    );
+    assert_eq!(selected_constants(&killed), selected_constants(&reference));
     std::fs::remove_dir_all(&killed).unwrap();
     std::fs::remove_dir_all(&reference).unwrap();
 }

@@ -1163,6 +1163,24 @@ fn at(history: &[(f64, f64)], t: f64) -> f64 {
     history.iter().find(|p| p.0 >= t).map_or(f64::NAN, |p| p.1)
 }
 
+/// Two tracer depth histories agree within `tolerance` (relative) at 10 and 20 us.
+fn assert_depths_agree(
+    (label_a, a): (&str, &[(f64, f64)]),
+    (label_b, b): (&str, &[(f64, f64)]),
+    tolerance: f64,
+) {
+    for t in [10e-6, 20e-6] {
+        let (a, b) = (at(a, t), at(b, t));
+        eprintln!(
+            "t {:.0} us: depth {:.4} mm ({label_a}), {:.4} mm ({label_b})",
+            t * 1e6,
+            a * 1e3,
+            b * 1e3
+        );
+        assert!((a / b - 1.0).abs() < tolerance, "{a} against {b} at {t}");
+    }
+}
+
 #[test]
 fn a_penetration_on_the_eulerian_grid_does_not_depend_on_the_frame_it_is_computed_in() {
     // GOAL: Galilean invariance of the Lagrange-plus-remap cycle on a penetration: the rod
@@ -1176,16 +1194,7 @@ fn a_penetration_on_the_eulerian_grid_does_not_depend_on_the_frame_it_is_compute
     // 10 us and 11.358 / 11.296 mm at 20 us (0.8 % and 0.55 %; docs/euler.md, "Verification").
     let lab = steel_jet_tracer(0.0, true, 1e-3, 20e-6);
     let moving = steel_jet_tracer(1250.0, true, 1e-3, 20e-6);
-    for t in [10e-6, 20e-6] {
-        let (a, b) = (at(&lab, t), at(&moving, t));
-        eprintln!(
-            "t {:.0} us: depth {:.4} mm (target at rest), {:.4} mm (rod at rest)",
-            t * 1e6,
-            a * 1e3,
-            b * 1e3
-        );
-        assert!((a / b - 1.0).abs() < 0.015, "{a} against {b} at {t}");
-    }
+    assert_depths_agree(("target at rest", &lab), ("rod at rest", &moving), 0.015);
 }
 
 #[test]
@@ -1200,14 +1209,5 @@ fn a_material_interface_inside_one_material_leaves_its_flow_unchanged() {
     // 11.358 mm at 20 us (0.07 % and 0.05 %; docs/euler.md).
     let one = steel_jet_tracer(0.0, false, 1e-3, 20e-6);
     let two = steel_jet_tracer(0.0, true, 1e-3, 20e-6);
-    for t in [10e-6, 20e-6] {
-        let (a, b) = (at(&one, t), at(&two, t));
-        eprintln!(
-            "t {:.0} us: depth {:.4} mm (one material), {:.4} mm (two)",
-            t * 1e6,
-            a * 1e3,
-            b * 1e3
-        );
-        assert!((a / b - 1.0).abs() < 0.002, "{a} against {b} at {t}");
-    }
+    assert_depths_agree(("one material", &one), ("two", &two), 0.002);
 }
