@@ -756,9 +756,13 @@ fn kingery_bulmash_matches_the_ufc_chart() {
             .filter(|(z, _)| inside(*z))
             .map(|&(z, chart)| (z, fit(z) / chart - 1.0))
             .collect();
-        assert!(deviations.len() > 100, "{name}: {} points", deviations.len());
-        let rms = (deviations.iter().map(|(_, d)| d * d).sum::<f64>() / deviations.len() as f64)
-            .sqrt();
+        assert!(
+            deviations.len() > 100,
+            "{name}: {} points",
+            deviations.len()
+        );
+        let rms =
+            (deviations.iter().map(|(_, d)| d * d).sum::<f64>() / deviations.len() as f64).sqrt();
         let (z_worst, worst) = deviations
             .iter()
             .copied()
