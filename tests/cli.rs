@@ -379,3 +379,62 @@ fn a_calibration_that_fails_before_its_first_simulation_leaves_no_folder() {
     );
     std::fs::remove_dir_all(&fresh).unwrap();
 }
+
+#[test]
+fn every_validate_row_is_named_where_its_figure_is_quoted_and_every_named_row_exists() {
+    // GOAL: issue 55: each figure in the documents names its `stoss validate` row, and no
+    //       citation points nowhere: the first document a row says it is quoted in names the
+    //       row, and every row named near "validate" in README.md or docs/*.md exists.
+    // SETUP: the rows' `quoted_in`; every backticked hyphenated name within 160 characters
+    //        after the word "validate" in the documents.
+    // REFERENCE: the row list itself.
+    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
+    let names: Vec<&str> = stoss::validate::ROWS.iter().map(|row| row.name).collect();
+    for row in stoss::validate::ROWS {
+        let document = row.quoted_in.split(',').next().unwrap().trim();
+        let text = std::fs::read_to_string(root.join(document))
+            .unwrap_or_else(|e| panic!("row {}: {document}: {e}", row.name));
+        assert!(
+            text.contains(&format!("`{}`", row.name))
+                || text.contains(&format!("validate {}", row.name)),
+            "row {} is quoted in {document}, which does not name it",
+            row.name
+        );
+    }
+    let mut documents = vec![root.join("README.md")];
+    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "md") {
+            documents.push(path);
+        }
+    }
+    let row_like = |token: &str| {
+        token.contains('-')
+            && token.starts_with(|c: char| c.is_ascii_lowercase())
+            && token
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+    };
+    let mut cited = 0;
+    for path in &documents {
+        let text = std::fs::read_to_string(path).unwrap();
+        for (at, _) in text.match_indices("validate") {
+            let window: String = text[at..].chars().take(160).collect();
+            // Segments between backticks (the window may start inside a code span, so
+            // both parities are looked at; prose between spans is never row-like).
+            let segments: Vec<&str> = window.split('`').collect();
+            let inner = segments.len().saturating_sub(1);
+            for &token in segments.iter().take(inner).skip(1) {
+                if row_like(token) {
+                    cited += 1;
+                    assert!(
+                        names.contains(&token),
+                        "{} names `{token}` as a validate row; there is no such row",
+                        path.display()
+                    );
+                }
+            }
+        }
+    }
+    assert!(cited > 0, "the scan found no row citation");
+}

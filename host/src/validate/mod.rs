@@ -324,7 +324,7 @@ pub const ROWS: &[Row] = &[
     Row {
         name: "lagrange-1250-fine",
         figure: "nose depth at 55 us, 1250 m/s shot, eroding Lagrangian, 0.2 mm",
-        quoted_in: "README.md, What is built; docs/solver.md, Validation runs and throughput",
+        quoted_in: "docs/solver.md, Validation runs and throughput; README.md, Status",
         stated: 27.99,
         tolerance: 0.01,
         unit: "mm",
@@ -339,7 +339,7 @@ pub const ROWS: &[Row] = &[
     Row {
         name: "lagrange-1700-fine",
         figure: "nose depth at 60.3 us, 1700 m/s shot, eroding Lagrangian, 0.2 mm",
-        quoted_in: "README.md, What is built; docs/solver.md, Validation runs and throughput",
+        quoted_in: "docs/solver.md, Validation runs and throughput; README.md, Status",
         stated: 48.47,
         tolerance: 0.01,
         unit: "mm",
