@@ -316,6 +316,16 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
                 stoss::fit::Campaign::load(&fixtures.join(campaign))
                     .unwrap_or_else(|e| panic!("{}: {e}", row.name));
             }
+            stoss::validate::Measure::Identification { case, .. } => {
+                stoss::fit::Campaign::load(
+                    &fixtures.join("diagnosis").join(case).join("campaign.toml"),
+                )
+                .unwrap_or_else(|e| panic!("{}: {e}", row.name));
+            }
+            stoss::validate::Measure::Finish { .. } => {
+                stoss::fit::Campaign::load(&fixtures.join("campaigns/synthetic-flow.toml"))
+                    .unwrap_or_else(|e| panic!("{}: {e}", row.name));
+            }
         }
         assert!(
             row.tolerance > 0.0 && row.stated.is_finite(),

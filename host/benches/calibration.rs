@@ -8,8 +8,7 @@
 //! optimisers see ln(error), as in `stoss calibrate`.
 
 use std::path::Path;
-use stoss::fit::{evaluate, score, Campaign};
-use stoss::fit::{levenberg_marquardt, Engine, Hypothesis};
+use stoss::fit::{evaluate, Campaign};
 use stoss::optimise::{AskTell, BayesianOptimiser, Bounds, CmaEs, OptimiserSettings, RandomSearch};
 use stoss::solver::SolverSettings;
 
@@ -133,88 +132,16 @@ fn main() {
         println!("{name:<22} {}", quartiles(reached, missed, budget));
     }
 
-    // The Bayesian optimiser's first `START` simulations, then the diagnosis' bounded
-    // Levenberg-Marquardt on the whitened residuals from its best point (forward-difference
-    // Jacobians, two trial dampings per iteration): the simulations to the target are the
-    // start plus the points the least-squares finish evaluates up to the first iteration
-    // count whose result reaches it (the final Jacobian a diagnosis needs is not counted).
-    const START: usize = 10;
-    let mut reached = Vec::new();
-    let mut missed = 0;
-    for seed in 0..SEEDS {
-        let bounds = Bounds::from_pairs(&pairs).expect("bounds");
-        let opt_settings = OptimiserSettings::new(space.dimension(), START, seed).with_batch(2);
-        let mut optimiser = BayesianOptimiser::new(bounds, opt_settings).expect("bo");
-        let mut best: Option<(Vec<f64>, f64)> = None;
-        let mut used = 0;
-        let mut early = None;
-        while used < START {
-            let points = optimiser.ask();
-            if points.is_empty() {
-                break;
-            }
-            let values: Vec<Option<f64>> = points.iter().map(|p| objective(p)).collect();
-            for (point, value) in points.iter().zip(&values) {
-                used += 1;
-                if let Some(v) = value {
-                    if early.is_none() && *v <= target {
-                        early = Some(used);
-                    }
-                    if best.as_ref().is_none_or(|(_, b)| v < b) {
-                        best = Some((point.clone(), *v));
-                    }
-                }
-            }
-            let logs: Vec<Option<f64>> = values
-                .iter()
-                .map(|v| v.map(|e| e.max(1e-300).ln()))
-                .collect();
-            optimiser.tell(&points, &logs).expect("tell");
-        }
-        if let Some(n) = early {
-            reached.push(n);
-            continue;
-        }
-        let Some((start, _)) = best else {
-            missed += 1;
-            continue;
-        };
-        let hypothesis = Hypothesis::base(&campaign.base, &space, &start).expect("hypothesis");
-        let start_values = hypothesis.values().expect("values");
-        let mut found = None;
-        for iterations in 1..=6 {
-            let mut quiet = |_: stoss::fit::Progress<'_>| {};
-            let mut pool = stoss::fit::executor::Local::new(2).expect("thread pool");
-            let mut engine = Engine::new(&campaign, &mut pool, None, &mut quiet).expect("engine");
-            let Ok(fit) =
-                levenberg_marquardt(&mut engine, &hypothesis, &start_values, &fitted, iterations)
-            else {
-                break;
-            };
-            let counted = START + engine.points - fit.values.len() + 1;
-            let realised = hypothesis.realise(&fit.values).expect("realise");
-            let total: Option<f64> = fitted
-                .iter()
-                .map(|&i| {
-                    let experiment = &campaign.experiments[i];
-                    let predicted = realised.predict(experiment, &settings).ok()?;
-                    score(&experiment.recording, &predicted)
-                        .map(|s| s.error * campaign.file.experiments[i].weight)
-                })
-                .sum();
-            if total.is_some_and(|v| v <= target) {
-                found = Some(counted);
-                break;
-            }
-        }
-        match found {
-            Some(n) if n <= BUDGET => reached.push(n),
-            _ => missed += 1,
-        }
-    }
+    // Ten Bayesian simulations, then the least-squares finish
+    // (`stoss::validate::finish`, also the `finish-*` rows of `stoss validate`).
+    let fixtures = root.join("fixtures");
+    let runs = stoss::validate::finish::simulations_to_target(&fixtures, factor, SEEDS)
+        .expect("least-squares finish");
+    let reached: Vec<usize> = runs.iter().flatten().copied().collect();
+    let missed = runs.len() - reached.len();
     println!(
         "{:<22} {}",
-        format!("bayesian {START} + LM"),
+        format!("bayesian {} + LM", stoss::validate::finish::START),
         quartiles(reached, missed, BUDGET)
     );
 }

@@ -12,8 +12,12 @@ pub struct ValidateArgs {
     /// Rows to run, by name (all if none; `--list` shows them).
     pub rows: Vec<String>,
     /// Only the fast rows (seconds to a minute each; what CI runs).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "full")]
     pub fast: bool,
+    /// Also the full rows (whole campaigns, an hour or more each), which are otherwise run
+    /// only when named.
+    #[arg(long)]
+    pub full: bool,
     /// List the rows (name, speed, figure, where it is quoted, stated value) and stop.
     #[arg(long)]
     pub list: bool,
@@ -63,16 +67,19 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         .iter()
         .filter(|row| args.rows.is_empty() || args.rows.iter().any(|n| n == row.name))
         .filter(|row| !args.fast || row.speed == Speed::Fast)
+        .filter(|row| {
+            args.full || row.speed != Speed::Full || args.rows.iter().any(|n| n == row.name)
+        })
         .collect();
     if args.list {
         for row in &selected {
             println!(
-                "{:<20} {:<5} {} = {} {} (+-{}) [{}]",
+                "{:<29} {:<5} {} = {} {} (+-{}) [{}]",
                 row.name,
-                if row.speed == Speed::Fast {
-                    "fast"
-                } else {
-                    "slow"
+                match row.speed {
+                    Speed::Fast => "fast",
+                    Speed::Slow => "slow",
+                    Speed::Full => "full",
                 },
                 row.figure,
                 row.stated,
@@ -84,7 +91,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         return ExitCode::SUCCESS;
     }
     println!(
-        "{:<20} {:>12} {:>12} {:>10} {:<5} {:>8}  figure",
+        "{:<29} {:>12} {:>12} {:>10} {:<11} {:>8}  figure",
         "row", "stated", "measured", "tolerance", "unit", "wall s"
     );
     let mut results: Vec<Validation> = Vec::new();
@@ -95,7 +102,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
             Err(_) => format!("{:>12}", "error"),
         };
         println!(
-            "{:<20} {:>12.4} {measured} {:>10} {:<5} {:>8.1}  {} {}",
+            "{:<29} {:>12.4} {measured} {:>10} {:<11} {:>8.1}  {} {}",
             row.name,
             row.stated,
             row.tolerance,
@@ -105,7 +112,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
             row.figure
         );
         if let Err(reason) = &result.measured {
-            println!("{:<20} error: {reason}", "");
+            println!("{:<29} error: {reason}", "");
         }
         results.push(result);
     }

@@ -6,11 +6,15 @@
 //! of its last printed digit for a deterministic simulation, or the bound the document
 //! claims), and how to measure it: an experiment of `fixtures/` simulated with its own
 //! material (optionally with one set-up field changed), or an analytic evaluation of bundled
-//! data. Rows are fast (seconds to a minute; CI runs them) or slow (minutes to an hour).
+//! data. Rows are fast (seconds to a minute; CI runs them), slow (minutes) or full (a whole
+//! campaign, an hour or more; `--full`).
 //!
 //! The figures that tests assert already (the verification tables) are not repeated here:
 //! this is for the validation figures, which are too slow for the test suite or rest on a
 //! whole run.
+
+pub mod finish;
+pub mod identification;
 
 use crate::analytic::ballistic::{fit_lambert_jonas, Shot};
 use crate::experiment::{Experiment, Setup};
@@ -25,8 +29,10 @@ use std::time::Instant;
 pub enum Speed {
     /// Seconds to about a minute on 2 cores: run in CI (`stoss validate --fast`).
     Fast,
-    /// Minutes or more: run on request.
+    /// Minutes to about half an hour: run by `stoss validate` without `--fast`.
     Slow,
+    /// An hour or more (a whole campaign): run only with `--full` or by name.
+    Full,
 }
 
 /// How a row's figure is measured.
@@ -63,11 +69,40 @@ pub enum Measure {
         /// The held-out error (true) or the fit error (false).
         held_out: bool,
     },
+    /// How many of [`identification::SEEDS`] noise seeds `stoss diagnose` names a concealed
+    /// effect in (`fixtures/diagnosis/<case>`, the `level`-th of
+    /// [`identification::NOISE_LEVELS`]; one run per case and level in a process).
+    Identification {
+        /// The case, a name of [`identification::CASES`].
+        case: &'static str,
+        /// The noise level's position in [`identification::NOISE_LEVELS`].
+        level: usize,
+        /// What is counted.
+        count: Count,
+    },
+    /// The median over [`finish::SEEDS`] seeds of the simulations ten Bayesian steps and the
+    /// least-squares finish need to bring the synthetic flow campaign within `factor` times its
+    /// noise floor ([`finish::simulations_to_target`]).
+    Finish {
+        /// The target as a multiple of the noise floor.
+        factor: f64,
+    },
     /// The Lambert–Jonas limit (free `p`) of a bundled ballistic recording's shots (m/s).
     LambertJonas {
         /// Experiment file whose recording holds the shots, relative to the fixtures folder.
         experiment: &'static str,
     },
+}
+
+/// What an [`Measure::Identification`] row counts over the noise seeds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Count {
+    /// The concealed term accepted.
+    Identified,
+    /// The concealed term or another of the same physics accepted.
+    IdentifiedOrSamePhysics,
+    /// An unrelated term accepted (any term, on the control).
+    FalseAlarms,
 }
 
 /// One headline figure.
@@ -486,6 +521,238 @@ pub const ROWS: &[Row] = &[
             adjust: Some(square_plate_elements),
         },
     },
+    Row {
+        name: "identify-control",
+        figure: "false alarms of the diagnosis on the control case, 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 0.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "control",
+            level: 0,
+            count: Count::FalseAlarms,
+        },
+    },
+    Row {
+        name: "identify-heating",
+        figure: "diagnoses naming adiabatic heating (case `heating`), 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 10.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "heating",
+            level: 0,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-upturn",
+        figure: "diagnoses naming the high-rate upturn (case `upturn`), 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 10.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "upturn",
+            level: 0,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-saturation",
+        figure: "diagnoses naming Voce saturation (case `saturation`), 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 10.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "saturation",
+            level: 0,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-coupling",
+        figure: "diagnoses naming rate-temperature coupling (case `coupling`), 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 10.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "coupling",
+            level: 0,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-friction",
+        figure: "diagnoses naming anvil friction (case `friction`), 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 10.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Identification {
+            case: "friction",
+            level: 0,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-za-bcc",
+        figure: "diagnoses naming the Zerilli-Armstrong BCC family (case `za-bcc`), 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 10.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "za-bcc",
+            level: 0,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-thermal-drop",
+        figure: "diagnoses naming a thermal drop (case `thermal-drop`), 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 10.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "thermal-drop",
+            level: 0,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-heating-window",
+        figure: "diagnoses naming a heating transition (case `heating-window`, any window), 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 10.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "heating-window",
+            level: 0,
+            count: Count::IdentifiedOrSamePhysics,
+        },
+    },
+    Row {
+        name: "identify-heating-window-exact",
+        figure: "diagnoses naming the concealed heating window 1-100 /s exactly, 1 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 4.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "heating-window",
+            level: 0,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-upturn-3pct",
+        figure: "diagnoses naming the high-rate upturn, 3 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 4.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "upturn",
+            level: 1,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "identify-saturation-3pct",
+        figure: "diagnoses naming Voce saturation, 3 % noise, 10 seeds",
+        quoted_in: "docs/diagnosis.md, Identification rate; README.md, Status",
+        stated: 1.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Identification {
+            case: "saturation",
+            level: 1,
+            count: Count::Identified,
+        },
+    },
+    Row {
+        name: "finish-1.5",
+        figure: "median simulations to 1.5 x the noise floor of the synthetic flow campaign, 10 Bayesian + least squares, 10 seeds",
+        quoted_in: "docs/calibration.md, The least-squares finish; README.md, Status",
+        stated: 28.0,
+        tolerance: 0.5,
+        unit: "simulations",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Finish { factor: 1.5 },
+    },
+    Row {
+        name: "finish-1.1",
+        figure: "median simulations to 1.1 x the noise floor of the synthetic flow campaign, 10 Bayesian + least squares, 10 seeds",
+        quoted_in: "docs/calibration.md, The least-squares finish; README.md, Status",
+        stated: 35.0,
+        tolerance: 0.5,
+        unit: "simulations",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::Finish { factor: 1.1 },
+    },
+    Row {
+        name: "seed000-jc-fit",
+        figure: "fit error of JC, seed 000's six-experiment campaign (eroding Lagrangian penetration), about an hour",
+        quoted_in: "docs/calibration.md, Seed 000's campaign, Results",
+        stated: 0.5321,
+        tolerance: 0.0001,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Full,
+        measure: Measure::Calibration {
+            campaign: "campaigns/seed000-hha.toml",
+            model: "jc",
+            held_out: false,
+        },
+    },
+    Row {
+        name: "seed000-jc-held-out",
+        figure: "held-out error of JC (two SHPB tests), seed 000's campaign",
+        quoted_in: "docs/calibration.md, Seed 000's campaign, Results",
+        stated: 0.6421,
+        tolerance: 0.0001,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Full,
+        measure: Measure::Calibration {
+            campaign: "campaigns/seed000-hha.toml",
+            model: "jc",
+            held_out: true,
+        },
+    },
 ];
 
 /// A measured row.
@@ -554,6 +821,20 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
             model,
             held_out,
         } => calibration_error(&fixtures.join(campaign), model, held_out),
+        Measure::Identification { case, level, count } => {
+            let tally = identified(fixtures, case, level)?;
+            Ok(match count {
+                Count::Identified => tally.identified,
+                Count::IdentifiedOrSamePhysics => tally.identified + tally.same_physics,
+                Count::FalseAlarms => tally.false_alarms,
+            } as f64)
+        }
+        Measure::Finish { factor } => {
+            let runs = finish::simulations_to_target(fixtures, factor, finish::SEEDS)?;
+            finish::median(&runs)
+                .map(|n| n as f64)
+                .ok_or_else(|| format!("the median run missed {factor} x the noise floor"))
+        }
         Measure::LambertJonas { experiment } => {
             let loaded = load(fixtures, experiment)?;
             let mut shots: Vec<Shot> = loaded
@@ -623,6 +904,38 @@ fn outcome(
     let entry = (result.summary, result.predicted);
     simulated.push((key, entry.clone()));
     Ok(entry)
+}
+
+/// The identification tallies run in this process, by case and noise level.
+static IDENTIFIED: std::sync::Mutex<Vec<((&str, usize), identification::Tally)>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// The tally of `case` at the `level`-th noise level over [`identification::SEEDS`] seeds,
+/// run once per process.
+fn identified(
+    fixtures: &Path,
+    case: &'static str,
+    level: usize,
+) -> Result<identification::Tally, String> {
+    let mut identified = IDENTIFIED
+        .lock()
+        .map_err(|_| "an identification row panicked")?;
+    if let Some((_, tally)) = identified.iter().find(|(key, _)| *key == (case, level)) {
+        return Ok(*tally);
+    }
+    let noise = *identification::NOISE_LEVELS
+        .get(level)
+        .ok_or_else(|| format!("no noise level {level}"))?;
+    let tally = identification::identification(
+        &fixtures.join("diagnosis"),
+        case,
+        noise,
+        level,
+        identification::SEEDS,
+        &mut |_| {},
+    )?;
+    identified.push(((case, level), tally));
+    Ok(tally)
 }
 
 /// The results of the campaigns calibrated in this process (two rows may read one run).

@@ -1,0 +1,148 @@
+//! Simulations to a target error on the synthetic flow-curve campaign
+//! (`fixtures/campaigns/synthetic-flow.toml`: JC, five constants, known truth) with ten
+//! Bayesian simulations followed by the least-squares finish (`least_squares`): the figure
+//! docs/calibration.md quotes as "Bayesian 10 + least squares". Used by the `finish-*` rows of
+//! `stoss validate` and by `cargo bench -p stoss --bench calibration`.
+//!
+//! The Bayesian optimiser's first [`START`] simulations, then the bounded Levenberg-Marquardt
+//! on the whitened residuals from its best point (forward-difference Jacobians, two trial
+//! dampings per iteration): the simulations to the target are the start plus the points the
+//! finish evaluates up to the first iteration count whose result reaches it, and the scoring of
+//! that result (the final Jacobian a diagnosis needs is not counted).
+
+use crate::fit::{evaluate, levenberg_marquardt, score, Campaign, Engine, Hypothesis};
+use crate::optimise::{AskTell, BayesianOptimiser, Bounds, OptimiserSettings};
+use crate::solver::SolverSettings;
+use std::path::Path;
+
+/// The truth's own error on the fitted curves of the synthetic flow campaign: the noise floor.
+pub const NOISE_FLOOR: f64 = 0.2352;
+
+/// Bayesian simulations before the finish.
+pub const START: usize = 10;
+
+/// Most simulations a run may use.
+pub const BUDGET: usize = 100;
+
+/// Seeds (0 to `SEEDS - 1`) the documents quote.
+pub const SEEDS: u64 = 10;
+
+/// The synthetic flow campaign under `fixtures`, its first model, and its error at `x`.
+fn campaign(fixtures: &Path) -> Result<Campaign, String> {
+    let path = fixtures.join("campaigns/synthetic-flow.toml");
+    Campaign::load(&path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// For each seed, the simulations until the error is at most `factor` times
+/// [`NOISE_FLOOR`] (none: not within [`BUDGET`]).
+pub fn simulations_to_target(
+    fixtures: &Path,
+    factor: f64,
+    seeds: u64,
+) -> Result<Vec<Option<usize>>, String> {
+    let campaign = campaign(fixtures)?;
+    let model = campaign
+        .file
+        .models
+        .first()
+        .ok_or("the synthetic flow campaign has no model")?;
+    let space = campaign.space(model);
+    let fitted = campaign.fitted();
+    let settings = SolverSettings {
+        threads: Some(1),
+        ..SolverSettings::default()
+    };
+    let objective =
+        |x: &[f64]| evaluate(&campaign, &space, x, &fitted, &settings).total(&campaign, &fitted);
+    let target = factor * NOISE_FLOOR;
+    let pairs: Vec<(f64, f64)> = space
+        .lower
+        .iter()
+        .copied()
+        .zip(space.upper.iter().copied())
+        .collect();
+    let mut runs = Vec::new();
+    for seed in 0..seeds {
+        let bounds = Bounds::from_pairs(&pairs).map_err(|e| e.to_string())?;
+        let opt_settings = OptimiserSettings::new(space.dimension(), START, seed).with_batch(2);
+        let mut optimiser =
+            BayesianOptimiser::new(bounds, opt_settings).map_err(|e| e.to_string())?;
+        let mut best: Option<(Vec<f64>, f64)> = None;
+        let mut used = 0;
+        let mut early = None;
+        while used < START {
+            let points = optimiser.ask();
+            if points.is_empty() {
+                break;
+            }
+            let values: Vec<Option<f64>> = points.iter().map(|p| objective(p)).collect();
+            for (point, value) in points.iter().zip(&values) {
+                used += 1;
+                if let Some(v) = value {
+                    if early.is_none() && *v <= target {
+                        early = Some(used);
+                    }
+                    if best.as_ref().is_none_or(|(_, b)| v < b) {
+                        best = Some((point.clone(), *v));
+                    }
+                }
+            }
+            let logs: Vec<Option<f64>> = values
+                .iter()
+                .map(|v| v.map(|e| e.max(1e-300).ln()))
+                .collect();
+            optimiser.tell(&points, &logs).map_err(|e| e.to_string())?;
+        }
+        if early.is_some() {
+            runs.push(early);
+            continue;
+        }
+        let Some((start, _)) = best else {
+            runs.push(None);
+            continue;
+        };
+        let hypothesis =
+            Hypothesis::base(&campaign.base, &space, &start).map_err(|e| e.to_string())?;
+        let start_values = hypothesis.values().map_err(|e| e.to_string())?;
+        let mut found = None;
+        for iterations in 1..=6 {
+            let mut quiet = |_: crate::fit::Progress<'_>| {};
+            let mut pool = crate::fit::executor::Local::new(2).map_err(|e| e.to_string())?;
+            let mut engine =
+                Engine::new(&campaign, &mut pool, None, &mut quiet).map_err(|e| e.to_string())?;
+            let Ok(fit) =
+                levenberg_marquardt(&mut engine, &hypothesis, &start_values, &fitted, iterations)
+            else {
+                break;
+            };
+            let counted = START + engine.points - fit.values.len() + 1;
+            let realised = hypothesis.realise(&fit.values).map_err(|e| e.to_string())?;
+            let total: Option<f64> = fitted
+                .iter()
+                .map(|&i| {
+                    let experiment = &campaign.experiments[i];
+                    let predicted = realised.predict(experiment, &settings).ok()?;
+                    score(&experiment.recording, &predicted)
+                        .map(|s| s.error * campaign.file.experiments[i].weight)
+                })
+                .sum();
+            if total.is_some_and(|v| v <= target) {
+                found = Some(counted);
+                break;
+            }
+        }
+        runs.push(found.filter(|&n| n <= BUDGET));
+    }
+    Ok(runs)
+}
+
+/// The median of `runs`, a run that missed counting as more than any that reached (none: the
+/// median run missed).
+pub fn median(runs: &[Option<usize>]) -> Option<usize> {
+    let mut sorted: Vec<usize> = runs.iter().map(|r| r.unwrap_or(usize::MAX)).collect();
+    sorted.sort_unstable();
+    sorted
+        .get(sorted.len() / 2)
+        .copied()
+        .filter(|&n| n != usize::MAX)
+}
