@@ -566,8 +566,11 @@ fn a_collapsing_cylinder_stops_where_its_kinetic_energy_is_spent_in_plastic_work
     assert!(energy.abs() < 0.025, "energy error {energy}");
 }
 
-/// A rod of `rod` at `velocity` into a semi-infinite-like plate of `target` on an
-/// axisymmetric grid of `h` cells: the nose depth history.
+/// A rod of `rod` at `velocity` into a plate of `target` on an axisymmetric grid of `h`
+/// cells, the target `thickness` thick and `width` in radius, the rod `length` long (m): the
+/// nose depth history. The box must be large enough that no wave comes back from its rigid
+/// walls inside the window measured (in a 30 x 40 mm box the walls confined a 20 us run: 1 %
+/// volumetric strain from the rod's displaced volume, about 1.5 GPa back on the crater floor).
 fn penetrate(
     rod: Material,
     target: Material,
@@ -575,11 +578,8 @@ fn penetrate(
     velocity: f64,
     h: f64,
     end_time: f64,
+    (thickness, length, width): (f64, f64, f64),
 ) -> Vec<(f64, f64)> {
-    // A target wide and thick enough that no wave comes back from its walls inside the
-    // 20 us window: in a 30 x 40 mm box the rigid walls confined it (1 % volumetric strain
-    // from the rod's displaced volume, about 1.5 GPa back on the crater floor).
-    let (thickness, length, width) = (60e-3, 40e-3, 50e-3);
     let below = 2e-3;
     let grid = Grid {
         cells_r: (width / h).round() as usize,
@@ -648,23 +648,43 @@ fn slope(history: &[(f64, f64)], from: f64, to: f64) -> f64 {
 }
 
 #[test]
-#[ignore = "not met (docs/euler.md, Verification): 707 m/s against Bernoulli's 750 (-5.7 %); the same \
-            shortfall in a single-material run, in the rod's frame and on a four times larger box"]
-fn near_fluid_rod_and_target_penetrate_at_bernoullis_rate() {
+fn near_fluid_rod_and_target_penetrate_at_bernoullis_rate_once_the_flow_is_steady() {
     // GOAL: both materials near-fluid: the steady penetration rate is Bernoulli's,
     // (1/2) rho_p (v - u)^2 = (1/2) rho_t u^2, u = v / (1 + sqrt(rho_t / rho_p)), within 2 %.
-    // SETUP: a 10 mm tungsten-density rod at 1250 m/s into steel-density target, 1 MPa
-    // strength each; 0.5 mm cells; the rate fitted over 6-20 us (after the impact shock).
+    // Bernoulli's balance holds for a steady flow; the target's flow about the head reaches
+    // it only after a transient that a short rod never leaves (docs/euler.md, "The Bernoulli
+    // limit"): the rate is 0.95 of Bernoulli's over the first 20 us and climbs to 0.98-0.99
+    // after 100 us (15 rod radii of penetration), on 1 and 2 mm cells alike.
+    // SETUP: a 10 mm, 250 mm long tungsten-density rod at 1250 m/s into a steel-density
+    // target 350 mm thick and 150 mm in radius (no wave back from its walls into the
+    // window), 1 MPa strength each; 2 mm cells (2.5 across the rod's radius: the depth at
+    // 250 us is within 0.2 % of 1 mm cells'); the rate fitted over 100-240 us.
+    // REFERENCE: Bernoulli, 749.5 m/s. Measured 2026-11-28: 736 m/s (-1.8 %); with 1 mm cells
+    // 738.5 m/s over 100-250 us (-1.5 %).
     let rod = perfectly_plastic(17600.0, 145e9, 285e9, 1e6);
     let target = perfectly_plastic(7850.0, 80e9, 160e9, 1e6);
-    let depth = penetrate(rod, target, 5e-3, 1250.0, 0.5e-3, 20e-6);
-    let rate = slope(&depth, 6e-6, 20e-6);
+    let depth = penetrate(
+        rod,
+        target,
+        5e-3,
+        1250.0,
+        2e-3,
+        240e-6,
+        (350e-3, 250e-3, 150e-3),
+    );
+    let early = slope(&depth, 6e-6, 20e-6);
+    let rate = slope(&depth, 100e-6, 240e-6);
     let bernoulli = 1250.0 / (1.0 + (7850.0_f64 / 17600.0).sqrt());
-    eprintln!("near-fluid rate {rate:.1} m/s against Bernoulli {bernoulli:.1} m/s");
+    eprintln!(
+        "near-fluid rate {rate:.1} m/s over 100-240 us ({early:.1} over 6-20 us) against \
+         Bernoulli {bernoulli:.1} m/s"
+    );
     assert!(
         (rate / bernoulli - 1.0).abs() < 0.02,
         "rate {rate} against {bernoulli}"
     );
+    // The transient: the early rate is measurably below the steady one.
+    assert!(early < rate, "early {early}, steady {rate}");
 }
 
 #[test]
