@@ -14,6 +14,9 @@
 //!   target's A times 0.99 / 1 / 1.01: monotone, and the largest deviation from the straight
 //!   line through the ends.
 //! - `threads`: the 1250 m/s shot to 20 us on 1 and 2 threads: speed-up and identical depth.
+//! - `crater`: the crater radius of the 1250 m/s shot as the eroding model's is measured, the
+//!   target's A varied; `crater-heating` (on demand): the bundled target with and without its
+//!   thermal softening.
 //! - `converge` (on demand, about 25 minutes): the 1250 m/s shot at 0.4, 0.2 and 0.1 mm cells,
 //!   for the 0.2 / 0.1 mm criterion (3 %).
 //!
@@ -160,64 +163,84 @@ fn strength() {
 /// half (between cell centres) in the rows one to three rod radii above the nose.
 fn crater() {
     let shot = shot();
-    let a = 0.5 * shot.spec.rod_diameter;
     println!("| target A (GPa) | element | rate FE / WA | R_c / a (WA 1.59) | wall (s) |");
     println!("|---|---|---|---|---|");
     for element in [0.4e-3, 0.2e-3] {
         for yield_stress in [0.5, 1.0, 1.5, 2.0, 3.0, 4.0] {
-            let started = Instant::now();
             let mut file = shot.target.clone();
             file.set_constant("strength.yield_stress", yield_stress * 1e9)
                 .expect("a Johnson-Cook target");
-            let target = file.material().expect("valid target");
-            let mut spec = shot.spec.clone();
-            spec.solver = PenetrationSolver::Euler;
-            spec.element_size = element;
-            let check = spec.cross_check(&target).expect("cross-check");
-            let mut solver = spec
-                .euler_model(&target.into(), &settings(2))
-                .expect("model");
-            let impact = spec.gap() / spec.velocity;
-            let (start, end) = (impact + 10.0e-6, impact + 30.0e-6);
-            let mut noses: Vec<(f64, f64)> = Vec::new();
-            let mut radii: Vec<f64> = Vec::new();
-            let outcome = solver.run(end, 0.5e-6, &mut |s| {
-                let (nose, _) = rod_extent(s, ROD);
-                noses.push((s.time, -nose));
-                if s.time >= start && nose.is_finite() {
-                    let (hr, hz, cells_r) = (s.grid.spacing_r, s.grid.spacing_z, s.grid.cells_r);
-                    for j in 0..s.grid.cells_z {
-                        let z = s.origin_z + (j as f64 + 0.5) * hz;
-                        if z < nose + a || z > nose + 3.0 * a {
-                            continue;
-                        }
-                        let f = |i: usize| s.fraction(j * cells_r + i, TARGET);
-                        if let Some(i) = (1..cells_r).find(|&i| f(i) >= 0.5) {
-                            let (f0, f1) = (f(i - 1), f(i));
-                            let r0 = (i as f64 - 0.5) * hr;
-                            radii.push(r0 + hr * (0.5 - f0) / (f1 - f0));
-                        }
-                    }
-                }
-                std::ops::ControlFlow::Continue(())
-            });
-            if outcome.is_err() {
-                println!("| {yield_stress:.1} | {:.1} mm | failed |", element * 1e3);
-                continue;
-            }
-            let fe_rate = (interpolate(&noses, end) - interpolate(&noses, start)) / (end - start);
-            let wa = |t: f64| depth_at(&check.walker_anderson, t - impact);
-            let wa_rate = (wa(end) - wa(start)) / (end - start);
-            let radius = radii.iter().sum::<f64>() / radii.len().max(1) as f64;
-            println!(
-                "| {yield_stress:.1} | {:.1} mm | {:.2} | {:.2} | {:.0} |",
-                element * 1e3,
-                fe_rate / wa_rate,
-                radius / a,
-                started.elapsed().as_secs_f64()
-            );
+            crater_row(&format!("{yield_stress:.1}"), &file, element);
         }
     }
+}
+
+/// The same crater for the bundled HzB-W target as it is and made isothermal (its thermal
+/// softening switched off): whether the target's heating widens the crater.
+fn crater_heating() {
+    let shot = shot();
+    println!("| target | element | rate FE / WA | R_c / a (WA 1.59) | wall (s) |");
+    println!("|---|---|---|---|---|");
+    for element in [0.4e-3, 0.2e-3] {
+        crater_row("HzB-W, adiabatic", &shot.target, element);
+        let mut file = shot.target.clone();
+        file.heating = stoss_kernel::Heating::Isothermal;
+        crater_row("HzB-W, isothermal", &file, element);
+    }
+}
+
+/// One row of the crater tables: the 1250 m/s shot into `file` on `element` cells.
+fn crater_row(label: &str, file: &material::MaterialFile, element: f64) {
+    let shot = shot();
+    let a = 0.5 * shot.spec.rod_diameter;
+    let started = Instant::now();
+    let target = file.material().expect("valid target");
+    let mut spec = shot.spec.clone();
+    spec.solver = PenetrationSolver::Euler;
+    spec.element_size = element;
+    let check = spec.cross_check(&target).expect("cross-check");
+    let mut solver = spec
+        .euler_model(&target.into(), &settings(2))
+        .expect("model");
+    let impact = spec.gap() / spec.velocity;
+    let (start, end) = (impact + 10.0e-6, impact + 30.0e-6);
+    let mut noses: Vec<(f64, f64)> = Vec::new();
+    let mut radii: Vec<f64> = Vec::new();
+    let outcome = solver.run(end, 0.5e-6, &mut |s| {
+        let (nose, _) = rod_extent(s, ROD);
+        noses.push((s.time, -nose));
+        if s.time >= start && nose.is_finite() {
+            let (hr, hz, cells_r) = (s.grid.spacing_r, s.grid.spacing_z, s.grid.cells_r);
+            for j in 0..s.grid.cells_z {
+                let z = s.origin_z + (j as f64 + 0.5) * hz;
+                if z < nose + a || z > nose + 3.0 * a {
+                    continue;
+                }
+                let f = |i: usize| s.fraction(j * cells_r + i, TARGET);
+                if let Some(i) = (1..cells_r).find(|&i| f(i) >= 0.5) {
+                    let (f0, f1) = (f(i - 1), f(i));
+                    let r0 = (i as f64 - 0.5) * hr;
+                    radii.push(r0 + hr * (0.5 - f0) / (f1 - f0));
+                }
+            }
+        }
+        std::ops::ControlFlow::Continue(())
+    });
+    if outcome.is_err() {
+        println!("| {label} | {:.1} mm | failed |", element * 1e3);
+        return;
+    }
+    let fe_rate = (interpolate(&noses, end) - interpolate(&noses, start)) / (end - start);
+    let wa = |t: f64| depth_at(&check.walker_anderson, t - impact);
+    let wa_rate = (wa(end) - wa(start)) / (end - start);
+    let radius = radii.iter().sum::<f64>() / radii.len().max(1) as f64;
+    println!(
+        "| {label} | {:.1} mm | {:.2} | {:.2} | {:.0} |",
+        element * 1e3,
+        fe_rate / wa_rate,
+        radius / a,
+        started.elapsed().as_secs_f64()
+    );
 }
 
 fn smooth() {
@@ -314,7 +337,10 @@ fn main() {
     if sections.contains("smooth") {
         smooth();
     }
-    if sections.contains("crater") {
+    if sections.split(',').any(|s| s == "crater-heating") {
+        crater_heating();
+    }
+    if sections.split(',').any(|s| s == "crater") {
         crater();
     }
     if sections.contains("threads") {
