@@ -322,6 +322,13 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
                 )
                 .unwrap_or_else(|e| panic!("{}: {e}", row.name));
             }
+            stoss::validate::Measure::FoiPerforation { run } => {
+                assert!(
+                    stoss::validate::perforation::run(run).is_some(),
+                    "{}: no FOI run {run}",
+                    row.name
+                );
+            }
             stoss::validate::Measure::Finish { .. } => {
                 stoss::fit::Campaign::load(&fixtures.join("campaigns/synthetic-flow.toml"))
                     .unwrap_or_else(|e| panic!("{}: {e}", row.name));

@@ -163,8 +163,8 @@ fn strength() {
 /// half (between cell centres) in the rows one to three rod radii above the nose.
 fn crater() {
     let shot = shot();
-    println!("| target A (GPa) | element | rate FE / WA | R_c / a (WA 1.59) | wall (s) |");
-    println!("|---|---|---|---|---|");
+    println!("| target A (GPa) | element | rate FE / WA | R_c / a, 1-3 a above the nose (WA 1.59) | at the head, 0-1 a | wall (s) |");
+    println!("|---|---|---|---|---|---|");
     for element in [0.4e-3, 0.2e-3] {
         for yield_stress in [0.5, 1.0, 1.5, 2.0, 3.0, 4.0] {
             let mut file = shot.target.clone();
@@ -179,8 +179,8 @@ fn crater() {
 /// softening switched off): whether the target's heating widens the crater.
 fn crater_heating() {
     let shot = shot();
-    println!("| target | element | rate FE / WA | R_c / a (WA 1.59) | wall (s) |");
-    println!("|---|---|---|---|---|");
+    println!("| target | element | rate FE / WA | R_c / a, 1-3 a above the nose (WA 1.59) | at the head, 0-1 a | wall (s) |");
+    println!("|---|---|---|---|---|---|");
     for element in [0.4e-3, 0.2e-3] {
         crater_row("HzB-W, adiabatic", &shot.target, element);
         let mut file = shot.target.clone();
@@ -206,6 +206,7 @@ fn crater_row(label: &str, file: &material::MaterialFile, element: f64) {
     let (start, end) = (impact + 10.0e-6, impact + 30.0e-6);
     let mut noses: Vec<(f64, f64)> = Vec::new();
     let mut radii: Vec<f64> = Vec::new();
+    let mut at_head: Vec<f64> = Vec::new();
     let outcome = solver.run(end, 0.5e-6, &mut |s| {
         let (nose, _) = rod_extent(s, ROD);
         noses.push((s.time, -nose));
@@ -213,32 +214,38 @@ fn crater_row(label: &str, file: &material::MaterialFile, element: f64) {
             let (hr, hz, cells_r) = (s.grid.spacing_r, s.grid.spacing_z, s.grid.cells_r);
             for j in 0..s.grid.cells_z {
                 let z = s.origin_z + (j as f64 + 0.5) * hz;
-                if z < nose + a || z > nose + 3.0 * a {
+                let into = if z >= nose + a && z <= nose + 3.0 * a {
+                    &mut radii
+                } else if z >= nose && z < nose + a {
+                    &mut at_head
+                } else {
                     continue;
-                }
+                };
                 let f = |i: usize| s.fraction(j * cells_r + i, TARGET);
                 if let Some(i) = (1..cells_r).find(|&i| f(i) >= 0.5) {
                     let (f0, f1) = (f(i - 1), f(i));
                     let r0 = (i as f64 - 0.5) * hr;
-                    radii.push(r0 + hr * (0.5 - f0) / (f1 - f0));
+                    into.push(r0 + hr * (0.5 - f0) / (f1 - f0));
                 }
             }
         }
         std::ops::ControlFlow::Continue(())
     });
     if outcome.is_err() {
-        println!("| {label} | {:.1} mm | failed |", element * 1e3);
+        println!("| {label} | {:.1} mm | failed | | | |", element * 1e3);
         return;
     }
     let fe_rate = (interpolate(&noses, end) - interpolate(&noses, start)) / (end - start);
     let wa = |t: f64| depth_at(&check.walker_anderson, t - impact);
     let wa_rate = (wa(end) - wa(start)) / (end - start);
     let radius = radii.iter().sum::<f64>() / radii.len().max(1) as f64;
+    let head = at_head.iter().sum::<f64>() / at_head.len().max(1) as f64;
     println!(
-        "| {label} | {:.1} mm | {:.2} | {:.2} | {:.0} |",
+        "| {label} | {:.1} mm | {:.2} | {:.2} | {:.2} | {:.0} |",
         element * 1e3,
         fe_rate / wa_rate,
         radius / a,
+        head / a,
         started.elapsed().as_secs_f64()
     );
 }

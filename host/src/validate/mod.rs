@@ -15,6 +15,7 @@
 
 pub mod finish;
 pub mod identification;
+pub mod perforation;
 
 use crate::analytic::ballistic::{fit_lambert_jonas, Shot};
 use crate::experiment::{Experiment, Setup};
@@ -86,6 +87,12 @@ pub enum Measure {
     Finish {
         /// The target as a multiple of the noise floor.
         factor: f64,
+    },
+    /// The exit velocity (m/s) of one of FOI's perforation runs rebuilt on the bundled model
+    /// ([`perforation::RUNS`], by FOI's run number), fired at 459 m/s.
+    FoiPerforation {
+        /// FOI's run number (`B99036`...).
+        run: &'static str,
     },
     /// The Lambert–Jonas limit (free `p`) of a bundled ballistic recording's shots (m/s).
     LambertJonas {
@@ -753,6 +760,83 @@ pub const ROWS: &[Row] = &[
             held_out: true,
         },
     },
+    Row {
+        name: "perforation-b99036",
+        figure: "exit velocity at 459 m/s with the constants of FOI's run B99036 (10 mm slab; FOI's Autodyn: 189 m/s)",
+        quoted_in: "docs/solver.md, Concrete perforation, Results: seed 001's Lagrange model rebuilt",
+        stated: 208.2,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiPerforation { run: "B99036" },
+    },
+    Row {
+        name: "perforation-b99008",
+        figure: "exit velocity at 459 m/s with the constants of FOI's run B99008 (10 mm slab; FOI's Autodyn: 247 m/s)",
+        quoted_in: "docs/solver.md, Concrete perforation, Results: seed 001's Lagrange model rebuilt",
+        stated: 264.9,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiPerforation { run: "B99008" },
+    },
+    Row {
+        name: "perforation-b99035",
+        figure: "exit velocity at 459 m/s with the constants of FOI's run B99035 (10 mm slab; FOI's Autodyn: 194 m/s)",
+        quoted_in: "docs/solver.md, Concrete perforation, Results: seed 001's Lagrange model rebuilt",
+        stated: 172.2,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiPerforation { run: "B99035" },
+    },
+    Row {
+        name: "perforation-b99038",
+        figure: "exit velocity at 459 m/s with the constants of FOI's run B99038 (10 mm slab; FOI's Autodyn: 212 m/s)",
+        quoted_in: "docs/solver.md, Concrete perforation, Results: seed 001's Lagrange model rebuilt",
+        stated: 219.1,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiPerforation { run: "B99038" },
+    },
+    Row {
+        name: "perforation-b99055",
+        figure: "exit velocity at 459 m/s with the constants of FOI's run B99055 (5 mm slab; FOI's Autodyn: 269 m/s)",
+        quoted_in: "docs/solver.md, Concrete perforation, Results: seed 001's Lagrange model rebuilt",
+        stated: 277.1,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiPerforation { run: "B99055" },
+    },
+    Row {
+        name: "perforation-b99056",
+        figure: "exit velocity at 459 m/s with the constants of FOI's run B99056 (5 mm slab; FOI's Autodyn: 237 m/s)",
+        quoted_in: "docs/solver.md, Concrete perforation, Results: seed 001's Lagrange model rebuilt",
+        stated: 224.2,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiPerforation { run: "B99056" },
+    },
+    Row {
+        name: "perforation-b99057",
+        figure: "exit velocity at 459 m/s with the constants of FOI's run B99057 (5 mm slab; FOI's Autodyn: 207 m/s)",
+        quoted_in: "docs/solver.md, Concrete perforation, Results: seed 001's Lagrange model rebuilt",
+        stated: 189.4,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiPerforation { run: "B99057" },
+    },
 ];
 
 /// A measured row.
@@ -834,6 +918,10 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
             finish::median(&runs)
                 .map(|n| n as f64)
                 .ok_or_else(|| format!("the median run missed {factor} x the noise floor"))
+        }
+        Measure::FoiPerforation { run } => {
+            let found = perforation::run(run).ok_or_else(|| format!("no FOI run `{run}`"))?;
+            perforation::fire(fixtures, found, threads).map(|(_, shot)| shot.residual_velocity)
         }
         Measure::LambertJonas { experiment } => {
             let loaded = load(fixtures, experiment)?;
