@@ -1806,3 +1806,98 @@ fn slurm_settings_on_a_local_run_are_said_to_be_ignored() {
     }
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+#[test]
+fn cards_are_written_in_the_users_unit_system_with_the_users_id_and_name() {
+    // GOAL: issue 51 item 3: `--units`, `--material-id` and `--name` reach every card; a unit
+    //       system stoss cannot read, or an id or a name a code refuses, is an error before
+    //       anything runs, naming the option, and leaves no folder.
+    // SETUP: synthetic-flow campaign, 6 simulations, one instance, `--units mm-s-t-MPa
+    //        --material-id 7 --name HHA`; then `--units mm-ms-kg-MPa` (inconsistent), `--units
+    //        furlong-s-kg`, `--material-id 0` and `--name "4340 steel"`.
+    // REFERENCE: LS-DYNA's t-mm-s system: density in t/mm^3 (about 7.8e-9), stresses in MPa;
+    //        the cards' headers name the system; the user-material card says it stays SI.
+    let out = temporary("card-units");
+    let run = out.join("run");
+    let done = stoss()
+        .args(["calibrate", "fixtures/campaigns/synthetic-flow.toml"])
+        .args([
+            "--budget",
+            "6",
+            "--polish",
+            "0",
+            "--instances",
+            "1",
+            "--quiet",
+        ])
+        .args([
+            "--units",
+            "mm-s-t-MPa",
+            "--material-id",
+            "7",
+            "--name",
+            "HHA",
+        ])
+        .arg("--output")
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(
+        done.status.success(),
+        "{}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+    let card = std::fs::read_to_string(run.join("report/cards/jc.k")).unwrap();
+    assert!(
+        card.contains("units: mass t, length mm, time s, stress MPa, temperature K"),
+        "{card}"
+    );
+    let mat = card
+        .lines()
+        .skip_while(|l| !l.starts_with("*MAT_JOHNSON_COOK"))
+        .nth(2)
+        .unwrap();
+    let fields = stoss::report::cards::read_fields(mat, &[10; 8]).unwrap();
+    assert_eq!(fields[0], 7.0);
+    assert!(
+        (7.0e-9..9.0e-9).contains(&fields[1]),
+        "density {}",
+        fields[1]
+    );
+    assert!(
+        (5.0e4..1.0e5).contains(&fields[2]),
+        "shear modulus {} MPa",
+        fields[2]
+    );
+    let inp = std::fs::read_to_string(run.join("report/cards/jc.inp")).unwrap();
+    assert!(inp.contains("*MATERIAL, NAME=HHA"), "{inp}");
+    let radioss = std::fs::read_to_string(run.join("report/cards/jc.rad")).unwrap();
+    assert!(radioss.contains("/UNIT/7") && radioss.contains("/MAT/PLAS_JOHNS/7/7"));
+    let report = std::fs::read_to_string(run.join("report/report.md")).unwrap();
+    assert!(
+        report.contains("user-material cards stay in SI"),
+        "{report}"
+    );
+    for (option, value, says) in [
+        ("--units", "mm-ms-kg-MPa", "make the stress unit GPa"),
+        ("--units", "furlong-s-kg", "--units"),
+        ("--material-id", "0", "--material-id 0"),
+        ("--name", "4340 steel", "--name"),
+    ] {
+        let refused_folder = out.join(format!("refused-{}", option.trim_start_matches('-')));
+        let refused = stoss()
+            .args(["calibrate", "fixtures/campaigns/synthetic-flow.toml"])
+            .args([option, value, "--output"])
+            .arg(&refused_folder)
+            .output()
+            .unwrap();
+        let error = String::from_utf8_lossy(&refused.stderr);
+        assert!(!refused.status.success(), "{option} {value}");
+        assert!(error.contains(says), "{option} {value}: {error}");
+        assert!(
+            !refused_folder.exists(),
+            "{option} {value}: a folder was left"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -45,6 +45,16 @@ pub struct CalibrateArgs {
     /// No progress output (the bar on a terminal, the progress lines otherwise).
     #[arg(long)]
     pub quiet: bool,
+    /// The cards' unit system: `si` (kg, m, s, Pa), or length-time-mass[-stress] as the
+    /// codes' users name them (`mm-ms-kg-GPa`, `mm-s-t-MPa`, `mm-ms-g-MPa`, `cm-us-g-Mbar`).
+    #[arg(long, default_value = "si")]
+    pub units: String,
+    /// The cards' material id (LS-DYNA MID and EOSID, OpenRadioss mat_ID and unit_ID).
+    #[arg(long, default_value_t = 1)]
+    pub material_id: u32,
+    /// The cards' material name (Abaqus NAME=, OpenRadioss title).
+    #[arg(long, default_value = "STOSS")]
+    pub name: String,
     /// Where the simulations run (this machine, a Slurm cluster) and how.
     #[command(flatten)]
     pub executor: ExecutorArgs,
@@ -80,6 +90,10 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     if args.instances == Some(0) {
         return Err("--instances 0: give at least 1".into());
     }
+    // The card options are checked before anything runs.
+    let units =
+        crate::report::cards::CardUnits::parse(&args.units).map_err(|e| format!("--units: {e}"))?;
+    let card_options = crate::report::cards::CardOptions::new(units, args.material_id, &args.name)?;
     let campaign = Campaign::load(&args.campaign).map_err(|e| e.to_string())?;
     if args.leave_one_out && campaign.fitted().len() < 2 {
         return Err(format!(
@@ -288,7 +302,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     let outcomes = calibration::selected_outcomes(&campaign, &results);
     let report = output.join("report");
     write_folder(&report, Leftovers::Clean, |folder| {
-        calibration::write(folder, &campaign, &results, &outcomes)
+        calibration::write(folder, &campaign, &results, &outcomes, &card_options)
     })?;
     println!("\nreport: {}", report.join("report.md").display());
     if let Some(folder) = created.as_mut() {

@@ -84,18 +84,21 @@ fn errors_row(campaign: &Campaign, evaluation: &Evaluation) -> String {
 
 /// Write the report into `directory` (figures in `figures/`, cards in `cards/`). `outcomes[m]`
 /// holds model `m`'s selected simulation of every campaign experiment.
+///
+/// The cards are written as `card_options` says (unit system, material id, name).
 pub fn write(
     directory: &Path,
     campaign: &Campaign,
     results: &[ModelResult],
     outcomes: &[Vec<Option<Outcome>>],
+    card_options: &cards::CardOptions,
 ) -> Result<(), String> {
     let figures = directory.join("figures");
     let cards = directory.join("cards");
     for dir in [&figures, &cards] {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    let mut report = Report::new(campaign, figures, cards);
+    let mut report = Report::new(campaign, figures, cards, card_options);
     report.header();
     report.recommendation(results);
     report.model_selection(results);
@@ -120,6 +123,8 @@ struct Report<'a> {
     figures: PathBuf,
     /// Where the cards go (`cards/`).
     cards: PathBuf,
+    /// The cards' unit system, material id and name.
+    card_options: &'a cards::CardOptions,
     /// The fitted experiments.
     fitted: Vec<usize>,
     /// Every experiment's name, `(held out)` added to the held-out ones: the table columns.
@@ -130,7 +135,12 @@ struct Report<'a> {
 }
 
 impl<'a> Report<'a> {
-    fn new(campaign: &'a Campaign, figures: PathBuf, cards: PathBuf) -> Self {
+    fn new(
+        campaign: &'a Campaign,
+        figures: PathBuf,
+        cards: PathBuf,
+        card_options: &'a cards::CardOptions,
+    ) -> Self {
         let names = (0..campaign.experiments.len())
             .map(|i| {
                 let tag = if campaign.file.experiments[i].holdout {
@@ -145,6 +155,7 @@ impl<'a> Report<'a> {
             campaign,
             figures,
             cards,
+            card_options,
             fitted: campaign.fitted(),
             names,
             recommended: None,
@@ -317,7 +328,7 @@ impl<'a> Report<'a> {
                 ),
             );
             let stem = format!("{}-starting", slug(&result.model));
-            let written = write_cards(&self.cards, &stem, &file)?;
+            let written = write_cards(&self.cards, &stem, &file, self.card_options)?;
             let _ = writeln!(
                 self.md,
                 "\n### Cards of the starting constants (recommended)\n\n{}\n",
@@ -632,7 +643,12 @@ impl<'a> Report<'a> {
                 campaign.base.name()
             ),
         );
-        let written = write_cards(&self.cards, &slug(&result.model), &material_file)?;
+        let written = write_cards(
+            &self.cards,
+            &slug(&result.model),
+            &material_file,
+            self.card_options,
+        )?;
         let _ = writeln!(self.md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `-plastic.inp`: the same tables as Abaqus/Explicit `*PLASTIC, RATE=` data; `.inp`: Abaqus; `.rad`: OpenRadioss; `-umat.k`, `-umat.inp`: the stoss user material's card for LS-DYNA and Abaqus, for any model (docs/user-material.md).)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
         Ok(())
     }
@@ -740,6 +756,7 @@ fn write_cards(
     card_dir: &Path,
     stem: &str,
     material_file: &AnyMaterialFile,
+    options: &cards::CardOptions,
 ) -> Result<Vec<String>, String> {
     let mut written = vec![format!("cards/{stem}.toml")];
     std::fs::write(
@@ -752,9 +769,12 @@ fn write_cards(
         AnyMaterialFile::Rht(_) | AnyMaterialFile::Kc(_) => None,
     };
     for (ext, card) in [
-        ("k", metal_file.and_then(cards::ls_dyna)),
-        ("inp", metal_file.and_then(cards::abaqus)),
-        ("rad", metal_file.and_then(cards::open_radioss)),
+        ("k", metal_file.and_then(|f| cards::ls_dyna(f, options))),
+        ("inp", metal_file.and_then(|f| cards::abaqus(f, options))),
+        (
+            "rad",
+            metal_file.and_then(|f| cards::open_radioss(f, options)),
+        ),
     ] {
         if let Some(card) = card {
             std::fs::write(card_dir.join(format!("{stem}.{ext}")), card)
@@ -777,9 +797,21 @@ fn write_cards(
         }
         Err(reason) => written.push(format!("(no user-material card: {reason})")),
     }
+    if !options.units.is_si() {
+        written.push(format!(
+            "(the user-material cards stay in SI, kg-m-s-Pa: the stoss C ABI computes in SI;              the other cards are in {})",
+            options.units
+        ));
+    }
     for (suffix, card) in [
-        ("mat224.k", metal_file.and_then(cards::tabulated::ls_dyna)),
-        ("plastic.inp", metal_file.and_then(cards::tabulated::abaqus)),
+        (
+            "mat224.k",
+            metal_file.and_then(|f| cards::tabulated::ls_dyna(f, options)),
+        ),
+        (
+            "plastic.inp",
+            metal_file.and_then(|f| cards::tabulated::abaqus(f, options)),
+        ),
     ] {
         if let Some((card, _, error)) = card {
             std::fs::write(card_dir.join(format!("{stem}-{suffix}")), card)

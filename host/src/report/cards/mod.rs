@@ -1,5 +1,7 @@
-//! Material cards to paste into other codes, from a calibrated material file. Units are SI
-//! (kg, m, s, Pa, K): set the host model's unit system accordingly.
+//! Material cards to paste into other codes, from a calibrated material file, in the unit
+//! system, material id and name of [`units::CardOptions`] (default SI, id 1, `STOSS`); every
+//! card states its units in its header. The user-material cards stay SI: the C ABI computes in
+//! SI.
 //!
 //! - [`native`]: the codes' own cards where the model fits them exactly: Johnson-Cook as
 //!   LS-DYNA `*MAT_JOHNSON_COOK` (*MAT_015) with `*EOS_LINEAR_POLYNOMIAL` (C1 = K) or
@@ -18,12 +20,14 @@
 
 pub mod native;
 pub mod tabulated;
+pub mod units;
 pub mod user_material;
 
 use crate::input::material::MaterialFile;
 use stoss_kernel::eos::Eos;
 
 pub use native::{abaqus, ls_dyna, open_radioss};
+pub use units::{CardOptions, CardUnits};
 
 /// Young's modulus and Poisson's ratio from the bulk and shear moduli.
 pub(crate) fn young_and_poisson(bulk: f64, shear: f64) -> (f64, f64) {

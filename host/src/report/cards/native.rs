@@ -1,25 +1,31 @@
 //! The codes' own material cards, for the families they fit exactly (see [`super`]).
 
+use super::units::{CardOptions, Quantity};
 use super::{bulk_modulus, field, line, young_and_poisson};
 use crate::input::material::{MaterialFile, StrengthSpec};
 use std::fmt::Write as _;
 use stoss_kernel::eos::Eos;
 use stoss_kernel::strength::{CrystalStructure, JohnsonCook, ZerilliArmstrong};
 
-/// LS-DYNA keyword cards (`None` if the family has no LS-DYNA equivalent).
-pub fn ls_dyna(file: &MaterialFile) -> Option<String> {
+/// LS-DYNA keyword cards (`None` if the family has no LS-DYNA equivalent), in `options`'
+/// units, with its material id (the EoS takes the same id).
+pub fn ls_dyna(file: &MaterialFile, options: &CardOptions) -> Option<String> {
     let bulk = bulk_modulus(file)?;
     let (young, poisson) = young_and_poisson(bulk, file.shear_modulus);
     let mut text = format!(
-        "$ stoss calibrated material: {}\n$ units: kg, m, s, Pa, K\n",
-        file.name
+        "$ stoss calibrated material: {} ({})\n$ {}\n",
+        file.name,
+        options.name,
+        options.units.header()
     );
     match file.strength {
-        StrengthSpec::JohnsonCook(jc) => johnson_cook(&mut text, file, &jc, young, poisson),
-        StrengthSpec::ZerilliArmstrong(za) => zerilli_armstrong(&mut text, file, &za),
+        StrengthSpec::JohnsonCook(jc) => {
+            johnson_cook(&mut text, file, &jc, young, poisson, options)
+        }
+        StrengthSpec::ZerilliArmstrong(za) => zerilli_armstrong(&mut text, file, &za, options),
         _ => return None,
     }
-    equation_of_state(&mut text, file, bulk);
+    equation_of_state(&mut text, file, bulk, options);
     Some(text)
 }
 
@@ -36,7 +42,9 @@ fn johnson_cook(
     jc: &JohnsonCook,
     young: f64,
     poisson: f64,
+    options: &CardOptions,
 ) {
+    let u = |value: f64, quantity: Quantity| options.units.from_si(value, quantity);
     let (d1, d2, d3, d4, d5) = file
         .failure
         .and_then(|f| f.johnson_cook)
@@ -46,26 +54,44 @@ fn johnson_cook(
     card(
         text,
         "*MAT_JOHNSON_COOK\n$      MID        RO         G         E        PR       DTF        VP    RATEOP",
-        &[1.0, file.density, file.shear_modulus, young, poisson, 0.0, 1.0, 0.0],
+        &[
+            f64::from(options.material_id),
+            u(file.density, Quantity::Density),
+            u(file.shear_modulus, Quantity::Stress),
+            u(young, Quantity::Stress),
+            poisson,
+            0.0,
+            1.0,
+            0.0,
+        ],
     );
     card(
         text,
         "$        A         B         N         C         M        TM        TR      EPSO",
         &[
-            jc.yield_stress,
-            jc.hardening_modulus,
+            u(jc.yield_stress, Quantity::Stress),
+            u(jc.hardening_modulus, Quantity::Stress),
             jc.hardening_exponent,
             jc.rate_sensitivity,
             jc.thermal_exponent,
             jc.melting_temperature,
             jc.reference_temperature,
-            jc.reference_rate,
+            u(jc.reference_rate, Quantity::Rate),
         ],
     );
     card(
         text,
         "$       CP        PC     SPALL        IT        D1        D2        D3        D4",
-        &[file.specific_heat, -1.0e20, 2.0, 0.0, d1, d2, d3, d4],
+        &[
+            u(file.specific_heat, Quantity::SpecificHeat),
+            u(-1.0e20, Quantity::Stress),
+            2.0,
+            0.0,
+            d1,
+            d2,
+            d3,
+            d4,
+        ],
     );
     card(
         text,
@@ -75,7 +101,13 @@ fn johnson_cook(
 }
 
 /// LS-DYNA's `*MAT_ZERILLI-ARMSTRONG` card.
-fn zerilli_armstrong(text: &mut String, file: &MaterialFile, za: &ZerilliArmstrong) {
+fn zerilli_armstrong(
+    text: &mut String,
+    file: &MaterialFile,
+    za: &ZerilliArmstrong,
+    options: &CardOptions,
+) {
+    let u = |value: f64, quantity: Quantity| options.units.from_si(value, quantity);
     let mix = match za.structure {
         CrystalStructure::Fcc => 1.0,
         CrystalStructure::Bcc => 2.0,
@@ -85,13 +117,13 @@ fn zerilli_armstrong(text: &mut String, file: &MaterialFile, za: &ZerilliArmstro
         text,
         "*MAT_ZERILLI-ARMSTRONG\n$      MID        RO         G      E0        N     TROOM     PC      SPALL",
         &[
-            1.0,
-            file.density,
-            file.shear_modulus,
-            za.reference_rate,
+            f64::from(options.material_id),
+            u(file.density, Quantity::Density),
+            u(file.shear_modulus, Quantity::Stress),
+            u(za.reference_rate, Quantity::Rate),
             za.exponent,
             298.0,
-            -1.0e20,
+            u(-1.0e20, Quantity::Stress),
             2.0,
         ],
     );
@@ -100,11 +132,11 @@ fn zerilli_armstrong(text: &mut String, file: &MaterialFile, za: &ZerilliArmstro
         text,
         "$       C1        C2        C3        C4        C5        C6     EFAIL    NUMINT",
         &[
-            za.athermal_stress,
-            thermal,
+            u(za.athermal_stress, Quantity::Stress),
+            u(thermal, Quantity::Stress),
             za.c3,
             za.c4,
-            za.c5,
+            u(za.c5, Quantity::Stress),
             0.0,
             1.0e20,
             0.0,
@@ -115,13 +147,24 @@ fn zerilli_armstrong(text: &mut String, file: &MaterialFile, za: &ZerilliArmstro
 
 /// LS-DYNA's `*EOS_GRUNEISEN` card for a Mie-Grüneisen equation of state, else
 /// `*EOS_LINEAR_POLYNOMIAL` with the bulk modulus.
-fn equation_of_state(text: &mut String, file: &MaterialFile, bulk: f64) {
+fn equation_of_state(text: &mut String, file: &MaterialFile, bulk: f64, options: &CardOptions) {
+    let u = |value: f64, quantity: Quantity| options.units.from_si(value, quantity);
+    let id = f64::from(options.material_id);
     match file.eos {
         Eos::MieGruneisen(g) => {
             card(
                 text,
                 "*EOS_GRUNEISEN\n$    EOSID         C        S1        S2        S3    GAMAO         A        E0",
-                &[1.0, g.sound_speed, g.s1, g.s2, g.s3, g.gamma0, g.volume_correction, 0.0],
+                &[
+                    id,
+                    u(g.sound_speed, Quantity::Velocity),
+                    g.s1,
+                    g.s2,
+                    g.s3,
+                    g.gamma0,
+                    g.volume_correction,
+                    0.0,
+                ],
             );
             card(text, "$       V0", &[1.0]);
         }
@@ -129,30 +172,39 @@ fn equation_of_state(text: &mut String, file: &MaterialFile, bulk: f64) {
             card(
                 text,
                 "*EOS_LINEAR_POLYNOMIAL\n$    EOSID        C0        C1        C2        C3        C4        C5        C6",
-                &[1.0, 0.0, bulk, 0.0, 0.0, 0.0, 0.0, 0.0],
+                &[id, 0.0, u(bulk, Quantity::Stress), 0.0, 0.0, 0.0, 0.0, 0.0],
             );
             card(text, "$       E0        V0", &[0.0, 1.0]);
         }
     }
 }
 
-/// Abaqus input lines for Johnson-Cook (`None` for other families).
-pub fn abaqus(file: &MaterialFile) -> Option<String> {
+/// Abaqus input lines for Johnson-Cook (`None` for other families), in `options`' units.
+pub fn abaqus(file: &MaterialFile, options: &CardOptions) -> Option<String> {
     let StrengthSpec::JohnsonCook(jc) = file.strength else {
         return None;
     };
+    let u = |value: f64, quantity: Quantity| options.units.from_si(value, quantity);
     let bulk = bulk_modulus(file)?;
     let (young, poisson) = young_and_poisson(bulk, file.shear_modulus);
     let chi = match file.heating {
         stoss_kernel::Heating::Adiabatic { taylor_quinney } => Some(taylor_quinney),
         _ => None,
     };
-    let mut text = format!("** stoss calibrated material: {}\n** units: kg, m, s, Pa, K\n*MATERIAL, NAME=STOSS\n*DENSITY\n{:e}\n*ELASTIC\n{:e}, {:e}\n", file.name, file.density, young, poisson);
+    let mut text = format!(
+        "** stoss calibrated material: {}\n** {}\n*MATERIAL, NAME={}\n*DENSITY\n{:e}\n*ELASTIC\n{:e}, {:e}\n",
+        file.name,
+        options.units.header(),
+        options.name,
+        u(file.density, Quantity::Density),
+        u(young, Quantity::Stress),
+        poisson
+    );
     let _ = writeln!(
         text,
         "*PLASTIC, HARDENING=JOHNSON COOK\n{:e}, {:e}, {:e}, {:e}, {:e}, {:e}",
-        jc.yield_stress,
-        jc.hardening_modulus,
+        u(jc.yield_stress, Quantity::Stress),
+        u(jc.hardening_modulus, Quantity::Stress),
         jc.hardening_exponent,
         jc.thermal_exponent,
         jc.melting_temperature,
@@ -161,45 +213,76 @@ pub fn abaqus(file: &MaterialFile) -> Option<String> {
     let _ = writeln!(
         text,
         "*RATE DEPENDENT, TYPE=JOHNSON COOK\n{:e}, {:e}",
-        jc.rate_sensitivity, jc.reference_rate
+        jc.rate_sensitivity,
+        u(jc.reference_rate, Quantity::Rate)
     );
     if let Some(chi) = chi {
         let _ = writeln!(
             text,
             "*SPECIFIC HEAT\n{:e}\n*INELASTIC HEAT FRACTION\n{chi}",
-            file.specific_heat
+            u(file.specific_heat, Quantity::SpecificHeat)
         );
     }
     Some(text)
 }
 
-/// OpenRadioss `/MAT/PLAS_JOHNS` (law 2, Johnson-Cook) (`None` for other families).
-pub fn open_radioss(file: &MaterialFile) -> Option<String> {
+/// OpenRadioss `/MAT/PLAS_JOHNS` (law 2, Johnson-Cook) (`None` for other families), with a
+/// `/UNIT` block that declares the card's units: the starter converts them to the model's, so
+/// the card is correct in a model of any system.
+pub fn open_radioss(file: &MaterialFile, options: &CardOptions) -> Option<String> {
     let StrengthSpec::JohnsonCook(jc) = file.strength else {
         return None;
     };
+    let units = &options.units;
+    let u = |value: f64, quantity: Quantity| units.from_si(value, quantity);
     let bulk = bulk_modulus(file)?;
     let (young, poisson) = young_and_poisson(bulk, file.shear_modulus);
     let rho_cp = file.density * file.specific_heat;
+    let id = options.material_id;
     let mut text = format!(
-        "# stoss calibrated material: {}\n# units: kg, m, s, Pa, K\n/MAT/PLAS_JOHNS/1\nstoss\n",
-        file.name
+        "# stoss calibrated material: {}\n# {}\n/UNIT/{id}\nunits of {}\n#{:>19}{:>20}{:>20}\n{:>20}{:>20}{:>20}\n/MAT/PLAS_JOHNS/{id}/{id}\n{}\n",
+        file.name,
+        units.header(),
+        options.name,
+        "MUNIT",
+        "LUNIT",
+        "TUNIT",
+        units.mass.0,
+        units.length.0,
+        units.time.0,
+        options.name
     );
-    let _ = writeln!(text, "#              RHO_I\n{}", field(file.density, 20));
+    let _ = writeln!(
+        text,
+        "#              RHO_I\n{}",
+        field(u(file.density, Quantity::Density), 20)
+    );
     let _ = writeln!(
         text,
         "#                  E                  NU\n{}",
-        line(&[young, poisson], 20)
+        line(&[u(young, Quantity::Stress), poisson], 20)
     );
     let _ = writeln!(
         text,
         "#                  A                   B                   N             EPS_MAX             SIG_MAX\n{}",
-        line(&[jc.yield_stress, jc.hardening_modulus, jc.hardening_exponent, 0.0, 0.0], 20)
+        line(
+            &[
+                u(jc.yield_stress, Quantity::Stress),
+                u(jc.hardening_modulus, Quantity::Stress),
+                jc.hardening_exponent,
+                0.0,
+                0.0
+            ],
+            20
+        )
     );
     let _ = writeln!(
         text,
         "#                  C           EPS_DOT_0       ICC   Fsmooth               F_cut\n{}{}{}",
-        line(&[jc.rate_sensitivity, jc.reference_rate], 20),
+        line(
+            &[jc.rate_sensitivity, u(jc.reference_rate, Quantity::Rate)],
+            20
+        ),
         line(&[1.0, 0.0], 10),
         field(0.0, 20)
     );
@@ -210,7 +293,7 @@ pub fn open_radioss(file: &MaterialFile) -> Option<String> {
             &[
                 jc.thermal_exponent,
                 jc.melting_temperature,
-                rho_cp,
+                u(rho_cp, Quantity::VolumetricHeat),
                 jc.reference_temperature
             ],
             20
@@ -228,7 +311,7 @@ mod tests {
     fn data(card: &str, comment: char, widths: &[usize]) -> Vec<Vec<f64>> {
         card.lines()
             .filter(|l| !l.starts_with(comment) && !l.starts_with('*') && !l.starts_with('/'))
-            .filter(|l| l.trim() != "stoss")
+            .filter(|l| l.trim() != "STOSS")
             .map(|l| read_fields(l, widths).unwrap_or_else(|e| panic!("{l}: {e}")))
             .collect()
     }
@@ -256,7 +339,7 @@ mod tests {
         let bulk = bulk_modulus(&file).unwrap();
         let (young, poisson) = young_and_poisson(bulk, file.shear_modulus);
 
-        let dyna = ls_dyna(&file).unwrap();
+        let dyna = ls_dyna(&file, &CardOptions::default()).unwrap();
         let lines = data(&dyna, '$', &[10; 8]);
         let mat = &lines[0];
         assert!(
@@ -278,10 +361,11 @@ mod tests {
             assert!(close(*read, exact, 5), "{read} vs {exact}");
         }
 
-        let radioss = open_radioss(&file).unwrap();
+        let radioss = open_radioss(&file, &CardOptions::default()).unwrap();
         let rows: Vec<&str> = radioss
             .lines()
-            .filter(|l| !l.starts_with('#') && !l.starts_with('/') && l.trim() != "stoss")
+            .filter(|l| !l.starts_with('#') && !l.starts_with('/') && l.trim() != "STOSS")
+            .skip(2)
             .collect();
         assert!(close(
             read_fields(rows[0], &[20]).unwrap()[0],
@@ -302,8 +386,121 @@ mod tests {
         assert!(close(thermal[0], jc.thermal_exponent, 15));
         assert!(close(thermal[2], file.density * file.specific_heat, 15));
 
-        let abaqus = abaqus(&file).unwrap();
+        let abaqus = abaqus(&file, &CardOptions::default()).unwrap();
         assert!(abaqus.contains("7.92e8, 5.1e8, 2.6e-1"));
+    }
+
+    #[test]
+    fn johnson_cook_cards_in_every_unit_system_read_back_to_the_si_constants() {
+        // GOAL: a card written in a user's unit system holds the calibrated material: each
+        //       field read back with the format's column rules and converted to SI by its
+        //       dimension is the SI constant; the ids and the name are the user's.
+        // SETUP: the bundled 4340 JC file; LS-DYNA, Abaqus and OpenRadioss cards in SI,
+        //        mm-ms-kg-GPa, mm-s-t-MPa, mm-ms-g-MPa and cm-us-g-Mbar, material id 42,
+        //        name HHA.
+        // REFERENCE: the constants (LS-DYNA's 10-column fields keep 5 digits, OpenRadioss'
+        //            20-column ones 15); the OpenRadioss card declares its units in /UNIT.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../fixtures/materials/4340-jc.toml");
+        let (file, _) = crate::input::material::load(&path).unwrap();
+        let StrengthSpec::JohnsonCook(jc) = file.strength else {
+            panic!("JC file")
+        };
+        let bulk = bulk_modulus(&file).unwrap();
+        let (young, _) = young_and_poisson(bulk, file.shear_modulus);
+        for name in [
+            "si",
+            "mm-ms-kg-GPa",
+            "mm-s-t-MPa",
+            "mm-ms-g-MPa",
+            "cm-us-g-Mbar",
+        ] {
+            let units = super::super::CardUnits::parse(name).unwrap();
+            let options = CardOptions::new(units.clone(), 42, "HHA").unwrap();
+            let si = |value: f64, quantity: Quantity| units.to_si(value, quantity);
+            let dyna = ls_dyna(&file, &options).unwrap();
+            let lines = data(&dyna, '$', &[10; 8]);
+            let (mat, constants, thermal) = (&lines[0], &lines[1], &lines[2]);
+            assert_eq!(mat[0], 42.0, "{name}");
+            for (read, quantity, exact) in [
+                (mat[1], Quantity::Density, file.density),
+                (mat[2], Quantity::Stress, file.shear_modulus),
+                (mat[3], Quantity::Stress, young),
+                (constants[0], Quantity::Stress, jc.yield_stress),
+                (constants[1], Quantity::Stress, jc.hardening_modulus),
+                (constants[3], Quantity::Unchanged, jc.rate_sensitivity),
+                (constants[7], Quantity::Rate, jc.reference_rate),
+                (thermal[0], Quantity::SpecificHeat, file.specific_heat),
+            ] {
+                assert!(
+                    close(si(read, quantity), exact, 5),
+                    "{name}: LS-DYNA {read} ({quantity:?}) against {exact}"
+                );
+            }
+            let eos = &lines[4];
+            assert_eq!(eos[0], 42.0, "{name}: EOSID");
+
+            let radioss = open_radioss(&file, &options).unwrap();
+            assert!(radioss.contains("/UNIT/42") && radioss.contains("/MAT/PLAS_JOHNS/42/42"));
+            let declared: Vec<&str> = radioss
+                .lines()
+                .skip_while(|l| !l.contains("MUNIT"))
+                .nth(1)
+                .unwrap()
+                .split_whitespace()
+                .collect();
+            assert_eq!(
+                declared,
+                [units.mass.0, units.length.0, units.time.0],
+                "{name}"
+            );
+            let rows: Vec<&str> = radioss
+                .lines()
+                .skip_while(|l| !l.starts_with("/MAT"))
+                .filter(|l| !l.starts_with('#') && !l.starts_with('/') && l.trim() != "HHA")
+                .collect();
+            let density = read_fields(rows[0], &[20]).unwrap()[0];
+            let elastic = read_fields(rows[1], &[20, 20]).unwrap();
+            let hardening = read_fields(rows[2], &[20; 5]).unwrap();
+            let rate = read_fields(rows[3], &[20, 20, 10, 10, 20]).unwrap();
+            let heat = read_fields(rows[4], &[20; 4]).unwrap();
+            for (read, quantity, exact) in [
+                (density, Quantity::Density, file.density),
+                (elastic[0], Quantity::Stress, young),
+                (hardening[0], Quantity::Stress, jc.yield_stress),
+                (rate[1], Quantity::Rate, jc.reference_rate),
+                (
+                    heat[2],
+                    Quantity::VolumetricHeat,
+                    file.density * file.specific_heat,
+                ),
+            ] {
+                assert!(
+                    close(si(read, quantity), exact, 14),
+                    "{name}: OpenRadioss {read} ({quantity:?}) against {exact}"
+                );
+            }
+
+            let inp = abaqus(&file, &options).unwrap();
+            assert!(inp.contains("*MATERIAL, NAME=HHA"), "{name}");
+            let after = |keyword: &str| -> Vec<f64> {
+                let line = inp
+                    .lines()
+                    .skip_while(|l| !l.starts_with(keyword))
+                    .nth(1)
+                    .unwrap();
+                line.split(',').map(|v| v.trim().parse().unwrap()).collect()
+            };
+            let plastic = after("*PLASTIC");
+            assert!(close(si(plastic[0], Quantity::Stress), jc.yield_stress, 14));
+            assert!(close(
+                si(after("*DENSITY")[0], Quantity::Density),
+                file.density,
+                14
+            ));
+            let rate = after("*RATE DEPENDENT");
+            assert!(close(si(rate[1], Quantity::Rate), jc.reference_rate, 14));
+        }
     }
 
     #[test]

@@ -25,6 +25,7 @@
 //! the largest plastic strain. Each card states the sampled ranges and the largest
 //! interpolation error against the model, measured at the midpoints of every grid cell.
 
+use super::units::{CardOptions, CardUnits, Quantity};
 use super::{bulk_modulus, field, line, young_and_poisson};
 use crate::input::material::MaterialFile;
 use std::fmt::Write as _;
@@ -237,6 +238,26 @@ impl FlowTable {
             }
         }
         worst
+    }
+
+    /// This table, read from a card written in `units`, in SI (stresses in Pa, rates in 1/s).
+    pub fn to_si(&self, units: &CardUnits) -> Self {
+        let stress = units.size(Quantity::Stress);
+        let ln_time = libm::log(units.size(Quantity::Time));
+        Self {
+            plastic_strains: self.plastic_strains.clone(),
+            ln_rates: self.ln_rates.iter().map(|r| r - ln_time).collect(),
+            temperatures: self.temperatures.clone(),
+            values: self
+                .values
+                .iter()
+                .map(|t| {
+                    t.iter()
+                        .map(|r| r.iter().map(|v| v * stress).collect())
+                        .collect()
+                })
+                .collect(),
+        }
     }
 
     /// Read the tables back from a card written by [`ls_dyna`]: the `*DEFINE_TABLE_3D`
@@ -452,8 +473,9 @@ struct Sampled {
     summary: Vec<String>,
 }
 
-/// Sample `file`'s flow stress (`None` if the EoS gives no bulk modulus for `E`, `nu`).
-fn sampled(file: &MaterialFile) -> Option<Sampled> {
+/// Sample `file`'s flow stress (`None` if the EoS gives no bulk modulus for `E`, `nu`); the
+/// summary names `units`.
+fn sampled(file: &MaterialFile, units: &CardUnits) -> Option<Sampled> {
     let bulk = bulk_modulus(file)?;
     let (young, poisson) = young_and_poisson(bulk, file.shear_modulus);
     let strength = file.strength.strength();
@@ -480,13 +502,13 @@ fn sampled(file: &MaterialFile) -> Option<Sampled> {
     );
     let mut summary = vec![
         format!("stoss tabulated material: {}", file.name),
-        "units: kg, m, s, Pa, K".to_string(),
+        units.header(),
         format!(
             "flow stress of the stoss model sampled at plastic strain 0..{LARGEST_PLASTIC_STRAIN} ({} points),",
             table.plastic_strains.len()
         ),
         format!(
-            "plastic strain rate {first_rate:.3e}..{last_rate:.3e} /s ({} rates), temperature {:.1}..{:.1} K ({} temperatures).",
+            "plastic strain rate {first_rate:.3e}..{last_rate:.3e} /s in SI ({} rates), temperature {:.1}..{:.1} K ({} temperatures).",
             table.ln_rates.len(),
             table.temperatures[0],
             table.temperatures[table.temperatures.len() - 1],
@@ -516,7 +538,14 @@ fn sampled(file: &MaterialFile) -> Option<Sampled> {
 
 /// The LS-DYNA *MAT_224 card and the table it holds (`None` if the EoS gives no bulk modulus
 /// for `E`, `PR`).
-pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationError)> {
+///
+/// In `options`' units: stresses, the density, the specific heat, and the rates of the 2D
+/// tables' abscissae (`ln` of the rate in the card's time unit); the returned table is SI.
+pub fn ls_dyna(
+    file: &MaterialFile,
+    options: &CardOptions,
+) -> Option<(String, FlowTable, InterpolationError)> {
+    let units = &options.units;
     let Sampled {
         young,
         poisson,
@@ -524,7 +553,9 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationE
         error,
         taylor_quinney: beta,
         summary,
-    } = sampled(file)?;
+    } = sampled(file, units)?;
+    let u = |value: f64, quantity: Quantity| units.from_si(value, quantity);
+    let ln_time = libm::log(units.size(Quantity::Time));
     let cold = table.temperatures[0];
     let mut text = String::new();
     for line in &summary {
@@ -538,7 +569,16 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationE
         text,
         "*MAT_TABULATED_JOHNSON_COOK\n$      MID        RO         E        PR        CP        TR      BETA    NUMINT\n{}",
         line(
-            &[1.0, file.density, young, poisson, file.specific_heat, cold, beta, 1.0],
+            &[
+                f64::from(options.material_id),
+                u(file.density, Quantity::Density),
+                u(young, Quantity::Stress),
+                poisson,
+                u(file.specific_heat, Quantity::SpecificHeat),
+                cold,
+                beta,
+                1.0
+            ],
             10
         )
     );
@@ -570,18 +610,24 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationE
             let _ = writeln!(
                 text,
                 "{}",
-                line(&[table.ln_rates[r], (id + r + 1) as f64], 20)
+                line(&[table.ln_rates[r] + ln_time, (id + r + 1) as f64], 20)
             );
         }
         for (r, ln_rate) in table.ln_rates.iter().enumerate() {
             let _ = writeln!(
                 text,
-                "*DEFINE_CURVE\n$ {temperature:.1} K, {:.4e} /s\n{}\n$       plastic strain   flow stress (Pa)",
+                "*DEFINE_CURVE\n$ {temperature:.1} K, {:.4e} /s\n{}\n$       plastic strain   flow stress ({})",
                 libm::exp(*ln_rate),
-                line(&[(id + r + 1) as f64], 10)
+                line(&[(id + r + 1) as f64], 10),
+                units.stress_name()
             );
             for (e, value) in table.plastic_strains.iter().zip(&table.values[t][r]) {
-                let _ = writeln!(text, "{}{}", field(*e, 20), field(*value, 20));
+                let _ = writeln!(
+                    text,
+                    "{}{}",
+                    field(*e, 20),
+                    field(u(*value, Quantity::Stress), 20)
+                );
             }
         }
     }
@@ -591,7 +637,14 @@ pub fn ls_dyna(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationE
 /// The Abaqus/Explicit card (`*PLASTIC, RATE=` tables with a temperature column) and the
 /// table it holds (`None` if the EoS gives no bulk modulus for `E`, `nu`). Every number is
 /// written in its shortest exact form, so the card holds the sampled table to the last bit.
-pub fn abaqus(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationError)> {
+///
+/// In `options`' units (stresses, density, specific heat, the tables' rates); the returned
+/// table is SI.
+pub fn abaqus(
+    file: &MaterialFile,
+    options: &CardOptions,
+) -> Option<(String, FlowTable, InterpolationError)> {
+    let units = &options.units;
     let Sampled {
         young,
         poisson,
@@ -599,7 +652,8 @@ pub fn abaqus(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationEr
         error,
         taylor_quinney,
         summary,
-    } = sampled(file)?;
+    } = sampled(file, units)?;
+    let u = |value: f64, quantity: Quantity| units.from_si(value, quantity);
     let mut text = String::new();
     for line in &summary {
         let _ = writeln!(text, "** {line}");
@@ -615,20 +669,23 @@ pub fn abaqus(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationEr
     );
     let _ = writeln!(
         text,
-        "*MATERIAL, NAME=STOSS, STRAIN RATE INTERPOLATION=LOGARITHMIC\n*DENSITY\n{:e}\n*ELASTIC\n{:e}, {:e}",
-        file.density, young, poisson
+        "*MATERIAL, NAME={}, STRAIN RATE INTERPOLATION=LOGARITHMIC\n*DENSITY\n{:e}\n*ELASTIC\n{:e}, {:e}",
+        options.name,
+        u(file.density, Quantity::Density),
+        u(young, Quantity::Stress),
+        poisson
     );
     if taylor_quinney > 0.0 {
         let _ = writeln!(
             text,
             "*SPECIFIC HEAT\n{:e}\n*INELASTIC HEAT FRACTION\n{taylor_quinney:e}",
-            file.specific_heat
+            u(file.specific_heat, Quantity::SpecificHeat)
         );
     }
     for (r, ln_rate) in table.ln_rates.iter().enumerate() {
         // A rate a few ulp from a round number is written round (1e-4, not
         // exp(ln 1e-4) = 9.999999999999991e-5).
-        let exact = libm::exp(*ln_rate);
+        let exact = u(libm::exp(*ln_rate), Quantity::Rate);
         let round: f64 = format!("{exact:.11e}").parse().unwrap_or(exact);
         let rate = if (round - exact).abs() <= 1e-14 * exact {
             round
@@ -637,11 +694,16 @@ pub fn abaqus(file: &MaterialFile) -> Option<(String, FlowTable, InterpolationEr
         };
         let _ = writeln!(
             text,
-            "*PLASTIC, RATE={rate:e}\n** yield stress (Pa), plastic strain, temperature (K)"
+            "*PLASTIC, RATE={rate:e}\n** yield stress ({}), plastic strain, temperature (K)",
+            units.stress_name()
         );
         for (t, temperature) in table.temperatures.iter().enumerate() {
             for (e, value) in table.plastic_strains.iter().zip(&table.values[t][r]) {
-                let _ = writeln!(text, "{value:e}, {e:e}, {temperature:e}");
+                let _ = writeln!(
+                    text,
+                    "{:e}, {e:e}, {temperature:e}",
+                    u(*value, Quantity::Stress)
+                );
             }
         }
     }
@@ -778,8 +840,8 @@ mod tests {
     fn cards_read_back(
         file: &MaterialFile,
     ) -> Vec<(Reading, String, FlowTable, FlowTable, InterpolationError)> {
-        let (dyna, dyna_written, dyna_error) = ls_dyna(file).unwrap();
-        let (inp, inp_written, inp_error) = abaqus(file).unwrap();
+        let (dyna, dyna_written, dyna_error) = ls_dyna(file, &CardOptions::default()).unwrap();
+        let (inp, inp_written, inp_error) = abaqus(file, &CardOptions::default()).unwrap();
         vec![
             (
                 Reading::LsDyna,
@@ -881,6 +943,55 @@ mod tests {
     }
 
     #[test]
+    fn tabulated_cards_in_every_unit_system_read_back_to_the_si_table() {
+        // GOAL: a *MAT_224 or Abaqus table written in a user's unit system holds the same
+        //       material: read back as the code reads it and converted to SI, it is the SI
+        //       table, stresses and rate abscissae alike.
+        // SETUP: the JC family of the test set, cards in SI, mm-ms-kg-GPa, mm-s-t-MPa,
+        //        mm-ms-g-MPa and cm-us-g-Mbar.
+        // REFERENCE: the SI table the writer sampled; LS-DYNA's 20-column fields keep 15
+        //            digits, Abaqus' numbers are exact, so within 1e-13 relative (ln rates
+        //            within 1e-12 absolute).
+        let (_, file) = families().into_iter().next().unwrap();
+        for name in [
+            "si",
+            "mm-ms-kg-GPa",
+            "mm-s-t-MPa",
+            "mm-ms-g-MPa",
+            "cm-us-g-Mbar",
+        ] {
+            let units = CardUnits::parse(name).unwrap();
+            let options = CardOptions::new(units.clone(), 42, "HHA").unwrap();
+            let (dyna, written, _) = ls_dyna(&file, &options).unwrap();
+            let (inp, _, _) = abaqus(&file, &options).unwrap();
+            assert!(
+                dyna.contains(&units.header()) && inp.contains("NAME=HHA"),
+                "{name}"
+            );
+            for read in [
+                FlowTable::read_ls_dyna(&dyna).unwrap(),
+                FlowTable::read_abaqus(&inp).unwrap(),
+            ] {
+                let si = read.to_si(&units);
+                for (a, b) in si.ln_rates.iter().zip(&written.ln_rates) {
+                    assert!((a - b).abs() < 1e-12, "{name}: ln rate {a} against {b}");
+                }
+                for (t, rates) in si.values.iter().enumerate() {
+                    for (r, values) in rates.iter().enumerate() {
+                        for (e, value) in values.iter().enumerate() {
+                            let exact = written.values[t][r][e];
+                            assert!(
+                                (value - exact).abs() <= 1e-13 * exact.abs().max(1.0),
+                                "{name}: {value} against {exact}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn the_abaqus_card_asks_for_logarithmic_rate_interpolation_and_heats_adiabatically() {
         // GOAL: the Abaqus card is read the way its stated error assumes.
         // SETUP: the bundled 4340 Johnson-Cook file (adiabatic, Taylor-Quinney 0.9).
@@ -888,7 +999,7 @@ mod tests {
         //            *PLASTIC's RATE parameter, *INELASTIC HEAT FRACTION; one table per rate,
         //            in increasing rate order.
         let (_, file) = families().remove(0);
-        let (card, table, _) = abaqus(&file).unwrap();
+        let (card, table, _) = abaqus(&file, &CardOptions::default()).unwrap();
         assert!(card.contains("*MATERIAL, NAME=STOSS, STRAIN RATE INTERPOLATION=LOGARITHMIC\n"));
         assert!(card.contains("*INELASTIC HEAT FRACTION\n"));
         let rates: Vec<f64> = card
