@@ -227,8 +227,10 @@ pub fn abaqus(file: &MaterialFile, options: &CardOptions) -> Option<String> {
 }
 
 /// OpenRadioss `/MAT/PLAS_JOHNS` (law 2, Johnson-Cook) (`None` for other families), with a
-/// `/UNIT` block that declares the card's units: the starter converts them to the model's, so
-/// the card is correct in a model of any system.
+/// `/UNIT` block that declares the card's units (Radioss reference, `/UNIT`: a title line,
+/// then the mass, length and time units as multiplying factors of kg, m and s): the starter
+/// converts them to the deck's input units (`/BEGIN`), so the card is correct in a model of
+/// any system.
 pub fn open_radioss(file: &MaterialFile, options: &CardOptions) -> Option<String> {
     let StrengthSpec::JohnsonCook(jc) = file.strength else {
         return None;
@@ -240,16 +242,17 @@ pub fn open_radioss(file: &MaterialFile, options: &CardOptions) -> Option<String
     let rho_cp = file.density * file.specific_heat;
     let id = options.material_id;
     let mut text = format!(
-        "# stoss calibrated material: {}\n# {}\n/UNIT/{id}\nunits of {}\n#{:>19}{:>20}{:>20}\n{:>20}{:>20}{:>20}\n/MAT/PLAS_JOHNS/{id}/{id}\n{}\n",
+        "# stoss calibrated material: {}\n# {}\n# the card's units as multiplying factors (kg, m, s): {}, {}, {}\n/UNIT/{id}\nunits of {}\n#{:>19}{:>20}{:>20}\n{}\n/MAT/PLAS_JOHNS/{id}/{id}\n{}\n",
         file.name,
         units.header(),
-        options.name,
-        "MUNIT",
-        "LUNIT",
-        "TUNIT",
         units.mass.0,
         units.length.0,
         units.time.0,
+        options.name,
+        "mass_unit",
+        "length_unit",
+        "time_unit",
+        line(&[units.mass.1, units.length.1, units.time.1], 20),
         options.name
     );
     let _ = writeln!(
@@ -365,6 +368,7 @@ mod tests {
         let rows: Vec<&str> = radioss
             .lines()
             .filter(|l| !l.starts_with('#') && !l.starts_with('/') && l.trim() != "STOSS")
+            // The /UNIT block's title and its factors.
             .skip(2)
             .collect();
         assert!(close(
@@ -442,16 +446,15 @@ mod tests {
 
             let radioss = open_radioss(&file, &options).unwrap();
             assert!(radioss.contains("/UNIT/42") && radioss.contains("/MAT/PLAS_JOHNS/42/42"));
-            let declared: Vec<&str> = radioss
+            let declared_line = radioss
                 .lines()
-                .skip_while(|l| !l.contains("MUNIT"))
+                .skip_while(|l| !l.contains("mass_unit"))
                 .nth(1)
-                .unwrap()
-                .split_whitespace()
-                .collect();
+                .unwrap();
+            let declared = read_fields(declared_line, &[20; 3]).unwrap();
             assert_eq!(
                 declared,
-                [units.mass.0, units.length.0, units.time.0],
+                [units.mass.1, units.length.1, units.time.1],
                 "{name}"
             );
             let rows: Vec<&str> = radioss
