@@ -251,52 +251,27 @@ fn crater_row(label: &str, file: &material::MaterialFile, element: f64) {
 }
 
 fn smooth() {
-    let (base, target) = fixture("penetration-hzb-1250.toml");
-    let depth = |spec: &PenetrationSpec, target: &PartMaterial| -> f64 {
-        let run = spec.run_euler(target, &settings(2)).expect("run");
-        run.result.nose_depth.last().unwrap().1 * 1e3
-    };
-    let line = |values: &[(f64, f64)]| -> (bool, f64) {
-        let monotone = values.windows(2).all(|w| w[1].1 > w[0].1)
-            || values.windows(2).all(|w| w[1].1 < w[0].1);
-        let (x0, y0) = values[0];
-        let (x1, y1) = values[values.len() - 1];
-        let worst = values
-            .iter()
-            .map(|&(x, y)| ((y - (y0 + (y1 - y0) * (x - x0) / (x1 - x0))) / y).abs())
-            .fold(0.0, f64::max);
-        (monotone, worst)
-    };
-    let mut by_velocity = Vec::new();
-    for v in [1244.0, 1250.0, 1256.0] {
-        let spec = PenetrationSpec {
-            velocity: v,
-            ..base.clone()
-        };
-        by_velocity.push((v, depth(&spec, &target)));
-    }
-    println!("striking velocity (m/s) -> final depth (mm): {by_velocity:?}");
-    let (monotone, worst) = line(&by_velocity);
-    println!(
-        "monotone {monotone}, largest deviation from the line {:.3} %",
-        worst * 100.0
-    );
+    // `stoss::validate::euler`, also the `euler-smooth-*` rows of `stoss validate`.
     let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
-    let (file, _) = material::load(&fixtures.join("materials/hzb-w-jc.toml")).expect("target");
-    let mut by_strength = Vec::new();
-    for factor in [0.99, 1.0, 1.01] {
-        let mut file = file.clone();
-        file.set_constant("strength.yield_stress", 1.5e9 * factor)
-            .expect("a Johnson-Cook target");
-        let m = file.material().expect("valid");
-        by_strength.push((factor, depth(&base, &PartMaterial::J2(m))));
+    for (label, line) in [
+        (
+            "striking velocity (m/s)",
+            stoss::validate::euler::by_velocity(&fixtures, Some(2)),
+        ),
+        (
+            "A factor",
+            stoss::validate::euler::by_strength(&fixtures, Some(2)),
+        ),
+    ] {
+        let line = line.expect("runs");
+        let depths: Vec<(f64, f64)> = line.points.iter().map(|&(x, d)| (x, d * 1e3)).collect();
+        println!("{label} -> final depth (mm): {depths:?}");
+        println!(
+            "monotone {}, largest deviation from the line {:.3} %",
+            line.monotone,
+            line.largest_deviation * 100.0
+        );
     }
-    println!("A factor -> final depth (mm): {by_strength:?}");
-    let (monotone, worst) = line(&by_strength);
-    println!(
-        "monotone {monotone}, largest deviation from the line {:.3} %",
-        worst * 100.0
-    );
 }
 
 fn threads() {

@@ -13,6 +13,7 @@
 //! this is for the validation figures, which are too slow for the test suite or rest on a
 //! whole run.
 
+pub mod euler;
 pub mod finish;
 pub mod identification;
 pub mod perforation;
@@ -93,6 +94,14 @@ pub enum Measure {
     FoiPerforation {
         /// FOI's run number (`B99036`...).
         run: &'static str,
+    },
+    /// How far the Eulerian 1250 m/s shot's final depths lie from a straight line when the
+    /// striking velocity (`strength: false`) or the target's `A` (`true`) moves by a few
+    /// parts in a thousand ([`euler::by_velocity`], [`euler::by_strength`]); an error if the
+    /// depths are not monotone.
+    EulerSmooth {
+        /// Vary the target's `A` (else the striking velocity).
+        strength: bool,
     },
     /// The Lambert–Jonas limit (free `p`) of a bundled ballistic recording's shots (m/s).
     LambertJonas {
@@ -837,6 +846,28 @@ pub const ROWS: &[Row] = &[
         speed: Speed::Slow,
         measure: Measure::FoiPerforation { run: "B99057" },
     },
+    Row {
+        name: "euler-smooth-velocity",
+        figure: "largest deviation from a straight line of the Eulerian 1250 m/s shot's final depth at 1244 / 1250 / 1256 m/s (monotone required)",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 0.04,
+        tolerance: 0.01,
+        unit: "%",
+        scale: 100.0,
+        speed: Speed::Fast,
+        measure: Measure::EulerSmooth { strength: false },
+    },
+    Row {
+        name: "euler-smooth-strength",
+        figure: "largest deviation from a straight line of the Eulerian 1250 m/s shot's final depth with the target's A x 0.99 / 1 / 1.01 (monotone required)",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 0.03,
+        tolerance: 0.01,
+        unit: "%",
+        scale: 100.0,
+        speed: Speed::Fast,
+        measure: Measure::EulerSmooth { strength: true },
+    },
 ];
 
 /// A measured row.
@@ -922,6 +953,21 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
         Measure::FoiPerforation { run } => {
             let found = perforation::run(run).ok_or_else(|| format!("no FOI run `{run}`"))?;
             perforation::fire(fixtures, found, threads).map(|(_, shot)| shot.residual_velocity)
+        }
+        Measure::EulerSmooth { strength } => {
+            let line = if strength {
+                euler::by_strength(fixtures, threads)?
+            } else {
+                euler::by_velocity(fixtures, threads)?
+            };
+            if line.monotone {
+                Ok(line.largest_deviation)
+            } else {
+                Err(format!(
+                    "the final depths are not monotone: {:?}",
+                    line.points
+                ))
+            }
         }
         Measure::LambertJonas { experiment } => {
             let loaded = load(fixtures, experiment)?;

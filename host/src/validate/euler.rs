@@ -1,0 +1,113 @@
+//! The smooth objective of the Eulerian penetration (issue 47): the final nose depth of seed
+//! 000's 1250 m/s shot (`fixtures/experiments/penetration-hzb-1250.toml` on the Eulerian
+//! solver, 0.4 mm) over striking velocities 1244 / 1250 / 1256 m/s and over the target's `A`
+//! times 0.99 / 1 / 1.01 must be monotone and close to a straight line (the eroding model's
+//! depth scatters by 7-10 % over such steps). Used by the `euler-smooth-*` rows of `stoss
+//! validate` and by `cargo bench -p stoss --bench euler` (`smooth`).
+
+use crate::experiment::penetration::PenetrationSolver;
+use crate::experiment::{Experiment, PenetrationSpec, Setup};
+use crate::input::material;
+use crate::solver::SolverSettings;
+use std::path::Path;
+use stoss_kernel::PartMaterial;
+
+/// Final depths against a varied input, and how straight they lie.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Line {
+    /// `(input, final nose depth in m)`, in the input's order.
+    pub points: Vec<(f64, f64)>,
+    /// Whether the depths rise (or fall) throughout.
+    pub monotone: bool,
+    /// The largest distance of a point from the straight line through the ends, relative to
+    /// its depth.
+    pub largest_deviation: f64,
+}
+
+impl Line {
+    fn of(points: Vec<(f64, f64)>) -> Self {
+        let monotone = points.windows(2).all(|w| w[1].1 > w[0].1)
+            || points.windows(2).all(|w| w[1].1 < w[0].1);
+        let (x0, y0) = points[0];
+        let (x1, y1) = points[points.len() - 1];
+        let largest_deviation = points
+            .iter()
+            .map(|&(x, y)| ((y - (y0 + (y1 - y0) * (x - x0) / (x1 - x0))) / y).abs())
+            .fold(0.0, f64::max);
+        Self {
+            points,
+            monotone,
+            largest_deviation,
+        }
+    }
+}
+
+/// The shot on the Eulerian solver and its target's material file.
+fn shot(fixtures: &Path) -> Result<(PenetrationSpec, material::MaterialFile), String> {
+    let path = fixtures.join("experiments/penetration-hzb-1250.toml");
+    let experiment = Experiment::load(&path).map_err(|e| e.to_string())?;
+    let Setup::Penetration(spec) = &experiment.file.setup else {
+        return Err(format!("{}: not a penetration experiment", path.display()));
+    };
+    let material_path = experiment
+        .default_material_path()
+        .ok_or_else(|| format!("{}: no material", path.display()))?;
+    let (file, _) = material::load(&material_path).map_err(|e| e.to_string())?;
+    let mut spec = spec.clone();
+    spec.solver = PenetrationSolver::Euler;
+    Ok((spec, file))
+}
+
+/// The final nose depth (m) of `spec` into `target`.
+fn final_depth(
+    spec: &PenetrationSpec,
+    target: &PartMaterial,
+    threads: Option<usize>,
+) -> Result<f64, String> {
+    let settings = SolverSettings {
+        threads,
+        ..SolverSettings::default()
+    };
+    let run = spec
+        .run_euler(target, &settings)
+        .map_err(|e| e.to_string())?;
+    run.result
+        .nose_depth
+        .last()
+        .map(|p| p.1)
+        .ok_or_else(|| "the run recorded no depth".to_string())
+}
+
+/// The final depth at striking velocities 1244, 1250 and 1256 m/s.
+pub fn by_velocity(fixtures: &Path, threads: Option<usize>) -> Result<Line, String> {
+    let (base, file) = shot(fixtures)?;
+    let target = PartMaterial::J2(file.material().map_err(|e| e.to_string())?);
+    let mut points = Vec::new();
+    for velocity in [1244.0, 1250.0, 1256.0] {
+        let spec = PenetrationSpec {
+            velocity,
+            ..base.clone()
+        };
+        points.push((velocity, final_depth(&spec, &target, threads)?));
+    }
+    Ok(Line::of(points))
+}
+
+/// The final depth with the target's Johnson-Cook `A` times 0.99, 1 and 1.01.
+pub fn by_strength(fixtures: &Path, threads: Option<usize>) -> Result<Line, String> {
+    let (base, file) = shot(fixtures)?;
+    let yield_stress = file
+        .strength
+        .constant_named("yield_stress")
+        .ok_or("the target has no yield stress A")?;
+    let mut points = Vec::new();
+    for factor in [0.99, 1.0, 1.01] {
+        let mut varied = file.clone();
+        varied
+            .set_constant("strength.yield_stress", yield_stress * factor)
+            .ok_or("the target is not a Johnson-Cook file")?;
+        let target = PartMaterial::J2(varied.material().map_err(|e| e.to_string())?);
+        points.push((factor, final_depth(&base, &target, threads)?));
+    }
+    Ok(Line::of(points))
+}
