@@ -329,6 +329,10 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
                     row.name
                 );
             }
+            stoss::validate::Measure::EulerStrength { .. } => {
+                stoss::validate::semi_infinite::shot(fixtures)
+                    .unwrap_or_else(|e| panic!("{}: {e}", row.name));
+            }
             stoss::validate::Measure::EulerSmooth { .. } => {
                 stoss::experiment::Experiment::load(
                     &fixtures.join("experiments/penetration-hzb-1250.toml"),

@@ -17,6 +17,7 @@ pub mod euler;
 pub mod finish;
 pub mod identification;
 pub mod perforation;
+pub mod semi_infinite;
 
 use crate::analytic::ballistic::{fit_lambert_jonas, Shot};
 use crate::experiment::{Experiment, Setup};
@@ -102,6 +103,13 @@ pub enum Measure {
     EulerSmooth {
         /// Vary the target's `A` (else the striking velocity).
         strength: bool,
+    },
+    /// The Eulerian penetration rate over 10-30 us against Walker–Anderson's, the rod and a
+    /// semi-infinite target made perfectly plastic, the target at `target_yield` (Pa)
+    /// ([`semi_infinite::strength_ratio`]).
+    EulerStrength {
+        /// The target's yield stress (Pa).
+        target_yield: f64,
     },
     /// The Lambert–Jonas limit (free `p`) of a bundled ballistic recording's shots (m/s).
     LambertJonas {
@@ -868,6 +876,72 @@ pub const ROWS: &[Row] = &[
         speed: Speed::Fast,
         measure: Measure::EulerSmooth { strength: true },
     },
+    Row {
+        name: "euler-strength-0.5",
+        figure: "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 0.5 GPa, 0.4 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 0.98,
+        tolerance: 0.005,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::EulerStrength { target_yield: 0.5e9 },
+    },
+    Row {
+        name: "euler-strength-1.0",
+        figure: "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 1.0 GPa, 0.4 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 1.01,
+        tolerance: 0.005,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::EulerStrength { target_yield: 1.0e9 },
+    },
+    Row {
+        name: "euler-strength-1.5",
+        figure: "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 1.5 GPa, 0.4 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 1.06,
+        tolerance: 0.005,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::EulerStrength { target_yield: 1.5e9 },
+    },
+    Row {
+        name: "euler-strength-2.0",
+        figure: "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 2.0 GPa, 0.4 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 1.09,
+        tolerance: 0.005,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::EulerStrength { target_yield: 2.0e9 },
+    },
+    Row {
+        name: "euler-strength-3.0",
+        figure: "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 3.0 GPa, 0.4 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 0.98,
+        tolerance: 0.005,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::EulerStrength { target_yield: 3.0e9 },
+    },
+    Row {
+        name: "euler-strength-4.0",
+        figure: "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 4.0 GPa, 0.4 mm",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 0.69,
+        tolerance: 0.005,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::EulerStrength { target_yield: 4.0e9 },
+    },
 ];
 
 /// A measured row.
@@ -968,6 +1042,9 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
                     line.points
                 ))
             }
+        }
+        Measure::EulerStrength { target_yield } => {
+            semi_infinite::strength_ratio(fixtures, target_yield, threads)
         }
         Measure::LambertJonas { experiment } => {
             let loaded = load(fixtures, experiment)?;
