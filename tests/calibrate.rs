@@ -345,6 +345,11 @@ fn stoss() -> Command {
     command
 }
 
+/// `--budget budget --polish polish --instances 1`: a short run of one instance.
+fn one_instance<'a>(budget: &'a str, polish: &'a str) -> [&'a str; 6] {
+    ["--budget", budget, "--polish", polish, "--instances", "1"]
+}
+
 /// `stoss calibrate` arguments of the synthetic-flow campaign, 30 + 6 simulations, one
 /// instance, into `out` (the resume tests' run).
 fn synthetic_flow_run(out: &Path) -> Vec<String> {
@@ -360,6 +365,18 @@ fn synthetic_flow_run(out: &Path) -> Vec<String> {
         "--output".into(),
         out.display().to_string(),
     ]
+}
+
+/// Resume [`synthetic_flow_run`] in `out`; the resumed run must succeed.
+fn resume_synthetic_flow_run(out: &Path) {
+    let mut resume = synthetic_flow_run(out);
+    resume.push("--resume".into());
+    let resumed = stoss().args(&resume).output().unwrap();
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
 }
 
 /// The first model's selected constants in a run folder's `report/result.json`.
@@ -397,15 +414,11 @@ fn a_model_with_no_feasible_candidate_says_why_the_first_failed() {
         let campaign = out.join(format!("{name}.toml"));
         std::fs::write(&campaign, bad).unwrap();
         let mut command = stoss();
-        command.arg("calibrate").arg(&campaign).args([
-            "--budget",
-            "4",
-            "--polish",
-            "0",
-            "--instances",
-            "1",
-            "--output",
-        ]);
+        command
+            .arg("calibrate")
+            .arg(&campaign)
+            .args(one_instance("4", "0"))
+            .arg("--output");
         command.arg(out.join(name));
         if force {
             command.arg("--force");
@@ -440,15 +453,8 @@ fn quick_calibration_and_diagnosis(campaign: &Path, folder: &Path, budget: &str)
     let output = stoss()
         .arg("calibrate")
         .arg(campaign)
-        .args([
-            "--budget",
-            budget,
-            "--polish",
-            "0",
-            "--instances",
-            "1",
-            "--quiet",
-        ])
+        .args(one_instance(budget, "0"))
+        .args(["--quiet"])
         .arg("--output")
         .arg(folder)
         .output()
@@ -651,16 +657,8 @@ fn a_failed_resume_leaves_the_logged_runs_inputs_as_they_were() {
     let run = out.join("run");
     let first = stoss()
         .args(["calibrate", "fixtures/campaigns/synthetic-flow.toml"])
-        .args([
-            "--budget",
-            "6",
-            "--polish",
-            "0",
-            "--instances",
-            "1",
-            "--quiet",
-            "--output",
-        ])
+        .args(one_instance("6", "0"))
+        .args(["--quiet", "--output"])
         .arg(&run)
         .output()
         .unwrap();
@@ -680,16 +678,8 @@ fn a_failed_resume_leaves_the_logged_runs_inputs_as_they_were() {
     let resumed = stoss()
         .arg("calibrate")
         .arg(&changed_path)
-        .args([
-            "--budget",
-            "6",
-            "--polish",
-            "0",
-            "--instances",
-            "1",
-            "--resume",
-            "--output",
-        ])
+        .args(one_instance("6", "0"))
+        .args(["--resume", "--output"])
         .arg(&run)
         .output()
         .unwrap();
@@ -715,15 +705,7 @@ fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
         let out = temporary(if quiet { "quiet" } else { "progress" });
         let mut command = stoss();
         command.args(["calibrate", "fixtures/campaigns/synthetic-flow.toml"]);
-        command.args([
-            "--budget",
-            "8",
-            "--polish",
-            "2",
-            "--instances",
-            "1",
-            "--output",
-        ]);
+        command.args(one_instance("8", "2")).arg("--output");
         command.arg(&out);
         if quiet {
             command.arg("--quiet");
@@ -801,14 +783,7 @@ fn an_interrupted_run_stops_after_its_batch_says_how_to_resume_and_resumes_bit_i
             log_lines(&out).len() >= at_signal,
             "{signal}: a logged line was lost"
         );
-        let mut resume = synthetic_flow_run(&out);
-        resume.push("--resume".into());
-        let resumed = stoss().args(&resume).output().unwrap();
-        assert!(
-            resumed.status.success(),
-            "{}",
-            String::from_utf8_lossy(&resumed.stderr)
-        );
+        resume_synthetic_flow_run(&out);
         let keys: std::collections::HashSet<String> = log_lines(&out)
             .iter()
             .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["key"].to_string())
@@ -877,14 +852,7 @@ fn a_killed_run_resumes_without_rerunning_any_logged_simulation() {
         !refused.status.success(),
         "an existing run must not be overwritten without --resume"
     );
-    let mut resume = synthetic_flow_run(&killed);
-    resume.push("--resume".into());
-    let resumed = stoss().args(&resume).output().unwrap();
-    assert!(
-        resumed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&resumed.stderr)
-    );
+    resume_synthetic_flow_run(&killed);
     let finished = stoss()
         .args(synthetic_flow_run(&reference))
         .output()
@@ -1783,15 +1751,8 @@ fn slurm_settings_on_a_local_run_are_said_to_be_ignored() {
             .arg(&path)
             .arg("--output")
             .arg(folder.join(name))
-            .args([
-                "--budget",
-                "4",
-                "--polish",
-                "0",
-                "--instances",
-                "1",
-                "--quiet",
-            ])
+            .args(one_instance("4", "0"))
+            .args(["--quiet"])
             .output()
             .unwrap();
         let stderr = String::from_utf8_lossy(&output.stderr);
@@ -1821,15 +1782,8 @@ fn cards_are_written_in_the_users_unit_system_with_the_users_id_and_name() {
     let run = out.join("run");
     let done = stoss()
         .args(["calibrate", "fixtures/campaigns/synthetic-flow.toml"])
-        .args([
-            "--budget",
-            "6",
-            "--polish",
-            "0",
-            "--instances",
-            "1",
-            "--quiet",
-        ])
+        .args(one_instance("6", "0"))
+        .args(["--quiet"])
         .args([
             "--units",
             "mm-s-t-MPa",

@@ -369,17 +369,20 @@ fn a_calibration_that_fails_before_its_first_simulation_leaves_no_folder() {
     }
     let fresh = std::env::temp_dir().join(format!("stoss-no-folder-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&fresh);
-    let output = stoss()
-        .args([
-            "calibrate",
-            "fixtures/campaigns/synthetic-flow.toml",
-            "--executor",
-            "slurm",
-        ])
-        .arg("--output")
-        .arg(&fresh)
-        .output()
-        .unwrap();
+    let calibrate_into_fresh = || {
+        stoss()
+            .args([
+                "calibrate",
+                "fixtures/campaigns/synthetic-flow.toml",
+                "--executor",
+                "slurm",
+            ])
+            .arg("--output")
+            .arg(&fresh)
+            .output()
+            .unwrap()
+    };
+    let output = calibrate_into_fresh();
     let error = String::from_utf8_lossy(&output.stderr);
     assert!(
         !output.status.success() && error.contains("sbatch"),
@@ -388,17 +391,7 @@ fn a_calibration_that_fails_before_its_first_simulation_leaves_no_folder() {
     assert!(!fresh.exists(), "the failed run left {}", fresh.display());
     std::fs::create_dir_all(&fresh).unwrap();
     std::fs::write(fresh.join("notes.txt"), "mine").unwrap();
-    let again = stoss()
-        .args([
-            "calibrate",
-            "fixtures/campaigns/synthetic-flow.toml",
-            "--executor",
-            "slurm",
-        ])
-        .arg("--output")
-        .arg(&fresh)
-        .output()
-        .unwrap();
+    let again = calibrate_into_fresh();
     assert!(!again.status.success());
     assert!(
         fresh.join("notes.txt").exists(),

@@ -8,9 +8,8 @@
 //! optimisers see ln(error), as in `stoss calibrate`.
 
 use std::path::Path;
-use stoss::fit::{evaluate, Campaign};
 use stoss::optimise::{AskTell, BayesianOptimiser, Bounds, CmaEs, OptimiserSettings, RandomSearch};
-use stoss::solver::SolverSettings;
+use stoss::validate::finish::{SyntheticFlow, NOISE_FLOOR};
 
 const BUDGET: usize = 100;
 const SEEDS: u64 = 10;
@@ -69,28 +68,16 @@ fn quartiles(mut runs: Vec<usize>, failures: usize, budget: usize) -> String {
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let campaign =
-        Campaign::load(&root.join("fixtures/campaigns/synthetic-flow.toml")).expect("campaign");
-    let space = campaign.space(&campaign.file.models[0]);
-    let fitted = campaign.fitted();
-    let settings = SolverSettings {
-        threads: Some(1),
-        ..SolverSettings::default()
-    };
-    let objective =
-        |x: &[f64]| evaluate(&campaign, &space, x, &fitted, &settings).total(&campaign, &fitted);
+    let flow = SyntheticFlow::load(&root.join("fixtures")).expect("campaign");
+    let space = &flow.space;
+    let objective = |x: &[f64]| flow.error(x);
     let factor: f64 = std::env::var("TARGET_FACTOR")
         .ok()
         .and_then(|v| v.parse().ok())
         .filter(|f: &f64| *f > 1.0)
         .unwrap_or(1.5);
-    let target = factor * 0.2352;
-    let pairs: Vec<(f64, f64)> = space
-        .lower
-        .iter()
-        .copied()
-        .zip(space.upper.iter().copied())
-        .collect();
+    let target = factor * NOISE_FLOOR;
+    let pairs = space.bound_pairs();
     println!("synthetic flow campaign, 5 constants, target error {target:.3}, budget {BUDGET}, {SEEDS} seeds");
     println!(
         "{:<22} {:>6} {:>6} {:>6}   (simulations to target: 25 %, median, 75 %)",

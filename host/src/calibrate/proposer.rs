@@ -39,12 +39,7 @@ pub fn bayesian_factory(
     design: Option<usize>,
 ) -> impl Fn(&ModelSpace, usize, usize, u64) -> Box<dyn Proposer> + Sync {
     move |space: &ModelSpace, budget: usize, batch: usize, seed: u64| -> Box<dyn Proposer> {
-        let pairs: Vec<(f64, f64)> = space
-            .lower
-            .iter()
-            .copied()
-            .zip(space.upper.iter().copied())
-            .collect();
+        let pairs = space.bound_pairs();
         let built = Bounds::from_pairs(&pairs).and_then(|bounds| {
             let mut settings =
                 OptimiserSettings::new(space.dimension(), budget, seed).with_batch(batch);

@@ -206,6 +206,15 @@ impl ModelSpace {
     pub fn dimension(&self) -> usize {
         self.names.len()
     }
+
+    /// The search range of every dimension, `(lower, upper)`, as the optimisers take it.
+    pub fn bound_pairs(&self) -> Vec<(f64, f64)> {
+        self.lower
+            .iter()
+            .copied()
+            .zip(self.upper.iter().copied())
+            .collect()
+    }
 }
 
 /// Fraction of a search range within which a fitted constant counts as at its bound.

@@ -6,7 +6,7 @@
 //! validate` and by `cargo bench -p stoss --bench euler` (`smooth`).
 
 use crate::experiment::penetration::PenetrationSolver;
-use crate::experiment::{Experiment, PenetrationSpec, Setup};
+use crate::experiment::PenetrationSpec;
 use crate::input::material;
 use crate::solver::SolverSettings;
 use std::path::Path;
@@ -44,16 +44,7 @@ impl Line {
 
 /// The shot on the Eulerian solver and its target's material file.
 fn shot(fixtures: &Path) -> Result<(PenetrationSpec, material::MaterialFile), String> {
-    let path = fixtures.join("experiments/penetration-hzb-1250.toml");
-    let experiment = Experiment::load(&path).map_err(|e| e.to_string())?;
-    let Setup::Penetration(spec) = &experiment.file.setup else {
-        return Err(format!("{}: not a penetration experiment", path.display()));
-    };
-    let material_path = experiment
-        .default_material_path()
-        .ok_or_else(|| format!("{}: no material", path.display()))?;
-    let (file, _) = material::load(&material_path).map_err(|e| e.to_string())?;
-    let mut spec = spec.clone();
+    let (mut spec, file) = super::semi_infinite::fixture(fixtures)?;
     spec.solver = PenetrationSolver::Euler;
     Ok((spec, file))
 }

@@ -10,7 +10,7 @@
 //! finish evaluates up to the first iteration count whose result reaches it, and the scoring of
 //! that result (the final Jacobian a diagnosis needs is not counted).
 
-use crate::fit::{evaluate, levenberg_marquardt, score, Campaign, Engine, Hypothesis};
+use crate::fit::{evaluate, levenberg_marquardt, score, Campaign, Engine, Hypothesis, ModelSpace};
 use crate::optimise::{AskTell, BayesianOptimiser, Bounds, OptimiserSettings};
 use crate::solver::SolverSettings;
 use std::path::Path;
@@ -27,10 +27,47 @@ pub const BUDGET: usize = 100;
 /// Seeds (0 to `SEEDS - 1`) the documents quote.
 pub const SEEDS: u64 = 10;
 
-/// The synthetic flow campaign under `fixtures`, its first model, and its error at `x`.
-fn campaign(fixtures: &Path) -> Result<Campaign, String> {
-    let path = fixtures.join("campaigns/synthetic-flow.toml");
-    Campaign::load(&path).map_err(|e| format!("{}: {e}", path.display()))
+/// The synthetic flow campaign, its first model's search space and the fitted experiments:
+/// what the optimisers are run on.
+pub struct SyntheticFlow {
+    /// The campaign (`fixtures/campaigns/synthetic-flow.toml`).
+    pub campaign: Campaign,
+    /// Its first model's search space.
+    pub space: ModelSpace,
+    /// The fitted experiments.
+    pub fitted: Vec<usize>,
+    settings: SolverSettings,
+}
+
+impl SyntheticFlow {
+    /// The campaign under `fixtures`, its simulations on one thread each.
+    pub fn load(fixtures: &Path) -> Result<Self, String> {
+        let path = fixtures.join("campaigns/synthetic-flow.toml");
+        let campaign = Campaign::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let model = campaign
+            .file
+            .models
+            .first()
+            .ok_or("the synthetic flow campaign has no model")?;
+        let space = campaign.space(model);
+        let fitted = campaign.fitted();
+        Ok(Self {
+            campaign,
+            space,
+            fitted,
+            settings: SolverSettings {
+                threads: Some(1),
+                ..SolverSettings::default()
+            },
+        })
+    }
+
+    /// The weighted error of the fitted experiments at the unit-space point `x` (none: the
+    /// candidate is infeasible or a simulation failed).
+    pub fn error(&self, x: &[f64]) -> Option<f64> {
+        evaluate(&self.campaign, &self.space, x, &self.fitted, &self.settings)
+            .total(&self.campaign, &self.fitted)
+    }
 }
 
 /// For each seed, the simulations until the error is at most `factor` times
@@ -40,27 +77,16 @@ pub fn simulations_to_target(
     factor: f64,
     seeds: u64,
 ) -> Result<Vec<Option<usize>>, String> {
-    let campaign = campaign(fixtures)?;
-    let model = campaign
-        .file
-        .models
-        .first()
-        .ok_or("the synthetic flow campaign has no model")?;
-    let space = campaign.space(model);
-    let fitted = campaign.fitted();
-    let settings = SolverSettings {
-        threads: Some(1),
-        ..SolverSettings::default()
-    };
-    let objective =
-        |x: &[f64]| evaluate(&campaign, &space, x, &fitted, &settings).total(&campaign, &fitted);
+    let flow = SyntheticFlow::load(fixtures)?;
+    let SyntheticFlow {
+        campaign,
+        space,
+        fitted,
+        settings,
+    } = &flow;
+    let objective = |x: &[f64]| flow.error(x);
     let target = factor * NOISE_FLOOR;
-    let pairs: Vec<(f64, f64)> = space
-        .lower
-        .iter()
-        .copied()
-        .zip(space.upper.iter().copied())
-        .collect();
+    let pairs = space.bound_pairs();
     let mut runs = Vec::new();
     for seed in 0..seeds {
         let bounds = Bounds::from_pairs(&pairs).map_err(|e| e.to_string())?;
@@ -102,16 +128,16 @@ pub fn simulations_to_target(
             continue;
         };
         let hypothesis =
-            Hypothesis::base(&campaign.base, &space, &start).map_err(|e| e.to_string())?;
+            Hypothesis::base(&campaign.base, space, &start).map_err(|e| e.to_string())?;
         let start_values = hypothesis.values().map_err(|e| e.to_string())?;
         let mut found = None;
         for iterations in 1..=6 {
             let mut quiet = |_: crate::fit::Progress<'_>| {};
             let mut pool = crate::fit::executor::Local::new(2).map_err(|e| e.to_string())?;
             let mut engine =
-                Engine::new(&campaign, &mut pool, None, &mut quiet).map_err(|e| e.to_string())?;
+                Engine::new(campaign, &mut pool, None, &mut quiet).map_err(|e| e.to_string())?;
             let Ok(fit) =
-                levenberg_marquardt(&mut engine, &hypothesis, &start_values, &fitted, iterations)
+                levenberg_marquardt(&mut engine, &hypothesis, &start_values, fitted, iterations)
             else {
                 break;
             };
@@ -121,7 +147,7 @@ pub fn simulations_to_target(
                 .iter()
                 .map(|&i| {
                     let experiment = &campaign.experiments[i];
-                    let predicted = realised.predict(experiment, &settings).ok()?;
+                    let predicted = realised.predict(experiment, settings).ok()?;
                     score(&experiment.recording, &predicted)
                         .map(|s| s.error * campaign.file.experiments[i].weight)
                 })

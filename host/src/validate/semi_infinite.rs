@@ -24,20 +24,26 @@ pub struct Shot {
     pub rod: MaterialFile,
 }
 
-/// Load the fixture shot under `fixtures` as the studies run it.
-pub fn shot(fixtures: &Path) -> Result<Shot, String> {
+/// Seed 000's 1250 m/s shot under `fixtures` as its file sets it up, and its target's
+/// material file.
+pub fn fixture(fixtures: &Path) -> Result<(PenetrationSpec, MaterialFile), String> {
     let path = fixtures.join("experiments/penetration-hzb-1250.toml");
     let experiment = Experiment::load(&path).map_err(|e| e.to_string())?;
-    let Setup::Penetration(base) = &experiment.file.setup else {
+    let Setup::Penetration(spec) = &experiment.file.setup else {
         return Err(format!("{}: not a penetration experiment", path.display()));
     };
     let target_path = experiment
         .default_material_path()
         .ok_or_else(|| format!("{}: no material", path.display()))?;
     let (target, _) = material::load(&target_path).map_err(|e| e.to_string())?;
+    Ok((spec.clone(), target))
+}
+
+/// Load the fixture shot under `fixtures` as the studies run it.
+pub fn shot(fixtures: &Path) -> Result<Shot, String> {
+    let (mut spec, target) = fixture(fixtures)?;
     let (rod, _) =
         material::load(&fixtures.join("materials/wha-jc.toml")).map_err(|e| e.to_string())?;
-    let mut spec = base.clone();
     spec.target_thickness = 80.0e-3;
     spec.end_time = 30.0e-6;
     Ok(Shot { spec, target, rod })

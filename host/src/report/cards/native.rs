@@ -412,15 +412,8 @@ mod tests {
         };
         let bulk = bulk_modulus(&file).unwrap();
         let (young, _) = young_and_poisson(bulk, file.shear_modulus);
-        for name in [
-            "si",
-            "mm-ms-kg-GPa",
-            "mm-s-t-MPa",
-            "mm-ms-g-MPa",
-            "cm-us-g-Mbar",
-        ] {
-            let units = super::super::CardUnits::parse(name).unwrap();
-            let options = CardOptions::new(units.clone(), 42, "HHA").unwrap();
+        for (name, options) in super::super::units::test_systems() {
+            let units = &options.units;
             let si = |value: f64, quantity: Quantity| units.to_si(value, quantity);
             let dyna = ls_dyna(&file, &options).unwrap();
             let lines = data(&dyna, '$', &[10; 8]);

@@ -953,15 +953,8 @@ mod tests {
         //            digits, Abaqus' numbers are exact, so within 1e-13 relative (ln rates
         //            within 1e-12 absolute).
         let (_, file) = families().into_iter().next().unwrap();
-        for name in [
-            "si",
-            "mm-ms-kg-GPa",
-            "mm-s-t-MPa",
-            "mm-ms-g-MPa",
-            "cm-us-g-Mbar",
-        ] {
-            let units = CardUnits::parse(name).unwrap();
-            let options = CardOptions::new(units.clone(), 42, "HHA").unwrap();
+        for (name, options) in super::super::units::test_systems() {
+            let units = &options.units;
             let (dyna, written, _) = ls_dyna(&file, &options).unwrap();
             let (inp, _, _) = abaqus(&file, &options).unwrap();
             assert!(
@@ -972,7 +965,7 @@ mod tests {
                 FlowTable::read_ls_dyna(&dyna).unwrap(),
                 FlowTable::read_abaqus(&inp).unwrap(),
             ] {
-                let si = read.to_si(&units);
+                let si = read.to_si(units);
                 for (a, b) in si.ln_rates.iter().zip(&written.ln_rates) {
                     assert!((a - b).abs() < 1e-12, "{name}: ln rate {a} against {b}");
                 }

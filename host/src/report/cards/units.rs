@@ -262,6 +262,28 @@ impl CardOptions {
     }
 }
 
+/// The systems the card tests write in (SI and four of LS-DYNA's), each with id 42 and name
+/// `HHA`: `(system name, options)`.
+#[cfg(test)]
+pub(crate) fn test_systems() -> Vec<(&'static str, CardOptions)> {
+    [
+        "si",
+        "mm-ms-kg-GPa",
+        "mm-s-t-MPa",
+        "mm-ms-g-MPa",
+        "cm-us-g-Mbar",
+    ]
+    .into_iter()
+    .map(|name| {
+        let units = CardUnits::parse(name).expect("a known system");
+        (
+            name,
+            CardOptions::new(units, 42, "HHA").expect("valid options"),
+        )
+    })
+    .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
