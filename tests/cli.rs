@@ -308,7 +308,9 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
         match row.measure {
             stoss::validate::Measure::Summary { experiment, .. }
             | stoss::validate::Measure::Predicted { experiment, .. }
-            | stoss::validate::Measure::LambertJonas { experiment } => {
+            | stoss::validate::Measure::LambertJonas { experiment }
+            | stoss::validate::Measure::FoiCore { experiment, .. }
+            | stoss::validate::Measure::BlastLoad { experiment, .. } => {
                 stoss::experiment::Experiment::load(&fixtures.join(experiment))
                     .unwrap_or_else(|e| panic!("{}: {e}", row.name));
             }
@@ -329,7 +331,12 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
                     row.name
                 );
             }
-            stoss::validate::Measure::EulerStrength { .. } => {
+            stoss::validate::Measure::TntImpulse { height } => {
+                assert!(height > 0.0, "{}", row.name);
+            }
+            stoss::validate::Measure::EulerStrength { .. }
+            | stoss::validate::Measure::EulerCrater { .. }
+            | stoss::validate::Measure::LagrangeStrength { .. } => {
                 stoss::validate::semi_infinite::shot(fixtures)
                     .unwrap_or_else(|e| panic!("{}: {e}", row.name));
             }
@@ -339,7 +346,7 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
                 )
                 .unwrap_or_else(|e| panic!("{}: {e}", row.name));
             }
-            stoss::validate::Measure::Finish { .. } => {
+            stoss::validate::Measure::Finish { .. } | stoss::validate::Measure::Baseline { .. } => {
                 stoss::fit::Campaign::load(&fixtures.join("campaigns/synthetic-flow.toml"))
                     .unwrap_or_else(|e| panic!("{}: {e}", row.name));
             }

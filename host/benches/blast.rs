@@ -10,26 +10,11 @@
 use std::path::PathBuf;
 use std::time::Instant;
 use stoss::blast::cache;
-use stoss::blast::kingery_bulmash;
-use stoss::blast::near_field::{
-    Air, Charge, ChargeShape, Detonation, EulerSettings, Explosive, NearFieldBlast,
-};
 use stoss::experiment::blast_plate::Coupling;
 use stoss::experiment::{Experiment, Setup};
 use stoss::input::material;
-use stoss::solver::{PressureHistory, SolverSettings};
-
-/// Impulse of `wall` on the disc `r <= radius` (N s).
-fn total_impulse(wall: &PressureHistory, radius: f64) -> f64 {
-    let rings = 400;
-    let dr = radius / rings as f64;
-    (0..rings)
-        .map(|i| {
-            let r = (i as f64 + 0.5) * dr;
-            wall.impulse(r) * 2.0 * std::f64::consts::PI * r * dr
-        })
-        .sum()
-}
+use stoss::solver::SolverSettings;
+use stoss::validate::blast::{charge_load, tnt_reflected_impulse};
 
 fn main() {
     let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
@@ -40,28 +25,20 @@ fn main() {
     println!("| charge | cell | cells | steps | wall (s) | cell updates/s | impulse r<=200 mm (N s) | centre impulse (Pa s) | peak (GPa) |");
     println!("|---|---|---|---|---|---|---|---|---|");
     for name in names {
-        let experiment = Experiment::load(&fixtures.join(format!("experiments/{name}.toml")))
-            .expect("fixture loads");
-        let Setup::BlastPlate(spec) = &experiment.file.setup else {
-            panic!("{name} is not a blast plate");
-        };
         for cell in [1.0e-3, 0.5e-3] {
-            let mut blast = spec.blast();
-            blast.euler.cell_size = cell;
             let clock = Instant::now();
-            let run = blast
-                .solve(1.25 * spec.exposed_radius, &mut |_| {})
+            let load = charge_load(&fixtures, &format!("experiments/{name}.toml"), cell)
                 .expect("Euler run");
             let wall = clock.elapsed().as_secs_f64();
             println!(
                 "| {name} | {:.1} mm | {} | {} | {wall:.1} | {:.2e} | {:.2} | {:.0} | {:.2} |",
                 cell * 1e3,
-                run.cells,
-                run.steps,
-                run.cell_updates as f64 / wall,
-                total_impulse(&run.wall, spec.exposed_radius),
-                run.wall.impulse(0.0),
-                run.wall.peak().0 / 1e9
+                load.run.cells,
+                load.run.steps,
+                load.run.cell_updates as f64 / wall,
+                load.impulse,
+                load.centre_impulse,
+                load.run.wall.peak().0 / 1e9
             );
         }
     }
@@ -72,40 +49,11 @@ fn main() {
     println!("| height (m) | grid radius (m) | Euler (Pa s) | Kingery-Bulmash (Pa s) | difference | wall (s) |");
     println!("|---|---|---|---|---|---|");
     for height in [1.0, 2.0, 3.0] {
-        let radius = libm::cbrt(3.0 / (4.0 * std::f64::consts::PI * 1630.0));
-        let grid_radius = 1.2 * height;
-        let blast = NearFieldBlast {
-            charge: Charge {
-                mass: 1.0,
-                explosive: Explosive::Tnt,
-                shape: ChargeShape::Sphere,
-                diameter: None,
-                standoff: height - radius,
-                detonation: Detonation::Centre,
-            },
-            air: Air::default(),
-            euler: EulerSettings {
-                cell_size: 0.01,
-                radius: grid_radius,
-                headroom: 0.5 * height,
-                end_time: 1.0e-3 + 3.0e-3 * height,
-                output_interval: 5.0e-6,
-                ..EulerSettings::default()
-            },
-        };
         let clock = Instant::now();
-        let run = blast.solve(grid_radius, &mut |_| {}).expect("Euler run");
-        // Positive phase only, as the fit.
-        let positive: f64 = run
-            .wall
-            .values
-            .iter()
-            .map(|row| row[0].max(0.0))
-            .sum::<f64>()
-            * run.wall.interval;
-        let expected = kingery_bulmash::reflected_impulse(1.0, height).expect("in range");
+        let (positive, expected) = tnt_reflected_impulse(height).expect("Euler run");
         println!(
-            "| {height:.1} | {grid_radius:.1} | {positive:.1} | {expected:.1} | {:+.1} % | {:.1} |",
+            "| {height:.1} | {:.1} | {positive:.1} | {expected:.1} | {:+.1} % | {:.1} |",
+            1.2 * height,
             100.0 * (positive / expected - 1.0),
             clock.elapsed().as_secs_f64()
         );

@@ -29,7 +29,7 @@ use semi_infinite::{perfectly_plastic, shot};
 use std::path::PathBuf;
 use std::time::Instant;
 use stoss::analytic::penetration::{default_crater_radius, depth_at};
-use stoss::experiment::penetration::euler::{rod_extent, EulerPenetration, ROD, TARGET};
+use stoss::experiment::penetration::euler::{EulerPenetration, TARGET};
 use stoss::experiment::penetration::PenetrationSolver;
 use stoss::experiment::{Experiment, PenetrationSpec, Setup};
 use stoss::input::material;
@@ -191,63 +191,26 @@ fn crater_heating() {
 
 /// One row of the crater tables: the 1250 m/s shot into `file` on `element` cells.
 fn crater_row(label: &str, file: &material::MaterialFile, element: f64) {
-    let shot = shot();
-    let a = 0.5 * shot.spec.rod_diameter;
     let started = Instant::now();
-    let target = file.material().expect("valid target");
-    let mut spec = shot.spec.clone();
-    spec.solver = PenetrationSolver::Euler;
-    spec.element_size = element;
-    let check = spec.cross_check(&target).expect("cross-check");
-    let mut solver = spec
-        .euler_model(&target.into(), &settings(2))
-        .expect("model");
-    let impact = spec.gap() / spec.velocity;
-    let (start, end) = (impact + 10.0e-6, impact + 30.0e-6);
-    let mut noses: Vec<(f64, f64)> = Vec::new();
-    let mut radii: Vec<f64> = Vec::new();
-    let mut at_head: Vec<f64> = Vec::new();
-    let outcome = solver.run(end, 0.5e-6, &mut |s| {
-        let (nose, _) = rod_extent(s, ROD);
-        noses.push((s.time, -nose));
-        if s.time >= start && nose.is_finite() {
-            let (hr, hz, cells_r) = (s.grid.spacing_r, s.grid.spacing_z, s.grid.cells_r);
-            for j in 0..s.grid.cells_z {
-                let z = s.origin_z + (j as f64 + 0.5) * hz;
-                let into = if z >= nose + a && z <= nose + 3.0 * a {
-                    &mut radii
-                } else if z >= nose && z < nose + a {
-                    &mut at_head
-                } else {
-                    continue;
-                };
-                let f = |i: usize| s.fraction(j * cells_r + i, TARGET);
-                if let Some(i) = (1..cells_r).find(|&i| f(i) >= 0.5) {
-                    let (f0, f1) = (f(i - 1), f(i));
-                    let r0 = (i as f64 - 0.5) * hr;
-                    into.push(r0 + hr * (0.5 - f0) / (f1 - f0));
-                }
-            }
-        }
-        std::ops::ControlFlow::Continue(())
-    });
-    if outcome.is_err() {
-        println!("| {label} | {:.1} mm | failed | | | |", element * 1e3);
-        return;
+    match stoss::validate::semi_infinite::euler_crater_of(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures"),
+        file.clone(),
+        element,
+        Some(2),
+    ) {
+        Ok(crater) => println!(
+            "| {label} | {:.1} mm | {:.2} | {:.2} | {:.2} | {:.0} |",
+            element * 1e3,
+            crater.rate_ratio,
+            crater.behind_head,
+            crater.at_head,
+            started.elapsed().as_secs_f64()
+        ),
+        Err(error) => println!(
+            "| {label} | {:.1} mm | failed: {error} | | | |",
+            element * 1e3
+        ),
     }
-    let fe_rate = (interpolate(&noses, end) - interpolate(&noses, start)) / (end - start);
-    let wa = |t: f64| depth_at(&check.walker_anderson, t - impact);
-    let wa_rate = (wa(end) - wa(start)) / (end - start);
-    let radius = radii.iter().sum::<f64>() / radii.len().max(1) as f64;
-    let head = at_head.iter().sum::<f64>() / at_head.len().max(1) as f64;
-    println!(
-        "| {label} | {:.1} mm | {:.2} | {:.2} | {:.2} | {:.0} |",
-        element * 1e3,
-        fe_rate / wa_rate,
-        radius / a,
-        head / a,
-        started.elapsed().as_secs_f64()
-    );
 }
 
 fn smooth() {

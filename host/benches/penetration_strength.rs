@@ -16,23 +16,19 @@
 //! with the same strengths (each material's flow stress at zero strain and rate).
 //!
 //! Run: `cargo bench -p stoss --bench penetration_strength` (about 2 minutes on 2 cores).
-//! The figures are in docs/solver.md ("Accuracy").
+//! The figures are in docs/solver.md ("Accuracy"); the FE / WA column is the
+//! `lagrange-strength-*` rows of `stoss validate` (`stoss::validate::semi_infinite`).
 
-mod semi_infinite;
-
-use semi_infinite::shot;
+use std::path::PathBuf;
 use std::time::Instant;
-use stoss::analytic::penetration::depth_at;
-use stoss::measure::interpolate;
-use stoss::solver::SolverSettings;
+use stoss::validate::semi_infinite::lagrange_strength;
 
 fn main() {
-    let shot = shot();
-    let (spec, file) = (shot.spec, shot.target);
+    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
     println!(
-        "| target A (GPa) | safety | P(10 us) FE / WA (mm) | P(30 us) FE / WA (mm) | rate 10-30 us FE / WA (mm/us) | FE / WA | rod length at 30 us (mm) | largest tolerated exposure / element | energy error | wall (s) |"
+        "| target A (GPa) | safety | P(10 us) FE / WA (mm) | P(30 us) FE / WA (mm) | FE / WA | rod length at 30 us (mm) | largest tolerated exposure / element | energy error | wall (s) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|");
     let cases = [
         (0.5, None),
         (1.0, None),
@@ -44,43 +40,25 @@ fn main() {
         (4.0, Some(0.3)),
     ];
     for (yield_stress, safety) in cases {
-        let mut target_file = file.clone();
-        target_file
-            .set_constant("strength.yield_stress", yield_stress * 1e9)
-            .expect("a Johnson-Cook target");
-        let target = target_file.material().expect("valid target");
-        let mut settings = SolverSettings {
-            threads: Some(2),
-            ..SolverSettings::default()
-        };
-        if let Some(safety) = safety {
-            settings.time_step_safety = safety;
-        }
-        let check = spec.cross_check(&target).expect("cross-check");
         let started = Instant::now();
         let label = safety.map_or("default".to_string(), |s| format!("{s}"));
-        match spec.run(&target.into(), &settings) {
-            Ok((result, run, built)) => {
-                let fe = |t: f64| interpolate(&result.nose_depth, t) * 1e3;
-                let wa = |t: f64| depth_at(&check.walker_anderson, t) * 1e3;
-                let fe_rate = (fe(30e-6) - fe(10e-6)) / 20.0;
-                let wa_rate = (wa(30e-6) - wa(10e-6)) / 20.0;
+        match lagrange_strength(&fixtures, yield_stress * 1e9, safety, Some(2)) {
+            Ok(run) => {
+                let ((fe10, wa10), (fe30, wa30)) = run.depths;
                 println!(
-                    "| {yield_stress:.1} | {label} | {:.2} / {:.2} | {:.2} / {:.2} | {fe_rate:.3} / {wa_rate:.3} | {:.2} | {:.2} | {:.2} | {:+.2} % | {:.1} |",
-                    fe(10e-6),
-                    wa(10e-6),
-                    fe(30e-6),
-                    wa(30e-6),
-                    fe_rate / wa_rate,
-                    interpolate(&result.rod_length, 30e-6) * 1e3,
-                    run.contact.largest_initial_penetration / built.smallest_element,
-                    run.energy().error_percent(),
+                    "| {yield_stress:.1} | {label} | {:.2} / {:.2} | {:.2} / {:.2} | {:.2} | {:.2} | {:.2} | {:+.2} % | {:.1} |",
+                    fe10 * 1e3,
+                    wa10 * 1e3,
+                    fe30 * 1e3,
+                    wa30 * 1e3,
+                    run.rate_ratio,
+                    run.rod_length * 1e3,
+                    run.exposure,
+                    run.energy_error,
                     started.elapsed().as_secs_f64(),
                 );
             }
-            Err(error) => {
-                println!("| {yield_stress:.1} | {label} | failed: {error} | | | | | | | |")
-            }
+            Err(error) => println!("| {yield_stress:.1} | {label} | failed: {error} | | | | | | |"),
         }
     }
 }

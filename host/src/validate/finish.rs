@@ -1,8 +1,9 @@
 //! Simulations to a target error on the synthetic flow-curve campaign
 //! (`fixtures/campaigns/synthetic-flow.toml`: JC, five constants, known truth) with ten
 //! Bayesian simulations followed by the least-squares finish (`least_squares`): the figure
-//! docs/calibration.md quotes as "Bayesian 10 + least squares". Used by the `finish-*` rows of
-//! `stoss validate` and by `cargo bench -p stoss --bench calibration`.
+//! docs/calibration.md quotes as "Bayesian 10 + least squares", and the optimisers it is
+//! compared with run alone ([`baseline_to_target`]). Used by the `finish-*` and `optimiser-*`
+//! rows of `stoss validate` and by `cargo bench -p stoss --bench calibration`.
 //!
 //! The Bayesian optimiser's first [`START`] simulations, then the bounded Levenberg-Marquardt
 //! on the whitened residuals from its best point (forward-difference Jacobians, two trial
@@ -11,7 +12,7 @@
 //! that result (the final Jacobian a diagnosis needs is not counted).
 
 use crate::fit::{evaluate, levenberg_marquardt, score, Campaign, Engine, Hypothesis, ModelSpace};
-use crate::optimise::{AskTell, BayesianOptimiser, Bounds, OptimiserSettings};
+use crate::optimise::{AskTell, BayesianOptimiser, Bounds, CmaEs, OptimiserSettings, RandomSearch};
 use crate::solver::SolverSettings;
 use std::path::Path;
 
@@ -171,4 +172,91 @@ pub fn median(runs: &[Option<usize>]) -> Option<usize> {
         .get(sorted.len() / 2)
         .copied()
         .filter(|&n| n != usize::MAX)
+}
+
+/// An optimiser run alone on the synthetic flow campaign, for comparison with the finish.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Baseline {
+    /// The Bayesian optimiser (GP, log-EI) for the whole budget.
+    Bayesian,
+    /// Random Latin hypercube sampling.
+    RandomLatinHypercube,
+    /// CMA-ES from the box centre.
+    CmaEs,
+}
+
+impl Baseline {
+    /// The name docs/calibration.md gives it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Bayesian => "Bayesian (GP, log-EI)",
+            Self::RandomLatinHypercube => "random Latin hypercube",
+            Self::CmaEs => "CMA-ES",
+        }
+    }
+}
+
+/// For each seed, the simulations `baseline` alone (batches of two) needs until the error is
+/// at most `factor` times [`NOISE_FLOOR`] (none: not within `budget`).
+pub fn baseline_to_target(
+    fixtures: &Path,
+    baseline: Baseline,
+    factor: f64,
+    budget: usize,
+    seeds: u64,
+) -> Result<Vec<Option<usize>>, String> {
+    let flow = SyntheticFlow::load(fixtures)?;
+    let target = factor * NOISE_FLOOR;
+    let pairs = flow.space.bound_pairs();
+    let mut runs = Vec::new();
+    for seed in 0..seeds {
+        let bounds = Bounds::from_pairs(&pairs).map_err(|e| e.to_string())?;
+        let settings = OptimiserSettings::new(flow.space.dimension(), budget, seed).with_batch(2);
+        let mut optimiser: Box<dyn AskTell> = match baseline {
+            Baseline::Bayesian => {
+                Box::new(BayesianOptimiser::new(bounds, settings).map_err(|e| e.to_string())?)
+            }
+            Baseline::RandomLatinHypercube => {
+                Box::new(RandomSearch::new(bounds, &settings).map_err(|e| e.to_string())?)
+            }
+            Baseline::CmaEs => Box::new(CmaEs::new(bounds, &settings).map_err(|e| e.to_string())?),
+        };
+        runs.push(race(
+            optimiser.as_mut(),
+            &|x| flow.error(x),
+            target,
+            budget,
+        )?);
+    }
+    Ok(runs)
+}
+
+/// Ask and tell `optimiser` (on the log of the error) until a simulation reaches `target`
+/// (the simulations used) or `budget` is spent (none).
+fn race(
+    optimiser: &mut dyn AskTell,
+    objective: &dyn Fn(&[f64]) -> Option<f64>,
+    target: f64,
+    budget: usize,
+) -> Result<Option<usize>, String> {
+    let mut used = 0;
+    while used < budget {
+        let points = optimiser.ask();
+        if points.is_empty() {
+            return Ok(None);
+        }
+        let values: Vec<Option<f64>> = points.iter().map(|p| objective(p)).collect();
+        for value in &values {
+            used += 1;
+            if value.is_some_and(|v| v <= target) {
+                return Ok(Some(used));
+            }
+        }
+        let logs: Vec<Option<f64>> = values
+            .iter()
+            .map(|v| v.map(|e| e.max(1e-300).ln()))
+            .collect();
+        optimiser.tell(&points, &logs).map_err(|e| e.to_string())?;
+    }
+    Ok(None)
 }

@@ -13,8 +13,10 @@
 //! this is for the validation figures, which are too slow for the test suite or rest on a
 //! whole run.
 
+pub mod blast;
 pub mod euler;
 pub mod finish;
+pub mod foi_tables;
 pub mod identification;
 pub mod perforation;
 pub mod semi_infinite;
@@ -90,6 +92,36 @@ pub enum Measure {
         /// The target as a multiple of the noise floor.
         factor: f64,
     },
+    /// The median over [`finish::SEEDS`] seeds of the simulations `baseline` alone needs to
+    /// bring the synthetic flow campaign within `factor` times its noise floor, within `budget`
+    /// ([`finish::baseline_to_target`]), or how many seeds got there (`count`).
+    Baseline {
+        /// Count the seeds that reached the target (else the median simulations).
+        count: bool,
+        /// The optimiser.
+        baseline: finish::Baseline,
+        /// The target as a multiple of the noise floor.
+        factor: f64,
+        /// Most simulations per seed.
+        budget: usize,
+    },
+    /// The Euler load of a blast-plate experiment (a file under the fixtures folder) on `cell`
+    /// cells ([`blast::charge_load`]): the impulse on the exposed plate (N s) or at its centre
+    /// (`centre`, Pa s).
+    BlastLoad {
+        /// Experiment file, relative to the fixtures folder.
+        experiment: &'static str,
+        /// Cell size (m).
+        cell: f64,
+        /// The centre's impulse per area (else the plate's impulse).
+        centre: bool,
+    },
+    /// The Euler reflected impulse at the axis of 1 kg of TNT `height` (m) above a wall
+    /// ([`blast::tnt_reflected_impulse`]), Pa s.
+    TntImpulse {
+        /// Height of the charge's centre (m).
+        height: f64,
+    },
     /// The exit velocity (m/s) of one of FOI's perforation runs rebuilt on the bundled model
     /// ([`perforation::RUNS`], by FOI's run number), fired at 459 m/s.
     FoiPerforation {
@@ -110,6 +142,33 @@ pub enum Measure {
     EulerStrength {
         /// The target's yield stress (Pa).
         target_yield: f64,
+    },
+    /// One of FOI's ballistic tables predicted with the core identified from table 3.4
+    /// ([`foi_tables::predict`]): the RMS exit difference from FOI's (`limit: false`) or
+    /// stoss' Lambert–Jonas limit (`true`), m/s (one run per table in a process).
+    FoiCore {
+        /// The table's experiment file, relative to the fixtures folder.
+        experiment: &'static str,
+        /// The limit (else the RMS exit difference).
+        limit: bool,
+    },
+    /// The Eulerian 1250 m/s shot's crater radius over the rod radius, 10-30 us
+    /// ([`semi_infinite::euler_crater`]): one to three rod radii above the nose, or within one
+    /// (`at_head`); one run per cell size and heating in a process.
+    EulerCrater {
+        /// Cell size (m).
+        element: f64,
+        /// The target made isothermal.
+        isothermal: bool,
+        /// Within one rod radius of the nose (else one to three).
+        at_head: bool,
+    },
+    /// The eroding Lagrangian penetration rate over 10-30 us against Walker–Anderson's, the
+    /// fixture's HzB-W target with its `A` at `target_a` (Pa)
+    /// ([`semi_infinite::lagrange_strength`]).
+    LagrangeStrength {
+        /// The target's Johnson–Cook `A` (Pa).
+        target_a: f64,
     },
     /// The Lambert–Jonas limit (free `p`) of a bundled ballistic recording's shots (m/s).
     LambertJonas {
@@ -170,6 +229,12 @@ fn element_size_0_2_mm(setup: &mut Setup) {
     }
 }
 
+fn element_size_0_1_mm(setup: &mut Setup) {
+    if let Setup::Penetration(spec) = setup {
+        spec.element_size = 0.1e-3;
+    }
+}
+
 /// A row of the diagnosis' identification rate (docs/diagnosis.md): `(case, noise level,
 /// what is counted)` over [`identification::SEEDS`] seeds, stated as a count of 10.
 const fn identify(
@@ -210,6 +275,99 @@ const fn foi_perforation(
         scale: 1.0,
         speed: Speed::Slow,
         measure: Measure::FoiPerforation { run },
+    }
+}
+
+/// A row of FOI's table `experiment` predicted with the identified core (docs/solver.md): the
+/// RMS exit difference (`limit: false`) or stoss' limit, m/s.
+const fn foi_core(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    (experiment, limit): (&'static str, bool),
+) -> Row {
+    Row {
+        name,
+        figure,
+        quoted_in: "docs/solver.md, Ballistic limit, The core from FOI's own tables",
+        stated,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiCore { experiment, limit },
+    }
+}
+
+/// A row of the Eulerian crater (docs/euler.md), `R_c / a` with the bundled HzB-W target
+/// (adiabatic) on `element` cells, behind the head or at it.
+const fn euler_crater_row(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    (element, at_head): (f64, bool),
+    speed: Speed,
+) -> Row {
+    Row {
+        name,
+        figure,
+        quoted_in: "docs/euler.md, Validation",
+        stated,
+        tolerance: 0.005,
+        unit: "a",
+        scale: 1.0,
+        speed,
+        measure: Measure::EulerCrater {
+            element,
+            isothermal: false,
+            at_head,
+        },
+    }
+}
+
+/// A row of the eroding Lagrangian strength sweep (docs/solver.md): the rate over
+/// Walker–Anderson's with the HzB-W target's `A` at `target_a` (Pa).
+const fn lagrange_strength(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    target_a: f64,
+) -> Row {
+    Row {
+        name,
+        figure,
+        quoted_in: "docs/solver.md, Accuracy",
+        stated,
+        tolerance: 0.005,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::LagrangeStrength { target_a },
+    }
+}
+
+/// A row of a blast charge's Euler load (docs/solver.md): the impulse on the exposed plate
+/// (N s) or at its centre (Pa s) on `cell` cells.
+const fn blast_load(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    (experiment, cell, centre): (&'static str, f64, bool),
+) -> Row {
+    Row {
+        name,
+        figure,
+        quoted_in: "docs/solver.md, Blast load, Verification",
+        stated,
+        tolerance: if centre { 1.0 } else { 0.01 },
+        unit: if centre { "Pa s" } else { "N s" },
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::BlastLoad {
+            experiment,
+            cell,
+            centre,
+        },
     }
 }
 
@@ -845,6 +1003,382 @@ pub const ROWS: &[Row] = &[
         0.69,
         4.0e9,
     ),
+    foi_core(
+        "foi-core-t34-rms",
+        "RMS exit difference from FOI's Autodyn table 3.4 (fitted: implicit rate, 0.2 / 0.4 mm), the core identified from table 3.4",
+        18.7,
+        ("experiments/ballistic-foi-t34.toml", false),
+    ),
+    foi_core(
+        "foi-core-t34-limit",
+        "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.4 (fitted: implicit rate, 0.2 / 0.4 mm), the core identified from table 3.4",
+        756.7,
+        ("experiments/ballistic-foi-t34.toml", true),
+    ),
+    foi_core(
+        "foi-core-t35-rms",
+        "RMS exit difference from FOI's Autodyn table 3.5 (original JC, lagged rate), the core identified from table 3.4",
+        53.5,
+        ("experiments/ballistic-foi-t35.toml", false),
+    ),
+    foi_core(
+        "foi-core-t35-limit",
+        "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.5 (original JC, lagged rate), the core identified from table 3.4",
+        677.6,
+        ("experiments/ballistic-foi-t35.toml", true),
+    ),
+    foi_core(
+        "foi-core-t36-rms",
+        "RMS exit difference from FOI's Autodyn table 3.6 (lagged rate, rate term off), the core identified from table 3.4",
+        78.0,
+        ("experiments/ballistic-foi-t36.toml", false),
+    ),
+    foi_core(
+        "foi-core-t36-limit",
+        "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.6 (lagged rate, rate term off), the core identified from table 3.4",
+        656.5,
+        ("experiments/ballistic-foi-t36.toml", true),
+    ),
+    foi_core(
+        "foi-core-t37-rms",
+        "RMS exit difference from FOI's Autodyn table 3.7 (implicit rate, 0.1 / 0.1 mm), the core identified from table 3.4",
+        105.7,
+        ("experiments/ballistic-foi-t37.toml", false),
+    ),
+    foi_core(
+        "foi-core-t37-limit",
+        "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.7 (implicit rate, 0.1 / 0.1 mm), the core identified from table 3.4",
+        765.0,
+        ("experiments/ballistic-foi-t37.toml", true),
+    ),
+    foi_core(
+        "foi-core-t38-rms",
+        "RMS exit difference from FOI's Autodyn table 3.8 (Autodyn 4.2.02, 0.2 / 0.4 mm; stoss: the 3.4 model), the core identified from table 3.4",
+        63.5,
+        ("experiments/ballistic-foi-t38.toml", false),
+    ),
+    foi_core(
+        "foi-core-t38-limit",
+        "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.8 (Autodyn 4.2.02, 0.2 / 0.4 mm; stoss: the 3.4 model), the core identified from table 3.4",
+        757.2,
+        ("experiments/ballistic-foi-t38.toml", true),
+    ),
+    foi_core(
+        "foi-core-t39-rms",
+        "RMS exit difference from FOI's Autodyn table 3.9 (Autodyn 4.2.02, 0.1 / 0.1 mm), the core identified from table 3.4",
+        54.9,
+        ("experiments/ballistic-foi-t39.toml", false),
+    ),
+    foi_core(
+        "foi-core-t39-limit",
+        "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.9 (Autodyn 4.2.02, 0.1 / 0.1 mm), the core identified from table 3.4",
+        760.6,
+        ("experiments/ballistic-foi-t39.toml", true),
+    ),
+    euler_crater_row(
+        "euler-crater-behind",
+        "Eulerian 1250 m/s shot's crater radius 1-3 rod radii above the nose, 10-30 us, HzB-W target, 0.4 mm (Walker-Anderson 1.59 a)",
+        1.84,
+        (0.4e-3, false),
+        Speed::Fast,
+    ),
+    euler_crater_row(
+        "euler-crater-head",
+        "Eulerian 1250 m/s shot's crater radius within one rod radius of the nose, 10-30 us, HzB-W target, 0.4 mm",
+        1.26,
+        (0.4e-3, true),
+        Speed::Fast,
+    ),
+    euler_crater_row(
+        "euler-crater-behind-fine",
+        "Eulerian 1250 m/s shot's crater radius 1-3 rod radii above the nose, 10-30 us, HzB-W target, 0.2 mm",
+        1.82,
+        (0.2e-3, false),
+        Speed::Slow,
+    ),
+    euler_crater_row(
+        "euler-crater-head-fine",
+        "Eulerian 1250 m/s shot's crater radius within one rod radius of the nose, 10-30 us, HzB-W target, 0.2 mm",
+        1.29,
+        (0.2e-3, true),
+        Speed::Slow,
+    ),
+    Row {
+        name: "euler-1250-finest",
+        figure: "nose depth at 55 us, 1250 m/s shot, Eulerian, 0.1 mm (half an hour)",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 26.02,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1250-euler.toml",
+            key: "final_nose_depth",
+            adjust: Some(element_size_0_1_mm),
+        },
+    },
+    lagrange_strength(
+        "lagrange-strength-0.5",
+        "eroding Lagrangian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, HzB-W target with A 0.5 GPa, 0.4 mm",
+        0.98,
+        0.5e9,
+    ),
+    lagrange_strength(
+        "lagrange-strength-1.0",
+        "eroding Lagrangian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, HzB-W target with A 1.0 GPa, 0.4 mm",
+        0.99,
+        1.0e9,
+    ),
+    lagrange_strength(
+        "lagrange-strength-1.5",
+        "eroding Lagrangian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, HzB-W target with A 1.5 GPa, 0.4 mm",
+        1.23,
+        1.5e9,
+    ),
+    lagrange_strength(
+        "lagrange-strength-2.0",
+        "eroding Lagrangian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, HzB-W target with A 2.0 GPa, 0.4 mm",
+        1.19,
+        2.0e9,
+    ),
+    lagrange_strength(
+        "lagrange-strength-3.0",
+        "eroding Lagrangian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, HzB-W target with A 3.0 GPa, 0.4 mm",
+        1.84,
+        3.0e9,
+    ),
+    lagrange_strength(
+        "lagrange-strength-4.0",
+        "eroding Lagrangian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, HzB-W target with A 4.0 GPa, 0.4 mm",
+        1.65,
+        4.0e9,
+    ),
+    identify(
+        "identify-control-3pct",
+        "false alarms of the diagnosis on the control case, 3 % noise, 10 seeds",
+        0.0,
+        ("control", 1, Count::FalseAlarms),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-control-5pct",
+        "false alarms of the diagnosis on the control case, 5 % noise, 10 seeds",
+        0.0,
+        ("control", 2, Count::FalseAlarms),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-heating-3pct",
+        "diagnoses naming adiabatic heating (case `heating`), 3 % noise, 10 seeds",
+        9.0,
+        ("heating", 1, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-heating-5pct",
+        "diagnoses naming adiabatic heating (case `heating`), 5 % noise, 10 seeds",
+        5.0,
+        ("heating", 2, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-upturn-5pct",
+        "diagnoses naming the high-rate upturn, 5 % noise, 10 seeds",
+        2.0,
+        ("upturn", 2, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-saturation-5pct",
+        "diagnoses naming Voce saturation, 5 % noise, 10 seeds",
+        0.0,
+        ("saturation", 2, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-coupling-3pct",
+        "diagnoses naming rate-temperature coupling (case `coupling`), 3 % noise, 10 seeds",
+        3.0,
+        ("coupling", 1, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-coupling-5pct",
+        "diagnoses naming rate-temperature coupling (case `coupling`), 5 % noise, 10 seeds",
+        0.0,
+        ("coupling", 2, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-friction-3pct",
+        "diagnoses naming anvil friction (case `friction`), 3 % noise, 10 seeds",
+        10.0,
+        ("friction", 1, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-friction-5pct",
+        "diagnoses naming anvil friction (case `friction`), 5 % noise, 10 seeds",
+        9.0,
+        ("friction", 2, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-za-bcc-3pct",
+        "diagnoses naming the Zerilli-Armstrong BCC family (case `za-bcc`), 3 % noise, 10 seeds",
+        9.0,
+        ("za-bcc", 1, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-za-bcc-5pct",
+        "diagnoses naming the Zerilli-Armstrong BCC family (case `za-bcc`), 5 % noise, 10 seeds",
+        1.0,
+        ("za-bcc", 2, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-heating-window-3pct",
+        "diagnoses naming a heating transition (case `heating-window`, any window), 3 % noise, 10 seeds",
+        2.0,
+        ("heating-window", 1, Count::IdentifiedOrSamePhysics),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-heating-window-5pct",
+        "diagnoses naming a heating transition (case `heating-window`, any window), 5 % noise, 10 seeds",
+        0.0,
+        ("heating-window", 2, Count::IdentifiedOrSamePhysics),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-thermal-drop-3pct",
+        "diagnoses naming a thermal drop (case `thermal-drop`), 3 % noise, 10 seeds",
+        9.0,
+        ("thermal-drop", 1, Count::Identified),
+        Speed::Slow,
+    ),
+    identify(
+        "identify-thermal-drop-5pct",
+        "diagnoses naming a thermal drop (case `thermal-drop`), 5 % noise, 10 seeds",
+        5.0,
+        ("thermal-drop", 2, Count::Identified),
+        Speed::Slow,
+    ),
+    Row {
+        name: "optimiser-bayesian-1.5",
+        figure: "seeds in which the Bayesian optimiser alone brings the synthetic flow campaign within 1.5 x its noise floor in 100 simulations",
+        quoted_in: "docs/calibration.md, The least-squares finish",
+        stated: 4.0,
+        tolerance: 0.5,
+        unit: "of 10",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Baseline {
+            count: true,
+            baseline: finish::Baseline::Bayesian,
+            factor: 1.5,
+            budget: 100,
+        },
+    },
+    Row {
+        name: "optimiser-cmaes-1.1",
+        figure: "median simulations to 1.1 x the noise floor of the synthetic flow campaign, CMA-ES alone, budget 2000, 10 seeds",
+        quoted_in: "docs/calibration.md, The least-squares finish",
+        stated: 570.0,
+        tolerance: 0.5,
+        unit: "simulations",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Baseline {
+            count: false,
+            baseline: finish::Baseline::CmaEs,
+            factor: 1.1,
+            budget: 2000,
+        },
+    },
+    blast_load(
+        "blast-load-37g-1mm",
+        "Euler impulse on the exposed plate, 37.5 g PE4 at 13 mm, 1.0 mm cells",
+        62.83,
+        ("experiments/blast-hha-37g-13mm.toml", 1.0e-3, false),
+    ),
+    blast_load(
+        "blast-load-37g-1mm-centre",
+        "Euler impulse per area at the plate's centre, 37.5 g PE4 at 13 mm, 1.0 mm cells",
+        25714.0,
+        ("experiments/blast-hha-37g-13mm.toml", 1.0e-3, true),
+    ),
+    blast_load(
+        "blast-load-37g-0.5mm",
+        "Euler impulse on the exposed plate, 37.5 g PE4 at 13 mm, 0.5 mm cells",
+        63.68,
+        ("experiments/blast-hha-37g-13mm.toml", 0.5e-3, false),
+    ),
+    blast_load(
+        "blast-load-37g-0.5mm-centre",
+        "Euler impulse per area at the plate's centre, 37.5 g PE4 at 13 mm, 0.5 mm cells",
+        26298.0,
+        ("experiments/blast-hha-37g-13mm.toml", 0.5e-3, true),
+    ),
+    blast_load(
+        "blast-load-57g-1mm",
+        "Euler impulse on the exposed plate, 57.5 g PE4 at 25 mm, 1.0 mm cells",
+        81.82,
+        ("experiments/blast-hha-57g-25mm.toml", 1.0e-3, false),
+    ),
+    blast_load(
+        "blast-load-57g-1mm-centre",
+        "Euler impulse per area at the plate's centre, 57.5 g PE4 at 25 mm, 1.0 mm cells",
+        28161.0,
+        ("experiments/blast-hha-57g-25mm.toml", 1.0e-3, true),
+    ),
+    blast_load(
+        "blast-load-57g-0.5mm",
+        "Euler impulse on the exposed plate, 57.5 g PE4 at 25 mm, 0.5 mm cells",
+        82.31,
+        ("experiments/blast-hha-57g-25mm.toml", 0.5e-3, false),
+    ),
+    blast_load(
+        "blast-load-57g-0.5mm-centre",
+        "Euler impulse per area at the plate's centre, 57.5 g PE4 at 25 mm, 0.5 mm cells",
+        28829.0,
+        ("experiments/blast-hha-57g-25mm.toml", 0.5e-3, true),
+    ),
+    Row {
+        name: "blast-tnt-1m",
+        figure: "Euler positive-phase reflected impulse at the axis, 1 kg TNT sphere 1 m above a wall, 10 mm cells (Kingery-Bulmash in the docs beside it)",
+        quoted_in: "docs/solver.md, Blast load, Verification",
+        stated: 535.0,
+        tolerance: 0.5,
+        unit: "Pa s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::TntImpulse { height: 1.0 },
+    },
+    Row {
+        name: "blast-tnt-2m",
+        figure: "Euler positive-phase reflected impulse at the axis, 1 kg TNT sphere 2 m above a wall, 10 mm cells (Kingery-Bulmash in the docs beside it)",
+        quoted_in: "docs/solver.md, Blast load, Verification",
+        stated: 223.0,
+        tolerance: 0.5,
+        unit: "Pa s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::TntImpulse { height: 2.0 },
+    },
+    Row {
+        name: "blast-tnt-3m",
+        figure: "Euler positive-phase reflected impulse at the axis, 1 kg TNT sphere 3 m above a wall, 10 mm cells (Kingery-Bulmash in the docs beside it)",
+        quoted_in: "docs/solver.md, Blast load, Verification",
+        stated: 133.0,
+        tolerance: 0.5,
+        unit: "Pa s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::TntImpulse { height: 3.0 },
+    },
 ];
 
 /// A measured row.
@@ -927,6 +1461,30 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
                 .map(|n| n as f64)
                 .ok_or_else(|| format!("the median run missed {factor} x the noise floor"))
         }
+        Measure::Baseline {
+            count,
+            baseline,
+            factor,
+            budget,
+        } => {
+            let runs =
+                finish::baseline_to_target(fixtures, baseline, factor, budget, finish::SEEDS)?;
+            if count {
+                return Ok(runs.iter().flatten().count() as f64);
+            }
+            finish::median(&runs)
+                .map(|n| n as f64)
+                .ok_or_else(|| format!("the median run missed {factor} x the noise floor"))
+        }
+        Measure::BlastLoad {
+            experiment,
+            cell,
+            centre,
+        } => {
+            let (impulse, centre_impulse) = computed_blast_load(fixtures, experiment, cell)?;
+            Ok(if centre { centre_impulse } else { impulse })
+        }
+        Measure::TntImpulse { height } => blast::tnt_reflected_impulse(height).map(|(e, _)| e),
         Measure::FoiPerforation { run } => {
             let found = perforation::run(run).ok_or_else(|| format!("no FOI run `{run}`"))?;
             perforation::fire(fixtures, found, threads).map(|(_, shot)| shot.residual_velocity)
@@ -948,6 +1506,30 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
         }
         Measure::EulerStrength { target_yield } => {
             semi_infinite::strength_ratio(fixtures, target_yield, threads)
+        }
+        Measure::FoiCore { experiment, limit } => {
+            let prediction = foi_core_prediction(fixtures, experiment, threads)?;
+            Ok(if limit {
+                prediction.limit
+            } else {
+                prediction.rms
+            })
+        }
+        Measure::EulerCrater {
+            element,
+            isothermal,
+            at_head,
+        } => {
+            let crater = measured_crater(fixtures, element, isothermal, threads)?;
+            Ok(if at_head {
+                crater.at_head
+            } else {
+                crater.behind_head
+            })
+        }
+        Measure::LagrangeStrength { target_a } => {
+            semi_infinite::lagrange_strength(fixtures, target_a, None, threads)
+                .map(|run| run.rate_ratio)
         }
         Measure::LambertJonas { experiment } => {
             let loaded = load(fixtures, experiment)?;
@@ -1050,6 +1632,73 @@ fn identified(
     )?;
     identified.push(((case, level), tally));
     Ok(tally)
+}
+
+/// The FOI tables predicted in this process, by experiment file.
+static FOI_PREDICTED: std::sync::Mutex<Vec<(&str, foi_tables::Prediction)>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// FOI's table `experiment` predicted with [`foi_tables::IDENTIFIED_CORE`], once per process.
+fn foi_core_prediction(
+    fixtures: &Path,
+    experiment: &'static str,
+    threads: Option<usize>,
+) -> Result<foi_tables::Prediction, String> {
+    let mut predicted = FOI_PREDICTED
+        .lock()
+        .map_err(|_| "a FOI table row panicked")?;
+    if let Some((_, found)) = predicted.iter().find(|(key, _)| *key == experiment) {
+        return Ok(found.clone());
+    }
+    let prediction =
+        foi_tables::predict(fixtures, experiment, foi_tables::IDENTIFIED_CORE, threads)?;
+    predicted.push((experiment, prediction.clone()));
+    Ok(prediction)
+}
+
+/// The blast loads computed in this process, by experiment and cell size (bits): the impulse
+/// on the exposed plate and at its centre.
+static BLAST_LOADS: std::sync::Mutex<Vec<BlastLoadEntry>> = std::sync::Mutex::new(Vec::new());
+
+/// A computed blast load: `((experiment, cell size bits), (plate impulse, centre impulse))`.
+type BlastLoadEntry = ((&'static str, u64), (f64, f64));
+
+/// The Euler load of `experiment` on `cell` cells, once per process.
+fn computed_blast_load(
+    fixtures: &Path,
+    experiment: &'static str,
+    cell: f64,
+) -> Result<(f64, f64), String> {
+    let mut loads = BLAST_LOADS.lock().map_err(|_| "a blast row panicked")?;
+    let key = (experiment, cell.to_bits());
+    if let Some((_, found)) = loads.iter().find(|(k, _)| *k == key) {
+        return Ok(*found);
+    }
+    let load = blast::charge_load(fixtures, experiment, cell)?;
+    let found = (load.impulse, load.centre_impulse);
+    loads.push((key, found));
+    Ok(found)
+}
+
+/// The Eulerian craters measured in this process, by cell size (bits) and heating.
+static CRATERS: std::sync::Mutex<Vec<((u64, bool), semi_infinite::EulerCrater)>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// The Eulerian crater on `element` cells, once per process.
+fn measured_crater(
+    fixtures: &Path,
+    element: f64,
+    isothermal: bool,
+    threads: Option<usize>,
+) -> Result<semi_infinite::EulerCrater, String> {
+    let mut craters = CRATERS.lock().map_err(|_| "a crater row panicked")?;
+    let key = (element.to_bits(), isothermal);
+    if let Some((_, found)) = craters.iter().find(|(k, _)| *k == key) {
+        return Ok(*found);
+    }
+    let crater = semi_infinite::euler_crater(fixtures, element, isothermal, threads)?;
+    craters.push((key, crater));
+    Ok(crater)
 }
 
 /// The results of the campaigns calibrated in this process (two rows may read one run).

@@ -1,10 +1,12 @@
 //! The 1250 m/s long-rod comparison the penetration studies share: seed 000's rod
 //! (`fixtures/experiments/penetration-hzb-1250.toml`) into an 80 mm, semi-infinite HzB-W target
 //! to 30 us, and the materials made elastic-perfectly plastic and isothermal so that Tate's and
-//! Walker–Anderson's strengths are the materials' own. Used by the `euler-strength-*` rows of
+//! Walker–Anderson's strengths are the materials' own; and the crater of the Eulerian shot
+//! ([`euler_crater`]). Used by the `euler-strength-*` and `euler-crater-*` rows of
 //! `stoss validate` and by the penetration benches (`host/benches/semi_infinite`).
 
 use crate::analytic::penetration::depth_at;
+use crate::experiment::penetration::euler::{rod_extent, ROD, TARGET};
 use crate::experiment::penetration::PenetrationSolver;
 use crate::experiment::{Experiment, PenetrationSpec, Setup};
 use crate::input::material::{self, MaterialFile};
@@ -104,4 +106,154 @@ pub fn strength_ratio(
     let fe = |t: f64| interpolate(&run.result.nose_depth, t);
     let wa = |t: f64| depth_at(&check.walker_anderson, t);
     Ok((fe(30e-6) - fe(10e-6)) / (wa(30e-6) - wa(10e-6)))
+}
+
+/// The Eulerian crater over 10-30 us after impact (docs/euler.md, "Where the crater is
+/// read"), in rod radii `a`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EulerCrater {
+    /// The penetration rate over Walker–Anderson's, 10-30 us.
+    pub rate_ratio: f64,
+    /// `R_c / a` one to three rod radii above the nose: the radius at which the target's
+    /// volume fraction crosses one half (interpolated between cell centres), averaged over
+    /// the rows and the output times.
+    pub behind_head: f64,
+    /// The same within one rod radius above the nose.
+    pub at_head: f64,
+}
+
+/// The 1250 m/s shot's crater on the Eulerian solver with `element` cells, the target the
+/// fixture's HzB-W file as it is or made isothermal (its thermal softening off).
+pub fn euler_crater(
+    fixtures: &Path,
+    element: f64,
+    isothermal: bool,
+    threads: Option<usize>,
+) -> Result<EulerCrater, String> {
+    let (_, mut file) = fixture(fixtures)?;
+    if isothermal {
+        file.heating = Heating::Isothermal;
+    }
+    euler_crater_of(fixtures, file, element, threads)
+}
+
+/// The 1250 m/s shot's crater on the Eulerian solver with `element` cells, into a target of
+/// material `file` (the [`shot`] set-up: 80 mm, 30 us).
+pub fn euler_crater_of(
+    fixtures: &Path,
+    file: MaterialFile,
+    element: f64,
+    threads: Option<usize>,
+) -> Result<EulerCrater, String> {
+    let shot = shot(fixtures)?;
+    let a = 0.5 * shot.spec.rod_diameter;
+    let target = file.material().map_err(|e| e.to_string())?;
+    let mut spec = shot.spec;
+    spec.solver = PenetrationSolver::Euler;
+    spec.element_size = element;
+    let check = spec.cross_check(&target).map_err(|e| e.to_string())?;
+    let settings = SolverSettings {
+        threads,
+        ..SolverSettings::default()
+    };
+    let mut solver = spec
+        .euler_model(&target.into(), &settings)
+        .map_err(|e| e.to_string())?;
+    let impact = spec.gap() / spec.velocity;
+    let (start, end) = (impact + 10.0e-6, impact + 30.0e-6);
+    let mut noses: Vec<(f64, f64)> = Vec::new();
+    let (mut behind, mut head): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+    solver
+        .run(end, 0.5e-6, &mut |s| {
+            let (nose, _) = rod_extent(s, ROD);
+            noses.push((s.time, -nose));
+            if s.time >= start && nose.is_finite() {
+                let (hr, hz, cells_r) = (s.grid.spacing_r, s.grid.spacing_z, s.grid.cells_r);
+                for j in 0..s.grid.cells_z {
+                    let z = s.origin_z + (j as f64 + 0.5) * hz;
+                    let into = if z >= nose + a && z <= nose + 3.0 * a {
+                        &mut behind
+                    } else if z >= nose && z < nose + a {
+                        &mut head
+                    } else {
+                        continue;
+                    };
+                    let f = |i: usize| s.fraction(j * cells_r + i, TARGET);
+                    if let Some(i) = (1..cells_r).find(|&i| f(i) >= 0.5) {
+                        let (f0, f1) = (f(i - 1), f(i));
+                        let r0 = (i as f64 - 0.5) * hr;
+                        into.push(r0 + hr * (0.5 - f0) / (f1 - f0));
+                    }
+                }
+            }
+            std::ops::ControlFlow::Continue(())
+        })
+        .map_err(|e| e.to_string())?;
+    let fe_rate = (interpolate(&noses, end) - interpolate(&noses, start)) / (end - start);
+    let wa = |t: f64| depth_at(&check.walker_anderson, t - impact);
+    let wa_rate = (wa(end) - wa(start)) / (end - start);
+    let mean = |radii: &[f64]| {
+        (!radii.is_empty())
+            .then(|| radii.iter().sum::<f64>() / radii.len() as f64 / a)
+            .ok_or("the crater was never read: no target row near the nose")
+    };
+    Ok(EulerCrater {
+        rate_ratio: fe_rate / wa_rate,
+        behind_head: mean(&behind)?,
+        at_head: mean(&head)?,
+    })
+}
+
+/// The eroding Lagrangian model on the shot with the target's Johnson–Cook `A` set
+/// (docs/solver.md, "The bias grows with the target's strength").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LagrangeStrength {
+    /// Nose depth at 10 and 30 us, FE and Walker–Anderson `((fe, wa), (fe, wa))` (m).
+    pub depths: ((f64, f64), (f64, f64)),
+    /// The penetration rate over Walker–Anderson's, 10-30 us.
+    pub rate_ratio: f64,
+    /// The rod's length at 30 us (m).
+    pub rod_length: f64,
+    /// The largest tolerated exposure (a node found inside the other part when erosion
+    /// exposes a surface) over the smallest element.
+    pub exposure: f64,
+    /// The energy balance's error (%).
+    pub energy_error: f64,
+}
+
+/// The 1250 m/s shot on the eroding Lagrangian model (0.4 mm), the target the fixture's
+/// HzB-W with its `A` set to `target_a` (Pa), everything else as in the fixture; the time-step
+/// safety factor `safety` if given.
+pub fn lagrange_strength(
+    fixtures: &Path,
+    target_a: f64,
+    safety: Option<f64>,
+    threads: Option<usize>,
+) -> Result<LagrangeStrength, String> {
+    let shot = shot(fixtures)?;
+    let mut file = shot.target;
+    file.set_constant("strength.yield_stress", target_a)
+        .ok_or_else(|| format!("{}: not a Johnson-Cook file", file.name))?;
+    let target = file.material().map_err(|e| e.to_string())?;
+    let mut settings = SolverSettings {
+        threads,
+        ..SolverSettings::default()
+    };
+    if let Some(safety) = safety {
+        settings.time_step_safety = safety;
+    }
+    let spec = shot.spec;
+    let check = spec.cross_check(&target).map_err(|e| e.to_string())?;
+    let (result, run, built) = spec
+        .run(&target.into(), &settings)
+        .map_err(|e| e.to_string())?;
+    let fe = |t: f64| interpolate(&result.nose_depth, t);
+    let wa = |t: f64| depth_at(&check.walker_anderson, t);
+    Ok(LagrangeStrength {
+        depths: ((fe(10e-6), wa(10e-6)), (fe(30e-6), wa(30e-6))),
+        rate_ratio: (fe(30e-6) - fe(10e-6)) / (wa(30e-6) - wa(10e-6)),
+        rod_length: interpolate(&result.rod_length, 30e-6),
+        exposure: run.contact.largest_initial_penetration / built.smallest_element,
+        energy_error: run.energy().error_percent(),
+    })
 }

@@ -1,0 +1,150 @@
+//! FOI's Autodyn ballistic tables (seed 001 tables 3.4-3.9, code to code) predicted with the
+//! core identified from table 3.4 (docs/solver.md, "The core from FOI's own tables"): each
+//! table's exit velocities simulated at FOI's impact velocities with [`IDENTIFIED_CORE`] and no
+//! further fitting, their RMS difference from FOI's, and both codes' Lambert–Jonas limits. Used
+//! by the `foi-core-*` rows of `stoss validate`.
+//!
+//! The shots: FOI's impact velocities, one more [`BRACKET_BELOW`] under the lowest of them
+//! (a stop for every table, so that a limit below FOI's lowest shot is bracketed), then the
+//! experiment's own bisection ([`BallisticLimitSpec::search`]) down to its
+//! `bisection_tolerance`. The limit is the Lambert–Jonas fit (free `p`) over all of them; FOI's
+//! is the same fit over FOI's rows.
+
+use crate::analytic::ballistic::{fit_lambert_jonas, FitBound, Shot};
+use crate::experiment::ballistic::ShotOutcome;
+use crate::experiment::{Experiment, Setup};
+use crate::input::material;
+use crate::solver::SolverSettings;
+use std::path::Path;
+
+/// The core `stoss calibrate fixtures/campaigns/ballistic-geometry.toml` identified from table
+/// 3.4 (2026-11-28; docs/solver.md): length, diameter and ogive nose length (m).
+pub const IDENTIFIED_CORE: Core = Core {
+    length: 0.012_343_3,
+    diameter: 0.003_509_17,
+    nose_length: 0.008_688_88,
+};
+
+/// How far below FOI's lowest impact velocity the extra bracketing shot is fired (m/s).
+pub const BRACKET_BELOW: f64 = 100.0;
+
+/// A core's geometry (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Core {
+    /// Tip to base.
+    pub length: f64,
+    /// Diameter.
+    pub diameter: f64,
+    /// Ogive nose length.
+    pub nose_length: f64,
+}
+
+/// One table predicted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prediction {
+    /// `(impact, FOI's exit, stoss' exit)` at FOI's impact velocities (m/s).
+    pub exits: Vec<(f64, f64, f64)>,
+    /// RMS of stoss' exit minus FOI's over those shots (m/s).
+    pub rms: f64,
+    /// stoss' Lambert–Jonas limit over all its shots (m/s).
+    pub limit: f64,
+    /// Where stoss' fit ended on an edge of the law's box or on a stop (empty: free).
+    pub limit_bounds: Vec<FitBound>,
+    /// FOI's Lambert–Jonas limit over FOI's rows (m/s).
+    pub foi_limit: f64,
+    /// Every shot stoss fired `(impact, exit)`, by increasing impact velocity (m/s).
+    pub shots: Vec<(f64, f64)>,
+}
+
+/// Predict the table of `experiment` (a `ballistic-foi-t3*.toml` under `fixtures`) with `core`,
+/// on `threads` threads.
+pub fn predict(
+    fixtures: &Path,
+    experiment: &str,
+    core: Core,
+    threads: Option<usize>,
+) -> Result<Prediction, String> {
+    let path = fixtures.join(experiment);
+    let loaded = Experiment::load(&path).map_err(|e| e.to_string())?;
+    let Setup::BallisticLimit(base) = &loaded.file.setup else {
+        return Err(format!(
+            "{}: not a ballistic-limit experiment",
+            path.display()
+        ));
+    };
+    let mut foi: Vec<Shot> = loaded
+        .recording
+        .iter()
+        .filter(|p| p.quantity == "residual_velocity")
+        .map(|p| Shot {
+            impact_velocity: p.position,
+            residual_velocity: p.value,
+        })
+        .collect();
+    foi.sort_by(|a, b| a.impact_velocity.total_cmp(&b.impact_velocity));
+    let lowest = foi
+        .first()
+        .ok_or_else(|| format!("{}: no recorded exit velocities", path.display()))?
+        .impact_velocity;
+    let foi_limit = fit_lambert_jonas(&foi, None)
+        .map_err(|e| format!("{}: FOI's rows: {e}", path.display()))?
+        .ballistic_limit;
+
+    let mut spec = base.clone();
+    spec.projectile_length = core.length;
+    spec.projectile_diameter = core.diameter;
+    spec.nose_length = Some(core.nose_length);
+    spec.impact_velocities = std::iter::once(lowest - BRACKET_BELOW)
+        .chain(foi.iter().map(|s| s.impact_velocity))
+        .collect();
+    let material_path = loaded
+        .default_material_path()
+        .ok_or_else(|| format!("{}: no material", path.display()))?;
+    let (_, plate) = material::load_part(&material_path).map_err(|e| e.to_string())?;
+    let settings = SolverSettings {
+        threads,
+        ..SolverSettings::default()
+    };
+    let search = spec
+        .search(&plate, &settings)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let fit = search
+        .lambert_jonas
+        .as_ref()
+        .map_err(|e| format!("{}: stoss' shots: {e}", path.display()))?;
+    let mut exits = Vec::with_capacity(foi.len());
+    for shot in &foi {
+        let fired = search
+            .shots
+            .iter()
+            .find(|s| s.impact_velocity == shot.impact_velocity)
+            .ok_or_else(|| format!("no shot at {} m/s", shot.impact_velocity))?;
+        if fired.outcome == ShotOutcome::Undetermined {
+            return Err(format!(
+                "{}: the shot at {} m/s is still in the plate at the end",
+                path.display(),
+                shot.impact_velocity
+            ));
+        }
+        exits.push((
+            shot.impact_velocity,
+            shot.residual_velocity,
+            fired.residual_velocity,
+        ));
+    }
+    let rms = libm::sqrt(
+        exits.iter().map(|(_, f, s)| (s - f) * (s - f)).sum::<f64>() / exits.len() as f64,
+    );
+    Ok(Prediction {
+        exits,
+        rms,
+        limit: fit.ballistic_limit,
+        limit_bounds: fit.bounds.clone(),
+        foi_limit,
+        shots: search
+            .shots
+            .iter()
+            .map(|s| (s.impact_velocity, s.residual_velocity))
+            .collect(),
+    })
+}
