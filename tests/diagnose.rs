@@ -359,6 +359,60 @@ fn a_second_thermal_softening_stage_is_found_and_located_by_temperature() {
 }
 
 #[test]
+fn two_concealed_effects_are_found_in_two_rounds() {
+    // GOAL: issue 50 item 1: after a term is accepted and refitted, the search starts again
+    //       from the extended model, so a second concealed effect is found as well (before the
+    //       rounds, the first accepted term ended the diagnosis and the second was never
+    //       looked for); the report shows the sequence and the verdict names both.
+    // SETUP: fixtures/diagnosis/drop-upturn (truth: JC times a 25 % drop over 840-960 K, and
+    //        the rate term times (1 + rate/2000)^0.08; slow curves at 298-1073 K, fast ones at
+    //        1000 and 3000 /s; 1 % noise); JC with A, B, n, C, m fitted.
+    // REFERENCE: TRUTH.toml: a `thermal-drop-*` variant in round 1 (the larger effect) and
+    //        `high-rate-upturn` in round 2; the fit error and the held-out error fall in each
+    //        round.
+    let (diagnosis, work) = diagnose_case("drop-upturn", "rounds", "16", "16");
+    let rounds = diagnosis["rounds"].as_array().unwrap();
+    let names: Vec<&str> = rounds
+        .iter()
+        .map(|r| r["accepted"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names.len(),
+        2,
+        "accepted {names:?}: verdict {}",
+        diagnosis["verdict"]
+    );
+    assert!(names[0].starts_with("thermal-drop-"), "{names:?}");
+    assert_eq!(names[1], "high-rate-upturn");
+    for r in rounds {
+        let (before, after) = (&r["before"], &r["after"]);
+        assert!(after[0].as_f64() < before[0].as_f64(), "fit error: {r}");
+        assert!(
+            after[1].as_f64() < before[1].as_f64(),
+            "held-out error: {r}"
+        );
+    }
+    // The second round starts where the first ended.
+    assert_eq!(rounds[1]["before"], rounds[0]["after"]);
+    // A third round was searched and found nothing more.
+    let later = diagnosis["later_rounds"].as_array().unwrap();
+    assert_eq!(later.len(), 2);
+    assert!(later[1]["refits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|r| r["accepted"] == false));
+    let verdict = diagnosis["verdict"].as_str().unwrap();
+    assert!(
+        verdict.contains("Round 2") && verdict.contains(names[0]) && verdict.contains(names[1]),
+        "{verdict}"
+    );
+    let report = std::fs::read_to_string(work.join("calibration/diagnosis/report.md")).unwrap();
+    assert!(report.contains("## Rounds"), "{report}");
+    let _ = std::fs::remove_dir_all(work);
+}
+
+#[test]
 fn a_zerilli_armstrong_material_fitted_with_johnson_cook_is_a_family_switch() {
     // GOAL: a misfit no term of the library explains, because the model's form is wrong, is
     //       named as the family to switch to (issue 15 item 1: "JC's separable form cannot

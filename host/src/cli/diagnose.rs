@@ -40,6 +40,10 @@ pub struct DiagnoseArgs {
     /// accepted, as many of the others, judged by their likelihood ratio.
     #[arg(long, default_value_t = 3)]
     pub max_refits: usize,
+    /// Rounds at most: after an accepted term, the search starts again from the extended
+    /// model until nothing more earns its place or this many terms were accepted.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u64).range(1..=16))]
+    pub max_rounds: u64,
     /// No progress lines (stages and simulation counts).
     #[arg(long)]
     pub quiet: bool,
@@ -138,6 +142,7 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         parallel: args.parallel.unwrap_or(Options::default().parallel),
         iterations: args.iterations,
         max_refits: args.max_refits,
+        max_rounds: args.max_rounds as usize,
     };
     let _lock = crate::run_lock::RunLock::acquire(&args.calibration)?;
     println!("campaign: {} (model {})", campaign.file.name, model.model);
@@ -255,6 +260,27 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
             refit.reason
         );
     }
+    for search in &diagnosis.later_rounds {
+        for refit in &search.refits {
+            println!(
+                "round {}: refit + {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",
+                search.round,
+                refit.candidate,
+                refit.assessment.fit_error,
+                refit
+                    .assessment
+                    .held_out_error
+                    .map_or("-".into(), |h| format!("{h:.4}")),
+                refit.assessment.bic,
+                if refit.accepted {
+                    "accepted"
+                } else {
+                    "rejected"
+                },
+                refit.reason
+            );
+        }
+    }
     if let Some(m) = diagnosis.state_misfit.first() {
         println!(
             "misfit in state space: organised most by {} ({:.0} % of it): {}",
@@ -297,9 +323,22 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         }
     }
     println!("\nverdict: {}", diagnosis.verdict);
+    let accepted: Vec<&str> = if diagnosis.replacement.is_some() {
+        diagnosis.accepted.iter().map(String::as_str).collect()
+    } else {
+        diagnosis
+            .rounds
+            .iter()
+            .map(|r| r.accepted.as_str())
+            .collect()
+    };
     println!(
         "accepted: {}",
-        diagnosis.accepted.as_deref().unwrap_or("none")
+        if accepted.is_empty() {
+            "none".to_string()
+        } else {
+            accepted.join(", then ")
+        }
     );
     let report = args.calibration.join("diagnosis");
     write_folder(&report, Leftovers::Clean, |folder| {

@@ -99,6 +99,16 @@ pub struct Options {
     /// Terms refitted at most, in rank order: the significant ones; when none of them is
     /// accepted, as many of the others, judged by their likelihood ratio as well.
     pub max_refits: usize,
+    /// Rounds at most: after a term is accepted and refitted, the search starts again from
+    /// the extended model, until no term earns its place or this many were accepted.
+    #[serde(default = "default_max_rounds")]
+    pub max_rounds: usize,
+}
+
+/// The default [`Options::max_rounds`]: more concealed effects than the recordings of a
+/// campaign can tell apart.
+fn default_max_rounds() -> usize {
+    4
 }
 
 impl Default for Options {
@@ -108,6 +118,7 @@ impl Default for Options {
             parallel: std::thread::available_parallelism().map_or(2, usize::from),
             iterations: 8,
             max_refits: 3,
+            max_rounds: default_max_rounds(),
         }
     }
 }
@@ -157,6 +168,36 @@ pub struct Refit {
     pub reason: String,
 }
 
+/// A term accepted in one round of the diagnosis, and what it did to the fit.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Round {
+    /// The round (1 for the calibrated model's first search).
+    pub round: usize,
+    /// The accepted term.
+    pub accepted: String,
+    /// What physics it adds, in words.
+    pub physics: String,
+    /// The share of the misfit left at the start of the round that the term's score test
+    /// attributes to it (0-1).
+    pub explained: f64,
+    /// The round's starting model: fit error, held-out error and BIC.
+    pub before: (f64, Option<f64>, f64),
+    /// The same after the term was added and every constant refitted.
+    pub after: (f64, Option<f64>, f64),
+}
+
+/// The search of a round after the first (the first round's is [`Diagnosis::tests`] and
+/// [`Diagnosis::refits`]), from the model the earlier rounds accepted.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RoundSearch {
+    /// The round (2, 3, ...).
+    pub round: usize,
+    /// Score tests, ranked.
+    pub tests: Vec<ScoreTest>,
+    /// Refits tried, in rank order.
+    pub refits: Vec<Refit>,
+}
+
 /// Simulation counts.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Cost {
@@ -193,9 +234,17 @@ pub struct Diagnosis {
     pub refits: Vec<Refit>,
     /// The accepted refit's misfit, per experiment.
     pub misfit_after: Option<Vec<ExperimentMisfit>>,
-    /// The accepted change: a library term, or an alternative family when [`Self::replacement`]
-    /// is set (`None`: no missing physics found).
+    /// The accepted change: the first round's library term, or an alternative family when
+    /// [`Self::replacement`] is set (`None`: no missing physics found). Later rounds' terms
+    /// are in [`Self::rounds`].
     pub accepted: Option<String>,
+    /// Every accepted term, round by round, with the fit after it.
+    #[serde(default)]
+    pub rounds: Vec<Round>,
+    /// The searches of the rounds after the first, the last one the search that found
+    /// nothing more (or stopped at [`Options::max_rounds`]).
+    #[serde(default)]
+    pub later_rounds: Vec<RoundSearch>,
     /// Non-nested alternatives tried (other strength families, fitted in full), when the
     /// misfit left after the library's terms is still structured.
     #[serde(default)]
@@ -207,6 +256,22 @@ pub struct Diagnosis {
     pub verdict: String,
     /// Simulation cost.
     pub cost: Cost,
+}
+
+impl Diagnosis {
+    /// The refit the diagnosis ends with: the winning family, else the last round's term
+    /// (none: nothing accepted).
+    pub fn final_refit(&self) -> Option<&Refit> {
+        if let Some(name) = &self.replacement {
+            return self.alternatives.iter().find(|r| &r.candidate == name);
+        }
+        let last = self.rounds.last()?;
+        self.refits
+            .iter()
+            .chain(self.later_rounds.iter().flat_map(|r| &r.refits))
+            .filter(|r| r.accepted)
+            .find(|r| r.candidate == last.accepted)
+    }
 }
 
 /// The calibrated model to diagnose from a calibration's results: `model` by name, or the
@@ -652,8 +717,8 @@ fn refit_candidate(
 /// [`POSITIVE_EVIDENCE`], Kass & Raftery 1995), so near-equivalent terms keep the rank order.
 fn keep_best(
     refits: &mut [Refit],
-    accepted: &mut Option<(usize, Vec<Vec<f64>>)>,
-    predictions: Vec<Vec<f64>>,
+    accepted: &mut Option<(usize, FittedTerm)>,
+    fitted_term: FittedTerm,
 ) {
     let last = refits.len() - 1;
     if !refits[last].accepted {
@@ -669,7 +734,7 @@ fn keep_best(
             loser.accepted = false;
             loser.reason = format!("{}, but {winner} fits better", loser.reason);
         }
-        *accepted = Some((last, predictions));
+        *accepted = Some((last, fitted_term));
     } else {
         let winner = accepted
             .as_ref()
@@ -713,8 +778,9 @@ fn misfit_of(
     Ok(locate_all(engine, predictions, &outcomes, fitted, alpha))
 }
 
-/// The refits of the library's terms, and the accepted one's index with its predictions.
-type Refits = (Vec<Refit>, Option<(usize, Vec<Vec<f64>>)>);
+/// The refits of the library's terms, and the accepted one's index with its predictions and
+/// fit.
+type Refits = (Vec<Refit>, Option<(usize, FittedTerm)>);
 
 /// The refits of the library's terms, in two stages: the significant terms in rank order;
 /// then, if none was accepted, the best-ranked admissible terms the score test under-rates,
@@ -733,7 +799,7 @@ fn refit_terms(
     cost: &mut Cost,
 ) -> Result<Refits, DiagnoseError> {
     let mut refits = Vec::new();
-    let mut accepted: Option<(usize, Vec<Vec<f64>>)> = None;
+    let mut accepted: Option<(usize, FittedTerm)> = None;
     // Two stages: the significant terms in rank order; then, if none was accepted, the
     // best-ranked admissible terms the score test under-rates, each also judged by the drop
     // its refit achieves (a likelihood-ratio test at the same level, `likelihood_ratio`).
@@ -799,10 +865,113 @@ fn refit_terms(
                 }
             }
             refits.push(refit);
-            keep_best(&mut refits, &mut accepted, predictions);
+            keep_best(&mut refits, &mut accepted, (predictions, fit));
         }
     }
     Ok((refits, accepted))
+}
+
+/// The accepted rounds, the searches after the first, and the last accepted model's refit
+/// record with its predictions.
+type Rounds = (Vec<Round>, Vec<RoundSearch>, Option<(Refit, Vec<Vec<f64>>)>);
+
+/// Rounds after the first: from the term the first round `first` (its refits, the accepted
+/// one's index with its predictions and fit, and its score tests) accepted, search the library
+/// again from the extended model (every constant and the new term refitted), judge each term
+/// against that model as the first round judged against the calibrated one (score test,
+/// likelihood ratio, BIC and held-out error), and go on until no term earns its place or
+/// [`Options::max_rounds`] were accepted. A term whose constant the model already fits, or of
+/// a group already accepted, is not offered again.
+fn further_rounds(
+    campaign: &Campaign,
+    engine: &mut Engine,
+    first: (&[Refit], Option<(usize, FittedTerm)>, &[ScoreTest]),
+    before: &Assessment,
+    fitted: &[usize],
+    options: &Options,
+    cost: &mut Cost,
+) -> Result<Rounds, DiagnoseError> {
+    let (refits, accepted, tests) = first;
+    let mut rounds: Vec<Round> = Vec::new();
+    let mut later_rounds: Vec<RoundSearch> = Vec::new();
+    let mut current: Option<(Refit, Vec<Vec<f64>>)> = None;
+    let mut groups: Vec<String> = Vec::new();
+    let mut round_before = before.clone();
+    let mut next = accepted.map(|(index, term)| (refits[index].clone(), term, tests.to_vec()));
+    while let Some((refit, (predictions, fit), round_tests)) = next.take() {
+        let number = rounds.len() + 1;
+        let test = round_tests.iter().find(|t| t.name == refit.candidate);
+        rounds.push(Round {
+            round: number,
+            accepted: refit.candidate.clone(),
+            physics: test.map_or_else(|| refit.candidate.clone(), |t| t.physics.clone()),
+            explained: test.map_or(0.0, |t| t.share),
+            before: (
+                round_before.fit_error,
+                round_before.held_out_error,
+                round_before.bic,
+            ),
+            after: (
+                refit.assessment.fit_error,
+                refit.assessment.held_out_error,
+                refit.assessment.bic,
+            ),
+        });
+        round_before = refit.assessment.clone();
+        let base = refit.hypothesis.clone();
+        current = Some((refit, predictions));
+        if number >= options.max_rounds {
+            break;
+        }
+        let stage_name = format!("round {}: score tests", number + 1);
+        engine.stage(&stage_name);
+        let mark = engine.points;
+        let outcomes = simulate_outcomes(engine, &base)?;
+        let (library, _) = candidates::library(
+            &base,
+            campaign,
+            &candidates::Visited::from_outcomes(&outcomes),
+        );
+        if let Some(name) = rounds.last().map(|r| r.accepted.clone()) {
+            if let Some(group) = library
+                .iter()
+                .find(|c| c.name == name)
+                .map(|c| c.group.clone())
+            {
+                groups.push(group);
+            }
+            groups.push(name);
+        }
+        let library: Vec<Candidate> = library
+            .into_iter()
+            .filter(|c| {
+                !base.parameters.iter().any(|p| p.name == c.parameter.name)
+                    && !groups.contains(&c.group)
+                    && !groups.contains(&c.name)
+            })
+            .collect();
+        let round_tests = ranked_score_tests(engine, &library, &fit, fitted, options.alpha)?;
+        cost.stages.push((stage_name, engine.points - mark));
+        let (round_refits, round_accepted) = refit_terms(
+            campaign,
+            engine,
+            &library,
+            &round_tests,
+            &fit,
+            fitted,
+            options,
+            &round_before,
+            cost,
+        )?;
+        next = round_accepted
+            .map(|(index, term)| (round_refits[index].clone(), term, round_tests.clone()));
+        later_rounds.push(RoundSearch {
+            round: number + 1,
+            tests: round_tests,
+            refits: round_refits,
+        });
+    }
+    Ok((rounds, later_rounds, current))
 }
 
 /// The calibrated `model` of `campaign` as a hypothesis, its selected constants written in.
@@ -883,21 +1052,29 @@ pub fn diagnose(
         &mut cost,
     )?;
 
-    let (mut misfit_after, mut predictions_after, mut accepted_name) = match &accepted {
-        Some((index, predictions)) => {
-            let refit = &refits[*index];
-            (
-                Some(misfit_of(
-                    &engine,
-                    &refit.hypothesis,
-                    predictions,
-                    &fitted,
-                    options.alpha,
-                )?),
-                Some(predictions.clone()),
-                Some(refit.candidate.clone()),
-            )
-        }
+    // Rounds: from each accepted term's refit, search again until nothing earns its place.
+    let (rounds, later_rounds, current) = further_rounds(
+        campaign,
+        &mut engine,
+        (&refits, accepted, &tests),
+        &before,
+        &fitted,
+        options,
+        &mut cost,
+    )?;
+
+    let (mut misfit_after, mut predictions_after, mut accepted_name) = match &current {
+        Some((refit, predictions)) => (
+            Some(misfit_of(
+                &engine,
+                &refit.hypothesis,
+                predictions,
+                &fitted,
+                options.alpha,
+            )?),
+            Some(predictions.clone()),
+            rounds.first().map(|r| r.accepted.clone()),
+        ),
         None => (None, None, None),
     };
 
@@ -910,13 +1087,19 @@ pub fn diagnose(
     let mut alternatives = Vec::new();
     let mut replacement = None;
     if left_structured {
-        let incumbent = match &accepted {
-            Some((index, _)) => refits[*index].assessment.clone(),
+        let incumbent = match &current {
+            Some((refit, _)) => refit.assessment.clone(),
             None => before.clone(),
         };
-        let incumbent_name = accepted_name
-            .clone()
-            .unwrap_or_else(|| "the calibrated model".into());
+        let incumbent_name = if rounds.is_empty() {
+            "the calibrated model".to_string()
+        } else {
+            rounds
+                .iter()
+                .map(|r| r.accepted.as_str())
+                .collect::<Vec<_>>()
+                .join(" + ")
+        };
         let states = families::plastic_states(&outcomes);
         let (tried, winner) = try_alternatives(
             campaign,
@@ -958,6 +1141,8 @@ pub fn diagnose(
         refits,
         misfit_after,
         accepted: accepted_name,
+        rounds,
+        later_rounds,
         alternatives,
         replacement,
         verdict: String::new(),

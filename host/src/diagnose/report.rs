@@ -137,8 +137,44 @@ pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
             (Some(b), Some(a)) => format!(" and the held-out error from {b:.3} to {a:.3}"),
             _ => String::new(),
         };
+        // Later rounds: each further term, the misfit it explains of what was left, and the
+        // errors after it.
+        let later: String = diagnosis
+            .rounds
+            .iter()
+            .skip(1)
+            .map(|r| {
+                let held_out = match (r.before.1, r.after.1) {
+                    (Some(b), Some(a)) => format!(", held-out {b:.3} -> {a:.3}"),
+                    _ => String::new(),
+                };
+                format!(
+                    " Round {}: {} explains {:.0} % of the misfit left (error {:.3} -> {:.3}{held_out}).",
+                    r.round,
+                    r.physics,
+                    100.0 * r.explained,
+                    r.before.0,
+                    r.after.0
+                )
+            })
+            .collect();
+        let last = diagnosis.final_refit().unwrap_or(refit);
+        let sequence = if diagnosis.rounds.len() > 1 {
+            format!(
+                " {} effects were accepted in sequence: {}.",
+                diagnosis.rounds.len(),
+                diagnosis
+                    .rounds
+                    .iter()
+                    .map(|r| r.accepted.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", then ")
+            )
+        } else {
+            String::new()
+        };
         return format!(
-            "{}{}{} explains {:.0} % of the misfit; adding it cuts the total error from {:.3} to {:.3}{}.{}",
+            "{}{}{} explains {:.0} % of the misfit; adding it cuts the total error from {:.3} to {:.3}{}.{later}{sequence}{}",
             where_.unwrap_or_default(),
             if diagnosis.misfit_before.iter().any(|m| m.structured) { "; " } else { "" },
             capitalise_if(&test.physics, !diagnosis.misfit_before.iter().any(|m| m.structured)),
@@ -146,8 +182,8 @@ pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
             diagnosis.before.fit_error,
             refit.assessment.fit_error,
             held_out,
-            what_remains(campaign, &refit.assessment, diagnosis.options.alpha)
-                + &at_bounds(&refit.assessment)
+            what_remains(campaign, &last.assessment, diagnosis.options.alpha)
+                + &at_bounds(&last.assessment)
         );
     }
     let significant: Vec<_> = diagnosis.tests.iter().filter(|t| t.significant).collect();
@@ -328,15 +364,8 @@ pub fn write(
     candidate_physics(&mut md, diagnosis);
     refits(&mut md, diagnosis);
     alternatives(&mut md, diagnosis);
-    // The refit the diagnosis ends with.
-    let after = diagnosis.accepted.as_ref().and_then(|name| {
-        diagnosis
-            .refits
-            .iter()
-            .chain(&diagnosis.alternatives)
-            .find(|r| &r.candidate == name)
-    });
-    errors_per_experiment(&mut md, diagnosis, after);
+    rounds(&mut md, diagnosis);
+    errors_per_experiment(&mut md, diagnosis, diagnosis.final_refit());
     let _ = writeln!(md, "\n## Figures\n");
     for (i, experiment) in campaign.experiments.iter().enumerate() {
         let stem = slug(&experiment_name(campaign, i));
@@ -359,7 +388,9 @@ pub fn write(
     }
     cost(&mut md, diagnosis);
     // The model the diagnosis ends with.
-    let final_model = after.map_or_else(|| None, |r| Some(r.hypothesis.material.to_toml()));
+    let final_model = diagnosis
+        .final_refit()
+        .map(|r| r.hypothesis.material.to_toml());
     if let Some(toml) = final_model {
         std::fs::write(directory.join("material.toml"), toml).map_err(|e| e.to_string())?;
         let _ = writeln!(
@@ -578,6 +609,68 @@ fn refits(md: &mut String, diagnosis: &Diagnosis) {
             r.candidate,
             constants_text(&r.assessment)
         );
+    }
+}
+
+/// The rounds: each accepted term with the fit before and after it, then each later round's
+/// refits (nothing when no term was accepted).
+fn rounds(md: &mut String, diagnosis: &Diagnosis) {
+    if diagnosis.rounds.is_empty() {
+        return;
+    }
+    let _ = writeln!(md, "\n## Rounds\n");
+    let _ = writeln!(
+        md,
+        "After a term is accepted and every constant refitted, the library is searched again from \
+         the extended model, until no term earns its place (at most {} rounds).\n",
+        diagnosis.options.max_rounds
+    );
+    let _ = writeln!(
+        md,
+        "| round | accepted | physics | share of the misfit left | fit error | held-out error | BIC |\n|---|---|---|---|---|---|---|"
+    );
+    for r in &diagnosis.rounds {
+        let _ = writeln!(
+            md,
+            "| {} | `{}` | {} | {:.0} % | {:.4} -> {:.4} | {} -> {} | {:.1} -> {:.1} |",
+            r.round,
+            r.accepted,
+            r.physics,
+            100.0 * r.explained,
+            r.before.0,
+            r.after.0,
+            fmt_error(r.before.1),
+            fmt_error(r.after.1),
+            r.before.2,
+            r.after.2
+        );
+    }
+    for search in &diagnosis.later_rounds {
+        let _ = writeln!(md, "\nRound {}:\n", search.round);
+        let significant = search.tests.iter().filter(|t| t.significant).count();
+        let _ = writeln!(
+            md,
+            "- {} terms tested, {significant} significant; the strongest: {}",
+            search.tests.len(),
+            search.tests.first().map_or_else(
+                || "none".to_string(),
+                |t| format!("`{}` (p = {:.1e})", t.name, t.p_value)
+            )
+        );
+        for r in &search.refits {
+            let _ = writeln!(
+                md,
+                "- + `{}`: {} ({}); {}",
+                r.candidate,
+                if r.accepted {
+                    "**accepted**"
+                } else {
+                    "not accepted"
+                },
+                r.reason,
+                constants_text(&r.assessment)
+            );
+        }
     }
 }
 
@@ -818,6 +911,8 @@ mod tests {
             refits: Vec::new(),
             misfit_after: None,
             accepted: None,
+            rounds: Vec::new(),
+            later_rounds: Vec::new(),
             alternatives: Vec::new(),
             replacement: None,
             verdict: String::new(),

@@ -192,7 +192,17 @@ pub fn identification(
         tally.simulations += d.cost.simulated;
         on_verdict(&Verdict {
             noise_seed,
-            accepted: d.accepted.clone(),
+            accepted: if d.rounds.len() > 1 && d.replacement.is_none() {
+                Some(
+                    d.rounds
+                        .iter()
+                        .map(|r| r.accepted.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", then "),
+                )
+            } else {
+                d.accepted.clone()
+            },
             top_test: d
                 .tests
                 .first()
@@ -201,18 +211,27 @@ pub fn identification(
             refits: d
                 .refits
                 .iter()
+                .chain(d.later_rounds.iter().flat_map(|r| &r.refits))
                 .chain(&d.alternatives)
                 .map(|r| format!("{}: {}", r.candidate, r.reason))
                 .collect(),
         });
-        match (expected, &d.accepted) {
-            (None, Some(_)) => tally.false_alarms += 1,
-            (Some(e), Some(a)) if e == a.as_str() || a.starts_with(&format!("{e}-")) => {
-                tally.identified += 1
-            }
-            (Some(e), Some(a)) if physics(e) == physics(a) => tally.same_physics += 1,
-            (Some(_), Some(_)) => tally.false_alarms += 1,
-            _ => {}
+        // Every accepted change: the rounds' terms, or the family that replaced the model.
+        let accepted: Vec<&str> = if d.replacement.is_some() || d.rounds.is_empty() {
+            d.accepted.iter().map(String::as_str).collect()
+        } else {
+            d.rounds.iter().map(|r| r.accepted.as_str()).collect()
+        };
+        let is_expected =
+            |a: &str| expected.is_some_and(|e| e == a || a.starts_with(&format!("{e}-")));
+        let same_physics = |a: &str| expected.is_some_and(|e| physics(e) == physics(a));
+        if accepted.iter().any(|a| is_expected(a)) {
+            tally.identified += 1;
+        } else if accepted.iter().any(|a| same_physics(a)) {
+            tally.same_physics += 1;
+        }
+        if accepted.iter().any(|a| !is_expected(a) && !same_physics(a)) {
+            tally.false_alarms += 1;
         }
     }
     Ok(tally)
