@@ -242,6 +242,22 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
                 .unwrap_or_default()
         );
     }
+    for check in &diagnosis.numerical {
+        println!(
+            "simulation or material: {} with {}: predictions move by {} recorded uncertainties RMS (misfit {:.2}){}",
+            check.name,
+            check.change,
+            check
+                .shift
+                .map_or_else(|| "? (failed)".to_string(), |s| format!("{s:.2}")),
+            check.misfit,
+            if check.numerical {
+                ": the simulation's"
+            } else {
+                ""
+            }
+        );
+    }
     for refit in &diagnosis.refits {
         println!(
             "refit + {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",

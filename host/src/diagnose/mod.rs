@@ -34,6 +34,7 @@ pub mod families;
 pub mod likelihood_ratio;
 pub mod localisation;
 pub mod locate;
+pub mod numerical;
 pub mod report;
 pub mod score;
 pub mod state_space;
@@ -226,6 +227,10 @@ pub struct Diagnosis {
     /// point; the variable that organises most of it first.
     #[serde(default)]
     pub state_misfit: Vec<state_space::StateMisfit>,
+    /// The located experiments simulated another way (mesh refined, the other solver): where
+    /// the misfit is the simulation's rather than the material's.
+    #[serde(default)]
+    pub numerical: Vec<numerical::NumericalCheck>,
     /// Score tests, ranked.
     pub tests: Vec<ScoreTest>,
     /// Library terms that do not apply.
@@ -1030,14 +1035,38 @@ pub fn diagnose(
 
     let state_misfit = state_space::bin_by_state(&campaign.experiments, &misfit_before, &outcomes);
 
+    // Simulation or material: the located FE experiments once more, refined and on their
+    // other solver. When every located misfit moves with the method, the material is not
+    // changed for it.
+    engine.stage("simulation or material");
+    let numerical = numerical::check(&engine, &base, &predictions_before, &misfit_before)
+        .map_err(DiagnoseError::Calibration)?;
+    let located: Vec<usize> = misfit_before
+        .iter()
+        .filter(|m| m.structured && !m.holdout)
+        .map(|m| m.index)
+        .collect();
+    let attribute = located.is_empty()
+        || !located
+            .iter()
+            .all(|i| numerical.iter().any(|c| c.experiment == *i && c.numerical));
+
     engine.stage("score tests");
     let mark = engine.points;
-    let (library, not_applicable) = candidates::library(
-        &base,
-        campaign,
-        &candidates::Visited::from_outcomes(&outcomes),
-    );
-    let tests = ranked_score_tests(&mut engine, &library, &base_fit, &fitted, options.alpha)?;
+    let (library, not_applicable) = if attribute {
+        candidates::library(
+            &base,
+            campaign,
+            &candidates::Visited::from_outcomes(&outcomes),
+        )
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    let tests = if attribute {
+        ranked_score_tests(&mut engine, &library, &base_fit, &fitted, options.alpha)?
+    } else {
+        Vec::new()
+    };
     stage(&engine, "score tests", mark, &mut cost);
 
     let (refits, accepted) = refit_terms(
@@ -1086,7 +1115,7 @@ pub fn diagnose(
         .any(|m| m.structured);
     let mut alternatives = Vec::new();
     let mut replacement = None;
-    if left_structured {
+    if left_structured && attribute {
         let incumbent = match &current {
             Some((refit, _)) => refit.assessment.clone(),
             None => before.clone(),
@@ -1136,6 +1165,7 @@ pub fn diagnose(
         before,
         misfit_before,
         state_misfit,
+        numerical,
         tests,
         not_applicable,
         refits,

@@ -93,6 +93,59 @@ fn headline(campaign: &Campaign, misfits: &[ExperimentMisfit]) -> Option<String>
 
 /// The verdict in one or two plain sentences.
 pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
+    let text = material_verdict(campaign, diagnosis);
+    // Simulation or material: the located experiments whose predictions move with the method.
+    let numerical: Vec<&super::numerical::NumericalCheck> =
+        diagnosis.numerical.iter().filter(|c| c.numerical).collect();
+    if numerical.is_empty() {
+        return text;
+    }
+    let described: Vec<String> = numerical
+        .iter()
+        .map(|c| {
+            let what = if c.change.starts_with("the ") {
+                "depends on the method"
+            } else {
+                "is not converged"
+            };
+            format!(
+                "the simulation of {} {what}: with {} its predictions move by {:.1} recorded uncertainties RMS (its misfit is {:.1})",
+                c.name,
+                c.change,
+                c.shift.unwrap_or(f64::NAN),
+                c.misfit
+            )
+        })
+        .collect();
+    let located = diagnosis
+        .misfit_before
+        .iter()
+        .filter(|m| m.structured && !m.holdout)
+        .count();
+    let every = located > 0
+        && diagnosis
+            .misfit_before
+            .iter()
+            .filter(|m| m.structured && !m.holdout)
+            .all(|m| numerical.iter().any(|c| c.experiment == m.index));
+    if every {
+        let where_ = headline(campaign, &diagnosis.misfit_before)
+            .map(|w| format!("{w}. "))
+            .unwrap_or_default();
+        format!(
+            "{where_}The misfit is the simulation's, not the material's: {}. The material model is not changed for it; refine the model (or use the method the result converges with) and calibrate again.",
+            described.join("; ")
+        )
+    } else {
+        format!(
+            "{text} Read what is attributed to the located misfit with care: {}.",
+            described.join("; ")
+        )
+    }
+}
+
+/// The verdict on the material: the accepted terms or family, or what the model misses.
+fn material_verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
     let where_ = headline(campaign, &diagnosis.misfit_before);
     let top = diagnosis.tests.first();
     if let Some(name) = &diagnosis.replacement {
@@ -361,6 +414,7 @@ pub fn write(
     header(&mut md, diagnosis);
     where_the_model_misses(&mut md, diagnosis);
     state_misfit(&mut md, diagnosis);
+    simulation_or_material(&mut md, diagnosis);
     candidate_physics(&mut md, diagnosis);
     refits(&mut md, diagnosis);
     alternatives(&mut md, diagnosis);
@@ -608,6 +662,39 @@ fn refits(md: &mut String, diagnosis: &Diagnosis) {
             "- + `{}`: {}",
             r.candidate,
             constants_text(&r.assessment)
+        );
+    }
+}
+
+/// The located experiments simulated another way (nothing when none was located or none has
+/// a mesh or a second solver).
+fn simulation_or_material(md: &mut String, diagnosis: &Diagnosis) {
+    if diagnosis.numerical.is_empty() {
+        return;
+    }
+    let _ = writeln!(md, "\n## Simulation or material?\n");
+    let _ = writeln!(
+        md,
+        "Each located experiment simulated once more with the same constants, the mesh refined \
+         and on its other solver; a shift of the predictions above 1 recorded uncertainty (RMS) \
+         makes the misfit the simulation's.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| experiment | simulated with | shift (RMS, recorded uncertainties) | misfit (RMS) | the simulation's |\n|---|---|---|---|---|"
+    );
+    for c in &diagnosis.numerical {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.2} | {} |",
+            c.name,
+            c.change,
+            c.shift.map_or_else(
+                || format!("failed: {}", c.failure.as_deref().unwrap_or("")),
+                |s| format!("{s:.2}")
+            ),
+            c.misfit,
+            if c.numerical { "**yes**" } else { "no" }
         );
     }
 }
@@ -906,6 +993,7 @@ mod tests {
             },
             misfit_before: Vec::new(),
             state_misfit: Vec::new(),
+            numerical: Vec::new(),
             tests: Vec::new(),
             not_applicable: Vec::new(),
             refits: Vec::new(),

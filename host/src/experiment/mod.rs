@@ -225,6 +225,86 @@ impl Setup {
     }
 }
 
+/// The same experiment simulated another way, to tell a numerical misfit from a material one
+/// (`stoss diagnose`, "Simulation or material?"): the discretisation refined, and, where the
+/// kind has a second solver, the other solver.
+impl Setup {
+    /// The set-up with every element size of the model halved (twice the elements across a
+    /// Taylor rod), and what changed in words; none for the single-element drivers (uniaxial,
+    /// the Hopkinson bar's specimen), whose result does not depend on a mesh.
+    pub fn refined(&self) -> Option<(String, Setup)> {
+        let mut refined = self.clone();
+        let change = match &mut refined {
+            Setup::Uniaxial(_) | Setup::Shpb(_) | Setup::BlastPlate(_) => return None,
+            Setup::Taylor(s) => {
+                s.radial_elements *= 2;
+                format!(
+                    "{} elements across the radius instead of {}",
+                    s.radial_elements,
+                    s.radial_elements / 2
+                )
+            }
+            Setup::Tension(s) => {
+                s.element_size *= 0.5;
+                format!(
+                    "elements of {:.3} mm instead of {:.3}",
+                    s.element_size * 1e3,
+                    s.element_size * 2e3
+                )
+            }
+            Setup::Penetration(s) => {
+                s.element_size *= 0.5;
+                if let Some(rod) = s.rod_element_size.as_mut() {
+                    *rod *= 0.5;
+                }
+                format!(
+                    "elements of {:.3} mm instead of {:.3}",
+                    s.element_size * 1e3,
+                    s.element_size * 2e3
+                )
+            }
+            Setup::BallisticLimit(s) | Setup::Perforation(s) => {
+                s.element_size *= 0.5;
+                s.projectile_element_size *= 0.5;
+                format!(
+                    "plate and projectile elements of {:.3} and {:.3} mm instead of {:.3} and {:.3}",
+                    s.element_size * 1e3,
+                    s.projectile_element_size * 1e3,
+                    s.element_size * 2e3,
+                    s.projectile_element_size * 2e3
+                )
+            }
+            Setup::DropWeightBeam(s) => {
+                s.element_size *= 0.5;
+                s.end_element_size *= 0.5;
+                format!(
+                    "elements of {:.1} mm instead of {:.1}",
+                    s.element_size * 1e3,
+                    s.element_size * 2e3
+                )
+            }
+        };
+        Some((change, refined))
+    }
+
+    /// The set-up on the kind's other solver, and its name; none for kinds with one solver.
+    pub fn other_solver(&self) -> Option<(String, Setup)> {
+        let Setup::Penetration(spec) = self else {
+            return None;
+        };
+        let mut other = spec.clone();
+        other.solver = match spec.solver {
+            penetration::PenetrationSolver::Lagrange => penetration::PenetrationSolver::Euler,
+            penetration::PenetrationSolver::Euler => penetration::PenetrationSolver::Lagrange,
+        };
+        let name = match other.solver {
+            penetration::PenetrationSolver::Lagrange => "the eroding Lagrangian solver",
+            penetration::PenetrationSolver::Euler => "the multi-material Eulerian solver",
+        };
+        Some((name.to_string(), Setup::Penetration(other)))
+    }
+}
+
 impl Setup {
     /// Whether this kind can use `material` as its calibrated part: the uniaxial driver and
     /// the penetration and ballistic kinds take either model family, the perforation kind RHT

@@ -1262,7 +1262,7 @@ pub const ROWS: &[Row] = &[
     identify(
         "identify-thermal-drop-5pct",
         "diagnoses naming a thermal drop (case `thermal-drop`), 5 % noise, 10 seeds",
-        5.0,
+        6.0,
         ("thermal-drop", 2, Count::Identified),
         Speed::Slow,
     ),
