@@ -20,6 +20,10 @@ fn quantity_words(quantity: &str) -> (&str, &str, &str) {
         "footprint_diameter" => ("footprint", "wide", "narrow"),
         "final_length" => ("final length", "long", "short"),
         "engineering_stress" => ("stress", "high", "low"),
+        "nose_depth" => ("nose depth", "deep", "shallow"),
+        "rod_length" => ("rod length", "long", "short"),
+        "residual_velocity" => ("residual velocity", "high", "low"),
+        "deflection" => ("deflection", "large", "small"),
         other => (other, "high", "low"),
     }
 }
@@ -42,7 +46,28 @@ fn span_words(campaign: &Campaign, index: usize, band: &Band) -> String {
             band.start,
             band.end
         ),
+        (Setup::Penetration(_) | Setup::DropWeightBeam(_), _) => {
+            over_or_at(band, 1e6, "us", " after impact")
+        }
+        (Setup::BallisticLimit(_) | Setup::Perforation(_), _) => {
+            over_or_at(band, 1.0, "m/s", " of impact velocity")
+        }
+        (Setup::BlastPlate(_), _) => over_or_at(band, 1e3, "mm", " from the centre"),
         _ => format!(" over positions {:.3e}-{:.3e}", band.start, band.end),
+    }
+}
+
+/// " at 55.0 us after impact" for a band of one position, " over 10.0-30.0 us after impact"
+/// otherwise (`scale` from SI to `unit`).
+fn over_or_at(band: &Band, scale: f64, unit: &str, what: &str) -> String {
+    if band.start == band.end {
+        format!(" at {:.1} {unit}{what}", band.start * scale)
+    } else {
+        format!(
+            " over {:.1}-{:.1} {unit}{what}",
+            band.start * scale,
+            band.end * scale
+        )
     }
 }
 
@@ -972,6 +997,40 @@ mod tests {
     use super::*;
     use crate::diagnose::{Cost, Options};
     use crate::fit::objective::Score;
+
+    #[test]
+    fn a_band_is_read_in_the_experiments_own_position_unit() {
+        // GOAL: a located band of a time history or a velocity series reads in us or m/s, and
+        //       a band of one point says "at" (it read "over positions 5.500e-5-5.500e-5").
+        // SETUP: a one-point band at 55 us; a band over 10-30 us; one over 750-800 m/s.
+        // REFERENCE: the positions scaled to the unit.
+        let band = |start: f64, end: f64| Band {
+            quantity: "nose_depth".into(),
+            start,
+            end,
+            points: 1,
+            chi_square: 0.0,
+            p_value: 1.0,
+            mean_relative: 0.0,
+            conditions: None,
+        };
+        assert_eq!(
+            over_or_at(&band(55e-6, 55e-6), 1e6, "us", " after impact"),
+            " at 55.0 us after impact"
+        );
+        assert_eq!(
+            over_or_at(&band(10e-6, 30e-6), 1e6, "us", " after impact"),
+            " over 10.0-30.0 us after impact"
+        );
+        assert_eq!(
+            over_or_at(&band(750.0, 800.0), 1.0, "m/s", " of impact velocity"),
+            " over 750.0-800.0 m/s of impact velocity"
+        );
+        assert_eq!(
+            quantity_words("nose_depth"),
+            ("nose depth", "deep", "shallow")
+        );
+    }
 
     fn diagnosis(chi_square: f64) -> Diagnosis {
         Diagnosis {
