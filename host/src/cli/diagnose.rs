@@ -258,29 +258,17 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
             }
         );
     }
-    for refit in &diagnosis.refits {
-        println!(
-            "refit + {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",
-            refit.candidate,
-            refit.assessment.fit_error,
-            refit
-                .assessment
-                .held_out_error
-                .map_or("-".into(), |h| format!("{h:.4}")),
-            refit.assessment.bic,
-            if refit.accepted {
-                "accepted"
-            } else {
-                "rejected"
-            },
-            refit.reason
-        );
-    }
-    for search in &diagnosis.later_rounds {
-        for refit in &search.refits {
+    // Every refit, the first round's and the later rounds'.
+    let rounds = std::iter::once((String::new(), &diagnosis.refits)).chain(
+        diagnosis
+            .later_rounds
+            .iter()
+            .map(|search| (format!("round {}: ", search.round), &search.refits)),
+    );
+    for (round, refits) in rounds {
+        for refit in refits {
             println!(
-                "round {}: refit + {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",
-                search.round,
+                "{round}refit + {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",
                 refit.candidate,
                 refit.assessment.fit_error,
                 refit

@@ -212,6 +212,21 @@ pub struct ShotResult {
     pub field: FieldOutput,
 }
 
+/// The `residual_velocity` points of a ballistic recording as shots, by increasing impact
+/// velocity (what the Lambert–Jonas fit of a recorded table takes).
+pub fn recorded_shots(recording: &[RecordedPoint]) -> Vec<Shot> {
+    let mut shots: Vec<Shot> = recording
+        .iter()
+        .filter(|p| p.quantity == "residual_velocity")
+        .map(|p| Shot {
+            impact_velocity: p.position,
+            residual_velocity: p.value,
+        })
+        .collect();
+    shots.sort_by(|a, b| a.impact_velocity.total_cmp(&b.impact_velocity));
+    shots
+}
+
 /// The result of the whole protocol.
 #[derive(Clone, Debug)]
 pub struct BallisticSearch {

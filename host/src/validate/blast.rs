@@ -8,24 +8,12 @@ use crate::blast::kingery_bulmash;
 use crate::blast::near_field::{
     Air, BlastRun, Charge, ChargeShape, Detonation, EulerSettings, Explosive, NearFieldBlast,
 };
+use crate::experiment::blast_plate::total_impulse;
 use crate::experiment::{Experiment, Setup};
-use crate::solver::PressureHistory;
 use std::path::Path;
 
 /// The density of TNT the sphere's radius follows from (kg/m^3).
 const TNT_DENSITY: f64 = 1630.0;
-
-/// Impulse of `wall` on the disc `r <= radius`, by 400 rings (N s).
-pub fn total_impulse(wall: &PressureHistory, radius: f64) -> f64 {
-    let rings = 400;
-    let dr = radius / rings as f64;
-    (0..rings)
-        .map(|i| {
-            let r = (i as f64 + 0.5) * dr;
-            wall.impulse(r) * 2.0 * core::f64::consts::PI * r * dr
-        })
-        .sum()
-}
 
 /// One charge's Euler load.
 #[derive(Clone, Debug)]

@@ -10,8 +10,8 @@
 //! `bisection_tolerance`. The limit is the Lambert–Jonas fit (free `p`) over all of them; FOI's
 //! is the same fit over FOI's rows.
 
-use crate::analytic::ballistic::{fit_lambert_jonas, FitBound, Shot};
-use crate::experiment::ballistic::ShotOutcome;
+use crate::analytic::ballistic::{fit_lambert_jonas, FitBound};
+use crate::experiment::ballistic::{recorded_shots, ShotOutcome};
 use crate::experiment::{Experiment, Setup};
 use crate::input::material;
 use crate::solver::SolverSettings;
@@ -72,16 +72,7 @@ pub fn predict(
             path.display()
         ));
     };
-    let mut foi: Vec<Shot> = loaded
-        .recording
-        .iter()
-        .filter(|p| p.quantity == "residual_velocity")
-        .map(|p| Shot {
-            impact_velocity: p.position,
-            residual_velocity: p.value,
-        })
-        .collect();
-    foi.sort_by(|a, b| a.impact_velocity.total_cmp(&b.impact_velocity));
+    let foi = recorded_shots(&loaded.recording);
     let lowest = foi
         .first()
         .ok_or_else(|| format!("{}: no recorded exit velocities", path.display()))?

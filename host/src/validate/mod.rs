@@ -21,7 +21,7 @@ pub mod identification;
 pub mod perforation;
 pub mod semi_infinite;
 
-use crate::analytic::ballistic::{fit_lambert_jonas, Shot};
+use crate::analytic::ballistic::fit_lambert_jonas;
 use crate::experiment::{Experiment, Setup};
 use crate::fit::result::ModelResult;
 use crate::input::material;
@@ -1533,16 +1533,7 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
         }
         Measure::LambertJonas { experiment } => {
             let loaded = load(fixtures, experiment)?;
-            let mut shots: Vec<Shot> = loaded
-                .recording
-                .iter()
-                .filter(|p| p.quantity == "residual_velocity")
-                .map(|p| Shot {
-                    impact_velocity: p.position,
-                    residual_velocity: p.value,
-                })
-                .collect();
-            shots.sort_by(|a, b| a.impact_velocity.total_cmp(&b.impact_velocity));
+            let shots = crate::experiment::ballistic::recorded_shots(&loaded.recording);
             fit_lambert_jonas(&shots, None)
                 .map(|fit| fit.ballistic_limit)
                 .map_err(|e| format!("{experiment}: {e}"))
