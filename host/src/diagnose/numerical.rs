@@ -14,6 +14,7 @@
 use super::locate::ExperimentMisfit;
 use crate::experiment::Experiment;
 use crate::fit::{Engine, Hypothesis};
+use crate::input::InputError;
 use serde::{Deserialize, Serialize};
 
 /// One experiment simulated another way.
@@ -57,7 +58,9 @@ fn shift(base: &[f64], other: &[f64], sigmas: &[f64]) -> Option<f64> {
 
 /// Simulate each located (structured) fitted experiment of `misfits` that has a mesh or a
 /// second solver once more with `hypothesis`'s constants, refined and on the other solver,
-/// against `base` (the predictions at those constants).
+/// against `base` (the predictions at those constants). A variant whose set-up fails the
+/// kind's up-front checks (the run budget: a refined mesh over the element or element-cycle
+/// limit) is not run; its check records why.
 pub fn check(
     engine: &Engine,
     hypothesis: &Hypothesis,
@@ -80,9 +83,28 @@ pub fn check(
         {
             let mut variant: Experiment = experiment.clone();
             variant.file.setup = other;
-            let (shift, failure) = match realised.predict(&variant, engine.settings()) {
-                Ok(predicted) => (shift(&base[misfit.index], &predicted, &sigmas), None),
-                Err(error) => (None, Some(error)),
+            // The variant's sizes (elements, steps, element-cycles) pass the same up-front
+            // checks as a loaded file, so a refined mesh beyond the run budget is refused
+            // with its reason instead of run.
+            let check = |field: &str, ok: bool, message: &str| {
+                if ok {
+                    Ok(())
+                } else {
+                    Err(InputError::Field {
+                        path: experiment.path.clone(),
+                        line: None,
+                        field: field.to_string(),
+                        message: format!("{change}: {message}"),
+                    })
+                }
+            };
+            let checked = variant.file.setup.validate(&check);
+            let (shift, failure) = match checked {
+                Err(error) => (None, Some(error.to_string())),
+                Ok(()) => match realised.predict(&variant, engine.settings()) {
+                    Ok(predicted) => (shift(&base[misfit.index], &predicted, &sigmas), None),
+                    Err(error) => (None, Some(error)),
+                },
             };
             checks.push(NumericalCheck {
                 experiment: misfit.index,

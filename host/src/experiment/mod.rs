@@ -812,6 +812,43 @@ mod tests {
     use stoss_kernel::ParameterError;
 
     #[test]
+    fn a_refined_set_up_passes_the_same_size_checks_as_a_loaded_file() {
+        // GOAL: the diagnosis' refined variants (`Setup::refined`) cannot become a runaway:
+        //       each halving is checked against the run budget before it runs.
+        // SETUP: seed 000's 1250 m/s shot (0.4 mm), refined again and again.
+        // REFERENCE: the first refinement (0.2 mm) passes; within five halvings (0.0125 mm,
+        //            far over 2e6 elements) the check refuses, naming the budget.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../fixtures/experiments/penetration-hzb-1250.toml");
+        let experiment = Experiment::load(&path).unwrap();
+        let check = |field: &str, ok: bool, message: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(InputError::Field {
+                    path: path.clone(),
+                    line: None,
+                    field: field.into(),
+                    message: message.into(),
+                })
+            }
+        };
+        let mut setup = experiment.file.setup.clone();
+        let mut refusal = None;
+        for halving in 1..=5 {
+            let (_, refined) = setup.refined().unwrap();
+            setup = refined;
+            if let Err(error) = setup.validate(&check) {
+                refusal = Some((halving, error.to_string()));
+                break;
+            }
+        }
+        let (halving, message) = refusal.expect("a five-fold refinement is refused");
+        assert!(halving > 1, "{message}");
+        assert!(message.contains("elements"), "{message}");
+    }
+
+    #[test]
     fn simulation_error_exposes_its_cause_through_source() {
         // GOAL: a wrapping SimulationError keeps the chain of causes reachable through
         //       `std::error::Error::source()`, and a leaf variant has no source.
