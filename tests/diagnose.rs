@@ -120,6 +120,11 @@ fn check_among(case: &str, expected: &[&str], budget: &str, polish: &str) -> ser
         .chain(diagnosis["alternatives"].as_array().unwrap())
         .find(|r| r["candidate"] == name)
         .unwrap();
+    // Location-consistent acceptance: a true term's improvement lies where the misfit was
+    // located (or nothing was located).
+    if !refit["location"].is_null() {
+        assert_eq!(refit["location"]["consistent"], true, "{case}: {refit}");
+    }
     let assessment = &refit["assessment"];
     let reduced =
         assessment["chi_square"].as_f64().unwrap() / assessment["residuals"].as_f64().unwrap();
@@ -355,6 +360,38 @@ fn a_second_thermal_softening_stage_is_found_and_located_by_temperature() {
         after < 0.1 * before,
         "reduced chi-square {before} -> {after}"
     );
+    let _ = std::fs::remove_dir_all(work);
+}
+
+#[test]
+fn physics_outside_the_library_is_reported_unexplained_with_its_shape_in_temperature() {
+    // GOAL: a misfit no term nor family can follow is not given a wrong name: nothing is
+    //       accepted, the located misfit is reported with where it is and the shape of the
+    //       misfit in the state variable that organises it (issue 50, item 2).
+    // SETUP: fixtures/diagnosis/dsa (truth: JC times a dynamic-strain-ageing hump
+    //        1 + 0.10 exp(-((T - 600 K)/100 K)^2) on the slow curves at 298-1073 K, JC alone
+    //        on the fast ones; 1 % noise); JC with A, B, n, C, m fitted.
+    // REFERENCE: generate.sh: the hump is largest on the 673 K slow curve (+5.9 %), and
+    //        strength that rises then falls with temperature is non-monotonic.
+    let (diagnosis, work) = diagnose_case("dsa", "check", "16", "16");
+    let verdict = diagnosis["verdict"].as_str().unwrap();
+    assert!(diagnosis["accepted"].is_null(), "{verdict}");
+    assert!(diagnosis["replacement"].is_null(), "{verdict}");
+    assert!(
+        verdict.starts_with("compression 0.001 /s, 673 K"),
+        "{verdict}"
+    );
+    assert!(
+        verdict.contains("non-monotonic in temperature"),
+        "{verdict}"
+    );
+    assert!(verdict.contains("outside the library"), "{verdict}");
+    // Every refit that earned its constant had its location compared.
+    for refit in diagnosis["refits"].as_array().unwrap() {
+        if refit["refused_for_location"] == true {
+            assert_eq!(refit["location"]["consistent"], false);
+        }
+    }
     let _ = std::fs::remove_dir_all(work);
 }
 

@@ -30,6 +30,9 @@ pub struct Band {
     pub mean_relative: f64,
     /// What the material went through there (if states are tracked).
     pub conditions: Option<Conditions>,
+    /// Indices of its points in the recording.
+    #[serde(default)]
+    pub members: Vec<usize>,
 }
 
 /// Ranges of the tracked state over a region and the whole history.
@@ -172,6 +175,7 @@ pub fn locate(
                 mean_relative: members.iter().map(|&i| residuals[i].relative).sum::<f64>()
                     / members.len() as f64,
                 conditions: outcome.and_then(|o| conditions(experiment, o, quantity, start, end)),
+                members,
             });
         };
         for window in indices.chunks(length) {

@@ -34,6 +34,7 @@ pub mod families;
 pub mod likelihood_ratio;
 pub mod localisation;
 pub mod locate;
+pub mod location;
 pub mod numerical;
 pub mod report;
 pub mod score;
@@ -49,6 +50,7 @@ use crate::fit::{score as error_score, Campaign, Score};
 use crate::fit::{Engine, FitError, Hypothesis};
 use candidates::{Candidate, NotApplicable};
 use locate::ExperimentMisfit;
+use location::{LocatedMisfit, LocationCheck};
 use score::ScoreTest;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -167,6 +169,14 @@ pub struct Refit {
     pub accepted: bool,
     /// Why (not).
     pub reason: String,
+    /// Where the refit removed misfit against where it was located (terms only; `None`
+    /// when nothing was located or for a family).
+    #[serde(default)]
+    pub location: Option<LocationCheck>,
+    /// It earned its constant on the information criterion and the held-out error, but its
+    /// improvement lies mostly outside the located misfit ([`location`]).
+    #[serde(default)]
+    pub refused_for_location: bool,
 }
 
 /// A term accepted in one round of the diagnosis, and what it did to the fit.
@@ -534,6 +544,8 @@ fn try_alternatives(
                     hypothesis: alternative.hypothesis,
                     accepted: false,
                     reason: format!("the fit failed: {error}"),
+                    location: None,
+                    refused_for_location: false,
                 });
                 continue;
             }
@@ -573,6 +585,8 @@ fn try_alternatives(
             hypothesis,
             accepted: wins,
             reason,
+            location: None,
+            refused_for_location: false,
         });
         if wins {
             winner = Some((alternatives.len() - 1, predictions));
@@ -652,7 +666,9 @@ pub struct Outcome {
 type FittedTerm = (Vec<Vec<f64>>, Fit);
 
 /// Refit the calibrated model with `candidate` (every constant plus the term's, from the
-/// calibrated values and the term at its null), assess it and judge it against `before`.
+/// calibrated values and the term at its null), assess it and judge it against `before` (its
+/// assessment and located misfit): the information criterion and the held-out error, then
+/// where the improvement lies ([`location`]).
 /// Returns the refit's record and, unless the Levenberg-Marquardt fit failed, its predictions
 /// and fit.
 #[allow(clippy::too_many_arguments)]
@@ -663,9 +679,10 @@ fn refit_candidate(
     base_fit: &Fit,
     fitted: &[usize],
     options: &Options,
-    before: &Assessment,
+    before: (&Assessment, &LocatedMisfit),
     cost: &mut Cost,
 ) -> Result<(Refit, Option<FittedTerm>), DiagnoseError> {
+    let (before, located) = before;
     let stage_name = format!("refit with {}", candidate.name);
     engine.stage(&stage_name);
     let mark = engine.points;
@@ -685,6 +702,8 @@ fn refit_candidate(
                     hypothesis,
                     accepted: false,
                     reason: format!("the refit failed: {error}"),
+                    location: None,
+                    refused_for_location: false,
                 },
                 None,
             ));
@@ -703,14 +722,24 @@ fn refit_candidate(
         assessment.bic += libm::log(n);
     }
     cost.stages.push((stage_name, engine.points - mark));
-    let (ok, reason) = judge(before, &assessment, "term", 0.0);
+    let (earned, mut reason) = judge(before, &assessment, "term", 0.0);
+    // Location-consistent acceptance: the improvement must lie where the misfit was located.
+    let location = located.check(&campaign.experiments, &predictions, options.alpha);
+    let refused_for_location = earned && location.as_ref().is_some_and(|c| !c.consistent);
+    // Where the improvement lies is said of a term that earned its constant.
+    if let Some(check) = location.as_ref().filter(|_| earned) {
+        let joint = if refused_for_location { ", but" } else { ";" };
+        reason = format!("{reason}{joint} {}", check.describe());
+    }
     Ok((
         Refit {
             candidate: candidate.name.clone(),
             assessment,
             hypothesis,
-            accepted: ok,
+            accepted: earned && !refused_for_location,
             reason,
+            location,
+            refused_for_location,
         },
         Some((predictions, refit)),
     ))
@@ -800,7 +829,7 @@ fn refit_terms(
     base_fit: &Fit,
     fitted: &[usize],
     options: &Options,
-    before: &Assessment,
+    before: (&Assessment, &LocatedMisfit),
     cost: &mut Cost,
 ) -> Result<Refits, DiagnoseError> {
     let mut refits = Vec::new();
@@ -932,6 +961,16 @@ fn further_rounds(
         engine.stage(&stage_name);
         let mark = engine.points;
         let outcomes = simulate_outcomes(engine, &base)?;
+        let round_located = match &current {
+            Some((_, predictions)) => LocatedMisfit::new(&locate_all(
+                engine,
+                predictions,
+                &outcomes,
+                fitted,
+                options.alpha,
+            )),
+            None => LocatedMisfit::new(&[]),
+        };
         let (library, _) = candidates::library(
             &base,
             campaign,
@@ -965,7 +1004,7 @@ fn further_rounds(
             &fit,
             fitted,
             options,
-            &round_before,
+            (&round_before, &round_located),
             cost,
         )?;
         next = round_accepted
@@ -1069,6 +1108,7 @@ pub fn diagnose(
     };
     stage(&engine, "score tests", mark, &mut cost);
 
+    let located = LocatedMisfit::new(&misfit_before);
     let (refits, accepted) = refit_terms(
         campaign,
         &mut engine,
@@ -1077,7 +1117,7 @@ pub fn diagnose(
         &base_fit,
         &fitted,
         options,
-        &before,
+        (&before, &located),
         &mut cost,
     )?;
 

@@ -169,8 +169,72 @@ pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
     }
 }
 
-/// The verdict on the material: the accepted terms or family, or what the model misses.
+/// The verdict on the material, with the terms refused for where their improvement lies.
 fn material_verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
+    let text = accepted_or_missing(campaign, diagnosis);
+    format!("{text}{}", location_refusals(diagnosis))
+}
+
+/// The terms that earned their constant but were refused because their improvement lies
+/// outside the located misfit (the best of each round), with the misfit's shape in the state
+/// variables; empty when none was.
+fn location_refusals(diagnosis: &Diagnosis) -> String {
+    let searches = std::iter::once((1, &diagnosis.tests, &diagnosis.refits)).chain(
+        diagnosis
+            .later_rounds
+            .iter()
+            .map(|r| (r.round, &r.tests, &r.refits)),
+    );
+    let rounds = !diagnosis.rounds.is_empty();
+    let mut parts: Vec<String> = Vec::new();
+    for (round, tests, refits) in searches {
+        let Some(refit) = refits
+            .iter()
+            .filter(|r| r.refused_for_location)
+            .min_by(|a, b| a.assessment.bic.total_cmp(&b.assessment.bic))
+        else {
+            continue;
+        };
+        let Some(check) = &refit.location else {
+            continue;
+        };
+        let physics = tests
+            .iter()
+            .find(|t| t.name == refit.candidate)
+            .map_or_else(|| refit.candidate.clone(), |t| t.physics.clone());
+        parts.push(format!(
+            "{}the best candidate, {physics} ({}), earns its constant on the BIC and the held-out error but is refused because {}",
+            if rounds { format!("in round {round}, ") } else { String::new() },
+            refit.candidate,
+            check.describe()
+        ));
+    }
+    if parts.is_empty() {
+        return String::new();
+    }
+    let shape: Vec<String> = diagnosis
+        .state_misfit
+        .iter()
+        .take(2)
+        .filter_map(|m| match (m.shape(), m.describe()) {
+            (Some(shape), Some(bins)) => Some(format!("{shape} ({bins})")),
+            (None, bins) => bins,
+            (shape, None) => shape,
+        })
+        .collect();
+    let shape = if shape.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", shape.join("; "))
+    };
+    format!(
+        " The located misfit is left unexplained{shape}: {}.",
+        parts.join("; ")
+    )
+}
+
+/// The verdict on the material: the accepted terms or family, or what the model misses.
+fn accepted_or_missing(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
     let where_ = headline(campaign, &diagnosis.misfit_before);
     let top = diagnosis.tests.first();
     if let Some(name) = &diagnosis.replacement {
@@ -261,6 +325,7 @@ fn material_verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
             refit.assessment.fit_error,
             held_out,
             what_remains(campaign, &last.assessment, diagnosis.options.alpha)
+                + &still_located(campaign, diagnosis)
                 + &at_bounds(&last.assessment)
         );
     }
@@ -297,8 +362,9 @@ fn material_verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
             .first()
             .and_then(|m| {
                 m.describe().map(|d| {
+                    let shape = m.shape().map(|s| format!("{s}, ")).unwrap_or_default();
                     format!(
-                        " Over all recordings the misfit is organised by {} ({:.0} % of it): {d}.",
+                        " Over all recordings the misfit is organised by {} ({:.0} % of it): {shape}{d}.",
                         m.variable,
                         100.0 * m.share
                     )
@@ -393,6 +459,20 @@ fn at_bounds(assessment: &Assessment) -> String {
 /// What an accepted model leaves (issue 54, item 8): its reduced chi-square against the
 /// recorded uncertainty, and whether that is still significantly above the noise (the
 /// chi-square test at the diagnosis' level).
+/// Where the misfit left after the accepted terms is still located (a structured fitted
+/// recording), in words; empty when nothing is.
+fn still_located(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
+    let Some(after) = &diagnosis.misfit_after else {
+        return String::new();
+    };
+    if !after.iter().any(|m| m.structured && !m.holdout) {
+        return String::new();
+    }
+    headline(campaign, after)
+        .map(|h| format!(" The accepted terms leave a located misfit unexplained: {h}."))
+        .unwrap_or_default()
+}
+
 fn what_remains(campaign: &Campaign, assessment: &Assessment, alpha: f64) -> String {
     let dof = assessment
         .residuals
@@ -1013,6 +1093,7 @@ mod tests {
             p_value: 1.0,
             mean_relative: 0.0,
             conditions: None,
+            members: Vec::new(),
         };
         assert_eq!(
             over_or_at(&band(55e-6, 55e-6), 1e6, "us", " after impact"),
