@@ -116,9 +116,40 @@ fn headline(campaign: &Campaign, misfits: &[ExperimentMisfit]) -> Option<String>
     Some(text)
 }
 
+/// The source groups' scales (`setup.<group>.recorded_scale`) of the model the diagnosis
+/// ends with, in words: offsets of the recordings, reported apart from material physics.
+fn source_offsets(diagnosis: &Diagnosis) -> String {
+    let assessment = diagnosis
+        .final_refit()
+        .map_or(&diagnosis.before, |r| &r.assessment);
+    let suffix = format!(".{}", crate::experiment::RECORDED_SCALE);
+    let offsets: Vec<String> = assessment
+        .constants
+        .iter()
+        .filter_map(|(name, value)| {
+            let group = name
+                .strip_prefix(crate::fit::space::SETUP_PREFIX)?
+                .strip_suffix(&suffix)?;
+            Some(format!(
+                "{group} reads {value:.3} times the material's response ({:.1} % {})",
+                100.0 * (value - 1.0).abs(),
+                if *value >= 1.0 { "high" } else { "low" }
+            ))
+        })
+        .collect();
+    if offsets.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " Source offsets, fitted beside the constants as nuisance parameters and not material physics: {}.",
+            offsets.join("; ")
+        )
+    }
+}
+
 /// The verdict in one or two plain sentences.
 pub fn verdict(campaign: &Campaign, diagnosis: &Diagnosis) -> String {
-    let text = material_verdict(campaign, diagnosis);
+    let text = material_verdict(campaign, diagnosis) + &source_offsets(diagnosis);
     // Simulation or material: the located experiments whose predictions move with the method.
     let numerical: Vec<&super::numerical::NumericalCheck> =
         diagnosis.numerical.iter().filter(|c| c.numerical).collect();

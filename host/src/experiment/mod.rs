@@ -342,8 +342,33 @@ pub struct ExperimentFile {
     /// Default material file, relative to the experiment file.
     #[serde(default)]
     pub material: Option<String>,
+    /// The source group of the recording (a laboratory, a test series): recordings of one
+    /// group share the per-source scale a campaign may search (`[models.setup]`
+    /// `"<group>.recorded_scale"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source_group: Option<String>,
+    /// The factor at which the recording reads the material's response (a source's systematic
+    /// offset: a load cell reading 3 % high is 1.03): every prediction is multiplied by it
+    /// before it is compared with the recording. Default 1.
+    #[serde(default = "unit_scale", skip_serializing_if = "is_unit_scale")]
+    pub recorded_scale: f64,
     /// Geometry, mesh and loading.
     pub setup: Setup,
+}
+
+/// The name of the per-source scale as a set-up parameter's field.
+pub const RECORDED_SCALE: &str = "recorded_scale";
+
+/// Plausible range of [`ExperimentFile::recorded_scale`]: a source that reads more than a
+/// factor 2 off is a unit slip, not an offset.
+pub const RECORDED_SCALE_RANGE: [f64; 2] = [0.5, 2.0];
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+fn is_unit_scale(scale: &f64) -> bool {
+    *scale == 1.0
 }
 
 /// A loaded experiment: file, recording and paths.
@@ -416,6 +441,23 @@ impl Experiment {
             }
         };
         file.setup.validate(&check)?;
+        let [low, high] = RECORDED_SCALE_RANGE;
+        check(
+            RECORDED_SCALE,
+            file.recorded_scale.is_finite()
+                && (low..=high).contains(&file.recorded_scale),
+            &format!(
+                "{} must lie in {low}..={high} (a source reading more than a factor 2 off is a unit slip)",
+                file.recorded_scale
+            ),
+        )?;
+        if let Some(group) = &file.source_group {
+            check(
+                "source_group",
+                !group.trim().is_empty() && !group.contains('.'),
+                "a source group needs a name without dots (it is the target of \"<group>.recorded_scale\")",
+            )?;
+        }
         if let Setup::BlastPlate(spec) = &mut file.setup {
             spec.cache_folder = Some(match &spec.load_cache {
                 Some(folder) => path.parent().unwrap_or(Path::new(".")).join(folder),
@@ -654,7 +696,7 @@ impl Experiment {
                 given: material.family(),
             })
         };
-        match setup {
+        let mut outcome = match setup {
             Setup::Uniaxial(spec) => spec.simulate(material, &self.recording),
             Setup::Tension(spec) => spec.simulate(j2()?, settings, &self.recording),
             Setup::Taylor(spec) => spec.simulate(j2()?, settings, &self.recording),
@@ -666,7 +708,14 @@ impl Experiment {
             }
             Setup::BlastPlate(spec) => spec.simulate(j2()?, settings, &self.recording),
             Setup::DropWeightBeam(spec) => spec.simulate(material, settings, &self.recording),
+        }?;
+        // The source's systematic offset: the recording reads the response times its scale.
+        if self.file.recorded_scale != 1.0 {
+            for value in &mut outcome.predicted {
+                *value *= self.file.recorded_scale;
+            }
         }
+        Ok(outcome)
     }
 }
 

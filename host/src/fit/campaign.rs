@@ -46,6 +46,7 @@
 //! flow-curve figures, cards and the diagnosis are for J2 metals and are skipped.
 
 use crate::experiment::Experiment;
+use crate::experiment::RECORDED_SCALE;
 use crate::fit::space::{experiment_stem, with_setup, SetupParameter, SetupValue, SETUP_PREFIX};
 use crate::fit::ModelSpace;
 use crate::input::material::{self, AnyMaterialFile, StrengthSpec};
@@ -545,6 +546,13 @@ impl Campaign {
                     }
                 };
                 changed.file.setup.validate(&check)?;
+                let [low, high] = crate::experiment::RECORDED_SCALE_RANGE;
+                let scale = changed.file.recorded_scale;
+                check(
+                    RECORDED_SCALE,
+                    (low..=high).contains(&scale),
+                    &format!("{scale} lies outside {low}..={high}"),
+                )?;
             }
         }
         Ok(())
@@ -594,6 +602,28 @@ impl Campaign {
         let by_kind: Vec<usize> = (0..stems.len())
             .filter(|&i| crate::experiment::kind_name(&self.experiments[i].file.setup) == target)
             .collect();
+        let by_group: Vec<usize> = (0..stems.len())
+            .filter(|&i| self.experiments[i].file.source_group.as_deref() == Some(target))
+            .collect();
+        if !by_group.is_empty() {
+            if !by_stem.is_empty() || !by_kind.is_empty() {
+                return Err(format!(
+                    "`{target}` is a source group and also an experiment's file stem or kind: \
+                     rename the group"
+                ));
+            }
+            if field != RECORDED_SCALE {
+                return Err(format!(
+                    "`{field}`: a source group (`{target}`) has one set-up field, \
+                     `{RECORDED_SCALE}` (its recordings' systematic scale)"
+                ));
+            }
+            return Ok(SetupParameter {
+                field: field.to_string(),
+                experiments: by_group.iter().map(|&i| stems[i].clone()).collect(),
+                start: self.experiments[by_group[0]].file.recorded_scale,
+            });
+        }
         let chosen = match (by_stem.is_empty(), by_kind.is_empty()) {
             (false, true) if by_stem.len() == 1 => by_stem,
             (false, true) => {
@@ -616,14 +646,34 @@ impl Campaign {
                     .iter()
                     .map(|e| crate::experiment::kind_name(&e.file.setup))
                     .collect();
+                let groups: std::collections::BTreeSet<&str> = self
+                    .experiments
+                    .iter()
+                    .filter_map(|e| e.file.source_group.as_deref())
+                    .collect();
+                let groups = if groups.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        " nor a source group ({})",
+                        groups.into_iter().collect::<Vec<_>>().join(", ")
+                    )
+                };
                 return Err(format!(
                     "`{target}` is neither an experiment of the campaign (file stems: {}) nor \
-                     the kind of one ({})",
+                     the kind of one ({}){groups}",
                     stems.join(", "),
                     kinds.into_iter().collect::<Vec<_>>().join(", ")
                 ));
             }
         };
+        if field == RECORDED_SCALE {
+            return Ok(SetupParameter {
+                field: field.to_string(),
+                experiments: chosen.iter().map(|&i| stems[i].clone()).collect(),
+                start: self.experiments[chosen[0]].file.recorded_scale,
+            });
+        }
         let mut start = None;
         for &i in &chosen {
             let experiment = &self.experiments[i];

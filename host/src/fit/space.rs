@@ -84,6 +84,10 @@ pub fn with_setup<'e>(
     }
     let mut changed = experiment.clone();
     for value in mine {
+        if value.field == crate::experiment::RECORDED_SCALE {
+            changed.file.recorded_scale = value.value;
+            continue;
+        }
         let slot = changed
             .file
             .setup

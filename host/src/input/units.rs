@@ -588,6 +588,7 @@ mod tests {
             ("tensile_rate_exponent", None),
             ("erosion_geometric_strain", None),
             ("anvil_friction", None),
+            ("recorded_scale", None),
             ("hardening_exponent", None),
             ("poissons_ratio", None),
             ("name", None),
