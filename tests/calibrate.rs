@@ -1855,3 +1855,64 @@ fn cards_are_written_in_the_users_unit_system_with_the_users_id_and_name() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn a_calibration_is_bounded_by_what_it_would_cost() {
+    // GOAL: a size that would run for days is refused before anything is written, naming the
+    //       size and how to override it; every bundled campaign stays inside the bound
+    //       (issue 52, item 2).
+    // SETUP: the synthetic flow campaign with --budget 1e9 and with --budget 4000 (the
+    //        surrogate's own work alone); the estimate of every fixtures/campaigns/*.toml at
+    //        its own sizes.
+    // REFERENCE: stoss::calibrate::cost: two days on 2 cores; the surrogate's measured law
+    //        221 (n/480)^3.8 s gives about 8 days at 4000 points.
+    use stoss::calibrate::cost::{estimate, Sizes, MAXIMUM_SECONDS};
+    let campaign = fixtures().join("campaigns/synthetic-flow.toml");
+    for budget in ["1000000000", "4000"] {
+        let output = temporary(&format!("cost-{budget}"));
+        std::fs::remove_dir_all(&output).unwrap();
+        let run = Command::new(env!("CARGO_BIN_EXE_stoss"))
+            .args(["calibrate", campaign.to_str().unwrap(), "--output"])
+            .arg(&output)
+            .args(["--budget", budget])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{budget}: {stderr}");
+        assert!(
+            stderr.contains(&format!("--budget = {budget}"))
+                && stderr.contains("hours on 2 cores")
+                && stderr.contains("--force"),
+            "{stderr}"
+        );
+        assert!(
+            !output.exists(),
+            "{budget}: a refused run wrote {}",
+            output.display()
+        );
+    }
+    let mut checked = 0;
+    for entry in std::fs::read_dir(fixtures().join("campaigns")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let campaign = Campaign::load(&path).unwrap();
+        let sizes = Sizes::of(&campaign, &RunOptions::default());
+        let cost = estimate(&campaign, &sizes);
+        eprintln!(
+            "{}: {:.0} candidates, {:.2} h simulating, {:.3} h surrogate",
+            path.display(),
+            cost.candidates,
+            cost.simulating / 3600.0,
+            cost.surrogate / 3600.0
+        );
+        assert!(
+            cost.seconds() < MAXIMUM_SECONDS,
+            "{}: {cost:?}",
+            path.display()
+        );
+        checked += 1;
+    }
+    assert!(checked >= 9, "{checked}");
+}

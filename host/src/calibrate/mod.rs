@@ -4,6 +4,7 @@
 //! curves. The campaign, the error measure, the executors, the simulation log, the results and
 //! their uncertainty are the fitting layer's ([`crate::fit`]), shared with `stoss diagnose`.
 
+pub mod cost;
 pub mod direct_jc;
 pub mod polish;
 pub mod proposer;

@@ -79,7 +79,7 @@ fn first_failure(reason: &Option<String>) -> String {
 pub type Progress<'a> = dyn FnMut(&str, Option<&str>, usize, usize, usize, Option<f64>) + 'a;
 
 /// Settings of a run beyond the campaign file.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct RunOptions {
     /// Override of the campaign's budget (e.g. for quick checks).
     pub budget: Option<usize>,
@@ -603,18 +603,16 @@ pub fn calibrate<'a>(
 ) -> Result<Vec<ModelResult>, CalibrateError> {
     let optimiser = &campaign.file.optimiser;
     let log = SimulationLog::open(&output.join("simulations.jsonl"))?;
+    let sizes = super::cost::Sizes::of(campaign, options);
     let mut runner = Runner {
         campaign,
         log,
         executor,
         factory,
         progress,
-        budget: options.budget.unwrap_or(optimiser.budget),
+        budget: sizes.budget,
         batch: optimiser.parallel,
-        polish: options
-            .polish
-            .or(optimiser.polish)
-            .unwrap_or(options.budget.unwrap_or(optimiser.budget) / 2),
+        polish: sizes.polish,
         least_squares: options
             .least_squares
             .or(optimiser.least_squares)

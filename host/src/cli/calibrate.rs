@@ -102,6 +102,24 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             campaign.fitted().len()
         ));
     }
+    let options = RunOptions {
+        budget: args.budget,
+        instances: args.instances,
+        leave_one_out: args
+            .leave_one_out
+            .then_some(crate::fit::campaign::LeaveOneOut::Every),
+        polish: args.polish,
+        least_squares: args.least_squares,
+    };
+    // What the run will cost, before anything is written (issue 52: every size bounded by
+    // what it costs).
+    let sizes = crate::calibrate::cost::Sizes::of(&campaign, &options);
+    let budget_source = if args.budget.is_some() {
+        "--budget"
+    } else {
+        "[optimiser] budget"
+    };
+    crate::calibrate::cost::check(&campaign, &sizes, budget_source)?;
     let executor_entry = args.executor.settings(&campaign.file.executor)?;
     let output = args.output.clone().unwrap_or_else(|| {
         PathBuf::from("out").join(format!(
@@ -144,15 +162,6 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     if !resuming_a_logged_run {
         record_inputs()?;
     }
-    let options = RunOptions {
-        budget: args.budget,
-        instances: args.instances,
-        leave_one_out: args
-            .leave_one_out
-            .then_some(crate::fit::campaign::LeaveOneOut::Every),
-        polish: args.polish,
-        least_squares: args.least_squares,
-    };
     println!(
         "campaign: {} ({} experiments, {} fitted; {} model(s))",
         campaign.file.name,

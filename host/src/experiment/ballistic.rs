@@ -476,6 +476,31 @@ impl BallisticLimitSpec {
         }
     }
 
+    /// The shots a simulation against `recording` fires, estimated up front: its distinct
+    /// recorded velocities, or, when it records a ballistic limit, the sweep plus two shots
+    /// per bisection round needed to narrow the widest gap between neighbouring sweep
+    /// velocities (the bracket lies in one) by thirds to `2 bisection_tolerance`.
+    pub fn estimated_shots(&self, recording: &[RecordedPoint]) -> usize {
+        if !recording.iter().any(|p| p.quantity == "ballistic_limit") {
+            let mut velocities: Vec<f64> = recording.iter().map(|p| p.position).collect();
+            velocities.sort_by(f64::total_cmp);
+            velocities.dedup();
+            return velocities.len();
+        }
+        let widest = self
+            .impact_velocities
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(0.0, f64::max);
+        let mut rounds = 0;
+        let mut width = widest;
+        while width > 2.0 * self.bisection_tolerance && rounds < MAXIMUM_ROUNDS {
+            width /= 3.0;
+            rounds += 1;
+        }
+        self.impact_velocities.len() + 2 * rounds
+    }
+
     /// The whole protocol: sweep, bracket, bisection by thirds, Lambert–Jonas and
     /// Recht–Ipson fits.
     pub fn search(

@@ -828,6 +828,35 @@ pub(crate) fn check_run_budget(
     check_run_budget_of(check, "end_time", end_time, time_step, elements)
 }
 
+std::thread_local! {
+    /// The largest element-cycles a run-budget check computed since the last
+    /// [`Experiment::estimated_element_cycles`] began (this thread's; a set-up may check its
+    /// one run twice, nominal and as built).
+    static RUN_SIZE_TALLY: std::cell::Cell<f64> = const { std::cell::Cell::new(0.0) };
+}
+
+impl Experiment {
+    /// The element-cycles one simulation of this experiment is estimated to need: the largest
+    /// of what its set-up's run-budget checks ([`check_run_budget_of`]) compute from the mesh
+    /// and the end time at the undeformed stable step (so the estimate and the per-run refusal are
+    /// one computation), times the shots of a ballistic experiment
+    /// ([`ballistic::BallisticLimitSpec::estimated_shots`]). 0 for the single-element drivers.
+    /// An underestimate: distortion shrinks the real step.
+    pub fn estimated_element_cycles(&self) -> f64 {
+        RUN_SIZE_TALLY.with(|tally| tally.set(0.0));
+        // Every check passes: the set-up was validated when it was loaded; this walks the
+        // same computation for its sizes.
+        let _ = self.file.setup.validate(&|_, _, _| Ok(()));
+        let one = RUN_SIZE_TALLY.with(|tally| tally.replace(0.0));
+        match &self.file.setup {
+            Setup::BallisticLimit(spec) | Setup::Perforation(spec) => {
+                one * spec.estimated_shots(&self.recording) as f64
+            }
+            _ => one,
+        }
+    }
+}
+
 /// [`check_run_budget`] for a run whose end time follows from other fields; the error names
 /// `field` (the one a unit slip would have made too large).
 pub(crate) fn check_run_budget_of(
@@ -838,6 +867,7 @@ pub(crate) fn check_run_budget_of(
     elements: f64,
 ) -> Result<(), InputError> {
     let steps = end_time / time_step;
+    RUN_SIZE_TALLY.with(|tally| tally.set(tally.get().max(steps * elements)));
     check(
         field,
         crate::input::implausible_allowed()
