@@ -798,13 +798,23 @@ fn check_experiments_and_optimiser(
         }
     }
     let o = &file.optimiser;
-    if o.budget < 4 || o.instances == 0 || o.parallel == 0 {
-        return Err(InputError::field(
-            path,
-            text,
+    // Each size is named by its own field (a `parallel = 0` once read as a budget error).
+    for (field, ok, message) in [
+        (
             "budget",
-            "budget >= 4, instances >= 1, parallel >= 1",
-        ));
+            o.budget >= 4,
+            "give at least 4 simulations per instance (the initial design)",
+        ),
+        ("instances", o.instances >= 1, "give at least 1"),
+        (
+            "parallel",
+            o.parallel >= 1,
+            "give at least 1 (simulations at once)",
+        ),
+    ] {
+        if !ok {
+            return Err(InputError::field(path, text, field, message));
+        }
     }
     if o.design == Some(0) || o.design.is_some_and(|d| d > o.budget) {
         return Err(InputError::field(
