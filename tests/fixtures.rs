@@ -46,6 +46,38 @@ fn taylor_recordings_are_the_published_numbers() {
 }
 
 #[test]
+fn copper_taylor_recordings_are_the_published_numbers() {
+    // GOAL: Lf, Df and W of each copper Taylor recording equal CuZerilli.dat (SI), and the
+    //       set-up's L0, D0, velocity and temperature its columns.
+    // SETUP: fixtures/real/copper-taylor/CuZerilli.dat lines 1, 4, 7 (columns 3-6 and 9-11).
+    // REFERENCE: the raw file; 1e-6 relative.
+    let raw = raw_table(&fixtures().join("real/copper-taylor/CuZerilli.dat"));
+    for line in [0, 3, 6] {
+        let row = &raw[line];
+        let stem = format!("experiments/taylor-cu-za-{}", row[3] as i64);
+        let points = recording::load(&fixtures().join(format!("{stem}.csv"))).unwrap();
+        let value = |quantity: &str| {
+            points
+                .iter()
+                .find(|p| p.quantity == quantity)
+                .unwrap()
+                .value
+        };
+        assert!(close(value("final_length"), row[5]));
+        assert!(close(value("footprint_diameter"), row[9]));
+        let w = points.iter().find(|p| p.quantity == "diameter").unwrap();
+        assert!(close(w.value, row[10]) && close(w.position, 0.2 * row[4]));
+        let experiment =
+            stoss::experiment::Experiment::load(&fixtures().join(format!("{stem}.toml"))).unwrap();
+        let stoss::experiment::Setup::Taylor(spec) = &experiment.file.setup else {
+            panic!("{stem} is not a Taylor test");
+        };
+        assert!(close(spec.length, row[4]) && close(spec.diameter, row[8]));
+        assert!(close(spec.velocity, row[3]) && close(spec.temperature, row[2]));
+    }
+}
+
+#[test]
 fn flow_recordings_are_the_published_numbers() {
     // GOAL: every flow-curve recording is its raw .dat in SI (percent strain -> strain for
     //       Lee-Yeh, MPa -> Pa).
