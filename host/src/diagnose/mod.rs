@@ -41,7 +41,7 @@ pub mod score;
 pub mod state_space;
 pub mod stats;
 
-use crate::fit::executor::Executor;
+use crate::fit::executor::{Executor, Prediction};
 use crate::fit::least_squares::{self, levenberg_marquardt, Fit};
 use crate::fit::linear;
 use crate::fit::result::ModelResult;
@@ -54,6 +54,10 @@ use location::{LocatedMisfit, LocationCheck};
 use score::ScoreTest;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+
+/// Times a leave-one-out fold's Gauss-Newton step is halved when its experiment cannot be
+/// simulated at the stepped constants, before the fold counts as failed.
+pub const FOLD_STEP_HALVINGS: usize = 3;
 
 /// BIC drop by which a later-ranked term that earns its constant displaces an accepted one:
 /// "positive" evidence on Kass & Raftery's (1995) scale.
@@ -356,9 +360,9 @@ fn assess(
         .iter()
         .map(|&i| scores[i].map_or(f64::NAN, |s| s.error) * weight(i))
         .sum();
-    // Approximate leave-one-out.
+    // Approximate leave-one-out: one damped Gauss-Newton step per fold from the full fit.
     let ranges = row_ranges(&campaign.experiments, fitted);
-    let mut fold_points: Vec<Vec<f64>> = Vec::new();
+    let mut fold_steps: Vec<Vec<f64>> = Vec::new();
     if fitted.len() >= 2 && !fit.unit.is_empty() {
         for range in &ranges {
             let keep = |i: usize| !range.contains(&i);
@@ -384,25 +388,61 @@ fn assess(
                 .iter()
                 .map(|g| -g)
                 .collect();
-            let step = linear::solve_damped(&linear::gram(&columns), &gradient, 1e-3)
-                .unwrap_or_else(|| vec![0.0; fit.unit.len()]);
-            let unit: Vec<f64> = fit
-                .unit
-                .iter()
-                .zip(&step)
-                .map(|(u, s)| (u + s).clamp(0.0, 1.0))
-                .collect();
-            fold_points.push(least_squares::to_si(hypothesis, &unit));
+            fold_steps.push(
+                linear::solve_damped(&linear::gram(&columns), &gradient, 1e-3)
+                    .unwrap_or_else(|| vec![0.0; fit.unit.len()]),
+            );
         }
-    } else if fitted.len() >= 2 {
-        fold_points = vec![fit.values.clone(); fitted.len()];
     }
-    let jobs: Vec<(&[f64], usize)> = fold_points
-        .iter()
-        .zip(fitted)
-        .map(|(p, &e)| (p.as_slice(), e))
-        .collect();
-    let folds = engine.run(hypothesis, &jobs)?;
+    // A fold whose step lands on constants its experiment cannot be simulated with (a
+    // linearised step can leave the region where the model is valid) is tried again with the
+    // step halved, at most FOLD_STEP_HALVINGS times; then the fold counts as failed (infinite).
+    let fold_point = |step: &[f64], scale: f64| -> Vec<f64> {
+        let unit: Vec<f64> = fit
+            .unit
+            .iter()
+            .zip(step)
+            .map(|(u, s)| (u + scale * s).clamp(0.0, 1.0))
+            .collect();
+        least_squares::to_si(hypothesis, &unit)
+    };
+    let mut folds: Vec<Prediction> = if fitted.len() >= 2 {
+        let points: Vec<Vec<f64>> = if fold_steps.is_empty() {
+            vec![fit.values.clone(); fitted.len()]
+        } else {
+            fold_steps.iter().map(|s| fold_point(s, 1.0)).collect()
+        };
+        let jobs: Vec<(&[f64], usize)> = points
+            .iter()
+            .zip(fitted)
+            .map(|(p, &e)| (p.as_slice(), e))
+            .collect();
+        engine.run(hypothesis, &jobs)?
+    } else {
+        Vec::new()
+    };
+    let mut scale = 1.0;
+    for _ in 0..FOLD_STEP_HALVINGS {
+        let failed: Vec<usize> = (0..folds.len())
+            .filter(|&k| folds[k].is_err() && k < fold_steps.len())
+            .collect();
+        if failed.is_empty() {
+            break;
+        }
+        scale *= 0.5;
+        let points: Vec<Vec<f64>> = failed
+            .iter()
+            .map(|&k| fold_point(&fold_steps[k], scale))
+            .collect();
+        let jobs: Vec<(&[f64], usize)> = points
+            .iter()
+            .zip(&failed)
+            .map(|(p, &k)| (p.as_slice(), fitted[k]))
+            .collect();
+        for (&k, result) in failed.iter().zip(engine.run(hypothesis, &jobs)?) {
+            folds[k] = result;
+        }
+    }
     let holdouts: Vec<usize> = all
         .iter()
         .copied()
