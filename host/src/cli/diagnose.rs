@@ -33,13 +33,15 @@ pub struct DiagnoseArgs {
     /// Simulations at once (default: the number of cores).
     #[arg(long)]
     pub parallel: Option<usize>,
-    /// Levenberg-Marquardt iterations per refit.
-    #[arg(long, default_value_t = 8)]
-    pub iterations: usize,
+    /// Levenberg-Marquardt iterations per refit (at most 50: each costs a simulation per
+    /// constant and experiment, and a refit that has not converged in 50 will not).
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u64).range(1..=50))]
+    pub iterations: u64,
     /// Terms refitted at most, in rank order: the significant ones; when none of them is
-    /// accepted, as many of the others, judged by their likelihood ratio.
-    #[arg(long, default_value_t = 3)]
-    pub max_refits: usize,
+    /// accepted, as many of the others, judged by their likelihood ratio (at most 32: more
+    /// than the library holds).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=32))]
+    pub max_refits: u64,
     /// Rounds at most: after an accepted term, the search starts again from the extended
     /// model until nothing more earns its place or this many terms were accepted.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u64).range(1..=16))]
@@ -116,9 +118,6 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     if !(args.alpha > 0.0 && args.alpha < 1.0) {
         return Err(format!("--alpha must be in (0, 1), got {}", args.alpha));
     }
-    if args.iterations == 0 {
-        return Err("--iterations must be >= 1".into());
-    }
     let campaign_file = campaign_path(args)?;
     let campaign = Campaign::load(&campaign_file).map_err(|e| e.to_string())?;
     let results = read_results(&args.calibration)?;
@@ -140,8 +139,8 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     let options = Options {
         alpha: args.alpha,
         parallel: args.parallel.unwrap_or(Options::default().parallel),
-        iterations: args.iterations,
-        max_refits: args.max_refits,
+        iterations: args.iterations as usize,
+        max_refits: args.max_refits as usize,
         max_rounds: args.max_rounds as usize,
     };
     let _lock = crate::run_lock::RunLock::acquire(&args.calibration)?;
