@@ -289,6 +289,154 @@ fn cases() -> Vec<Case> {
         });
     }
 
+    // 3b. Recordings their experiment could not have produced (issue 52, item 1): each rule of
+    //     experiment::plausibility once, named with its line and column.
+    let taylor_rules = [
+        (
+            "Lf above L0",
+            format!("{header}\nfinal_length,0,0.0300,5e-5\n"),
+            "value",
+        ),
+        (
+            "negative final length",
+            format!("{header}\nfinal_length,0,-0.02,5e-5\n"),
+            "value",
+        ),
+        (
+            "footprint narrower than the rod (a radius)",
+            format!("{header}\nfinal_length,0,0.0225,5e-5\nfootprint_diameter,0,0.00555,1.5e-4\n"),
+            "value",
+        ),
+        (
+            "two final lengths",
+            format!("{header}\nfinal_length,0,0.0225,5e-5\nfinal_length,0,0.0224,5e-5\n"),
+            "value",
+        ),
+        (
+            "station beyond the rod",
+            format!("{header}\nfinal_length,0,0.0225,5e-5\ndiameter,0.03,0.008,1e-4\n"),
+            "position",
+        ),
+    ];
+    for (name, csv, field) in taylor_rules {
+        cases.push(Case {
+            name: format!("implausible Taylor recording: {name}"),
+            files: taylor_files(&experiment, &material, &csv),
+            args: simulate_args(),
+            file: "recording.csv".into(),
+            field: field.into(),
+            line: true,
+        });
+    }
+    let flow_in_mpa: String = read("experiments/flow-4340-jc-tension-570s-298K.csv")
+        .lines()
+        .map(|l| match l.split(',').collect::<Vec<_>>().as_slice() {
+            [q, p, v, u] if *q == "true_stress" => format!(
+                "{q},{p},{},{}",
+                v.parse::<f64>().unwrap() / 1e6,
+                u.parse::<f64>().unwrap() / 1e6
+            ),
+            _ => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let flow_for_rules = read("experiments/flow-4340-jc-tension-570s-298K.toml")
+        .replace(
+            "\"flow-4340-jc-tension-570s-298K.csv\"",
+            "\"recording.csv\"",
+        )
+        .replace("\"../materials/4340-jc.toml\"", "\"material.toml\"");
+    for (name, csv) in [
+        ("flow curve in MPa read as Pa", flow_in_mpa),
+        (
+            "negative flow stress",
+            format!("{header}\ntrue_stress,0.01,-8.0e8,1.6e7\n"),
+        ),
+    ] {
+        cases.push(Case {
+            name: format!("implausible flow curve: {name}"),
+            files: taylor_files(&flow_for_rules, &material, &csv),
+            args: simulate_args(),
+            file: "recording.csv".into(),
+            field: "value".into(),
+            line: true,
+        });
+    }
+    let penetration = read("experiments/penetration-hzb-1250.toml")
+        .replace("\"penetration-hzb-1250.csv\"", "\"recording.csv\"")
+        .replace("\"../materials/hzb-w-jc.toml\"", "\"material.toml\"")
+        .replace("\"../materials/wha-jc.toml\"", "\"rod.toml\"");
+    let rod = read("materials/wha-jc.toml");
+    let target = read("materials/hzb-w-jc.toml");
+    for (name, csv, field) in [
+        (
+            "nose depth falling with time",
+            format!("{header}\nnose_depth,2.0e-5,1.2e-2,3e-4\nnose_depth,4.0e-5,0.8e-2,3e-4\n"),
+            "value",
+        ),
+        (
+            "negative nose depth",
+            format!("{header}\nnose_depth,2.0e-5,-5e-3,3e-4\n"),
+            "value",
+        ),
+        (
+            "rod longer than it was",
+            format!("{header}\nrod_length,2.0e-5,0.08,5e-4\n"),
+            "value",
+        ),
+        (
+            "residual velocity above the striking one",
+            format!("{header}\nresidual_velocity,0,1400.0,10.0\n"),
+            "value",
+        ),
+    ] {
+        cases.push(Case {
+            name: format!("implausible penetration recording: {name}"),
+            files: vec![
+                ("experiment.toml".into(), penetration.clone()),
+                ("material.toml".into(), target.clone()),
+                ("rod.toml".into(), rod.clone()),
+                ("recording.csv".into(), csv),
+            ],
+            args: simulate_args(),
+            file: "recording.csv".into(),
+            field: field.into(),
+            line: true,
+        });
+    }
+    let ballistic = read("experiments/ballistic-hns-wc.toml")
+        .replace("\"ballistic-hns-wc.csv\"", "\"recording.csv\"")
+        .replace("\"../materials/hns-jc.toml\"", "\"material.toml\"")
+        .replace("\"../materials/wc-core.toml\"", "\"core.toml\"");
+    for (name, csv) in [
+        (
+            "residual velocity above the impact velocity",
+            format!("{header}\nresidual_velocity,800.0,950.0,10.0\n"),
+        ),
+        (
+            "residual mass above the projectile's",
+            format!("{header}\nresidual_mass,800.0,1.0,1e-4\n"),
+        ),
+        (
+            "non-positive ballistic limit",
+            format!("{header}\nballistic_limit,0,-762.0,25.0\n"),
+        ),
+    ] {
+        cases.push(Case {
+            name: format!("implausible ballistic recording: {name}"),
+            files: vec![
+                ("experiment.toml".into(), ballistic.clone()),
+                ("material.toml".into(), read("materials/hns-jc.toml")),
+                ("core.toml".into(), read("materials/wc-core.toml")),
+                ("recording.csv".into(), csv),
+            ],
+            args: simulate_args(),
+            file: "recording.csv".into(),
+            field: "value".into(),
+            line: true,
+        });
+    }
+
     // 4. Broken experiment files beyond single fields.
     for (name, text, field, line) in [
         (
@@ -470,6 +618,7 @@ fn cases() -> Vec<Case> {
         ("syntax error", campaign.replace("[optimiser]", "[optimiser"), "", true),
         ("fold budget without leave-one-out", campaign.replace("[optimiser]", "[optimiser]\nfold_budget = 2"), "fold_budget", true),
         ("parallel 0 named as parallel", campaign.replace("parallel = 2", "parallel = 0"), "parallel", true),
+        ("experiment listed twice", campaign.replacen("[[experiments]]", &format!("[[experiments]]{}[[experiments]]", campaign.split("[[experiments]]").nth(1).unwrap()), 1), "listed twice", true),
         ("instances 0 named as instances", campaign.replace("instances = 1", "instances = 0"), "instances", true),
         ("budget costing weeks", campaign.replace("budget = 40", "budget = 1000000000"), "budget", false),
         ("leave-one-out with one fitted experiment", one_fitted.replace("[optimiser]", "[optimiser]\nleave_one_out = true"), "leave_one_out", true),

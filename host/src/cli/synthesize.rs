@@ -64,7 +64,7 @@ pub fn recordings(args: &SynthesizeArgs) -> Result<(String, String), String> {
     if !(args.noise >= 0.0 && args.noise.is_finite()) {
         return Err(format!("--noise must be >= 0, got {}", args.noise));
     }
-    let experiment = Experiment::load(&args.experiment).map_err(|e| e.to_string())?;
+    let experiment = Experiment::load_template(&args.experiment).map_err(|e| e.to_string())?;
     let (truth_file, truth) = material::load(&args.material).map_err(|e| e.to_string())?;
     let outcome = experiment
         .simulate(&PartMaterial::from(truth), &SolverSettings::default())

@@ -23,6 +23,7 @@ pub mod blast_plate;
 pub mod drop_weight_beam;
 pub mod penetration;
 pub mod perforation;
+pub mod plausibility;
 pub mod shpb;
 pub mod taylor;
 pub mod tension;
@@ -429,8 +430,20 @@ pub enum SimulationError {
 }
 
 impl Experiment {
-    /// Load an experiment file and its recording. Errors name the file, line and field.
+    /// Load an experiment file and its recording. Errors name the file, line and field; a
+    /// recording its experiment could not have produced is refused ([`plausibility`]).
     pub fn load(path: &Path) -> Result<Self, InputError> {
+        Self::load_checked(path, true)
+    }
+
+    /// Load an experiment whose recording is a template of positions to be filled by `stoss
+    /// synthesize` (its values are placeholders): every check of [`Self::load`] but the
+    /// plausibility of the recorded values.
+    pub fn load_template(path: &Path) -> Result<Self, InputError> {
+        Self::load_checked(path, false)
+    }
+
+    fn load_checked(path: &Path, check_values: bool) -> Result<Self, InputError> {
         let text = input::read_text(path)?;
         let mut file: ExperimentFile = input::parse_toml(path, &text)?;
         let check = |field: &str, ok: bool, message: &str| {
@@ -521,6 +534,19 @@ impl Experiment {
                     ),
                 });
             }
+        }
+        // Values and positions the experiment could not have produced (docs/formats.md,
+        // "Recordings checked against their experiment").
+        if let Some(bad) = check_values
+            .then(|| plausibility::check(&file.setup, &recording))
+            .flatten()
+        {
+            return Err(InputError::Field {
+                path: recording_path.clone(),
+                line: recording::point_line(&recording_path, bad.index),
+                field: bad.column.into(),
+                message: format!("point {}: {}", bad.index + 1, bad.message),
+            });
         }
         if let Setup::Penetration(spec) = &file.setup {
             for (index, point) in recording.iter().enumerate() {

@@ -788,6 +788,22 @@ fn check_experiments_and_optimiser(
         ));
     }
     for (index, entry) in file.experiments.iter().enumerate() {
+        // One recording fitted twice would count twice: refused (issue 52, item 1).
+        if let Some(first) = file.experiments[..index]
+            .iter()
+            .position(|other| other.file == entry.file)
+        {
+            return Err(InputError::at(
+                path,
+                text,
+                &["experiments", &index.to_string(), "file"],
+                format!(
+                    "{} is listed twice (also experiment {}): each experiment once",
+                    entry.file,
+                    first + 1
+                ),
+            ));
+        }
         if !(entry.weight > 0.0 && entry.weight.is_finite()) {
             return Err(InputError::at(
                 path,
