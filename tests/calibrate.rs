@@ -1098,14 +1098,15 @@ fn a_kc_campaign_fits_the_beam_concrete_by_its_dotted_paths() {
             .replace("end_time = 0.02", "end_time = 4.0e-4\nelement_size = 0.02")
             .replace("field_times = [6.0e-4]", "field_times = [2.0e-4]")
             .replace("\"../", &format!("\"{}/", fixtures().display()))
-            .replace(
-                "\"rc-beam-drop-weight.csv\"",
-                &format!(
-                    "\"{}/experiments/rc-beam-drop-weight.csv\"",
-                    fixtures().display()
-                ),
-            );
+            .replace("\"rc-beam-drop-weight.csv\"", "\"beam.csv\"");
     std::fs::write(dir.join("beam.toml"), experiment).unwrap();
+    // The first crack time only: the displacement history runs to 20 ms, past this shortened
+    // run, and a recorded time outside the run is refused.
+    std::fs::write(
+        dir.join("beam.csv"),
+        "quantity,position,value,uncertainty\nfirst_crack_time,0.0,3.0e-4,1.0e-4\n",
+    )
+    .unwrap();
     let campaign_text = format!(
         "name = \"K&C beam\"\nmaterial = \"{}/materials/hpc-100-kc.toml\"\n\n[[models]]\nname = \
          \"kc\"\n[models.parameters]\n\"parameters.tensile_strength\" = [3.0e6, 12.0e6]\n\n\
@@ -1151,7 +1152,7 @@ fn a_kc_campaign_fits_the_beam_concrete_by_its_dotted_paths() {
     assert!(beam.band_elements > stoss::experiment::drop_weight_beam::ONE_ELEMENT);
     assert!(!localisation.offered && !localisation.accepted && beam.with_term.is_none());
     assert!(localisation.verdict.contains("not offered"));
-    assert_eq!(beam.points, 2);
+    assert_eq!(beam.points, 1);
     std::fs::write(
         &path,
         campaign_text.replace("parameters.tensile_strength", "parameters.maximum_surface"),

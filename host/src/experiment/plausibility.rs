@@ -257,6 +257,17 @@ pub fn check(setup: &Setup, recording: &[RecordedPoint]) -> Option<Implausible> 
                 spec.exposed_radius,
                 "a radius (m from the plate's centre) of",
             ),
+            (Setup::DropWeightBeam(spec), "first_crack_time") => {
+                (!(at_least(point, 0.0) && at_most(point, spec.end_time))).then(|| Implausible {
+                    index,
+                    column: "value",
+                    message: format!(
+                        "a first crack time of {} s is outside the simulated 0..={} s (a time in \
+                     ms read as s?)",
+                        point.value, spec.end_time
+                    ),
+                })
+            }
             (Setup::DropWeightBeam(spec), _) => {
                 inside(index, point, spec.end_time, "a time (s after impact) of")
             }
