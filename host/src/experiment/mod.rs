@@ -883,6 +883,15 @@ impl Experiment {
     }
 }
 
+/// Whether a run to `end_time` at `time_step` with `elements` elements stays within
+/// [`MAXIMUM_STEPS`], [`MAXIMUM_ELEMENTS`] and [`MAXIMUM_ELEMENT_CYCLES`].
+pub(crate) fn within_run_budget(end_time: f64, time_step: f64, elements: f64) -> bool {
+    let steps = end_time / time_step;
+    steps <= MAXIMUM_STEPS
+        && elements <= MAXIMUM_ELEMENTS
+        && steps * elements <= MAXIMUM_ELEMENT_CYCLES
+}
+
 /// [`check_run_budget`] for a run whose end time follows from other fields; the error names
 /// `field` (the one a unit slip would have made too large).
 pub(crate) fn check_run_budget_of(
@@ -896,10 +905,7 @@ pub(crate) fn check_run_budget_of(
     RUN_SIZE_TALLY.with(|tally| tally.set(tally.get().max(steps * elements)));
     check(
         field,
-        crate::input::implausible_allowed()
-            || (steps <= MAXIMUM_STEPS
-                && elements <= MAXIMUM_ELEMENTS
-                && steps * elements <= MAXIMUM_ELEMENT_CYCLES),
+        crate::input::implausible_allowed() || within_run_budget(end_time, time_step, elements),
         &format!(
             "needs at least {steps:.0} steps of {elements:.0} elements ({:.1e} \
              element-cycles; at most {MAXIMUM_STEPS:.0} steps, {MAXIMUM_ELEMENTS:.0e} elements \

@@ -102,19 +102,33 @@ impl TaylorSpec {
             (2..=200).contains(&self.radial_elements),
             "must be in 2..=200",
         )?;
-        // A length in mm entered as m is a runaway, not a test: refuse it up front.
-        let size = 0.5 * self.diameter / self.radial_elements as f64;
-        let section = match self.geometry {
-            TaylorGeometry::Axisymmetric => self.radial_elements as f64,
-            // The quarter O-grid: a core of (n/2)^2 and two ring blocks of as many.
-            TaylorGeometry::Quarter3d => 3.0 * ((self.radial_elements / 2).max(1) as f64).powi(2),
+        // A length in mm entered as m is a runaway, not a test: refuse it up front. The error
+        // names the field that makes the run too large: `radial_elements` if the rod would fit
+        // at the default mesh, else `length`.
+        let (end_time, step, elements) = self.run_size(self.radial_elements);
+        let (end, default_step, default_elements) = self.run_size(default_radial());
+        let field = if super::within_run_budget(end, default_step, default_elements) {
+            "radial_elements"
+        } else {
+            "length"
         };
-        super::check_run_budget_of(
-            check,
-            "length",
+        super::check_run_budget_of(check, field, end_time, step, elements)
+    }
+
+    /// The end time, undeformed stable step and element count of the rod meshed with `radial`
+    /// elements across its radius.
+    fn run_size(&self, radial: usize) -> (f64, f64, f64) {
+        let size = 0.5 * self.diameter / radial as f64;
+        let section = match self.geometry {
+            TaylorGeometry::Axisymmetric => radial as f64,
+            // The quarter O-grid: a core of (n/2)^2 and two ring blocks of as many.
+            TaylorGeometry::Quarter3d => 3.0 * ((radial / 2).max(1) as f64).powi(2),
+        };
+        let axial = ((self.length / size).round() as usize).max(4);
+        (
             self.damping_start() + 40.0 * transit(self.length),
             super::undeformed_time_step(size, false),
-            section * self.axial_elements() as f64,
+            section * axial as f64,
         )
     }
 
