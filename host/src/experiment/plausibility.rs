@@ -314,3 +314,118 @@ fn residual_mass(index: usize, point: &RecordedPoint, mass: Option<f64>) -> Opti
         },
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::Experiment;
+    use crate::random::SplitMix64;
+
+    fn setup_of(name: &str) -> Setup {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../fixtures/experiments")
+            .join(name);
+        Experiment::load(&path).unwrap().file.setup
+    }
+
+    fn point(quantity: &str, position: f64, value: f64, uncertainty: f64) -> RecordedPoint {
+        RecordedPoint {
+            quantity: quantity.into(),
+            position,
+            value,
+            uncertainty,
+        }
+    }
+
+    #[test]
+    fn generated_recordings_that_keep_the_rules_load_and_those_that_break_one_are_refused() {
+        // GOAL: the rules hold as stated, on many generated recordings, not on one case each
+        //       (issue 52's property test).
+        // SETUP: the bundled Taylor (L0 25.4 mm, D0 7.62 mm), penetration (1250 m/s, 50 mm
+        //        rod, 55 us run), flow-curve and ballistic set-ups; 200 recordings of each
+        //        rule drawn by SplitMix64 (seed 52): inside the rule, and beyond it by more
+        //        than 3 uncertainties.
+        // REFERENCE: the rules of the module: every inside draw passes, every outside draw
+        //        is refused with the broken point's index and column.
+        let mut rng = SplitMix64::new(52);
+        let mut draw = |low: f64, high: f64| low + (high - low) * rng.uniform();
+        let taylor = setup_of("taylor-4340-208.toml");
+        let penetration = setup_of("penetration-hzb-1250.toml");
+        let flow = setup_of("flow-4340-jc-tension-570s-298K.toml");
+        let ballistic = setup_of("ballistic-hns-wc.toml");
+        for _ in 0..200 {
+            let sigma = draw(1e-5, 2e-4);
+            // Taylor: Lf in (0, L0], diameters at least D0, stations inside the rod.
+            let good = vec![
+                point("final_length", 0.0, draw(0.005, 0.0254), sigma),
+                point("footprint_diameter", 0.0, draw(0.00762, 0.02), sigma),
+                point("diameter", draw(0.0, 0.0254), draw(0.00762, 0.012), sigma),
+            ];
+            assert_eq!(check(&taylor, &good), None, "{good:?}");
+            let mut long = good.clone();
+            long[0].value = 0.0254 + 3.0 * sigma + draw(1e-6, 0.01);
+            assert_eq!(
+                check(&taylor, &long).map(|b| (b.index, b.column)),
+                Some((0, "value"))
+            );
+            let mut narrow = good.clone();
+            narrow[1].value = 0.00762 - 3.0 * sigma - draw(1e-6, 0.004);
+            assert_eq!(
+                check(&taylor, &narrow).map(|b| (b.index, b.column)),
+                Some((1, "value"))
+            );
+            let mut outside = good.clone();
+            outside[2].position = 0.0254 + draw(1e-6, 0.05);
+            assert_eq!(
+                check(&taylor, &outside).map(|b| (b.index, b.column)),
+                Some((2, "position"))
+            );
+            // Penetration: a nose depth that never falls (within the noise) passes; one
+            // falling by more than the combined noise is refused.
+            let times = [10e-6, 20e-6, 30e-6, 40e-6, 50e-6];
+            let mut depth = 0.0;
+            let rising: Vec<RecordedPoint> = times
+                .iter()
+                .map(|&t| {
+                    depth += draw(0.0, 0.006);
+                    point("nose_depth", t, depth, 3e-4)
+                })
+                .collect();
+            assert_eq!(check(&penetration, &rising), None);
+            let mut falling = rising.clone();
+            let k = 1 + (draw(0.0, 3.999) as usize);
+            falling[k].value =
+                falling[k - 1].value - 3.0 * libm::hypot(3e-4, 3e-4) - draw(1e-6, 5e-3);
+            assert!(check(&penetration, &falling).is_some_and(|b| b.column == "value"));
+            let fast = vec![point(
+                "residual_velocity",
+                0.0,
+                1250.0 + 30.0 + draw(1.0, 500.0),
+                10.0,
+            )];
+            assert!(check(&penetration, &fast).is_some());
+            let slow = vec![point("residual_velocity", 0.0, draw(0.0, 1250.0), 10.0)];
+            assert_eq!(check(&penetration, &slow), None);
+            // Flow curves: 1 MPa to 20 GPa.
+            let stress = draw(1.0e6, 2.0e10);
+            assert_eq!(
+                check(&flow, &[point("true_stress", 0.1, stress, 0.02 * stress)]),
+                None
+            );
+            let in_mpa = stress / 1.0e6;
+            let slipped = point("true_stress", 0.1, in_mpa.min(0.99e6), 0.02 * in_mpa);
+            assert!(check(&flow, &[slipped]).is_some());
+            // Ballistic: a residual velocity up to the shot's impact velocity.
+            let impact = draw(300.0, 1500.0);
+            let exit = point("residual_velocity", impact, draw(0.0, impact), 5.0);
+            assert_eq!(check(&ballistic, &[exit]), None);
+            let faster = point(
+                "residual_velocity",
+                impact,
+                impact + 15.0 + draw(0.1, 300.0),
+                5.0,
+            );
+            assert!(check(&ballistic, &[faster]).is_some());
+        }
+    }
+}
