@@ -468,6 +468,70 @@ impl Campaign {
                 format!("model {}: {message}", model.name),
             ));
         }
+        // The box, not only its middle (issue 52, item 4): a bound that makes the model
+        // invalid (a negative exponent, a reference temperature above the melting one) would
+        // let infeasible candidates run and fail one by one. Every corner when the constants
+        // are few (the kernel's constraints are intervals of one or two constants, so the
+        // corners hold the extremes); else each constant at its bounds, the others in the
+        // middle.
+        let constants = space.constant_count();
+        let corners: Vec<Vec<f64>> = if constants <= MAXIMUM_CORNER_CONSTANTS {
+            (0..(1_usize << constants))
+                .map(|corner| {
+                    let mut values = middle.clone();
+                    for (k, value) in values.iter_mut().take(constants).enumerate() {
+                        *value = if (corner >> k) & 1 == 0 {
+                            space.lower[k]
+                        } else {
+                            space.upper[k]
+                        };
+                    }
+                    values
+                })
+                .collect()
+        } else {
+            (0..constants)
+                .flat_map(|k| {
+                    [space.lower[k], space.upper[k]].map(|bound| {
+                        let mut values = middle.clone();
+                        values[k] = bound;
+                        values
+                    })
+                })
+                .collect()
+        };
+        for values in &corners {
+            if let Err(message) = space.material(&campaign.base, values) {
+                // Name the first constant whose bound the corner takes and which alone makes
+                // the model invalid; else the corner as a whole.
+                let culprit = (0..constants).find(|&k| {
+                    let mut single = middle.clone();
+                    single[k] = values[k];
+                    values[k] != middle[k] && space.material(&campaign.base, &single).is_err()
+                });
+                let corner: Vec<String> = (0..constants)
+                    .map(|k| format!("{} = {}", space.names[k], values[k]))
+                    .collect();
+                return Err(match culprit {
+                    Some(k) => error_at(
+                        &["parameters", &space.names[k]],
+                        format!(
+                            "model {}: at its bound {} the model is invalid: {message}",
+                            model.name, values[k]
+                        ),
+                    ),
+                    None => error_at(
+                        &["parameters"],
+                        format!(
+                            "model {}: the bounds allow an invalid model at the corner {}: \
+                             {message}",
+                            model.name,
+                            corner.join(", ")
+                        ),
+                    ),
+                });
+            }
+        }
         Ok(())
     }
 
@@ -715,6 +779,10 @@ impl Campaign {
     }
 }
 
+/// Fitted constants up to which every corner of a model's box is checked at load (2^10
+/// material validations, a few milliseconds); above, each constant at its bounds.
+const MAXIMUM_CORNER_CONSTANTS: usize = 10;
+
 /// Bounds are `[lower, upper]`: serde reads the first two numbers of a longer array and would
 /// drop the rest silently.
 fn check_bound_pairs(path: &Path, text: &str, tree: &toml::Table) -> Result<(), InputError> {
@@ -830,6 +898,22 @@ fn check_experiments_and_optimiser(
     ] {
         if !ok {
             return Err(InputError::field(path, text, field, message));
+        }
+    }
+    // A feasible band that is empty would reject every candidate one by one.
+    let constraints = &file.constraints;
+    if let Some(min) = constraints.min_flow_stress {
+        if min >= constraints.max_flow_stress {
+            return Err(InputError::field(
+                path,
+                text,
+                "max_flow_stress",
+                format!(
+                    "{} Pa is not above min_flow_stress ({min} Pa): no candidate could be \
+                     feasible",
+                    constraints.max_flow_stress
+                ),
+            ));
         }
     }
     if o.design == Some(0) || o.design.is_some_and(|d| d > o.budget) {
