@@ -66,24 +66,33 @@ fn diagnose_case(
     let work = temporary(&format!("{case}-{tag}"));
     let copy = work.join("case");
     copy_without_truth(&fixtures().join(case), &copy);
-    let calibration = work.join("calibration");
-    let campaign = copy.join("campaign.toml");
-    stoss(&[
+    let diagnosis = calibrate_and_diagnose(
+        &copy.join("campaign.toml"),
+        &work.join("calibration"),
+        &["--budget", budget, "--polish", polish, "--instances", "1"],
+    );
+    (diagnosis, work)
+}
+
+/// `stoss calibrate campaign` into `calibration` with `options`, then `stoss diagnose`; the
+/// diagnosis.
+fn calibrate_and_diagnose(
+    campaign: &Path,
+    calibration: &Path,
+    options: &[&str],
+) -> serde_json::Value {
+    let mut args = vec![
         "calibrate",
         campaign.to_str().unwrap(),
         "--output",
         calibration.to_str().unwrap(),
-        "--budget",
-        budget,
-        "--polish",
-        polish,
-        "--instances",
-        "1",
-    ]);
+    ];
+    args.extend_from_slice(options);
+    stoss(&args);
     stoss(&["diagnose", calibration.to_str().unwrap()]);
     let json = std::fs::read_to_string(calibration.join("diagnosis/diagnosis.json")).unwrap();
     assert!(calibration.join("diagnosis/report.md").exists());
-    (serde_json::from_str(&json).unwrap(), work)
+    serde_json::from_str(&json).unwrap()
 }
 
 /// Check a case: the accepted term, and after the refit: reduced chi-square of the fitted
@@ -442,22 +451,11 @@ fn a_laboratory_offset_is_fitted_as_a_source_scale_and_not_blamed_on_the_materia
     );
     assert_ne!(unscaled, text);
     std::fs::write(&campaign, unscaled).unwrap();
-    let calibration = work.join("calibration");
-    stoss(&[
-        "calibrate",
-        campaign.to_str().unwrap(),
-        "--output",
-        calibration.to_str().unwrap(),
-        "--budget",
-        "16",
-        "--polish",
-        "16",
-        "--instances",
-        "1",
-    ]);
-    stoss(&["diagnose", calibration.to_str().unwrap()]);
-    let json = std::fs::read_to_string(calibration.join("diagnosis/diagnosis.json")).unwrap();
-    let unscaled: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let unscaled = calibrate_and_diagnose(
+        &campaign,
+        &work.join("calibration"),
+        &["--budget", "16", "--polish", "16", "--instances", "1"],
+    );
     let verdict = unscaled["verdict"].as_str().unwrap();
     assert!(verdict.contains("The model misses"), "{verdict}");
     assert!(!verdict.contains("Source offsets"), "{verdict}");
@@ -544,18 +542,11 @@ fn real_aluminium_from_four_laboratories_names_the_rate_temperature_coupling() {
     //        or temper difference, within the 0.8-1.25 searched and not at a bound.
     let work = temporary("aluminium");
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    let calibration = work.join("calibration");
-    stoss(&[
-        "calibrate",
-        root.join("fixtures/campaigns/6061-t6-real.toml")
-            .to_str()
-            .unwrap(),
-        "--output",
-        calibration.to_str().unwrap(),
-    ]);
-    stoss(&["diagnose", calibration.to_str().unwrap()]);
-    let json = std::fs::read_to_string(calibration.join("diagnosis/diagnosis.json")).unwrap();
-    let diagnosis: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let diagnosis = calibrate_and_diagnose(
+        &root.join("fixtures/campaigns/6061-t6-real.toml"),
+        &work.join("calibration"),
+        &[],
+    );
     let verdict = diagnosis["verdict"].as_str().unwrap();
     assert_eq!(
         diagnosis["accepted"], "rate-temperature-coupling",

@@ -7,13 +7,27 @@ fn fixtures() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
 }
 
+/// A raw data file's rows (space or comma separated).
 fn raw_table(path: &std::path::Path) -> Vec<Vec<f64>> {
     std::fs::read_to_string(path)
         .unwrap()
+        .replace(',', " ")
         .lines()
         .filter(|l| !l.trim().is_empty())
         .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
         .collect()
+}
+
+/// The bundled experiment file that names the raw file `name`.
+fn experiment_naming(name: &str) -> PathBuf {
+    std::fs::read_dir(fixtures().join("experiments"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.extension().is_some_and(|e| e == "toml")
+                && std::fs::read_to_string(p).unwrap().contains(name)
+        })
+        .unwrap_or_else(|| panic!("no experiment names {name}"))
 }
 
 fn close(a: f64, b: f64) -> bool {
@@ -91,15 +105,7 @@ fn flow_recordings_are_the_published_numbers() {
         }
         let percent = name.ends_with("LY.dat");
         let raw = raw_table(&path);
-        let recording_name = std::fs::read_dir(fixtures().join("experiments"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .find(|p| {
-                p.extension().is_some_and(|e| e == "toml")
-                    && std::fs::read_to_string(p).unwrap().contains(&name)
-            })
-            .unwrap();
-        let csv = recording_name.with_extension("csv");
+        let csv = experiment_naming(&name).with_extension("csv");
         let points = recording::load(&csv).unwrap();
         assert_eq!(points.len(), raw.len(), "{name}");
         for (point, row) in points.iter().zip(&raw) {
@@ -131,21 +137,11 @@ fn aluminium_flow_recordings_are_the_digitised_numbers() {
         if !name.ends_with(".dat") {
             continue;
         }
-        let text = std::fs::read_to_string(&path).unwrap().replace(',', " ");
-        let raw: Vec<Vec<f64>> = text
-            .lines()
-            .filter(|l| !l.trim().is_empty())
-            .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
-            .filter(|row: &Vec<f64>| row[0] >= 0.01)
+        let raw: Vec<Vec<f64>> = raw_table(&path)
+            .into_iter()
+            .filter(|row| row[0] >= 0.01)
             .collect();
-        let experiment = std::fs::read_dir(fixtures().join("experiments"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .find(|p| {
-                p.extension().is_some_and(|e| e == "toml")
-                    && std::fs::read_to_string(p).unwrap().contains(&name)
-            })
-            .unwrap_or_else(|| panic!("no experiment names {name}"));
+        let experiment = experiment_naming(&name);
         let scale = if name.contains("Hoge") {
             6_894_757.293_168_361
         } else {
