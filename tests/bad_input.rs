@@ -437,6 +437,36 @@ fn cases() -> Vec<Case> {
         });
     }
 
+    // 3c. A charge mass in grams written as kilograms: a disc metres tall (issue 52, item 3).
+    let blast = read("experiments/blast-hha-37g-13mm.toml")
+        .replace("\"blast-hha-37g-13mm.csv\"", "\"recording.csv\"")
+        .replace(
+            "\"../materials/synthetic-hha-truth.toml\"",
+            "\"material.toml\"",
+        );
+    assert!(blast.contains("mass = 0.0375"));
+    cases.push(Case {
+        name: "blast charge mass in g written as kg".into(),
+        files: vec![
+            (
+                "experiment.toml".into(),
+                blast.replace("mass = 0.0375", "mass = 37.5"),
+            ),
+            (
+                "material.toml".into(),
+                read("materials/synthetic-hha-truth.toml"),
+            ),
+            (
+                "recording.csv".into(),
+                read("experiments/blast-hha-37g-13mm.csv"),
+            ),
+        ],
+        args: simulate_args(),
+        file: "experiment.toml".into(),
+        field: "charge.mass".into(),
+        line: true,
+    });
+
     // 4. Broken experiment files beyond single fields.
     for (name, text, field, line) in [
         (

@@ -323,6 +323,25 @@ impl NearFieldBlast {
             ));
         }
         let (radius, height) = c.dimensions();
+        // The detonation must cross the charge well within the run, or the plate never sees
+        // the whole load: a charge whose detonation alone outlasts `euler.end_time` is a mass
+        // in the wrong unit (grams read as kilograms make a disc metres tall), not a test.
+        let detonation = c.explosive.jwl().chapman_jouguet().detonation_velocity;
+        let crossing = (2.0 * radius).max(height) / detonation;
+        if crossing > e.end_time {
+            return Err(invalid(
+                "charge.mass",
+                format!(
+                    "{} kg makes a charge {:.3} m across and {:.3} m tall, which the detonation \
+                     needs {crossing:.2e} s to cross, longer than the whole run \
+                     (euler.end_time {:.2e} s): a mass in g written as kg?",
+                    c.mass,
+                    2.0 * radius,
+                    height,
+                    e.end_time
+                ),
+            ));
+        }
         let smallest = (2.0 * radius).min(height);
         let across = smallest / e.cell_size;
         if across < MINIMUM_CELLS_ACROSS_CHARGE {
