@@ -51,7 +51,9 @@ fn at_most(point: &RecordedPoint, bound: f64) -> bool {
 }
 
 /// The first point of `quantity` that breaks monotonicity in its position (`rising`: may not
-/// fall; else may not rise) by more than the two points' combined noise.
+/// fall; else may not rise) by more than its and the earlier extreme's combined noise. One
+/// pass over the points in position order against the running extreme (the highest value so
+/// far when rising), so a long history costs `n log n`, not `n^2`.
 fn monotone(recording: &[RecordedPoint], quantity: &str, rising: bool) -> Option<Implausible> {
     let mut points: Vec<(usize, &RecordedPoint)> = recording
         .iter()
@@ -59,19 +61,27 @@ fn monotone(recording: &[RecordedPoint], quantity: &str, rising: bool) -> Option
         .filter(|(_, p)| p.quantity == quantity)
         .collect();
     points.sort_by(|a, b| a.1.position.total_cmp(&b.1.position));
-    for (k, &(index, later)) in points.iter().enumerate() {
-        for &(_, earlier) in &points[..k] {
-            if earlier.position == later.position {
-                continue;
-            }
+    let beyond = |a: &RecordedPoint, b: &RecordedPoint| {
+        if rising {
+            a.value > b.value
+        } else {
+            a.value < b.value
+        }
+    };
+    let mut extreme: Option<&RecordedPoint> = None;
+    let mut group_start = 0;
+    while group_start < points.len() {
+        // Points at one position are not compared with each other.
+        let position = points[group_start].1.position;
+        let group_end = points[group_start..]
+            .iter()
+            .position(|(_, p)| p.position != position)
+            .map_or(points.len(), |k| group_start + k);
+        for &(index, later) in &points[group_start..group_end] {
+            let Some(earlier) = extreme else { continue };
             let noise = NOISE_SIGMAS * libm::hypot(earlier.uncertainty, later.uncertainty);
             let change = later.value - earlier.value;
-            let broken = if rising {
-                change < -noise
-            } else {
-                change > noise
-            };
-            if broken {
+            if (rising && change < -noise) || (!rising && change > noise) {
                 return refuse(
                     index,
                     "value",
@@ -88,6 +98,12 @@ fn monotone(recording: &[RecordedPoint], quantity: &str, rising: bool) -> Option
                 );
             }
         }
+        for &(_, point) in &points[group_start..group_end] {
+            if extreme.is_none_or(|e| beyond(point, e)) {
+                extreme = Some(point);
+            }
+        }
+        group_start = group_end;
     }
     None
 }
