@@ -722,6 +722,16 @@ fn the_drop_weight_test_keeps_its_energy_and_ignores_the_thread_count() {
     assert!(energy.external_work > 0.0, "gravity's work is booked");
     assert!(one.predicted[0] > 0.0 && one.predicted[0] < 6.7e-3);
     assert!(one.predicted[1] > 0.0);
+    let striker_velocity = one
+        .summary
+        .iter()
+        .find(|(name, _)| name == "striker_velocity_final")
+        .map(|(_, v)| *v)
+        .expect("the striker's final velocity");
+    assert!(
+        striker_velocity > 0.0 && striker_velocity < 6.7,
+        "the striker slows: {striker_velocity} m/s"
+    );
     let report = one.report.as_ref().unwrap();
     assert_eq!(report.snapshots.len(), 1, "the damage field at 0.5 ms");
     assert!(report.text.contains("failure mode:"));
