@@ -1833,6 +1833,33 @@ fn cards_are_written_in_the_users_unit_system_with_the_users_id_and_name() {
         report.contains("user-material cards stay in SI"),
         "{report}"
     );
+    // Issue 51 item 1: the report opens with the recommendation (before any table), states
+    // what the set is valid for, and the constants table gives symbols, units and intervals;
+    // cards/README.md says which set each card holds, the recommended one first, and the
+    // recommended set's card title says so.
+    let recommendation = report.find("## Recommendation").expect("a recommendation");
+    assert!(recommendation < report.find("## Model selection").unwrap());
+    assert!(report.contains("Valid for the states the experiments covered"));
+    assert!(report.contains("| constant | symbol | unit | starting | selected | 95 % interval |"));
+    assert!(report.contains("| yield_stress | A | MPa |"), "{report}");
+    let index = std::fs::read_to_string(run.join("report/cards/README.md")).unwrap();
+    assert!(index.contains("mm-s-t-MPa"), "{index}");
+    let first_set = index.lines().find(|l| l.starts_with("## ")).unwrap();
+    assert!(first_set.ends_with("(recommended)"), "{index}");
+    let recommended_stem = if first_set.contains("starting") {
+        "jc-starting"
+    } else {
+        "jc"
+    };
+    let recommended_card =
+        std::fs::read_to_string(run.join(format!("report/cards/{recommended_stem}.k"))).unwrap();
+    assert!(
+        recommended_card.contains("recommended"),
+        "{recommended_card}"
+    );
+    if recommended_stem == "jc-starting" {
+        assert!(card.contains("not the recommended set"), "{card}");
+    }
     for (option, value, says) in [
         ("--units", "mm-ms-kg-MPa", "make the stress unit GPa"),
         ("--units", "furlong-s-kg", "--units"),

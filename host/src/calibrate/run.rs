@@ -591,7 +591,7 @@ struct ModelRun {
 }
 
 /// Run the campaign: every model's instances on the fitted experiments, then leave-one-out
-/// folds (for every model, or only for the model with the lowest fit error), the
+/// folds (for every model, or only for the selected model), the
 /// simulations through `executor`. Results go to `output/simulations.jsonl` as they arrive.
 pub fn calibrate<'a>(
     campaign: &'a Campaign,
@@ -640,18 +640,21 @@ pub fn calibrate<'a>(
         runner.fold(&mut run, None, &fitted, instances)?;
         runs.push(run);
     }
-    // Leave-one-out: fit on n-1, score the fold's best on all n (seed 000 sec. 4.2).
+    // Leave-one-out: fit on n-1, score the fold's best on all n (seed 000 sec. 4.2), for
+    // every model or for the selected one: the model whose calibrated constants the report
+    // recommends (held-out prediction, a margin inside the noise decided by the information
+    // criterion; `fit::result::recommend`).
+    let sets: Vec<crate::fit::result::SetScore> = runs
+        .iter()
+        .filter_map(|run| {
+            let (_, all_experiment) = run.finalists.first()?;
+            crate::fit::result::SetScore::of(&run.space.name, false, all_experiment, campaign, 0)
+        })
+        .collect();
+    let selected_name = crate::fit::result::selected_model(&sets);
     let selected_model = runs
         .iter()
-        .enumerate()
-        .filter_map(|(k, run)| {
-            run.finalists
-                .first()
-                .and_then(|(_, e)| e.total(campaign, &fitted))
-                .map(|t| (k, t))
-        })
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(k, _)| k);
+        .position(|run| Some(&run.space.name) == selected_name.as_ref());
     if fitted.len() > 1 {
         for (k, run) in runs.iter_mut().enumerate() {
             let wanted = match leave_one_out {

@@ -278,9 +278,10 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         );
     }
     println!();
-    let fitted = campaign.fitted();
-    let sets: Vec<crate::fit::result::SetScore> =
-        results.iter().flat_map(|r| r.set_scores(&fitted)).collect();
+    let sets: Vec<crate::fit::result::SetScore> = results
+        .iter()
+        .flat_map(|r| r.set_scores(&campaign))
+        .collect();
     if let Some(recommendation) = crate::fit::result::recommend(&sets) {
         println!("recommended: use {}:", recommendation.set.label());
         for reason in &recommendation.reasons {

@@ -21,7 +21,7 @@ pub const CAMPAIGN_PATH_FILE: &str = "campaign.path";
 pub struct DiagnoseArgs {
     /// Calibration folder (the output of `stoss calibrate`).
     pub calibration: PathBuf,
-    /// The model to diagnose (default: the selected model with the lowest fit error).
+    /// The model to diagnose (default: the calibration's selected model, as its report names it).
     #[arg(long)]
     pub model: Option<String>,
     /// The campaign file (default: the one named in `<calibration>/campaign.path`).
@@ -121,7 +121,8 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     let campaign_file = campaign_path(args)?;
     let campaign = Campaign::load(&campaign_file).map_err(|e| e.to_string())?;
     let results = read_results(&args.calibration)?;
-    let model = diagnose::selected(&results, args.model.as_deref()).map_err(|e| e.to_string())?;
+    let model = diagnose::selected(&results, &campaign, args.model.as_deref())
+        .map_err(|e| e.to_string())?;
     let entry = campaign.model(&model.model).ok_or_else(|| {
         format!(
             "model `{}` is not in {}",

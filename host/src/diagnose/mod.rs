@@ -294,9 +294,13 @@ impl Diagnosis {
 }
 
 /// The calibrated model to diagnose from a calibration's results: `model` by name, or the
-/// selected model with the lowest fit error.
+/// calibration's selected model (`fit::result::selected_model`: held-out prediction where
+/// experiments are held out, else the fit, a margin inside the noise decided by the
+/// information criterion), or, if no model could be scored on `campaign`, the lowest fit
+/// error.
 pub fn selected<'r>(
     results: &'r [ModelResult],
+    campaign: &crate::fit::Campaign,
     model: Option<&str>,
 ) -> Result<&'r ModelResult, DiagnoseError> {
     match model {
@@ -310,10 +314,23 @@ pub fn selected<'r>(
                     .join(", ")
             ))
         }),
-        None => results
-            .iter()
-            .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error))
-            .ok_or_else(|| DiagnoseError::Calibration("result.json holds no model".into())),
+        None => {
+            let calibrated: Vec<crate::fit::result::SetScore> = results
+                .iter()
+                .flat_map(|r| r.set_scores(campaign))
+                .filter(|s| !s.starting)
+                .collect();
+            let chosen = crate::fit::result::selected_model(&calibrated);
+            results
+                .iter()
+                .find(|r| Some(&r.model) == chosen.as_ref())
+                .or_else(|| {
+                    results
+                        .iter()
+                        .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error))
+                })
+                .ok_or_else(|| DiagnoseError::Calibration("result.json holds no model".into()))
+        }
     }
 }
 

@@ -199,7 +199,7 @@ pub struct OptimiserEntry {
     pub fold_budget: Option<usize>,
     /// Which models get the linearised 95 % intervals of their constants (a forward-difference
     /// Jacobian: one more candidate per fitted constant, not logged): `"every"` (default),
-    /// `"selected"` (the model with the lowest fit error) or `"none"`.
+    /// `"selected"` (the calibration's selected model, `fit::result::selected_model`) or `"none"`.
     #[serde(default)]
     pub uncertainty: UncertaintyFor,
 }
@@ -211,7 +211,7 @@ pub enum UncertaintyFor {
     /// Every model.
     #[default]
     Every,
-    /// The model with the lowest fit error.
+    /// The selected model (`fit::result::selected_model`).
     Selected,
     /// No model.
     None,
@@ -225,7 +225,8 @@ pub enum LeaveOneOut {
     Off,
     /// Every model of the campaign.
     Every,
-    /// The model with the lowest all-experiment fit error (model selection first).
+    /// The selected model (`fit::result::selected_model`: held-out prediction where experiments
+    /// are held out, else the fit; model selection first).
     Selected,
 }
 

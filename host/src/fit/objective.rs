@@ -191,6 +191,16 @@ impl Evaluation {
             .sum()
     }
 
+    /// The chi-square `sum (r / u)^2` over every recorded point of `experiments` (each
+    /// experiment's `n chi^2`), and the number of those points; `None` if a score is missing.
+    pub fn chi_square(&self, campaign: &Campaign, experiments: &[usize]) -> Option<(f64, usize)> {
+        experiments.iter().try_fold((0.0, 0), |(sum, points), &i| {
+            let score = self.scores.get(i).copied().flatten()?;
+            let n = campaign.experiments.get(i)?.recording.len();
+            Some((sum + n as f64 * score.chi * score.chi, points + n))
+        })
+    }
+
     /// Mean over `experiments` of the uncertainty-weighted RMS (1 = at the noise floor).
     pub fn mean_chi(&self, experiments: &[usize]) -> Option<f64> {
         let sum: Option<f64> = experiments

@@ -3,7 +3,7 @@
 //! the linearised uncertainty; read back by `stoss diagnose` and the report.
 
 use super::objective::Evaluation;
-use super::ModelSpace;
+use super::{Campaign, ModelSpace};
 use serde::{Deserialize, Serialize};
 
 /// The best candidate of one instance.
@@ -281,9 +281,47 @@ pub struct SetScore {
     pub at_bounds: usize,
     /// Mean chi over the fitted experiments (1 = at the recorded noise).
     pub mean_chi: Option<f64>,
+    /// Values fitted to the recordings (constants and set-up parameters); 0 for the starting
+    /// constants, which were fixed before the data.
+    pub fitted_values: usize,
+    /// Chi-square over the fitted recordings and their number of points.
+    pub fit_chi_square: Option<(f64, usize)>,
+    /// Chi-square over the held-out recordings and their number of points.
+    pub holdout_chi_square: Option<(f64, usize)>,
 }
 
 impl SetScore {
+    /// The scores of `evaluation` (model `model`'s calibrated set, or its starting one when
+    /// `starting`) on `campaign`'s fitted and held-out experiments.
+    pub fn of(
+        model: &str,
+        starting: bool,
+        evaluation: &Evaluation,
+        campaign: &Campaign,
+        at_bounds: usize,
+    ) -> Option<SetScore> {
+        let fitted = campaign.fitted();
+        let holdouts: Vec<usize> = (0..campaign.experiments.len())
+            .filter(|i| !fitted.contains(i))
+            .collect();
+        let held = |score: Option<f64>| if holdouts.is_empty() { None } else { score };
+        Some(SetScore {
+            model: model.to_string(),
+            starting,
+            fit_error: evaluation.total(campaign, &fitted)?,
+            holdout_error: held(evaluation.total(campaign, &holdouts)),
+            at_bounds,
+            mean_chi: evaluation.mean_chi(&fitted),
+            fitted_values: if starting { 0 } else { evaluation.values.len() },
+            fit_chi_square: evaluation.chi_square(campaign, &fitted),
+            holdout_chi_square: if holdouts.is_empty() {
+                None
+            } else {
+                evaluation.chi_square(campaign, &holdouts)
+            },
+        })
+    }
+
     /// How the set is named in a recommendation.
     pub fn label(&self) -> String {
         if self.starting {
@@ -291,6 +329,30 @@ impl SetScore {
         } else {
             format!("the calibrated {} constants", self.model)
         }
+    }
+
+    /// The set's name in a table: the model, `(starting)` added to the starting set.
+    pub fn short_label(&self) -> String {
+        if self.starting {
+            format!("{} (starting)", self.model)
+        } else {
+            self.model.clone()
+        }
+    }
+
+    /// Reduced chi-square over the fitted recordings, `chi^2 / (N - k)` with `k` the fitted
+    /// values (`None` without a chi-square or with `N <= k`).
+    pub fn reduced_chi_square(&self) -> Option<f64> {
+        let (chi_square, points) = self.fit_chi_square?;
+        (points > self.fitted_values).then(|| chi_square / (points - self.fitted_values) as f64)
+    }
+
+    /// Schwarz's information criterion over the fitted recordings, `BIC = chi^2 + k ln N`
+    /// (Schwarz, Ann. Stat. 6 (1978) 461, for Gaussian errors of known variance): the fit's
+    /// misfit with a price on every fitted value.
+    pub fn information_criterion(&self) -> Option<f64> {
+        let (chi_square, points) = self.fit_chi_square?;
+        Some(chi_square + self.fitted_values as f64 * libm::log(points.max(1) as f64))
     }
 }
 
@@ -300,6 +362,12 @@ pub const MISSES_THE_NOISE: f64 = 3.0;
 
 /// Mean chi up to which it says the set fits within the recorded uncertainty.
 pub const WITHIN_THE_NOISE: f64 = 1.5;
+
+/// Difference in chi-square (after scaling by the reduced chi-square, below) under which two
+/// sets' scores on the same recordings cannot be told apart: `2 ln B < 2`, "not worth more
+/// than a bare mention" on Kass & Raftery's scale (JASA 90 (1995) 773, sec. 3.2), the
+/// chi-square difference being twice the log-likelihood ratio for Gaussian errors.
+pub const INDISTINGUISHABLE_CHI_SQUARE: f64 = 2.0;
 
 /// Which constant set to use and why.
 #[derive(Clone, Debug, PartialEq)]
@@ -313,38 +381,43 @@ pub struct Recommendation {
 }
 
 impl ModelResult {
-    /// The calibrated set and (if it was scored) the starting set of this model; `fitted`:
-    /// the campaign's fitted experiments.
-    pub fn set_scores(&self, fitted: &[usize]) -> Vec<SetScore> {
-        let mut sets = vec![SetScore {
-            model: self.model.clone(),
-            starting: false,
-            fit_error: self.fit_error,
-            holdout_error: self.holdout_error,
-            at_bounds: self.at_bounds.len(),
-            mean_chi: self.selected.mean_chi(fitted),
-        }];
+    /// The calibrated set and (if it was scored) the starting set of this model on
+    /// `campaign`'s experiments.
+    pub fn set_scores(&self, campaign: &Campaign) -> Vec<SetScore> {
+        let mut sets: Vec<SetScore> = SetScore::of(
+            &self.model,
+            false,
+            &self.selected,
+            campaign,
+            self.at_bounds.len(),
+        )
+        .into_iter()
+        .collect();
         if let Some(baseline) = &self.baseline {
-            if let Some(fit_error) = baseline.fit_error {
-                sets.push(SetScore {
-                    model: self.model.clone(),
-                    starting: true,
-                    fit_error,
-                    holdout_error: baseline.holdout_error,
-                    at_bounds: 0,
-                    mean_chi: baseline.evaluation.mean_chi(fitted),
-                });
-            }
+            sets.extend(SetScore::of(
+                &self.model,
+                true,
+                &baseline.evaluation,
+                campaign,
+                0,
+            ));
         }
         sets
     }
 }
 
-/// The constant set to use among `sets`: by held-out prediction when every calibrated set has
-/// a held-out error (a starting set without one is left out), else by the fit error; with the
-/// reasons a user needs (the margin to the next set, a better fit that predicts worse, the
-/// starting constants beating the calibration, constants at a bound, how far the set is from
-/// the recorded noise). `None` for no set.
+/// The constant set to use among `sets`, with the reasons a user needs.
+///
+/// - By held-out prediction when every calibrated set has a held-out error (a starting set
+///   without one is left out), else by the fit error.
+/// - Sets whose chi-square on those recordings lies within [`INDISTINGUISHABLE_CHI_SQUARE`]
+///   of the best one's, after scaling by the best set's reduced chi-square when it exceeds 1
+///   (the recorded uncertainties understated by that factor, as the intervals assume), are
+///   not told apart by a margin inside the noise: among them the one with the lowest
+///   [`SetScore::information_criterion`] is recommended.
+/// - The reasons give the margin to the next set, a better fit that predicts worse, the
+///   starting constants beating the calibration, constants at a bound, and how far the set
+///   is from the recorded noise (its reduced chi-square and what it means).
 pub fn recommend(sets: &[SetScore]) -> Option<Recommendation> {
     let by_held_out = sets
         .iter()
@@ -358,17 +431,74 @@ pub fn recommend(sets: &[SetScore]) -> Option<Recommendation> {
             Some(s.fit_error)
         }
     };
+    let chi_square = |s: &SetScore| {
+        if by_held_out {
+            s.holdout_chi_square.map(|c| c.0)
+        } else {
+            s.fit_chi_square.map(|c| c.0)
+        }
+    };
     let mut ranked: Vec<&SetScore> = sets.iter().filter(|s| key(s).is_some()).collect();
     ranked.sort_by(|a, b| {
         key(a)
             .unwrap_or(f64::INFINITY)
             .total_cmp(&key(b).unwrap_or(f64::INFINITY))
     });
-    let best = (*ranked.first()?).clone();
+    let leader = *ranked.first()?;
+    // The sets the recordings cannot tell from the leader, and the one of them with the
+    // lowest information criterion.
+    let scale = leader.reduced_chi_square().map_or(1.0, |r| r.max(1.0));
+    let tied: Vec<&SetScore> = match chi_square(leader) {
+        Some(lead) => ranked
+            .iter()
+            .copied()
+            .filter(|s| {
+                chi_square(s).is_some_and(|c| (c - lead) / scale < INDISTINGUISHABLE_CHI_SQUARE)
+            })
+            .collect(),
+        None => vec![leader],
+    };
+    let best = if tied.len() > 1 && tied.iter().all(|s| s.information_criterion().is_some()) {
+        *tied
+            .iter()
+            .min_by(|a, b| {
+                a.information_criterion()
+                    .unwrap_or(f64::INFINITY)
+                    .total_cmp(&b.information_criterion().unwrap_or(f64::INFINITY))
+            })
+            .unwrap_or(&leader)
+    } else {
+        leader
+    };
+    let best = best.clone();
     let mut reasons = Vec::new();
     let value = key(&best).unwrap_or(f64::NAN);
-    let next = ranked.get(1);
-    if by_held_out {
+    let next = ranked.iter().find(|s| ***s != best);
+    let which = if by_held_out { "held-out" } else { "fitted" };
+    if tied.len() > 1 {
+        let others: Vec<String> = tied
+            .iter()
+            .filter(|s| ***s != best)
+            .map(|s| {
+                format!(
+                    "{} (error {:.4}, BIC {:.1})",
+                    s.label(),
+                    key(s).unwrap_or(f64::NAN),
+                    s.information_criterion().unwrap_or(f64::NAN)
+                )
+            })
+            .collect();
+        reasons.push(format!(
+            "the {which} recordings cannot tell it from {}: their chi-squares differ by less \
+             than {INDISTINGUISHABLE_CHI_SQUARE} after scaling by the reduced chi-square \
+             {scale:.2} (a margin inside the noise); of these it has the lowest information \
+             criterion, BIC {:.1} over the fitted recordings with {} fitted value(s) (error \
+             {value:.4})",
+            others.join(", "),
+            best.information_criterion().unwrap_or(f64::NAN),
+            best.fitted_values
+        ));
+    } else if by_held_out {
         reasons.push(match next {
             Some(next) => format!(
                 "it predicts the held-out experiments best: held-out error {value:.4}, against \
@@ -378,6 +508,17 @@ pub fn recommend(sets: &[SetScore]) -> Option<Recommendation> {
             ),
             None => format!("it predicts the held-out experiments with error {value:.4}"),
         });
+    } else {
+        reasons.push(match next {
+            Some(next) => format!(
+                "it has the lowest fit error, {value:.4} (next: {} at {:.4})",
+                next.label(),
+                next.fit_error
+            ),
+            None => format!("its fit error is {value:.4}"),
+        });
+    }
+    if by_held_out {
         // A set that fits better but predicts worse: the choice follows prediction.
         if let Some(better_fit) = sets
             .iter()
@@ -408,19 +549,11 @@ pub fn recommend(sets: &[SetScore]) -> Option<Recommendation> {
             }
         }
     } else {
-        reasons.push(match next {
-            Some(next) => format!(
-                "it has the lowest fit error, {value:.4} (next: {} at {:.4}); nothing is held \
-                 out, so nothing tests its prediction: hold an experiment out (`holdout = \
-                 true`) to choose by prediction",
-                next.label(),
-                next.fit_error
-            ),
-            None => format!(
-                "its fit error is {value:.4}; nothing is held out, so nothing tests its \
-                 prediction"
-            ),
-        });
+        reasons.push(
+            "nothing is held out, so nothing tests its prediction: hold an experiment out \
+             (`holdout = true`) to choose by prediction"
+                .into(),
+        );
     }
     if best.at_bounds > 0 {
         reasons.push(format!(
@@ -428,7 +561,28 @@ pub fn recommend(sets: &[SetScore]) -> Option<Recommendation> {
             best.at_bounds
         ));
     }
-    if let Some(chi) = best.mean_chi {
+    if let (Some(reduced), Some((_, points))) = (best.reduced_chi_square(), best.fit_chi_square) {
+        let ratio = libm::sqrt(reduced);
+        let meaning = if ratio > MISSES_THE_NOISE {
+            format!(
+                "its residuals are {ratio:.1} times the recorded uncertainty: the model leaves \
+                 physics out, or the uncertainties are understated (`stoss diagnose` locates \
+                 the misfit); every interval of this report is widened by that factor"
+            )
+        } else if ratio > WITHIN_THE_NOISE {
+            format!(
+                "its residuals are {ratio:.1} times the recorded uncertainty; every interval \
+                 of this report is widened by that factor"
+            )
+        } else {
+            "it fits the fitted recordings within their recorded uncertainty".into()
+        };
+        reasons.push(format!(
+            "reduced chi-square {reduced:.2} over {points} fitted points and {} fitted \
+             value(s): {meaning}",
+            best.fitted_values
+        ));
+    } else if let Some(chi) = best.mean_chi {
         if chi > MISSES_THE_NOISE {
             reasons.push(format!(
                 "it misses the fitted recordings by {chi:.1} times their recorded uncertainty \
@@ -447,6 +601,13 @@ pub fn recommend(sets: &[SetScore]) -> Option<Recommendation> {
         by_held_out,
         reasons,
     })
+}
+
+/// The model whose calibrated constants are recommended among `results` (starting sets left
+/// out): the one leave-one-out and the intervals run for when the campaign says `"selected"`.
+pub fn selected_model(results: &[SetScore]) -> Option<String> {
+    let calibrated: Vec<SetScore> = results.iter().filter(|s| !s.starting).cloned().collect();
+    recommend(&calibrated).map(|r| r.set.model)
 }
 
 #[cfg(test)]
@@ -520,7 +681,54 @@ mod tests {
             holdout_error: held,
             at_bounds: 0,
             mean_chi: Some(2.0),
+            fitted_values: if starting { 0 } else { 5 },
+            fit_chi_square: None,
+            holdout_chi_square: None,
         }
+    }
+
+    /// A calibrated set with chi-squares: `k` fitted values, `fit` chi-square over 58
+    /// fitted points, `held` chi-square over 100 held-out points, held-out error `error`.
+    fn scored(model: &str, k: usize, fit: f64, held: f64, error: f64) -> SetScore {
+        SetScore {
+            fitted_values: k,
+            fit_chi_square: Some((fit, 58)),
+            holdout_chi_square: Some((held, 100)),
+            ..set(model, false, 0.7, Some(error))
+        }
+    }
+
+    #[test]
+    fn a_held_out_margin_inside_the_noise_is_decided_by_the_information_criterion() {
+        // GOAL: issue 51 item 1: "model selection weighs held-out prediction, not a margin
+        //       inside the noise": two sets whose held-out chi-squares the recorded noise
+        //       cannot separate are decided by the fit's information criterion, which prices
+        //       every extra constant; a margin the noise can separate still decides.
+        // SETUP: JC (5 values, fit chi^2 300) and MJC (7 values, fit 296) over 58 fitted
+        //        points; held out over 100 points: JC chi^2 1000 (error 2.50), MJC 1010
+        //        (2.45), then JC 1100.
+        // REFERENCE: MJC leads by error; its reduced chi-square is 296/51 = 5.80, so the
+        //        scaled difference (1000 - 1010)/5.80 < 2 ties them and BIC decides: JC
+        //        300 + 5 ln 58 = 320.3 against MJC 296 + 7 ln 58 = 324.4. With JC at 1100
+        //        the difference is 15.5 > 2 and MJC's prediction wins.
+        let jc = scored("jc", 5, 300.0, 1000.0, 2.50);
+        let mjc = scored("mjc", 7, 296.0, 1010.0, 2.45);
+        assert!((jc.information_criterion().unwrap() - 320.302).abs() < 1e-3);
+        assert!((mjc.reduced_chi_square().unwrap() - 296.0 / 51.0).abs() < 1e-12);
+        let r = recommend(&[jc.clone(), mjc.clone()]).unwrap();
+        assert_eq!(r.set.model, "jc", "{r:?}");
+        assert!(r.reasons[0].contains("cannot tell it from"), "{r:?}");
+        let separated = scored("jc", 5, 300.0, 1100.0, 2.50);
+        let r = recommend(&[separated, mjc.clone()]).unwrap();
+        assert_eq!(r.set.model, "mjc", "{r:?}");
+        assert!(r.reasons[0].contains("predicts the held-out experiments best"));
+        assert!(
+            r.reasons
+                .iter()
+                .any(|t| t.contains("reduced chi-square 5.80")),
+            "{r:?}"
+        );
+        assert_eq!(selected_model(&[jc, mjc]).as_deref(), Some("jc"));
     }
 
     #[test]
@@ -562,7 +770,9 @@ mod tests {
         let r = recommend(&fit_only).unwrap();
         assert!(!r.by_held_out && r.set.model == "jc", "{r:?}");
         assert!(
-            r.reasons[0].contains("nothing tests its prediction"),
+            r.reasons
+                .iter()
+                .any(|t| t.contains("nothing tests its prediction")),
             "{r:?}"
         );
         assert!(recommend(&[]).is_none());

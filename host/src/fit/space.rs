@@ -206,6 +206,22 @@ impl ModelSpace {
             .collect()
     }
 
+    /// The symbol of each fitted material constant in its model's equation (`A`, `n`, `C1`),
+    /// from the model's descriptions; a constant no description covers (a concrete's dotted
+    /// path) is shown by its last path segment.
+    pub fn symbols(&self) -> Vec<String> {
+        let strength = self.strength.map(|s| s.constants()).unwrap_or_default();
+        self.names[..self.constant_count()]
+            .iter()
+            .map(|name| {
+                strength.iter().find(|(n, _)| n == name).map_or_else(
+                    || name.rsplit('.').next().unwrap_or(name).to_string(),
+                    |(_, p)| p.symbol.to_string(),
+                )
+            })
+            .collect()
+    }
+
     /// Dimension of the search space.
     pub fn dimension(&self) -> usize {
         self.names.len()

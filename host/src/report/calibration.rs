@@ -100,12 +100,17 @@ pub fn write(
     }
     let mut report = Report::new(campaign, figures, cards, card_options);
     report.header();
-    report.recommendation(results);
+    report.recommendation(results, outcomes);
     report.model_selection(results);
     report.against_starting_constants(results);
     for (m, result) in results.iter().enumerate() {
         report.model(result, outcomes.get(m).map_or(&[], Vec::as_slice))?;
     }
+    std::fs::write(
+        directory.join("cards").join("README.md"),
+        report.card_index(),
+    )
+    .map_err(|e| e.to_string())?;
     std::fs::write(directory.join("report.md"), report.md).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(results).map_err(|e| e.to_string())?;
     // A result stoss's own reader refuses (a non-finite number written as null into a number
@@ -131,6 +136,9 @@ struct Report<'a> {
     names: Vec<String>,
     /// The recommended constant set ([`recommend`]), once the recommendation is written.
     recommended: Option<SetScore>,
+    /// Every set whose cards were written: its label, whether it is the recommended one, and
+    /// its files (`cards/README.md`).
+    card_sets: Vec<(String, bool, Vec<String>)>,
     md: String,
 }
 
@@ -159,8 +167,44 @@ impl<'a> Report<'a> {
             fitted: campaign.fitted(),
             names,
             recommended: None,
+            card_sets: Vec::new(),
             md: String::new(),
         }
+    }
+
+    /// `cards/README.md`: which constant set each card holds, the recommended one first, so
+    /// that the cards of different sets cannot be mixed up.
+    fn card_index(&self) -> String {
+        let mut text = format!(
+            "# Cards of {}\n\nWritten by `stoss calibrate {}` in the {} unit system. Each \
+             set's cards share a file stem; `report.md` (Recommendation) says why the \
+             recommended set is recommended.\n",
+            self.campaign.file.name,
+            self.campaign.path.display(),
+            self.card_options.units
+        );
+        let mut sets: Vec<&(String, bool, Vec<String>)> = self.card_sets.iter().collect();
+        sets.sort_by_key(|(_, recommended, _)| !recommended);
+        for (label, recommended, files) in sets {
+            let _ = write!(
+                text,
+                "\n## {}{}\n\n{}\n",
+                capitalised(label),
+                if *recommended { " (recommended)" } else { "" },
+                files
+                    .iter()
+                    .map(|f| {
+                        let f = f.trim_start_matches("cards/");
+                        match f.split_once(' ') {
+                            Some((file, note)) => format!("- `{file}` {note}"),
+                            None => format!("- `{f}`"),
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            );
+        }
+        text
     }
 
     /// Title, description, the campaign and optimiser settings, and how errors are measured.
@@ -185,11 +229,13 @@ impl<'a> Report<'a> {
         let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n");
     }
 
-    /// Which constant set to use and why ([`recommend`]), at the top of the report.
-    fn recommendation(&mut self, results: &[ModelResult]) {
+    /// Which constant set to use and why ([`recommend`]), at the top of the report, and the
+    /// states it is valid for (those the experiments' tracked material points covered in the
+    /// recommended model's simulations).
+    fn recommendation(&mut self, results: &[ModelResult], outcomes: &[Vec<Option<Outcome>>]) {
         let sets: Vec<SetScore> = results
             .iter()
-            .flat_map(|r| r.set_scores(&self.fitted))
+            .flat_map(|r| r.set_scores(self.campaign))
             .collect();
         let Some(r) = recommend(&sets) else {
             return;
@@ -197,53 +243,105 @@ impl<'a> Report<'a> {
         let md = &mut self.md;
         let _ = writeln!(md, "## Recommendation\n\n**Use {}.**\n", r.set.label());
         for reason in &r.reasons {
-            let mut chars = reason.chars();
-            let sentence = chars.next().map_or(String::new(), |first| {
-                first.to_uppercase().collect::<String>() + chars.as_str()
-            });
-            let _ = writeln!(md, "- {sentence}.");
+            let _ = writeln!(md, "- {}.", capitalised(reason));
         }
-        if r.set.starting {
+        let model_outcomes = results
+            .iter()
+            .position(|m| m.model == r.set.model)
+            .and_then(|m| outcomes.get(m))
+            .map_or(&[][..], Vec::as_slice);
+        let ranges = state_ranges(self.campaign, model_outcomes);
+        if !ranges.is_empty() {
             let _ = writeln!(
                 md,
-                "- Its cards are `cards/{}-starting.*`, beside each model's calibrated cards \
-                 (`cards/<model>.*`).",
-                slug(&r.set.model)
+                "- Valid for the states the experiments covered (tracked material points of \
+                 the {} simulations; table \"Validity range\"): {}. Outside them the constants \
+                 are extrapolated.",
+                r.set.model,
+                ranges
+                    .iter()
+                    .map(|(name, lo, hi)| {
+                        format!("{name} {} to {}", to_digits(*lo, 3), to_digits(*hi, 3))
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
             );
         }
-        let _ = writeln!(md);
+        let stem = card_stem(&r.set.model, r.set.starting);
+        let _ = writeln!(
+            md,
+            "- Its cards are `cards/{stem}.*` (the card titles say \"recommended\"); \
+             `cards/README.md` lists every set's cards.\n"
+        );
         self.recommended = Some(r.set);
     }
 
-    /// The model selection table (errors of each model's selected solution) and the selected
-    /// model.
+    /// The model selection table (every constant set: each model's calibrated constants and
+    /// its starting ones, with their fitted values, reduced chi-square, information criterion
+    /// and errors) and the selected model.
     fn model_selection(&mut self, results: &[ModelResult]) {
-        let (campaign, md, names) = (self.campaign, &mut self.md, &self.names);
-        let _ = writeln!(md, "## Model selection\n\n| model | fit error | mean chi (fit) | held-out error | {} |\n|---|---|---|---|{}", names.join(" | "), "---|".repeat(names.len()));
+        let (campaign, names) = (self.campaign, &self.names);
+        let md = &mut self.md;
+        let _ = writeln!(
+            md,
+            "## Model selection\n\n`k`: values fitted to the recordings (0 for starting \
+             constants, fixed before the data); `chi2/dof`: reduced chi-square over the fitted \
+             recordings; `BIC`: chi-square + k ln N over them (Schwarz 1978), lower is better, \
+             differences below 2 do not count.\n\n| constant set | k | fit error | chi2/dof \
+             (fit) | BIC (fit) | held-out error | {} |\n|---|---|---|---|---|---|{}",
+            names.join(" | "),
+            "---|".repeat(names.len())
+        );
+        let number = |v: Option<f64>, digits: usize| {
+            v.filter(|v| v.is_finite())
+                .map_or("-".into(), |v| format!("{v:.digits$}"))
+        };
         for r in results {
-            let chi = r
-                .selected
-                .mean_chi(&self.fitted)
-                .map_or("-".into(), |c| format!("{c:.3}"));
-            let _ = writeln!(
-                md,
-                "| {} | {:.4} | {} | {} | {} |",
-                r.model,
-                r.fit_error,
-                chi,
-                r.holdout_error.map_or("-".into(), |h| format!("{h:.4}")),
-                errors_row(campaign, &r.selected)
-            );
+            let mut rows = vec![(false, &r.selected)];
+            if let Some(baseline) = &r.baseline {
+                rows.push((true, &baseline.evaluation));
+            }
+            for (starting, evaluation) in rows {
+                let Some(set) = SetScore::of(&r.model, starting, evaluation, campaign, 0) else {
+                    let _ = writeln!(
+                        md,
+                        "| {} | - | - (a simulation failed) | - | - | - | {} |",
+                        if starting {
+                            format!("{} (starting)", r.model)
+                        } else {
+                            r.model.clone()
+                        },
+                        errors_row(campaign, evaluation)
+                    );
+                    continue;
+                };
+                let _ = writeln!(
+                    md,
+                    "| {} | {} | {:.4} | {} | {} | {} | {} |",
+                    set.short_label(),
+                    set.fitted_values,
+                    set.fit_error,
+                    number(set.reduced_chi_square(), 2),
+                    number(set.information_criterion(), 1),
+                    number(set.holdout_error, 4),
+                    errors_row(campaign, evaluation)
+                );
+            }
         }
-        let best = results
+        let calibrated: Vec<SetScore> = results
             .iter()
-            .min_by(|a, b| a.fit_error.total_cmp(&b.fit_error));
-        if let Some(best) = best {
+            .flat_map(|r| r.set_scores(campaign))
+            .filter(|s| !s.starting)
+            .collect();
+        if let Some(selected) = crate::fit::result::selected_model(&calibrated) {
             let _ = writeln!(
                 md,
-                "\nSelected model: **{}** (lowest fit error; the one leave-one-out runs for with \
-                 `leave_one_out = \"selected\"`; the recommendation above weighs prediction).\n",
-                best.model
+                "\nSelected model: **{selected}**, the calibrated set the recommendation's rule \
+                 picks among the calibrated sets alone (held-out prediction where experiments \
+                 are held out, else the fit; a margin inside the noise decided by BIC); the one \
+                 leave-one-out and the intervals run for with `\"selected\"`. Held-out \
+                 experiments that choose the model are no longer a blind test of it: the \
+                 leave-one-out folds are.\n"
             );
         }
     }
@@ -327,8 +425,13 @@ impl<'a> Report<'a> {
                     self.campaign.path.display()
                 ),
             );
-            let stem = format!("{}-starting", slug(&result.model));
+            let stem = card_stem(&result.model, true);
             let written = write_cards(&self.cards, &stem, &file, self.card_options)?;
+            self.card_sets.push((
+                format!("the starting constants of {}", result.model),
+                true,
+                written.clone(),
+            ));
             let _ = writeln!(
                 self.md,
                 "\n### Cards of the starting constants (recommended)\n\n{}\n",
@@ -342,29 +445,57 @@ impl<'a> Report<'a> {
         Ok(())
     }
 
-    /// The model's heading and its constants table (bounds and selected values).
+    /// The model's heading and its constants table: each constant's symbol and unit (stresses
+    /// in MPa), its starting and selected values, the selected value's 95 % interval
+    /// (linearised) and the search range.
     fn constants(&mut self, result: &ModelResult, space: &ModelSpace) {
         let md = &mut self.md;
-        let _ = writeln!(md, "## Model `{}`\n\n### Constants\n\n| constant | lower | upper | selected |\n|---|---|---|---|", result.model);
+        let _ = writeln!(
+            md,
+            "## Model `{}`\n\n### Constants\n\n| constant | symbol | unit | starting | \
+             selected | 95 % interval | search range |\n|---|---|---|---|---|---|---|",
+            result.model
+        );
         let constants = space.constant_count();
         if constants == 0 {
             let _ = writeln!(
                 md,
                 "| (none: the material's constants are fixed; only set-up parameters are \
-                 searched) | | | |"
+                 searched) | | | | | | |"
             );
         }
+        let units = space.units(&self.campaign.base);
+        let symbols = space.symbols();
+        let starting = result
+            .baseline
+            .as_ref()
+            .map(|b| b.evaluation.values.clone())
+            .or_else(|| space.starting_values(&self.campaign.base));
+        let half_widths = result.uncertainty.as_ref().map(|u| &u.half_width_95);
         for (k, name) in space.names.iter().enumerate().take(constants) {
+            let (unit, factor) = shown_unit(units[k]);
+            let shown = |v: f64| significant(v * factor);
+            let interval = match half_widths.map(|h| h.get(k).copied().flatten()) {
+                Some(Some(half)) => format!("± {}", to_digits(half * factor, 2)),
+                Some(None) => "undetermined".into(),
+                None => "-".into(),
+            };
             let _ = writeln!(
                 md,
-                "| {name} | {:.4e} | {:.4e} | {:.6e} |",
-                space.lower[k], space.upper[k], result.selected.values[k]
+                "| {name} | {} | {unit} | {} | {} | {interval} | {} to {} |",
+                symbols[k],
+                starting
+                    .as_ref()
+                    .and_then(|s| s.get(k))
+                    .map_or("-".into(), |v| shown(*v)),
+                shown(result.selected.values[k]),
+                shown(space.lower[k]),
+                shown(space.upper[k]),
             );
         }
         if space.setup.is_empty() {
             return;
         }
-        let units = space.units(&self.campaign.base);
         let _ = writeln!(
             md,
             "\n### Set-up parameters\n\nSearched beside the constants (nuisance parameters): \
@@ -582,12 +713,7 @@ impl<'a> Report<'a> {
         }
         let md = &mut self.md;
         let _ = writeln!(md, "\n### Validity range (tracked material points, per experiment type)\n\n| quantity | experiment type | points | min | max |\n|---|---|---|---|---|");
-        let quantities: [(&str, StateReader); 4] = [
-            ("plastic strain", |s| s.plastic_strain),
-            ("peak plastic strain rate (1/s)", |s| s.plastic_strain_rate),
-            ("temperature (K)", |s| s.temperature),
-            ("triaxiality", |s| s.triaxiality),
-        ];
+        let quantities = STATE_QUANTITIES;
         for (k, (name, get)) in quantities.iter().enumerate() {
             let groups: Vec<(String, Vec<f64>)> = kinds
                 .iter()
@@ -631,24 +757,44 @@ impl<'a> Report<'a> {
         mut material_file: AnyMaterialFile,
     ) -> Result<(), String> {
         let campaign = self.campaign;
+        let recommended = self
+            .recommended
+            .as_ref()
+            .is_some_and(|set| !set.starting && set.model == result.model);
         material_file.rename(
             format!(
-                "{} / {} (stoss calibration)",
-                campaign.file.name, result.model
+                "{} / {} (stoss calibration{})",
+                campaign.file.name,
+                result.model,
+                if recommended {
+                    ", recommended"
+                } else {
+                    ", not the recommended set"
+                }
             ),
             format!(
-                "stoss calibrate {}, model {}, starting from {}",
+                "stoss calibrate {}, model {}, starting from {}{}",
                 campaign.path.display(),
                 result.model,
-                campaign.base.name()
+                campaign.base.name(),
+                if recommended {
+                    ": the constant set the report recommends"
+                } else {
+                    ": the report recommends another set (report.md, Recommendation)"
+                }
             ),
         );
         let written = write_cards(
             &self.cards,
-            &slug(&result.model),
+            &card_stem(&result.model, false),
             &material_file,
             self.card_options,
         )?;
+        self.card_sets.push((
+            format!("the calibrated {} constants", result.model),
+            recommended,
+            written.clone(),
+        ));
         let _ = writeln!(self.md, "\n### Cards\n\n{}\n(`.toml`: `stoss simulate --material`; `.k`: LS-DYNA's own card where the family has one; `-mat224.k`: LS-DYNA `*MAT_TABULATED_JOHNSON_COOK` tables of this model's flow stress, for any family; `-plastic.inp`: the same tables as Abaqus/Explicit `*PLASTIC, RATE=` data; `.inp`: Abaqus; `.rad`: OpenRadioss; `-umat.k`, `-umat.inp`: the stoss user material's card for LS-DYNA and Abaqus, for any model (docs/user-material.md).)\n", written.iter().map(|w| format!("- `{w}`")).collect::<Vec<_>>().join("\n"));
         Ok(())
     }
@@ -706,6 +852,92 @@ fn overlay_series(experiment: &Experiment, outcome: &Outcome) -> (DisplayUnits, 
         });
     }
     (axes, series)
+}
+
+/// The unit a constant is shown in, and the factor from its SI unit: stresses in MPa, every
+/// other constant in its SI unit.
+fn shown_unit(si: &str) -> (&str, f64) {
+    match si {
+        "Pa" => ("MPa", 1e-6),
+        other => (other, 1.0),
+    }
+}
+
+/// `value` to five significant digits (a constant), plainly where that is readable (1e-3 to
+/// 1e5) and in exponent notation otherwise.
+fn significant(value: f64) -> String {
+    to_digits(value, 5)
+}
+
+/// `value` to `digits` significant digits, plainly from 1e-3 to 1e5, else in exponent notation.
+fn to_digits(value: f64, digits: usize) -> String {
+    let magnitude = value.abs();
+    if value == 0.0 {
+        "0".into()
+    } else if (1e-3..1e5).contains(&magnitude) {
+        let decimals =
+            (digits as i32 - 1 - libm::floor(libm::log10(magnitude)) as i32).max(0) as usize;
+        format!("{value:.decimals$}")
+    } else {
+        format!("{value:.prec$e}", prec = digits.saturating_sub(1))
+    }
+}
+
+/// `text` with its first letter upper-case (a reason written as a sentence).
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars.next().map_or(String::new(), |first| {
+        first.to_uppercase().collect::<String>() + chars.as_str()
+    })
+}
+
+/// The file stem of a constant set's cards: `<model>` for the calibrated constants,
+/// `<model>-starting` for the starting ones.
+fn card_stem(model: &str, starting: bool) -> String {
+    if starting {
+        format!("{}-starting", slug(model))
+    } else {
+        slug(model)
+    }
+}
+
+/// The state quantities of the validity range (seed 000 fig. 14), each read from a tracked
+/// point's final sample (or, for the rate, its peak).
+const STATE_QUANTITIES: [(&str, StateReader); 4] = [
+    ("plastic strain", |s| s.plastic_strain),
+    ("peak plastic strain rate (1/s)", |s| s.plastic_strain_rate),
+    ("temperature (K)", |s| s.temperature),
+    ("triaxiality", |s| s.triaxiality),
+];
+
+/// The range of every state quantity over the tracked points of all `outcomes`:
+/// `(quantity, min, max)`; empty if no experiment tracked points.
+fn state_ranges(
+    campaign: &Campaign,
+    outcomes: &[Option<Outcome>],
+) -> Vec<(&'static str, f64, f64)> {
+    let kinds = outcomes_by_kind(campaign, outcomes);
+    let all: Vec<&Outcome> = kinds
+        .iter()
+        .flat_map(|(_, list)| list.iter().copied())
+        .collect();
+    if all.is_empty() {
+        return Vec::new();
+    }
+    STATE_QUANTITIES
+        .iter()
+        .enumerate()
+        .filter_map(|(k, (name, get))| {
+            let values = state_values(&all, k == 1, *get);
+            let (lo, hi) = values
+                .iter()
+                .filter(|v| v.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(*v), b.max(*v))
+                });
+            (lo <= hi).then_some((*name, lo, hi))
+        })
+        .collect()
 }
 
 /// The outcomes that tracked material points, grouped by experiment type in campaign order.
