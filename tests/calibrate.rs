@@ -712,8 +712,12 @@ fn progress_is_printed_as_lines_without_a_terminal_and_not_with_quiet() {
         }
         let output = command.output().unwrap();
         let text = String::from_utf8_lossy(&output.stdout);
+        let log = String::from_utf8_lossy(&output.stderr);
         assert!(output.status.success(), "{text}");
         assert!(text.contains("fit error"), "{text}");
+        // Progress is a log (stderr): stdout holds the results alone.
+        assert!(!text.contains("simulations,"), "{text}");
+        let text = log;
         let progress = text.lines().filter(|l| l.starts_with("jc #0: ")).count();
         if quiet {
             assert_eq!(progress, 0, "{text}");

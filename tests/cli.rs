@@ -199,7 +199,7 @@ fn diagnose_refuses_a_runaway_parallel_before_reading_anything() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success());
     assert!(
-        stderr.contains("--parallel must be in 1..=256") && stderr.contains("100000"),
+        stderr.contains("--threads must be in 1..=256") && stderr.contains("100000"),
         "{stderr}"
     );
 }
@@ -464,4 +464,111 @@ fn every_validate_row_is_named_where_its_figure_is_quoted_and_every_named_row_ex
         }
     }
     assert!(cited > 0, "the scan found no row citation");
+}
+
+#[test]
+fn every_subcommand_speaks_the_same_way_results_on_stdout_logs_on_stderr_json_on_request() {
+    // GOAL: issue 51 item 6: results on stdout, progress and logs on stderr; `--quiet`,
+    //       `--verbose` and `--json` are global flags every subcommand takes; one parallelism
+    //       flag (`--threads`) that does not change a calibration's result; the run lock is
+    //       removed at a clean end.
+    // SETUP: `simulate` of the tension cylinder with `--json`; `calibrate` of the
+    //        synthetic-flow campaign (6 simulations, one instance) with `--json --threads 1`,
+    //        then the same with `--threads 2 --quiet` into another folder; `verify --json`.
+    // REFERENCE: stdout parses as one JSON document naming its command (simulate: the
+    //        recorded and predicted points; calibrate: the recommendation and each model's
+    //        constants with units and symbols); the two calibrations' result.json are equal
+    //        but for the simulations' wall times; `--quiet` leaves stderr without progress lines; no `.stoss-run.lock`
+    //        is left in either folder.
+    let folder = std::env::temp_dir().join(format!("stoss-conventions-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&folder);
+    let simulated = stoss()
+        .args([
+            "simulate",
+            "fixtures/experiments/tension-4340-1000.toml",
+            "--json",
+            "--output",
+        ])
+        .arg(folder.join("simulate"))
+        .output()
+        .unwrap();
+    assert!(
+        simulated.status.success(),
+        "{}",
+        String::from_utf8_lossy(&simulated.stderr)
+    );
+    let document: serde_json::Value = serde_json::from_slice(&simulated.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&simulated.stdout)));
+    assert_eq!(document["command"], "simulate");
+    let points = document["measurements"].as_array().unwrap();
+    assert!(!points.is_empty() && points[0]["predicted"].is_number());
+    let calibrate = |name: &str, flags: &[&str]| {
+        let output = stoss()
+            .args(["calibrate", "fixtures/campaigns/synthetic-flow.toml"])
+            .args(["--budget", "6", "--instances", "1", "--polish", "0"])
+            .args(flags)
+            .arg("--output")
+            .arg(folder.join(name))
+            .output()
+            .unwrap();
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        output
+    };
+    let one = calibrate("one", &["--json", "--threads", "1"]);
+    let document: serde_json::Value = serde_json::from_slice(&one.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&one.stdout)));
+    assert_eq!(document["command"], "calibrate");
+    assert!(document["recommendation"]["reasons"]
+        .as_array()
+        .is_some_and(|r| !r.is_empty()));
+    let constants = document["models"][0]["constants"].as_array().unwrap();
+    assert!(constants
+        .iter()
+        .any(|c| c["symbol"] == "A" && c["unit"] == "Pa" && c["value"].is_number()));
+    assert!(String::from_utf8_lossy(&one.stderr).contains("simulations,"));
+    let two = calibrate("two", &["--threads", "2", "--quiet"]);
+    assert!(
+        !String::from_utf8_lossy(&two.stderr).contains("simulations,"),
+        "--quiet: {}",
+        String::from_utf8_lossy(&two.stderr)
+    );
+    assert!(String::from_utf8_lossy(&two.stdout).contains("recommended: use"));
+    // The result without the simulations' wall times (the only thing a thread count may
+    // change).
+    fn without_wall_times(value: &mut serde_json::Value) {
+        match value {
+            serde_json::Value::Object(map) => {
+                map.remove("wall_time");
+                map.values_mut().for_each(without_wall_times);
+            }
+            serde_json::Value::Array(items) => items.iter_mut().for_each(without_wall_times),
+            _ => {}
+        }
+    }
+    let result = |name: &str| {
+        let text = std::fs::read(folder.join(name).join("report/result.json")).unwrap();
+        let mut value: serde_json::Value = serde_json::from_slice(&text).unwrap();
+        without_wall_times(&mut value);
+        value
+    };
+    assert!(
+        result("one") == result("two"),
+        "--threads changed the result"
+    );
+    for name in ["one", "two"] {
+        assert!(
+            !folder.join(name).join(".stoss-run.lock").exists(),
+            "a lock was left in {name}"
+        );
+    }
+    let verified = stoss().args(["--json", "verify"]).output().unwrap();
+    let document: serde_json::Value = serde_json::from_slice(&verified.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&verified.stdout)));
+    assert_eq!(document["command"], "verify");
+    assert_eq!(document["failed"], 0);
+    std::fs::remove_dir_all(&folder).unwrap();
 }

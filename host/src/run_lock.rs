@@ -2,6 +2,8 @@
 //! `<folder>/.stoss-run.lock` for as long as they run. A second run on the same folder is
 //! refused with a message; the operating system releases the lock when the holder exits or is
 //! killed (even with `kill -9`), so a lock left by a dead run is taken over by the next one.
+//! A run that ends (cleanly or with an error) removes the lock file; only a killed run leaves
+//! one behind.
 
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{Read as _, Seek as _, Write as _};
@@ -30,6 +32,12 @@ impl RunLock {
             .open(&path)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         match file.try_lock() {
+            Ok(()) if !same_file(&file, &path) => {
+                // The holder removed the file between our open and our lock: the lock is on
+                // a file no other run will find. Take the folder's current file instead.
+                drop(file);
+                return Self::acquire(folder);
+            }
             Ok(()) => {}
             Err(TryLockError::WouldBlock) => {
                 let mut holder = String::new();
@@ -62,6 +70,33 @@ impl RunLock {
     }
 }
 
+impl Drop for RunLock {
+    /// Remove the lock file while the lock is still held (a run waiting on it then finds the
+    /// file gone and takes the folder's new one, [`same_file`]).
+    fn drop(&mut self) {
+        if same_file(&self._file, &self.path) {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// Whether the open `file` is the file at `path` (the same device and inode); `false` if
+/// `path` is gone.
+#[cfg(unix)]
+fn same_file(file: &File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt as _;
+    match (file.metadata(), std::fs::metadata(path)) {
+        (Ok(open), Ok(named)) => open.dev() == named.dev() && open.ino() == named.ino(),
+        _ => false,
+    }
+}
+
+/// Whether the open `file` is the file at `path` (without inodes: the path exists).
+#[cfg(not(unix))]
+fn same_file(_file: &File, path: &Path) -> bool {
+    path.exists()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -72,7 +107,8 @@ mod tests {
         // SETUP: a temporary folder locked twice from this process (two open file
         //        descriptions, so the advisory lock conflicts as between processes).
         // REFERENCE: the second acquire fails naming the folder and this process; after the
-        //        first is dropped, acquiring succeeds.
+        //        first is dropped, its file is gone (a handle opened on it before no longer
+        //        names the folder's lock) and acquiring succeeds.
         let folder = std::env::temp_dir().join(format!("stoss-lock-{}", std::process::id()));
         std::fs::create_dir_all(&folder).unwrap();
         let first = RunLock::acquire(&folder).unwrap();
@@ -83,9 +119,22 @@ mod tests {
             "{error}"
         );
         assert!(first.path().ends_with(LOCK_FILE));
+        // A run that waited on the first lock's file keeps its handle after the holder ends.
+        let stale = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(first.path())
+            .unwrap();
         drop(first);
+        assert!(
+            !folder.join(LOCK_FILE).exists(),
+            "the lock file is removed when the run ends"
+        );
+        assert!(!same_file(&stale, &folder.join(LOCK_FILE)));
         let again = RunLock::acquire(&folder).unwrap();
+        assert!(folder.join(LOCK_FILE).exists());
         drop(again);
+        assert!(!folder.join(LOCK_FILE).exists());
         std::fs::remove_dir_all(&folder).unwrap();
     }
 }

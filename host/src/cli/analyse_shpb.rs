@@ -10,6 +10,7 @@
 //! Strains are compressive positive unless `--tension-positive` says the bridges read
 //! tension positive.
 
+use super::output::say;
 use crate::experiment::shpb::kolsky::{analyse_recorded, incident_pulse, KolskyBar};
 use crate::experiment::shpb::{Analysis, StressStrain};
 use crate::input::recording::header_cell;
@@ -283,12 +284,12 @@ fn analyse(args: &AnalyseShpbArgs) -> Result<(), String> {
     std::fs::write(&recording_path, recording)
         .map_err(|e| format!("{}: {e}", recording_path.display()))?;
     let peak = |a: &StressStrain| a.stress.iter().copied().fold(0.0, f64::max);
-    println!(
+    say!(
         "mean strain rate {:.4e} /s, largest engineering strain {:.4}",
         chosen.mean_strain_rate(),
         chosen.max_strain()
     );
-    println!(
+    say!(
         "peak engineering stress: 1-wave {:.4e} Pa, 2-wave {:.4e} Pa, 3-wave {:.4e} Pa \
          (front and back faces apart by {:.1} %: equilibrium)",
         peak(&all[0]),
@@ -296,10 +297,22 @@ fn analyse(args: &AnalyseShpbArgs) -> Result<(), String> {
         peak(&all[2]),
         100.0 * (peak(&all[1]) - peak(&all[0])).abs() / peak(&all[2]).max(f64::MIN_POSITIVE)
     );
-    println!(
+    say!(
         "wrote {} and {}",
         series_path.display(),
         recording_path.display()
     );
+    super::output::json(&serde_json::json!({
+        "command": "analyse-shpb",
+        "mean_strain_rate": chosen.mean_strain_rate(),
+        "largest_engineering_strain": chosen.max_strain(),
+        "peak_engineering_stress": {
+            "one_wave": peak(&all[0]),
+            "two_wave": peak(&all[1]),
+            "three_wave": peak(&all[2]),
+        },
+        "series": series_path,
+        "recording": recording_path,
+    }));
     Ok(())
 }

@@ -4,6 +4,7 @@
 //! run without re-running any logged simulation.
 
 use super::executor_args::{start_executor, ExecutorArgs};
+use super::output::{log_line, say};
 use super::output_folder::{write_folder, Leftovers};
 use crate::calibrate::run::{calibrate, RunOptions};
 use crate::fit::Campaign;
@@ -42,9 +43,11 @@ pub struct CalibrateArgs {
     /// point (overrides the campaign's `least_squares`; 0 disables).
     #[arg(long)]
     pub least_squares: Option<usize>,
-    /// No progress output (the bar on a terminal, the progress lines otherwise).
+    /// Simulations at once, one thread each (default: the campaign's `[optimiser] parallel`).
+    /// The results do not depend on it: the optimiser still proposes its batches of
+    /// `parallel` candidates.
     #[arg(long)]
-    pub quiet: bool,
+    pub threads: Option<usize>,
     /// The cards' unit system: `si` (kg, m, s, Pa), or length-time-mass[-stress] as the
     /// codes' users name them (`mm-ms-kg-GPa`, `mm-s-t-MPa`, `mm-ms-g-MPa`, `cm-us-g-Mbar`).
     #[arg(long, default_value = "si")]
@@ -89,6 +92,13 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     }
     if args.instances == Some(0) {
         return Err("--instances 0: give at least 1".into());
+    }
+    let most = crate::solver::explicit::MAXIMUM_THREADS;
+    if let Some(threads) = args.threads.filter(|t| !(1..=most).contains(t)) {
+        return Err(format!(
+            "--threads must be in 1..={most} (simulations at once, one thread each), got \
+             {threads}"
+        ));
     }
     // The card options are checked before anything runs.
     let units =
@@ -162,14 +172,14 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     if !resuming_a_logged_run {
         record_inputs()?;
     }
-    println!(
+    log_line!(
         "campaign: {} ({} experiments, {} fitted; {} model(s))",
         campaign.file.name,
         campaign.experiments.len(),
         campaign.fitted().len(),
         campaign.file.models.len()
     );
-    println!("output:   {}", output.display());
+    log_line!("output:   {}", output.display());
     // On a terminal, a bar per optimiser instance; otherwise (a log file, a batch job) a plain
     // line when an instance starts or ends and at most every PROGRESS_INTERVAL in between.
     let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
@@ -192,7 +202,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             "{model}{} #{instance}",
             fold.map(|f| format!(" w/o {f}")).unwrap_or_default()
         );
-        if args.quiet {
+        if !super::output::logging() {
             return;
         }
         if !terminal {
@@ -202,7 +212,8 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
                 current = Some((label.clone(), indicatif::ProgressBar::hidden()));
             }
             let now = std::time::Instant::now();
-            let due = last_line.is_none_or(|t| now.duration_since(t) >= PROGRESS_INTERVAL);
+            let due = super::output::get().verbose
+                || last_line.is_none_or(|t| now.duration_since(t) >= PROGRESS_INTERVAL);
             if new_stage || done >= budget || due {
                 last_line = Some(now);
                 let stage = now.duration_since(stage_start).as_secs_f64();
@@ -214,7 +225,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
                 } else {
                     String::new()
                 };
-                println!(
+                eprintln!(
                     "{label}: {done}/{budget} simulations, {}, {:.0} s elapsed{left}",
                     best.map_or_else(
                         || "no feasible candidate yet".into(),
@@ -246,10 +257,10 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     };
     let mut executor = start_executor(
         &executor_entry,
-        campaign.file.optimiser.parallel,
+        args.threads.unwrap_or(campaign.file.optimiser.parallel),
         &campaign,
         &output,
-        args.quiet,
+        super::output::get().quiet,
     )?;
     let factory = crate::calibrate::proposer::bayesian_factory(campaign.file.optimiser.design);
     let results = calibrate(
@@ -265,44 +276,46 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     if resuming_a_logged_run {
         record_inputs()?;
     }
-    println!(
+    say!(
         "\n{:<10} {:>12} {:>14}",
-        "model", "fit error", "held-out error"
+        "model",
+        "fit error",
+        "held-out error"
     );
     for r in &results {
-        println!(
+        say!(
             "{:<10} {:>12.4} {:>14}",
             r.model,
             r.fit_error,
             r.holdout_error.map_or("-".into(), |h| format!("{h:.4}"))
         );
     }
-    println!();
+    say!();
     let sets: Vec<crate::fit::result::SetScore> = results
         .iter()
         .flat_map(|r| r.set_scores(&campaign))
         .collect();
     if let Some(recommendation) = crate::fit::result::recommend(&sets) {
-        println!("recommended: use {}:", recommendation.set.label());
+        say!("recommended: use {}:", recommendation.set.label());
         for reason in &recommendation.reasons {
-            println!("  - {reason}.");
+            say!("  - {reason}.");
         }
-        println!();
+        say!();
     }
     for r in &results {
         if let Some(rejections) = r.rejection_summary() {
-            println!("{rejections}.");
+            say!("{rejections}.");
         }
         if let Some(verdict) = r.baseline_verdict() {
-            println!("{verdict}.");
+            say!("{verdict}.");
         }
         if let Some(model) = campaign.file.models.iter().find(|m| m.name == r.model) {
             for line in r.uncertainty_lines(&campaign.space(model).names) {
-                println!("{line}.");
+                say!("{line}.");
             }
         }
         for bound in &r.at_bounds {
-            println!(
+            say!(
                 "warning: {}: {bound}; the optimum may lie beyond it (widen the bound if that \
                  is physical)",
                 r.model
@@ -314,11 +327,70 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
     write_folder(&report, Leftovers::Clean, |folder| {
         calibration::write(folder, &campaign, &results, &outcomes, &card_options)
     })?;
-    println!("\nreport: {}", report.join("report.md").display());
+    say!("\nreport: {}", report.join("report.md").display());
+    super::output::json(&result_document(&campaign, &results, &sets, &report));
     if let Some(folder) = created.as_mut() {
         folder.keep();
     }
     Ok(())
+}
+
+/// `stoss calibrate --json`: the recommendation, each model's errors and constants (name,
+/// symbol, SI unit, value, 95 % half-width where computed) and the report's path.
+fn result_document(
+    campaign: &Campaign,
+    results: &[crate::fit::result::ModelResult],
+    sets: &[crate::fit::result::SetScore],
+    report: &std::path::Path,
+) -> serde_json::Value {
+    let recommendation = crate::fit::result::recommend(sets).map(|r| {
+        serde_json::json!({
+            "model": r.set.model,
+            "starting_constants": r.set.starting,
+            "set": r.set.label(),
+            "by_held_out": r.by_held_out,
+            "reasons": r.reasons,
+        })
+    });
+    let models: Vec<serde_json::Value> = results
+        .iter()
+        .map(|r| {
+            let space = campaign.model(&r.model).map(|m| campaign.space(m));
+            let symbols = space.as_ref().map(|s| s.symbols()).unwrap_or_default();
+            let half = r.uncertainty.as_ref().map(|u| &u.half_width_95);
+            let constants: Vec<serde_json::Value> = r
+                .constants
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    serde_json::json!({
+                        "name": c.name,
+                        "symbol": symbols.get(k),
+                        "unit": c.unit,
+                        "value": c.value,
+                        "half_width_95": half.and_then(|h| h.get(k).copied().flatten()),
+                    })
+                })
+                .collect();
+            serde_json::json!({
+                "model": r.model,
+                "fit_error": r.fit_error,
+                "holdout_error": r.holdout_error,
+                "constants": constants,
+                "setup": r.setup,
+                "at_bounds": r.at_bounds,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "command": "calibrate",
+        "campaign": campaign.path,
+        "recommendation": recommendation,
+        "models": models,
+        "report": report.join("report.md"),
+        "result": report.join("result.json"),
+        "cards": report.join("cards"),
+    })
 }
 
 /// A run's output folder that the run created: removed on drop unless kept or the run logged

@@ -5,6 +5,7 @@
 //! a killed diagnosis rerun replays instead of simulating again.
 
 use super::executor_args::{start_executor, ExecutorArgs};
+use super::output::{log_line, say, say_inline};
 use super::output_folder::{write_folder, Leftovers};
 use crate::diagnose::{self, Options};
 use crate::fit::result::ModelResult;
@@ -30,9 +31,10 @@ pub struct DiagnoseArgs {
     /// Family-wise significance level of the tests.
     #[arg(long, default_value_t = 0.01)]
     pub alpha: f64,
-    /// Simulations at once (default: the number of cores).
-    #[arg(long)]
-    pub parallel: Option<usize>,
+    /// Simulations at once, one thread each (default: the number of cores); `--parallel`
+    /// is the same flag under its former name.
+    #[arg(long, alias = "parallel")]
+    pub threads: Option<usize>,
     /// Levenberg-Marquardt iterations per refit (at most 50: each costs a simulation per
     /// constant and experiment, and a refit that has not converged in 50 will not).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u64).range(1..=50))]
@@ -46,9 +48,6 @@ pub struct DiagnoseArgs {
     /// model until nothing more earns its place or this many terms were accepted.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u64).range(1..=16))]
     pub max_rounds: u64,
-    /// No progress lines (stages and simulation counts).
-    #[arg(long)]
-    pub quiet: bool,
     /// Where the refits' simulations run (this machine, a Slurm cluster) and how; the
     /// campaign's `[executor]` table is the default, as for `stoss calibrate`.
     #[command(flatten)]
@@ -107,10 +106,10 @@ fn read_results(folder: &Path) -> Result<Vec<ModelResult>, String> {
 
 fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     let most = crate::solver::explicit::MAXIMUM_THREADS;
-    if let Some(parallel) = args.parallel {
+    if let Some(parallel) = args.threads {
         if !(1..=most).contains(&parallel) {
             return Err(format!(
-                "--parallel must be in 1..={most} (simulations at once, one thread each), got \
+                "--threads must be in 1..={most} (simulations at once, one thread each), got \
                  {parallel}"
             ));
         }
@@ -139,13 +138,13 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     })?;
     let options = Options {
         alpha: args.alpha,
-        parallel: args.parallel.unwrap_or(Options::default().parallel),
+        parallel: args.threads.unwrap_or(Options::default().parallel),
         iterations: args.iterations as usize,
         max_refits: args.max_refits as usize,
         max_rounds: args.max_rounds as usize,
     };
     let _lock = crate::run_lock::RunLock::acquire(&args.calibration)?;
-    println!("campaign: {} (model {})", campaign.file.name, model.model);
+    log_line!("campaign: {} (model {})", campaign.file.name, model.model);
     if matches!(
         campaign.base,
         crate::input::material::AnyMaterialFile::Kc(_)
@@ -163,14 +162,14 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
             &settings,
         )?;
         let text = localisation.report(&campaign.file.name, &model.model);
-        print!("\n{text}");
+        say_inline!("\n{text}");
         let report = args.calibration.join("diagnosis");
         write_folder(&report, Leftovers::Clean, |folder| {
             std::fs::create_dir_all(folder).map_err(|e| format!("{}: {e}", folder.display()))?;
             std::fs::write(folder.join("report.md"), &text)
                 .map_err(|e| format!("{}: {e}", folder.display()))
         })?;
-        println!("report: {}", report.join("report.md").display());
+        say!("report: {}", report.join("report.md").display());
         return Ok(());
     }
     let log = args.calibration.join("diagnosis.jsonl");
@@ -180,30 +179,30 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         options.parallel,
         &campaign,
         &args.calibration,
-        args.quiet,
+        super::output::get().quiet,
     )?;
     // A line per stage, and within a stage the simulation counts at most every
     // PROGRESS_INTERVAL (a refit of penetration or blast experiments runs for minutes).
     let started = std::time::Instant::now();
     let mut last_line = started;
-    let quiet = args.quiet;
+    let output = super::output::get();
     let mut progress = |event: diagnose::Progress<'_>| {
-        if quiet {
+        if output.quiet {
             return;
         }
         let now = std::time::Instant::now();
         match event {
             diagnose::Progress::Stage(stage) => {
                 last_line = now;
-                println!(
+                eprintln!(
                     "  {stage} ({:.0} s elapsed)",
                     now.duration_since(started).as_secs_f64()
                 );
             }
             diagnose::Progress::Simulations { run, replayed } => {
-                if now.duration_since(last_line) >= PROGRESS_INTERVAL {
+                if output.verbose || now.duration_since(last_line) >= PROGRESS_INTERVAL {
                     last_line = now;
-                    println!(
+                    eprintln!(
                         "    {run} simulations run, {replayed} replayed from the log, {:.0} s \
                          elapsed",
                         now.duration_since(started).as_secs_f64()
@@ -225,12 +224,14 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         &mut progress,
     )
     .map_err(|e| e.to_string())?;
-    println!(
+    say!(
         "\n{:<28} {:>10} {:>10}  significant",
-        "term", "statistic", "p"
+        "term",
+        "statistic",
+        "p"
     );
     for test in &diagnosis.tests {
-        println!(
+        say!(
             "{:<28} {:>10.2} {:>10.2e}  {}{}",
             test.name,
             test.statistic,
@@ -243,7 +244,7 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         );
     }
     for check in &diagnosis.numerical {
-        println!(
+        say!(
             "simulation or material: {} with {}: predictions move by {} recorded uncertainties RMS (misfit {:.2}){}",
             check.name,
             check.change,
@@ -267,7 +268,7 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     );
     for (round, refits) in rounds {
         for refit in refits {
-            println!(
+            say!(
                 "{round}refit + {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",
                 refit.candidate,
                 refit.assessment.fit_error,
@@ -286,7 +287,7 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         }
     }
     if let Some(m) = diagnosis.state_misfit.first() {
-        println!(
+        say!(
             "misfit in state space: organised most by {} ({:.0} % of it): {}",
             m.variable,
             100.0 * m.share,
@@ -294,7 +295,7 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
         );
     }
     for alternative in &diagnosis.alternatives {
-        println!(
+        say!(
             "family {}: fit error {:.4}, held-out {}, BIC {:.1} -> {}: {}",
             alternative.candidate,
             alternative.assessment.fit_error,
@@ -320,13 +321,13 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     );
     for (label, assessment) in flagged {
         if !assessment.at_bounds.is_empty() {
-            println!(
+            say!(
                 "warning: {label}: constants at a bound of their range: {}",
                 assessment.at_bounds.join(", ")
             );
         }
     }
-    println!("\nverdict: {}", diagnosis.verdict);
+    say!("\nverdict: {}", diagnosis.verdict);
     let accepted: Vec<&str> = if diagnosis.replacement.is_some() {
         diagnosis.accepted.iter().map(String::as_str).collect()
     } else {
@@ -336,7 +337,7 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
             .map(|r| r.accepted.as_str())
             .collect()
     };
-    println!(
+    say!(
         "accepted: {}",
         if accepted.is_empty() {
             "none".to_string()
@@ -348,6 +349,14 @@ fn run_diagnosis(args: &DiagnoseArgs) -> Result<(), String> {
     write_folder(&report, Leftovers::Clean, |folder| {
         diagnose::report::write(folder, &campaign, &diagnosis, &before, after.as_deref())
     })?;
-    println!("report: {}", report.join("report.md").display());
+    say!("report: {}", report.join("report.md").display());
+    super::output::json(&serde_json::json!({
+        "command": "diagnose",
+        "model": model.model,
+        "verdict": diagnosis.verdict,
+        "accepted": accepted,
+        "report": report.join("report.md"),
+        "diagnosis": report.join("diagnosis.json"),
+    }));
     Ok(())
 }

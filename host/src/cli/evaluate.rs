@@ -4,6 +4,7 @@
 //! worker's origin (version, binary hash, host), which the coordinator checks before it
 //! submits any simulation.
 
+use super::output::say;
 use crate::fit::executor::task::{run_task, write_probe};
 use clap::Args;
 use std::path::PathBuf;
@@ -39,7 +40,8 @@ pub fn run(args: &EvaluateArgs) -> ExitCode {
     };
     match outcome {
         Ok(path) => {
-            println!("{}", path.display());
+            say!("{}", path.display());
+            super::output::json(&serde_json::json!({"command": "evaluate", "result": path}));
             ExitCode::SUCCESS
         }
         Err(message) => {

@@ -4,6 +4,7 @@
 //! compared against. It prints the constants, which curves set each, and each curve's RMS
 //! difference, and writes the material file if asked.
 
+use super::output::say;
 use crate::calibrate::direct_jc::{self, DirectFitSettings, FlowCurve};
 use crate::experiment::uniaxial::RecordedStrain;
 use crate::experiment::{Experiment, Setup};
@@ -120,8 +121,24 @@ fn fit(args: &FitJcArgs) -> Result<(), String> {
     };
     let result = direct_jc::fit(&curves, &settings).map_err(|e| e.to_string())?;
     let c = result.constants;
-    println!("Direct Johnson-Cook fit (seed 001 sec. 3.2; isothermal reading of every curve)");
-    println!(
+    super::output::json(&serde_json::json!({
+        "command": "fit-jc",
+        "constants": {
+            "yield_stress": c.yield_stress,
+            "hardening_modulus": c.hardening_modulus,
+            "hardening_exponent": c.hardening_exponent,
+            "rate_sensitivity": c.rate_sensitivity,
+            "thermal_exponent": c.thermal_exponent,
+            "reference_rate": c.reference_rate,
+            "reference_temperature": c.reference_temperature,
+            "melting_temperature": c.melting_temperature,
+        },
+        "rms_relative": result.rms_relative,
+        "notes": result.notes,
+        "output": args.output,
+    }));
+    say!("Direct Johnson-Cook fit (seed 001 sec. 3.2; isothermal reading of every curve)");
+    say!(
         "  A {:.1} MPa, B {:.1} MPa, n {:.4}, C {:.5}, m {:.4}  (e0 {} /s, Tr {} K, Tm {} K)",
         c.yield_stress / 1e6,
         c.hardening_modulus / 1e6,
@@ -133,14 +150,14 @@ fn fit(args: &FitJcArgs) -> Result<(), String> {
         c.melting_temperature
     );
     for (step, names) in ["A, B, n", "C", "m"].iter().zip(&result.used) {
-        println!("  {step} from: {}", names.join("; "));
+        say!("  {step} from: {}", names.join("; "));
     }
-    println!("  RMS relative difference per curve:");
+    say!("  RMS relative difference per curve:");
     for (name, rms) in &result.rms_relative {
-        println!("    {:>6.2} %  {name}", 100.0 * rms);
+        say!("    {:>6.2} %  {name}", 100.0 * rms);
     }
     for note in &result.notes {
-        println!("  note: {note}");
+        say!("  note: {note}");
     }
     if let Some(output) = &args.output {
         base.name = format!("{} (direct JC fit)", base.name);
@@ -157,7 +174,7 @@ fn fit(args: &FitJcArgs) -> Result<(), String> {
             .map_err(|e| format!("the fitted constants are not a valid material: {e}"))?;
         crate::fit::executor::task::write_atomically(output, base.to_toml().as_bytes())
             .map_err(|e| format!("{}: {e}", output.display()))?;
-        println!("  written: {}", output.display());
+        say!("  written: {}", output.display());
     }
     Ok(())
 }

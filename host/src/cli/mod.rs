@@ -6,6 +6,7 @@ pub(crate) mod diagnose;
 mod evaluate;
 mod executor_args;
 mod fit_jc;
+pub mod output;
 mod output_folder;
 mod simulate;
 pub mod synthesize;
@@ -27,6 +28,15 @@ pub struct Cli {
     /// which are otherwise refused as likely unit slips.
     #[arg(long, global = true)]
     pub force: bool,
+    /// No progress or log lines on stderr (errors and warnings still).
+    #[arg(long, global = true)]
+    pub quiet: bool,
+    /// Progress at every event, not at most every few seconds.
+    #[arg(long, global = true, conflicts_with = "quiet")]
+    pub verbose: bool,
+    /// The result as one JSON document on stdout, in place of the text tables.
+    #[arg(long, global = true)]
+    pub json: bool,
 }
 
 /// Sub-commands.
@@ -63,6 +73,11 @@ pub enum Command {
 /// Run the parsed command line.
 pub fn run(cli: Cli) -> ExitCode {
     crate::input::allow_implausible(cli.force);
+    output::set(output::Output {
+        quiet: cli.quiet,
+        verbose: cli.verbose,
+        json: cli.json,
+    });
     match cli.command {
         Command::Verify(args) => verify::run(&args),
         Command::Validate(args) => validate::run(&args),

@@ -5,6 +5,7 @@
 //! `.csv`); all written to a temporary folder first and moved into place, so a failed run
 //! leaves no partial output.
 
+use super::output::{say, say_inline};
 use super::output_folder::{write_folder, Leftovers};
 use crate::analytic::penetration::depth_at;
 use crate::experiment::{Experiment, Outcome, PenetrationSpec, Setup};
@@ -30,18 +31,15 @@ pub struct SimulateArgs {
     /// Worker threads (results do not depend on it).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// No progress output (the spinner on a terminal, the progress lines otherwise).
-    #[arg(long)]
-    pub quiet: bool,
 }
 
-/// Least time between two progress lines when stdout is not a terminal.
+/// Least time between two progress lines when stderr is not a terminal (`--verbose`: 1 s).
 const PROGRESS_INTERVAL: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// Run `simulate` while reporting the current run's progress: on a terminal a spinner with
 /// the fraction of the run done; otherwise a plain line at most every [`PROGRESS_INTERVAL`]
-/// (fraction, elapsed, estimated time left of the current run; an experiment of several runs,
-/// a ballistic-limit search, restarts the fraction at each).
+/// on stderr (fraction, elapsed, estimated time left; an experiment of several runs, a
+/// ballistic-limit search, counts its finished shots and estimates the time left from them).
 fn with_progress<T>(
     progress: &crate::solver::RunProgress,
     quiet: bool,
@@ -51,7 +49,7 @@ fn with_progress<T>(
     std::thread::scope(|scope| {
         let reporter = (!quiet).then(|| {
             scope.spawn(|| {
-                let terminal = std::io::IsTerminal::is_terminal(&std::io::stdout());
+                let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
                 let bar = if terminal {
                     indicatif::ProgressBar::new_spinner()
                 } else {
@@ -64,24 +62,42 @@ fn with_progress<T>(
                     std::thread::park_timeout(std::time::Duration::from_millis(200));
                     let fraction = progress.fraction().unwrap_or(0.0);
                     let elapsed = started.elapsed().as_secs_f64();
+                    // An experiment of several runs (a ballistic sweep's shots, some in
+                    // parallel) counts its finished runs; the fraction is the latest run's.
+                    let runs = progress
+                        .runs()
+                        .map_or(String::new(), |(finished, expected)| {
+                            format!("{finished} of {expected} shots done, ")
+                        });
                     if terminal {
                         bar.set_message(format!(
-                            "simulating: {:.0} % of the run, {elapsed:.0} s",
+                            "simulating: {runs}{:.0} % of the current run, {elapsed:.0} s",
                             100.0 * fraction
                         ));
                         bar.tick();
-                    } else if last_line.elapsed() >= PROGRESS_INTERVAL {
+                    } else if last_line.elapsed()
+                        >= if super::output::get().verbose {
+                            std::time::Duration::from_secs(1)
+                        } else {
+                            PROGRESS_INTERVAL
+                        }
+                    {
                         last_line = std::time::Instant::now();
-                        let left = if fraction > 0.01 {
-                            format!(
+                        let left = match progress.runs() {
+                            Some((finished, expected)) if finished > 0 => format!(
+                                ", about {:.0} s left",
+                                elapsed / finished as f64 * (expected - finished) as f64
+                            ),
+                            Some(_) => String::new(),
+                            None if fraction > 0.01 => format!(
                                 ", about {:.0} s left in this run",
                                 elapsed / fraction * (1.0 - fraction)
-                            )
-                        } else {
-                            String::new()
+                            ),
+                            None => String::new(),
                         };
-                        println!(
-                            "simulating: {:.0} % of the current run, {elapsed:.0} s elapsed{left}",
+                        eprintln!(
+                            "simulating: {runs}{:.0} % of the current run, {elapsed:.0} s \
+                             elapsed{left}",
                             100.0 * fraction
                         );
                     }
@@ -231,12 +247,12 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     experiment.file.setup.accepts(&material).map_err(|error| {
         InputError::field(&material_path, &material_text, "model", error.to_string()).to_string()
     })?;
-    println!(
+    say!(
         "experiment: {} ({})",
         experiment.file.name,
         args.experiment.display()
     );
-    println!(
+    say!(
         "material:   {} ({})",
         material_file.name(),
         material_path.display()
@@ -248,28 +264,33 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
         ..SolverSettings::default()
     };
     let started = std::time::Instant::now();
-    let outcome = with_progress(&progress, args.quiet, || {
+    let outcome = with_progress(&progress, super::output::get().quiet, || {
         experiment.simulate(&material, &settings)
     })
     .map_err(|e| format!("{}: {e}", args.experiment.display()))?;
     let wall = started.elapsed().as_secs_f64();
-    println!("wall time:  {wall:.2} s");
+    say!("wall time:  {wall:.2} s");
     if outcome.element_cycles > 0 {
-        println!(
+        say!(
             "element-cycles: {} ({:.2} M per wall-clock second)",
             outcome.element_cycles,
             outcome.element_cycles as f64 / wall * 1e-6
         );
     }
     if let Some(energy) = &outcome.energy {
-        println!("{}", energy.report());
+        say!("{}", energy.report());
     }
     for (name, value) in &outcome.summary {
-        println!("{name:<24} {value:.6e}");
+        say!("{name:<24} {value:.6e}");
     }
-    println!(
+    say!(
         "\n{:<20} {:>12} {:>12} {:>12} {:>10} {:>8}",
-        "quantity", "position", "recorded", "predicted", "diff %", "diff/u"
+        "quantity",
+        "position",
+        "recorded",
+        "predicted",
+        "diff %",
+        "diff/u"
     );
     for (point, predicted) in experiment.recording.iter().zip(&outcome.predicted) {
         // A recorded 0 (a stopped projectile) has no relative difference: the difference in
@@ -282,7 +303,7 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
                 100.0 * (predicted - point.value) / point.value.abs()
             )
         };
-        println!(
+        say!(
             "{:<20} {:>12.4e} {:>12.4e} {:>12.4e} {relative} {:>+8.2}",
             point.quantity,
             point.position,
@@ -295,7 +316,7 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
         print_cross_check(spec, metal, &experiment, &outcome);
     }
     if let Some(report) = &outcome.report {
-        print!("{}", report.text);
+        say_inline!("{}", report.text);
     }
     let missing: Vec<_> = experiment
         .recording
@@ -327,7 +348,33 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
         write_outputs(folder, &experiment, &outcome)
             .map_err(|e| format!("{}: {e}", folder.display()))
     })?;
-    println!("\nwrote {}", output.display());
+    say!("\nwrote {}", output.display());
+    super::output::json(&serde_json::json!({
+        "command": "simulate",
+        "experiment": args.experiment,
+        "material": material_path,
+        "wall_time_s": wall,
+        "element_cycles": outcome.element_cycles,
+        "energy_error_percent": outcome.energy.map(|e| e.error_percent()),
+        "summary": outcome
+            .summary
+            .iter()
+            .map(|(name, value)| (name.clone(), serde_json::json!(value)))
+            .collect::<serde_json::Map<_, _>>(),
+        "measurements": experiment
+            .recording
+            .iter()
+            .zip(&outcome.predicted)
+            .map(|(point, predicted)| serde_json::json!({
+                "quantity": point.quantity,
+                "position": point.position,
+                "recorded": point.value,
+                "uncertainty": point.uncertainty,
+                "predicted": predicted,
+            }))
+            .collect::<Vec<_>>(),
+        "output": output,
+    }));
     Ok(())
 }
 
@@ -342,21 +389,25 @@ fn print_cross_check(
     let check = match spec.cross_check(material) {
         Ok(check) => check,
         Err(message) => {
-            println!("\nanalytic cross-check not available: {message}");
+            say!("\nanalytic cross-check not available: {message}");
             return;
         }
     };
     let case = &check.case;
-    println!(
+    say!(
         "\nanalytic cross-check (semi-infinite target; rod strength {:.3} GPa, target strength \
          {:.3} GPa, Tate R_t {:.3} GPa)",
         case.rod_strength * 1e-9,
         case.target_strength * 1e-9,
         case.target_resistance * 1e-9
     );
-    println!(
+    say!(
         "{:<12} {:>12} {:>12} {:>16} {:>12}",
-        "time (us)", "recorded", "FE", "Walker-Anderson", "Tate"
+        "time (us)",
+        "recorded",
+        "FE",
+        "Walker-Anderson",
+        "Tate"
     );
     let mut times: Vec<(f64, f64, f64)> = experiment
         .recording
@@ -369,7 +420,7 @@ fn print_cross_check(
         times.push((spec.end_time, f64::NAN, f64::NAN));
     }
     for (time, recorded, fe) in times {
-        println!(
+        say!(
             "{:<12.2} {:>9.2} mm {:>9.2} mm {:>13.2} mm {:>9.2} mm",
             time * 1e6,
             recorded * 1e3,

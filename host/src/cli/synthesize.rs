@@ -4,6 +4,7 @@
 //! recording and the noise-free truth (`<output>.truth.csv`). The header of both files says
 //! they are synthetic and names the truth material, the noise and the seed.
 
+use super::output::say;
 use crate::experiment::Experiment;
 use crate::input::material;
 use crate::random::SplitMix64;
@@ -49,11 +50,16 @@ fn synthesize(args: &SynthesizeArgs) -> Result<(), String> {
     let truth_path = args.output.with_extension("truth.csv");
     std::fs::write(&args.output, noisy).map_err(|e| format!("{}: {e}", args.output.display()))?;
     std::fs::write(&truth_path, clean).map_err(|e| format!("{}: {e}", truth_path.display()))?;
-    println!(
+    say!(
         "wrote {} and {}",
         args.output.display(),
         truth_path.display()
     );
+    super::output::json(&serde_json::json!({
+        "command": "synthesize",
+        "recording": args.output,
+        "truth": truth_path,
+    }));
     Ok(())
 }
 

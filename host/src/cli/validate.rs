@@ -1,6 +1,7 @@
 //! `stoss validate`: re-run the headline figures of the documents and compare each with the
 //! value it is quoted at ([`crate::validate`]).
 
+use super::output::say;
 use crate::validate::{self, Speed, Validation, ROWS};
 use clap::Args;
 use std::path::PathBuf;
@@ -73,7 +74,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         .collect();
     if args.list {
         for row in &selected {
-            println!(
+            say!(
                 "{:<29} {:<5} {} = {} {} (+-{}) [{}]",
                 row.name,
                 match row.speed {
@@ -90,9 +91,14 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         }
         return ExitCode::SUCCESS;
     }
-    println!(
+    say!(
         "{:<29} {:>12} {:>12} {:>10} {:<11} {:>8}  figure",
-        "row", "stated", "measured", "tolerance", "unit", "wall s"
+        "row",
+        "stated",
+        "measured",
+        "tolerance",
+        "unit",
+        "wall s"
     );
     let mut results: Vec<Validation> = Vec::new();
     for row in selected {
@@ -101,7 +107,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
             Ok(value) => format!("{value:>12.4}"),
             Err(_) => format!("{:>12}", "error"),
         };
-        println!(
+        say!(
             "{:<29} {:>12.4} {measured} {:>10} {:<11} {:>8.1}  {} {}",
             row.name,
             row.stated,
@@ -112,12 +118,31 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
             row.figure
         );
         if let Err(reason) = &result.measured {
-            println!("{:<29} error: {reason}", "");
+            say!("{:<29} error: {reason}", "");
         }
         results.push(result);
     }
     let failed = results.iter().filter(|r| !r.passed()).count();
-    println!(
+    super::output::json(&serde_json::json!({
+        "command": "validate",
+        "rows": results
+            .iter()
+            .map(|r| serde_json::json!({
+                "row": r.row.name,
+                "figure": r.row.figure,
+                "stated": r.row.stated,
+                "tolerance": r.row.tolerance,
+                "unit": r.row.unit,
+                "measured": r.measured.as_ref().ok(),
+                "error": r.measured.as_ref().err(),
+                "passed": r.passed(),
+                "seconds": r.seconds,
+            }))
+            .collect::<Vec<_>>(),
+        "passed": results.len() - failed,
+        "failed": failed,
+    }));
+    say!(
         "\n{} row(s): {} pass, {failed} fail",
         results.len(),
         results.len() - failed

@@ -1,6 +1,7 @@
 //! `stoss verify`: print the check table; compare (or, with `--bless`, rewrite) the golden
 //! histories.
 
+use super::output::say;
 use crate::verify::{self, golden};
 use clap::Args;
 use std::path::PathBuf;
@@ -21,9 +22,13 @@ pub struct VerifyArgs {
 /// Run `stoss verify`.
 pub fn run(args: &VerifyArgs) -> ExitCode {
     let rows = verify::run_all();
-    println!(
+    say!(
         "{:<26} {:<38} {:<50} {:>11} {:>11}  result",
-        "material", "check", "quantity", "max error", "tolerance"
+        "material",
+        "check",
+        "quantity",
+        "max error",
+        "tolerance"
     );
     let mut failures = 0;
     for row in &rows {
@@ -35,19 +40,27 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
         if !row.passed() {
             failures += 1;
         }
-        println!(
+        say!(
             "{:<26} {:<38} {:<50} {:>11.3e} {relation}{:>9.1e}  {verdict}",
-            row.subject, row.check, row.quantity, row.max_error, row.tolerance
+            row.subject,
+            row.check,
+            row.quantity,
+            row.max_error,
+            row.tolerance
         );
     }
-    println!();
-    println!("seed 001 sec. 3.4.1 tension check, 4340 JC (A 792 MPa, B 510 MPa, n 0.26, C 0.014), true strain 0.2:");
-    println!(
+    say!();
+    say!("seed 001 sec. 3.4.1 tension check, 4340 JC (A 792 MPa, B 510 MPa, n 0.26, C 0.014), true strain 0.2:");
+    say!(
         "{:>8} {:>8} {:>16} {:>16} {:>16}",
-        "rate/s", "eps_p", "JC analytical", "implicit (3.8)", "lagged (3.7)"
+        "rate/s",
+        "eps_p",
+        "JC analytical",
+        "implicit (3.8)",
+        "lagged (3.7)"
     );
     for row in verify::checks::seed001_table() {
-        println!(
+        say!(
             "{:>8} {:>8.4} {:>12.1} MPa {:>12.1} MPa {:>12.1} MPa",
             row.rate,
             row.plastic_strain,
@@ -56,25 +69,31 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
             row.lagged / 1e6
         );
     }
-    println!();
-    println!(
+    say!();
+    say!(
         "RHT HPC 92 MPa (seed 001 table 4.4), uniaxial compression peak / fc; F = (rate/30e-6)^0.01 (eq. 4.4),"
     );
-    println!("expected DIF = root z of eq. 4.1 on the uniaxial path, z = F A (z/3 - p*_0 F)^N:");
-    println!(
+    say!("expected DIF = root z of eq. 4.1 on the uniaxial path, z = F A (z/3 - p*_0 F)^N:");
+    say!(
         "{:>8} {:>10} {:>12} {:>12}",
-        "rate/s", "F", "eq. 4.1 z", "driver DIF"
+        "rate/s",
+        "F",
+        "eq. 4.1 z",
+        "driver DIF"
     );
     for row in verify::rht_checks::dif_table() {
-        println!(
+        say!(
             "{:>8} {:>10.4} {:>12.4} {:>12.4}",
-            row.rate, row.rate_factor, row.surface, row.measured
+            row.rate,
+            row.rate_factor,
+            row.surface,
+            row.measured
         );
     }
-    println!();
+    say!();
     if args.bless {
         match golden::bless(&args.golden_dir) {
-            Ok(count) => println!(
+            Ok(count) => say!(
                 "blessed {count} golden histories in {}",
                 args.golden_dir.display()
             ),
@@ -90,7 +109,7 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
              or give the folder with --golden-dir",
             args.golden_dir.display()
         );
-        println!("{} closed-form checks, {} failed", rows.len(), failures);
+        say!("{} closed-form checks, {} failed", rows.len(), failures);
         return ExitCode::FAILURE;
     } else {
         let cases = golden::cases();
@@ -101,7 +120,7 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
                 eprintln!("golden: {error}");
             }
         }
-        println!(
+        say!(
             "golden histories: {} of {} bit-identical ({})",
             cases.len() - golden_failures,
             cases.len(),
@@ -109,7 +128,12 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
         );
         failures += golden_failures;
     }
-    println!("{} checks, {} failed", rows.len(), failures);
+    say!("{} checks, {} failed", rows.len(), failures);
+    super::output::json(&serde_json::json!({
+        "command": "verify",
+        "checks": rows.len(),
+        "failed": failures,
+    }));
     if failures == 0 {
         ExitCode::SUCCESS
     } else {

@@ -464,11 +464,13 @@ impl BallisticLimitSpec {
         };
         let fire = |&v: &f64| {
             let shot = self.fire(plate, v, &single)?;
-            if shot.outcome == ShotOutcome::Undetermined {
-                longer.fire(plate, v, &single)
+            let shot = if shot.outcome == ShotOutcome::Undetermined {
+                longer.fire(plate, v, &single)?
             } else {
-                Ok(shot)
-            }
+                shot
+            };
+            settings.progress.run_finished();
+            Ok(shot)
         };
         match pool {
             None => velocities.iter().map(fire).collect(),
@@ -566,6 +568,9 @@ impl BallisticLimitSpec {
         recording: &[RecordedPoint],
     ) -> Result<Outcome, SimulationError> {
         let wants_limit = recording.iter().any(|p| p.quantity == "ballistic_limit");
+        settings
+            .progress
+            .expect_runs(self.estimated_shots(recording));
         let (shots, search) = if wants_limit {
             let search = self.search(material, settings)?;
             (search.shots.clone(), Some(search))

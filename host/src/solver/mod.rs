@@ -157,11 +157,23 @@ pub struct SolverSettings {
     pub nonlocal: Option<NonlocalAveraging>,
 }
 
-/// The fraction of its end time a run has reached, shared with whoever reports progress (a
-/// thread of `stoss simulate`). Every settings with a progress cell compare equal: it is not a
-/// numerical setting.
+/// The fraction of its end time a run has reached, and for an experiment of several runs (a
+/// ballistic sweep's shots) how many have finished of how many are expected, shared with
+/// whoever reports progress (a thread of `stoss simulate`). Every settings with a progress
+/// cell compare equal: it is not a numerical setting.
 #[derive(Clone, Debug, Default)]
-pub struct RunProgress(Option<std::sync::Arc<std::sync::atomic::AtomicU64>>);
+pub struct RunProgress(Option<std::sync::Arc<ProgressCells>>);
+
+/// The cells of a watched [`RunProgress`].
+#[derive(Debug, Default)]
+pub struct ProgressCells {
+    /// The current run's fraction of its end time (`f64` bits).
+    fraction: std::sync::atomic::AtomicU64,
+    /// Runs finished.
+    finished: std::sync::atomic::AtomicU64,
+    /// Runs the experiment expects to make (0: one, or not said).
+    expected: std::sync::atomic::AtomicU64,
+}
 
 impl PartialEq for RunProgress {
     fn eq(&self, _: &Self) -> bool {
@@ -172,20 +184,43 @@ impl PartialEq for RunProgress {
 impl RunProgress {
     /// A cell to watch.
     pub fn watched() -> Self {
-        Self(Some(std::sync::Arc::new(
-            std::sync::atomic::AtomicU64::new(0),
-        )))
+        Self(Some(std::sync::Arc::new(ProgressCells::default())))
     }
 
     /// Record that a run is at `time` of `end_time`.
     pub fn report(&self, time: f64, end_time: f64) {
-        if let Some(cell) = &self.0 {
+        if let Some(cells) = &self.0 {
             let fraction = if end_time > 0.0 {
                 (time / end_time).clamp(0.0, 1.0)
             } else {
                 0.0
             };
-            cell.store(fraction.to_bits(), std::sync::atomic::Ordering::Relaxed);
+            cells
+                .fraction
+                .store(fraction.to_bits(), std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    /// Say that the experiment expects to make `runs` runs in all (a ballistic sweep's
+    /// shots); a search that needs more raises it.
+    pub fn expect_runs(&self, runs: usize) {
+        if let Some(cells) = &self.0 {
+            cells
+                .expected
+                .fetch_max(runs as u64, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    /// Record that one of the experiment's runs has finished.
+    pub fn run_finished(&self) {
+        if let Some(cells) = &self.0 {
+            let finished = cells
+                .finished
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+                + 1;
+            cells
+                .expected
+                .fetch_max(finished, std::sync::atomic::Ordering::Relaxed);
         }
     }
 
@@ -193,7 +228,15 @@ impl RunProgress {
     pub fn fraction(&self) -> Option<f64> {
         self.0
             .as_ref()
-            .map(|cell| f64::from_bits(cell.load(std::sync::atomic::Ordering::Relaxed)))
+            .map(|cells| f64::from_bits(cells.fraction.load(std::sync::atomic::Ordering::Relaxed)))
+    }
+
+    /// Runs finished and runs expected, if the experiment said it makes more than one.
+    pub fn runs(&self) -> Option<(usize, usize)> {
+        let cells = self.0.as_ref()?;
+        let expected = cells.expected.load(std::sync::atomic::Ordering::Relaxed) as usize;
+        let finished = cells.finished.load(std::sync::atomic::Ordering::Relaxed) as usize;
+        (expected > 1).then_some((finished, expected))
     }
 }
 
