@@ -63,12 +63,15 @@ fn penetration_is_thread_independent_balances_energy_and_keeps_surfaces_apart() 
     //       1 % with erosion on (eroded energy, contact work, eroded mass kept); (c) the
     //       eroding contact's surface interpenetration (the issue asks for < 15 % of the
     //       smallest element); (d) elements erode and the nose advances.
-    // SETUP: fixtures/experiments/penetration-hzb-1700.toml with end_time 15 us.
+    // SETUP: fixtures/experiments/penetration-hzb-1700.toml with end_time 15 us; its final
+    //        field rendered as the `.vtu` `stoss simulate` writes.
     // REFERENCE: (a) exact; (b) |error| <= 1 %; (c) < 15 % of the smallest element (the
     //   issue's bound; the kinematic stop holds surface nodes at 10 %; measured 10.1 %), and
     //   the overlap it leaves out, tolerated where erosion exposes a face behind a node
     //   (measured 2.62 elements, asserted < 4); (d) Walker–Anderson's depth at 15 us with the
-    //   same constants (13.19 mm; measured 13.40 mm, +1.6 %, asserted within 6 %).
+    //   same constants (13.19 mm; measured 13.40 mm, +1.6 %, asserted within 6 %); (e) the
+    //   `.vtu` holds exactly the cells not eroded, each with a positive area (counter-
+    //   clockwise corners in r-z), a part and material id, the final time and the eroded count.
     let (_, mut spec, target) = seed_experiment();
     spec.end_time = 15.0e-6;
     let run = |threads: usize| {
@@ -121,6 +124,59 @@ fn penetration_is_thread_independent_balances_energy_and_keeps_surfaces_apart() 
         (depth / walker_anderson - 1.0).abs() < 0.06,
         "nose depth {depth} after 15 us against Walker-Anderson's {walker_anderson}"
     );
+    // (e) Issue 51 item 4: the `.vtu` a user opens shows the crater without filtering: the
+    //     eroded cells are left out, no written cell is inverted, every cell has its part and
+    //     material id, and the time is in the file.
+    let field = stoss::figure::FieldOutput {
+        time: run_one.final_time(),
+        mesh: built.model.mesh.clone(),
+        positions: run_one.positions.clone(),
+        states: run_one.states.clone(),
+        eroded: run_one.eroded.clone(),
+        cell_data: Vec::new(),
+    };
+    let vtu = stoss::report::vtk::render(&field);
+    let array = |name: &str| -> Vec<f64> {
+        let start = vtu.find(&format!("Name=\"{name}\"")).unwrap();
+        let body = &vtu[start..];
+        let body = &body[body.find('>').unwrap() + 1..body.find("</DataArray>").unwrap()];
+        body.split_whitespace()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let points_start = vtu.find("<Points>").unwrap();
+    let points = &vtu[points_start..];
+    let points =
+        &points[points.find("ascii\">").unwrap() + 7..points.find("</DataArray>").unwrap()];
+    let xyz: Vec<f64> = points
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let connectivity = array("connectivity");
+    let written = connectivity.len() / 4;
+    assert_eq!(
+        written,
+        run_one.eroded.len() - eroded,
+        "eroded cells are left out"
+    );
+    let corner = |n: f64| [xyz[3 * n as usize], xyz[3 * n as usize + 1]];
+    let inverted = connectivity
+        .chunks(4)
+        .filter(|quad| {
+            let c: Vec<[f64; 2]> = quad.iter().map(|&n| corner(n)).collect();
+            let area: f64 = (0..4)
+                .map(|k| c[k][0] * c[(k + 1) % 4][1] - c[(k + 1) % 4][0] * c[k][1])
+                .sum();
+            area <= 0.0
+        })
+        .count();
+    assert_eq!(inverted, 0, "{inverted} inverted cells written");
+    let parts = array("part_id");
+    assert_eq!(parts.len(), written);
+    assert!(parts.iter().all(|&p| p >= 1.0) && parts.iter().any(|&p| p >= 2.0));
+    assert_eq!(array("material_id").len(), written);
+    assert_eq!(array("TimeValue"), vec![run_one.final_time()]);
+    assert_eq!(array("eroded_cells"), vec![eroded as f64]);
 }
 
 #[test]

@@ -44,6 +44,8 @@ pub struct FieldOutput {
     pub eroded: Vec<bool>,
     /// Further per-element arrays by name (an Eulerian run's volume fractions and density).
     pub cell_data: Vec<(String, Vec<f64>)>,
+    /// The time of this state (s, the run's clock).
+    pub time: f64,
 }
 
 /// The final state of a 3D (hexahedral) run, for its VTK file.
@@ -57,6 +59,8 @@ pub struct HexFieldOutput {
     pub states: Vec<MaterialState>,
     /// Eroded elements.
     pub eroded: Vec<bool>,
+    /// The time of this state (s, the run's clock).
+    pub time: f64,
 }
 
 /// The text and figures of an experiment's own report.
@@ -71,6 +75,9 @@ pub struct ExperimentReport {
     pub snapshots: Vec<(String, HexFieldOutput)>,
     /// Maps of a field over a section, written as `.svg` figures.
     pub maps: Vec<FieldMap>,
+    /// The final field of each shot of a sweep (impact velocity in m/s, field), written as
+    /// one `.vtu` per shot and a `.pvd` collection.
+    pub shot_fields: Vec<(f64, FieldOutput)>,
 }
 
 /// A map of a scalar field over a section (drawn by `report::plots::field_map`).

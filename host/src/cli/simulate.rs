@@ -1,9 +1,10 @@
 //! `stoss simulate <experiment.toml> [--material m.toml]`: run one experiment with given
 //! constants; print the energy balance and the comparison with the recording; write
-//! `measurements.csv`, `summary.json`, `energy.csv`, `states.csv` and `final.vtu` into the
-//! output folder, with an experiment report's text and charts (each chart as `.svg` and
-//! `.csv`); all written to a temporary folder first and moved into place, so a failed run
-//! leaves no partial output.
+//! `measurements.csv`, `summary.json`, `energy.csv`, `states.csv`, `final.vtu` and `run.pvd`
+//! (every field of the run with its time; a sweep's shots also as `shot-<v>mps.vtu` and
+//! `shots.pvd`) into the output folder, with an experiment report's text and charts (each
+//! chart as `.svg` and `.csv`); all written to a temporary folder first and moved into place,
+//! so a failed run leaves no partial output.
 
 use super::output::{say, say_inline};
 use super::output_folder::{write_folder, Leftovers};
@@ -171,16 +172,38 @@ fn write_outputs(
         }
     }
     std::fs::write(directory.join("states.csv"), states)?;
+    // Every field of the run, with its time, for `run.pvd`.
+    let mut series: Vec<(f64, String)> = Vec::new();
+    if let Some(report) = &outcome.report {
+        for (file, field) in &report.snapshots {
+            std::fs::write(directory.join(file), vtk::render_hexahedral(field))?;
+            series.push((field.time, file.clone()));
+        }
+    }
     if let Some(field) = &outcome.field_3d {
         std::fs::write(directory.join("final.vtu"), vtk::render_hexahedral(field))?;
+        series.push((field.time, "final.vtu".into()));
     }
     if let Some(field) = &outcome.field {
         std::fs::write(directory.join("final.vtu"), vtk::render(field))?;
+        series.push((field.time, "final.vtu".into()));
+    }
+    if !series.is_empty() {
+        series.sort_by(|a, b| a.0.total_cmp(&b.0));
+        std::fs::write(directory.join("run.pvd"), vtk::collection(&series))?;
     }
     if let Some(report) = &outcome.report {
         std::fs::write(directory.join("report.txt"), &report.text)?;
-        for (file, field) in &report.snapshots {
-            std::fs::write(directory.join(file), vtk::render_hexahedral(field))?;
+        // A sweep's shots: one file each, and a collection whose "time" is the impact
+        // velocity (m/s), so that ParaView steps from shot to shot.
+        if !report.shot_fields.is_empty() {
+            let mut shots = Vec::new();
+            for (velocity, field) in &report.shot_fields {
+                let file = format!("shot-{:04.0}mps.vtu", velocity);
+                std::fs::write(directory.join(&file), vtk::render(field))?;
+                shots.push((*velocity, file));
+            }
+            std::fs::write(directory.join("shots.pvd"), vtk::collection(&shots))?;
         }
         for map in &report.maps {
             plots::field_map(

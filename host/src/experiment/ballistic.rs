@@ -419,11 +419,12 @@ impl BallisticLimitSpec {
             energy: run.energy(),
             element_cycles: run.element_cycles,
             field: FieldOutput {
+                time: run.final_time(),
                 mesh: built.model.mesh,
                 positions: run.positions,
                 states: run.states,
-                eroded: run.eroded,
                 cell_data: Vec::new(),
+                eroded: run.eroded,
             },
         })
     }
@@ -775,6 +776,10 @@ impl BallisticLimitSpec {
             .collect();
         ExperimentReport {
             text,
+            shot_fields: shots
+                .iter()
+                .map(|shot| (shot.impact_velocity, shot.field.clone()))
+                .collect(),
             charts: vec![
                 super::Chart {
                     file: "residual-velocity.svg".into(),

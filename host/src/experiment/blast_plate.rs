@@ -619,11 +619,12 @@ impl BlastPlateSpec {
             element_cycles: run.element_cycles,
             report: Some(report),
             field: Some(FieldOutput {
+                time: run.final_time(),
                 mesh: model.mesh,
                 positions: run.positions,
                 states: run.states,
-                eroded: run.eroded,
                 cell_data: Vec::new(),
+                eroded: run.eroded,
             }),
         })
     }
@@ -738,6 +739,7 @@ impl BlastPlateSpec {
             }],
             snapshots: Vec::new(),
             maps: Vec::new(),
+            shot_fields: Vec::new(),
         }
     }
 }

@@ -1035,6 +1035,7 @@ impl DropWeightBeamSpec {
                         positions: snapshot.positions.to_vec(),
                         states: snapshot.states.to_vec(),
                         eroded: snapshot.eroded.to_vec(),
+                        time,
                     },
                 ));
             }
@@ -1110,6 +1111,7 @@ impl DropWeightBeamSpec {
             MODES.iter().position(|&m| m == mode.name()).unwrap_or(0) as f64,
         ));
         let final_field = HexFieldOutput {
+            time: run.final_time(),
             mesh: mesh.clone(),
             positions: run.positions,
             states: run.states,
@@ -1313,6 +1315,7 @@ impl DropWeightBeamSpec {
             charts,
             snapshots,
             maps,
+            shot_fields: Vec::new(),
         }
     }
 

@@ -302,11 +302,12 @@ impl TaylorSpec {
             element_cycles: run.element_cycles,
             report: None,
             field: Some(FieldOutput {
+                time: run.final_time(),
                 mesh: model.mesh,
                 positions: run.positions,
                 states: run.states,
-                eroded: run.eroded,
                 cell_data: Vec::new(),
+                eroded: run.eroded,
             }),
         })
     }
@@ -357,6 +358,7 @@ impl TaylorSpec {
             report: None,
             field: None,
             field_3d: Some(super::HexFieldOutput {
+                time: run.final_time(),
                 positions: run.positions.iter().map(|p| [p[0], p[1], p[2]]).collect(),
                 mesh: model.mesh,
                 states: run.states,

@@ -324,11 +324,12 @@ impl TensionSpec {
             element_cycles: run.element_cycles,
             report: None,
             field: Some(FieldOutput {
+                time: run.final_time(),
                 mesh: model.mesh,
                 positions: run.positions,
                 states: run.states,
-                eroded: run.eroded,
                 cell_data: Vec::new(),
+                eroded: run.eroded,
             }),
         })
     }

@@ -412,7 +412,7 @@ impl PenetrationSpec {
 
 /// The grid as a ParaView field: one quad per cell (part `rod`, `target` or `void` by the
 /// phase with the most volume), the state of its heaviest material, void cells flagged as
-/// eroded (so a threshold on `eroded` hides them), and per-cell volume fractions and density.
+/// eroded (the `.vtu` leaves them out), and per-cell volume fractions and density.
 pub fn field(s: &EulerSolver<PartMaterial>) -> crate::figure::FieldOutput {
     use crate::euler::MAX_PHASES;
     use crate::mesh::{Part, QuadMesh};
@@ -492,5 +492,6 @@ pub fn field(s: &EulerSolver<PartMaterial>) -> crate::figure::FieldOutput {
         states,
         eroded,
         cell_data,
+        time: s.time,
     }
 }

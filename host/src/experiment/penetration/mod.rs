@@ -899,11 +899,12 @@ impl PenetrationSpec {
             element_cycles: run.element_cycles,
             report: None,
             field: Some(FieldOutput {
+                time: run.final_time(),
                 mesh: built.model.mesh,
                 positions: run.positions,
                 states: run.states,
-                eroded: run.eroded,
                 cell_data: Vec::new(),
+                eroded: run.eroded,
             }),
         })
     }

@@ -380,6 +380,11 @@ impl ExplicitRun {
     pub fn energy(&self) -> EnergyBalance {
         self.energy_history.last().copied().unwrap_or_default()
     }
+
+    /// The time the run ended at (s; that of its final energy balance).
+    pub fn final_time(&self) -> f64 {
+        self.energy().time
+    }
 }
 
 fn dot(a: &Vector, b: &Vector, dimension: usize) -> f64 {
