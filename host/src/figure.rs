@@ -13,6 +13,9 @@ pub enum Style {
     Line,
     /// Markers at the points.
     Markers,
+    /// A dashed line through the points (a model curve beside the main one: the starting
+    /// constants').
+    Dashed,
 }
 
 /// One series of a line chart.
@@ -26,6 +29,9 @@ pub struct Series {
     pub style: Style,
     /// Palette index.
     pub colour: usize,
+    /// Half-width of each point's recorded uncertainty along the measured axis (y in a line
+    /// chart, x in a parity chart), drawn as error bars on markers; empty for none.
+    pub errors: Vec<f64>,
 }
 
 /// One cell of a [`FieldMap`]: its rectangle `[x0, x1, y0, y1]` and value.

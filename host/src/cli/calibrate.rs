@@ -323,9 +323,17 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         }
     }
     let outcomes = calibration::selected_outcomes(&campaign, &results);
+    let starting = calibration::starting_outcomes(&campaign, &results);
     let report = output.join("report");
     write_folder(&report, Leftovers::Clean, |folder| {
-        calibration::write(folder, &campaign, &results, &outcomes, &card_options)
+        calibration::write(
+            folder,
+            &campaign,
+            &results,
+            &outcomes,
+            &starting,
+            &card_options,
+        )
     })?;
     say!("\nreport: {}", report.join("report.md").display());
     super::output::json(&result_document(&campaign, &results, &sets, &report));

@@ -982,6 +982,7 @@ fn residual_figure(
     index: usize,
 ) -> Result<(), String> {
     let residual_series = |label: &str, misfit: &ExperimentMisfit, colour: usize| Series {
+        errors: Vec::new(),
         label: label.into(),
         points: misfit
             .residuals
@@ -1043,12 +1044,14 @@ fn overlay_figure(
     let recorded: Vec<f64> = recording.iter().map(|p| p.value).collect();
     let mut overlay = vec![
         Series {
+            errors: Vec::new(),
             label: "recorded".into(),
             points: pick(&recorded),
             style: Style::Markers,
             colour: 2,
         },
         Series {
+            errors: Vec::new(),
             label: "before".into(),
             points: pick(before),
             style: Style::Line,
@@ -1057,6 +1060,7 @@ fn overlay_figure(
     ];
     if let Some(after) = after {
         overlay.push(Series {
+            errors: Vec::new(),
             label: "after".into(),
             points: pick(after),
             style: Style::Line,

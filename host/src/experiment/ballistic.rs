@@ -676,6 +676,7 @@ impl BallisticLimitSpec {
             );
         }
         let mut series = vec![Series {
+            errors: Vec::new(),
             label: "simulated shots".into(),
             points: shots
                 .iter()
@@ -687,6 +688,7 @@ impl BallisticLimitSpec {
         for (k, &(value, uncertainty)) in measured.iter().enumerate() {
             // The recorded limit and its band, on the Vi axis.
             series.push(Series {
+                errors: Vec::new(),
                 label: format!("recorded V_bl {value:.0} +/- {uncertainty:.0} m/s"),
                 points: vec![
                     (value - uncertainty, 0.0),
@@ -740,6 +742,7 @@ impl BallisticLimitSpec {
                             })
                             .collect();
                         series.push(Series {
+                            errors: Vec::new(),
                             label: format!("{name}: V_bl {:.0} m/s", fit.ballistic_limit),
                             points,
                             style: Style::Line,
@@ -764,6 +767,7 @@ impl BallisticLimitSpec {
             .iter()
             .enumerate()
             .map(|(k, s)| Series {
+                errors: Vec::new(),
                 label: format!("Vi {:.1} m/s", s.impact_velocity),
                 points: s
                     .velocity_history

@@ -700,6 +700,7 @@ impl BlastPlateSpec {
         text.push_str(&run.energy().report());
         text.push('\n');
         let mut series = vec![Series {
+            errors: Vec::new(),
             label: "stoss".into(),
             points: result
                 .profile
@@ -722,6 +723,7 @@ impl BlastPlateSpec {
             .collect();
         if !recorded.is_empty() {
             series.push(Series {
+                errors: Vec::new(),
                 label: "recorded".into(),
                 points: recorded,
                 style: Style::Markers,

@@ -1233,6 +1233,7 @@ impl DropWeightBeamSpec {
             table.iter().map(|&(t, v)| (t * 1e3, v * scale)).collect()
         };
         let line = |label: &str, points: Vec<(f64, f64)>, colour: usize| Series {
+            errors: Vec::new(),
             label: label.into(),
             points,
             style: Style::Line,

@@ -83,7 +83,8 @@ fn errors_row(campaign: &Campaign, evaluation: &Evaluation) -> String {
 }
 
 /// Write the report into `directory` (figures in `figures/`, cards in `cards/`). `outcomes[m]`
-/// holds model `m`'s selected simulation of every campaign experiment.
+/// holds model `m`'s selected simulation of every campaign experiment, `starting[m]` its
+/// starting constants' simulation of the held-out ones ([`starting_outcomes`]).
 ///
 /// The cards are written as `card_options` says (unit system, material id, name).
 pub fn write(
@@ -91,6 +92,7 @@ pub fn write(
     campaign: &Campaign,
     results: &[ModelResult],
     outcomes: &[Vec<Option<Outcome>>],
+    starting: &[Vec<Option<Outcome>>],
     card_options: &cards::CardOptions,
 ) -> Result<(), String> {
     let figures = directory.join("figures");
@@ -104,7 +106,11 @@ pub fn write(
     report.model_selection(results);
     report.against_starting_constants(results);
     for (m, result) in results.iter().enumerate() {
-        report.model(result, outcomes.get(m).map_or(&[], Vec::as_slice))?;
+        report.model(
+            result,
+            outcomes.get(m).map_or(&[], Vec::as_slice),
+            starting.get(m).map_or(&[], Vec::as_slice),
+        )?;
     }
     std::fs::write(
         directory.join("cards").join("README.md"),
@@ -387,8 +393,14 @@ impl<'a> Report<'a> {
         let _ = writeln!(md);
     }
 
-    /// One model's section; `outcomes` holds its selected simulation of every experiment.
-    fn model(&mut self, result: &ModelResult, outcomes: &[Option<Outcome>]) -> Result<(), String> {
+    /// One model's section; `outcomes` holds its selected simulation of every experiment,
+    /// `starting` its starting constants' simulation of the held-out ones.
+    fn model(
+        &mut self,
+        result: &ModelResult,
+        outcomes: &[Option<Outcome>],
+        starting: &[Option<Outcome>],
+    ) -> Result<(), String> {
         let model = self.campaign.model(&result.model).ok_or("model missing")?;
         let space = self.campaign.space(model);
         self.constants(result, &space);
@@ -401,9 +413,21 @@ impl<'a> Report<'a> {
         let (material_file, material) =
             space.material(&self.campaign.base, &result.selected.values)?;
         if let Some(metal) = material.j2() {
-            self.flow_curves(result, metal)?;
+            // The starting constants' curves: the model's own starting point (its `strength`,
+            // or the base material's).
+            let starting = result
+                .baseline
+                .as_ref()
+                .and_then(|b| {
+                    space
+                        .material(&self.campaign.base, &b.evaluation.values)
+                        .ok()
+                })
+                .map(|(_, m)| m);
+            self.flow_curves(result, metal, starting.as_ref().and_then(|m| m.j2()))?;
         }
-        self.overlays(result, outcomes)?;
+        self.overlays(result, outcomes, starting)?;
+        self.parity_and_residuals(result, outcomes)?;
         self.validity_range(result, outcomes)?;
         self.cards(result, material_file)?;
         // The recommended starting constants get their own cards, named apart.
@@ -576,6 +600,7 @@ impl<'a> Report<'a> {
             .iter()
             .enumerate()
             .map(|(k, i)| Series {
+                errors: Vec::new(),
                 label: format!("{} #{}", i.fold.as_deref().map_or("all", |f| f), i.instance),
                 points: i
                     .history
@@ -633,14 +658,18 @@ impl<'a> Report<'a> {
         Ok(())
     }
 
-    /// Stress-strain curves of the selected J2 metal (and the base material) at 1e-4 and
-    /// 2000 /s.
-    fn flow_curves(&mut self, result: &ModelResult, metal: &Material) -> Result<(), String> {
-        let base = self.campaign.base.material().ok();
-        let base = base.as_ref().and_then(|b| b.j2());
+    /// Stress-strain curves of the selected J2 metal and of the starting constants (dashed)
+    /// at 1e-4 and 2000 /s.
+    fn flow_curves(
+        &mut self,
+        result: &ModelResult,
+        metal: &Material,
+        base: Option<&Material>,
+    ) -> Result<(), String> {
         let mut series = Vec::new();
         for (k, rate) in [1e-4, 2000.0].into_iter().enumerate() {
             series.push(Series {
+                errors: Vec::new(),
                 label: format!("selected, {rate} /s"),
                 points: flow_curve(metal, rate),
                 style: Style::Line,
@@ -648,9 +677,10 @@ impl<'a> Report<'a> {
             });
             if let Some(base) = base {
                 series.push(Series {
-                    label: format!("base material, {rate} /s"),
+                    errors: Vec::new(),
+                    label: format!("starting constants, {rate} /s"),
                     points: flow_curve(base, rate),
-                    style: Style::Markers,
+                    style: Style::Dashed,
                     colour: k + 2,
                 });
             }
@@ -667,22 +697,37 @@ impl<'a> Report<'a> {
         Ok(())
     }
 
-    /// Each experiment's recording against the selected simulation, one figure each.
+    /// Each experiment's recording (with its uncertainty as error bars) against the selected
+    /// simulation, one figure each; a held-out experiment is marked as such and shows the
+    /// starting constants' simulation too (dashed).
     fn overlays(
         &mut self,
         result: &ModelResult,
         outcomes: &[Option<Outcome>],
+        starting: &[Option<Outcome>],
     ) -> Result<(), String> {
         let campaign = self.campaign;
         let _ = writeln!(
             self.md,
-            "### Experiments: recording vs selected simulation\n"
+            "### Experiments: recording vs selected simulation\n\nRecorded points with their \
+             uncertainty as error bars; on held-out experiments the starting constants' \
+             simulation is dashed.\n"
         );
         for (i, experiment) in campaign.experiments.iter().enumerate() {
             let Some(Some(outcome)) = outcomes.get(i) else {
                 continue;
             };
-            let (axes, series) = overlay_series(experiment, outcome);
+            let held_out = campaign.file.experiments[i].holdout;
+            let start = starting
+                .get(i)
+                .and_then(Option::as_ref)
+                .filter(|_| held_out);
+            let (axes, series) = overlay_series(experiment, outcome, start);
+            let title = if held_out {
+                format!("{} (held out)", experiment.file.name)
+            } else {
+                experiment.file.name.clone()
+            };
             let file = format!(
                 "{}-{}.svg",
                 slug(&result.model),
@@ -690,12 +735,111 @@ impl<'a> Report<'a> {
             );
             plots::line_chart(
                 &self.figures.join(&file),
-                &experiment.file.name,
+                &title,
                 axes.position.0,
                 axes.value.0,
                 &series,
             )?;
-            let _ = writeln!(self.md, "![{}](figures/{file})", experiment.file.name);
+            let _ = writeln!(self.md, "![{title}](figures/{file})");
+        }
+        Ok(())
+    }
+
+    /// Per experiment kind, a parity chart (simulated against recorded, the recorded
+    /// uncertainty as error bars) and a residual chart (residual over the recorded
+    /// uncertainty against position), one series per experiment, held-out ones named so.
+    fn parity_and_residuals(
+        &mut self,
+        result: &ModelResult,
+        outcomes: &[Option<Outcome>],
+    ) -> Result<(), String> {
+        let campaign = self.campaign;
+        let mut kinds: Vec<&'static str> = Vec::new();
+        for experiment in &campaign.experiments {
+            let kind = crate::experiment::kind_name(&experiment.file.setup);
+            if !kinds.contains(&kind) {
+                kinds.push(kind);
+            }
+        }
+        let mut written = Vec::new();
+        for kind in kinds {
+            let (mut parity, mut residuals) = (Vec::new(), Vec::new());
+            let mut axes = None;
+            for (i, experiment) in campaign.experiments.iter().enumerate() {
+                if crate::experiment::kind_name(&experiment.file.setup) != kind {
+                    continue;
+                }
+                let Some(Some(outcome)) = outcomes.get(i) else {
+                    continue;
+                };
+                let label = if campaign.file.experiments[i].holdout {
+                    format!("{} (held out)", experiment_name(campaign, i))
+                } else {
+                    experiment_name(campaign, i)
+                };
+                let (mut points, mut errors, mut whitened) = (Vec::new(), Vec::new(), Vec::new());
+                for (point, predicted) in experiment.recording.iter().zip(&outcome.predicted) {
+                    let units = display_units(&point.quantity);
+                    axes.get_or_insert(units);
+                    let scale = units.value.1;
+                    points.push((point.value * scale, predicted * scale));
+                    errors.push(point.uncertainty * scale);
+                    whitened.push((
+                        point.position * units.position.1,
+                        (predicted - point.value) / point.uncertainty,
+                    ));
+                }
+                let colour = parity.len();
+                parity.push(Series {
+                    label: label.clone(),
+                    points,
+                    style: Style::Markers,
+                    colour,
+                    errors,
+                });
+                residuals.push(Series {
+                    label,
+                    points: whitened,
+                    style: Style::Markers,
+                    colour,
+                    errors: Vec::new(),
+                });
+            }
+            let Some(axes) = axes else { continue };
+            let stem = format!("{}-{}", slug(&result.model), slug(kind));
+            plots::parity_chart(
+                &self.figures.join(format!("{stem}-parity.svg")),
+                &format!("{}: {kind}, simulated against recorded", result.model),
+                axes.value.0,
+                &parity,
+            )?;
+            plots::residual_chart(
+                &self.figures.join(format!("{stem}-residuals.svg")),
+                &format!(
+                    "{}: {kind}, residuals over the recorded uncertainty",
+                    result.model
+                ),
+                axes.position.0,
+                &residuals,
+                &[],
+            )?;
+            written.push((kind, stem));
+        }
+        if !written.is_empty() {
+            let _ = writeln!(
+                self.md,
+                "\n### Parity and residuals per experiment kind\n\nSimulated against recorded \
+                 (error bars: the recorded uncertainty; on the dashed line the simulation meets \
+                 the recording) and the residuals in recorded uncertainties (within the dashed \
+                 +-2 band at the noise).\n"
+            );
+            for (kind, stem) in written {
+                let _ = writeln!(
+                    self.md,
+                    "![{kind} parity](figures/{stem}-parity.svg) \
+                     ![{kind} residuals](figures/{stem}-residuals.svg)"
+                );
+            }
         }
         Ok(())
     }
@@ -803,7 +947,11 @@ impl<'a> Report<'a> {
 /// The recorded and simulated series of one experiment's overlay, by quantity, and the units
 /// of its axes: stresses in MPa, lengths in mm, times in us; the axes name the first
 /// quantity's units, the legend every other's.
-fn overlay_series(experiment: &Experiment, outcome: &Outcome) -> (DisplayUnits, Vec<Series>) {
+fn overlay_series(
+    experiment: &Experiment,
+    outcome: &Outcome,
+    starting: Option<&Outcome>,
+) -> (DisplayUnits, Vec<Series>) {
     let mut groups: Vec<String> = experiment
         .recording
         .iter()
@@ -821,35 +969,60 @@ fn overlay_series(experiment: &Experiment, outcome: &Outcome) -> (DisplayUnits, 
             .filter(|p| &p.quantity == quantity)
             .map(|p| (p.position * x_scale, p.value * y_scale))
             .collect();
-        let mut predicted: Vec<(f64, f64)> = experiment
+        let uncertainty: Vec<f64> = experiment
             .recording
             .iter()
-            .zip(&outcome.predicted)
-            .filter(|(p, _)| &p.quantity == quantity)
-            .map(|(p, v)| (p.position * x_scale, *v * y_scale))
+            .filter(|p| &p.quantity == quantity)
+            .map(|p| p.uncertainty * y_scale)
             .collect();
+        let simulated = |outcome: &Outcome| {
+            let mut points: Vec<(f64, f64)> = experiment
+                .recording
+                .iter()
+                .zip(&outcome.predicted)
+                .filter(|(p, _)| &p.quantity == quantity)
+                .map(|(p, v)| (p.position * x_scale, *v * y_scale))
+                .collect();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            points
+        };
+        let predicted = simulated(outcome);
         let quantity = if units == axes {
             quantity.clone()
         } else {
             format!("{quantity} [{}; {}]", units.value.0, units.position.0)
         };
-        predicted.sort_by(|a, b| a.0.total_cmp(&b.0));
         // A quantity measured at one position (a Taylor rod's final length or footprint, a
         // peak deflection) has no line to draw: its simulated value is a marker beside the
         // recorded one.
         let single = predicted.windows(2).all(|w| w[0].0 == w[1].0);
         series.push(Series {
+            errors: uncertainty,
             label: format!("{quantity} recorded"),
             points: recorded,
             style: Style::Markers,
-            colour: 2 * g,
+            colour: 3 * g,
         });
         series.push(Series {
+            errors: Vec::new(),
             label: format!("{quantity} simulated"),
             points: predicted,
             style: if single { Style::Markers } else { Style::Line },
-            colour: 2 * g + 1,
+            colour: 3 * g + 1,
         });
+        if let Some(starting) = starting {
+            series.push(Series {
+                errors: Vec::new(),
+                label: format!("{quantity} simulated, starting constants"),
+                points: simulated(starting),
+                style: if single {
+                    Style::Markers
+                } else {
+                    Style::Dashed
+                },
+                colour: 3 * g + 2,
+            });
+        }
     }
     (axes, series)
 }
@@ -1057,34 +1230,63 @@ fn write_cards(
     Ok(written)
 }
 
-/// Simulate the selected solution of every model on every experiment (for the overlays and
-/// the state histograms).
+/// Every model's selected constants simulated on every campaign experiment (the report's
+/// overlays, histograms and validity range).
 pub fn selected_outcomes(
     campaign: &Campaign,
     results: &[ModelResult],
 ) -> Vec<Vec<Option<Outcome>>> {
     results
         .iter()
-        .map(|r| {
-            let Some(model) = campaign.file.models.iter().find(|e| e.name == r.model) else {
-                return Vec::new();
-            };
-            let space = campaign.space(model);
-            let Ok((_, material)) = space.material(&campaign.base, &r.selected.values) else {
-                return Vec::new();
-            };
-            // With the set-up the constants were found with.
-            let setup = space.setup_values(&r.selected.values);
-            campaign
-                .experiments
-                .iter()
-                .map(|e| {
-                    crate::fit::space::with_setup(e, &setup)
-                        .ok()?
-                        .simulate(&material, &SolverSettings::default())
-                        .ok()
-                })
-                .collect()
+        .map(|r| simulate_set(campaign, &r.model, &r.selected.values, |_| true))
+        .collect()
+}
+
+/// Every model's starting constants simulated on the held-out experiments (drawn beside the
+/// calibrated simulation: which set predicts them better); `None` elsewhere.
+pub fn starting_outcomes(
+    campaign: &Campaign,
+    results: &[ModelResult],
+) -> Vec<Vec<Option<Outcome>>> {
+    results
+        .iter()
+        .map(|r| match &r.baseline {
+            Some(baseline) => simulate_set(campaign, &r.model, &baseline.evaluation.values, |i| {
+                campaign.file.experiments[i].holdout
+            }),
+            None => Vec::new(),
+        })
+        .collect()
+}
+
+/// Model `model` with `values` simulated on the campaign experiments `wanted` accepts, with
+/// the set-up those values hold; `None` for the others and for a failed simulation.
+fn simulate_set(
+    campaign: &Campaign,
+    model: &str,
+    values: &[f64],
+    wanted: impl Fn(usize) -> bool,
+) -> Vec<Option<Outcome>> {
+    let Some(model) = campaign.file.models.iter().find(|e| e.name == model) else {
+        return Vec::new();
+    };
+    let space = campaign.space(model);
+    let Ok((_, material)) = space.material(&campaign.base, values) else {
+        return Vec::new();
+    };
+    let setup = space.setup_values(values);
+    campaign
+        .experiments
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            if !wanted(i) {
+                return None;
+            }
+            crate::fit::space::with_setup(e, &setup)
+                .ok()?
+                .simulate(&material, &SolverSettings::default())
+                .ok()
         })
         .collect()
 }

@@ -139,7 +139,18 @@ pub fn line_chart(
     let root = SVGBackend::new(path, (720, 450)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| error(&e))?;
     let (x0, x1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
-    let (y0, y1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
+    // The error bars are inside the axes too.
+    let (y0, y1) = range(series.iter().flat_map(|s| {
+        s.points.iter().enumerate().flat_map(|(i, p)| {
+            let e = s
+                .errors
+                .get(i)
+                .copied()
+                .filter(|e| e.is_finite())
+                .unwrap_or(0.0);
+            [p.1 - e, p.1 + e]
+        })
+    }));
     let mut chart = frame(&root, title, x_label, y_label, (x0, x1), (y0, y1), &error)?;
     for s in series {
         let c = colour(s.colour);
@@ -156,15 +167,103 @@ pub fn line_chart(
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
                 }),
-            Style::Markers => chart
-                .draw_series(points.map(|p| Circle::new(p, 4, c.filled())))
+            Style::Dashed => chart
+                .draw_series(DashedLineSeries::new(points, 8, 5, c.stroke_width(2)))
                 .map_err(|e| error(&e))?
                 .label(s.label.clone())
-                .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled())),
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 6, y)], c.stroke_width(2))
+                }),
+            Style::Markers => {
+                draw_error_bars(&mut chart, s, c, false, &error)?;
+                chart
+                    .draw_series(points.map(|p| Circle::new(p, 4, c.filled())))
+                    .map_err(|e| error(&e))?
+                    .label(s.label.clone())
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()))
+            }
         };
     }
     let all: Vec<&[(f64, f64)]> = series.iter().map(|s| s.points.as_slice()).collect();
     let position = emptiest_corner(&all, (x0, x1), (y0, y1));
+    finish(&mut chart, &root, position, &error)
+}
+
+/// The error bars of a marker series: `errors[i]` either side of point `i`, vertical (or
+/// horizontal if `along_x`).
+fn draw_error_bars<'a, 'b: 'a>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    series: &Series,
+    c: RGBColor,
+    along_x: bool,
+    error: &dyn Fn(&dyn std::fmt::Display) -> String,
+) -> PlotResult {
+    let bars = series
+        .points
+        .iter()
+        .zip(&series.errors)
+        .filter(|((x, y), e)| x.is_finite() && y.is_finite() && e.is_finite() && **e > 0.0)
+        .map(|(&(x, y), &e)| {
+            let ends = if along_x {
+                vec![(x - e, y), (x + e, y)]
+            } else {
+                vec![(x, y - e), (x, y + e)]
+            };
+            PathElement::new(ends, c.stroke_width(1))
+        });
+    chart.draw_series(bars).map_err(|e| error(&e))?;
+    Ok(())
+}
+
+/// A parity chart: each series' points are `(recorded, predicted)` with the recorded
+/// uncertainty as horizontal error bars, over the line `predicted = recorded`.
+pub fn parity_chart(path: &Path, title: &str, label: &str, series: &[Series]) -> PlotResult {
+    let error = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let root = SVGBackend::new(path, (720, 450)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| error(&e))?;
+    let (lo, hi) = range(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().flat_map(|p| [p.0, p.1])),
+    );
+    let mut chart = frame(
+        &root,
+        title,
+        &format!("recorded {label}"),
+        &format!("simulated {label}"),
+        (lo, hi),
+        (lo, hi),
+        &error,
+    )?;
+    chart
+        .draw_series(DashedLineSeries::new(
+            [(lo, lo), (hi, hi)],
+            6,
+            4,
+            BLACK.mix(0.6).stroke_width(1),
+        ))
+        .map_err(|e| error(&e))?
+        .label("simulated = recorded")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1)));
+    for s in series {
+        let c = colour(s.colour);
+        draw_error_bars(&mut chart, s, c, true, &error)?;
+        chart
+            .draw_series(
+                s.points
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0.is_finite() && p.1.is_finite())
+                    .map(|p| Circle::new(p, 4, c.filled())),
+            )
+            .map_err(|e| error(&e))?
+            .label(s.label.clone())
+            .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
+    }
+    let mut all: Vec<&[(f64, f64)]> = series.iter().map(|s| s.points.as_slice()).collect();
+    let diagonal = [(lo, lo), (hi, hi)];
+    all.push(&diagonal);
+    let position = emptiest_corner(&all, (lo, hi), (lo, hi));
     finish(&mut chart, &root, position, &error)
 }
 
