@@ -1846,6 +1846,12 @@ fn cards_are_written_in_the_users_unit_system_with_the_users_id_and_name() {
     assert!(report.contains("Valid for the states the experiments covered"));
     assert!(report.contains("| constant | symbol | unit | starting | selected | 95 % interval |"));
     assert!(report.contains("| yield_stress | A | MPa |"), "{report}");
+    // Issue 51 item 5: parity and residual charts per experiment kind; held-out experiments
+    // marked.
+    for figure in ["jc-uniaxial-parity.svg", "jc-uniaxial-residuals.svg"] {
+        assert!(run.join("report/figures").join(figure).is_file(), "{figure}");
+    }
+    assert!(report.contains("(held out)](figures/"), "{report}");
     let index = std::fs::read_to_string(run.join("report/cards/README.md")).unwrap();
     assert!(index.contains("mm-s-t-MPa"), "{index}");
     let first_set = index.lines().find(|l| l.starts_with("## ")).unwrap();
