@@ -1849,7 +1849,10 @@ fn cards_are_written_in_the_users_unit_system_with_the_users_id_and_name() {
     // Issue 51 item 5: parity and residual charts per experiment kind; held-out experiments
     // marked.
     for figure in ["jc-uniaxial-parity.svg", "jc-uniaxial-residuals.svg"] {
-        assert!(run.join("report/figures").join(figure).is_file(), "{figure}");
+        assert!(
+            run.join("report/figures").join(figure).is_file(),
+            "{figure}"
+        );
     }
     assert!(report.contains("(held out)](figures/"), "{report}");
     let index = std::fs::read_to_string(run.join("report/cards/README.md")).unwrap();

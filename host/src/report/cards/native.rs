@@ -260,10 +260,16 @@ pub fn open_radioss(file: &MaterialFile, options: &CardOptions) -> Option<String
         "#              RHO_I\n{}",
         field(u(file.density, Quantity::Density), 20)
     );
+    // Iflag 0 (a, b, n given); flagVP 1: the rate in the law is the equivalent plastic
+    // strain rate, as in stoss's kernel and LS-DYNA's VP = 1 (OpenRadioss's default, 2, is the
+    // total strain rate). With VP = 1 the starter filters the plastic strain rate itself
+    // (10 kHz) and reads no F_cut, so the card raises no cut-off warning. flagVP is read by
+    // the 2023 input format and later (hm_cfg_files matl2_plas_johns.cfg).
     let _ = writeln!(
         text,
-        "#                  E                  NU\n{}",
-        line(&[u(young, Quantity::Stress), poisson], 20)
+        "#                  E                  NU     Iflag    flagVP\n{}{}",
+        line(&[u(young, Quantity::Stress), poisson], 20),
+        line(&[0.0, 1.0], 10)
     );
     let _ = writeln!(
         text,
@@ -376,11 +382,13 @@ mod tests {
             file.density,
             15
         ));
-        let elastic = read_fields(rows[1], &[20, 20]).unwrap();
+        let elastic = read_fields(rows[1], &[20, 20, 10, 10]).unwrap();
         assert!(
             close(elastic[0], young, 15) && close(elastic[1], poisson, 15),
             "{elastic:?}"
         );
+        // Iflag 0 (a, b, n), flagVP 1 (the plastic strain rate, as the kernel's law).
+        assert_eq!((elastic[2], elastic[3]), (0.0, 1.0), "{elastic:?}");
         let hardening = read_fields(rows[2], &[20; 5]).unwrap();
         assert!(close(hardening[0], jc.yield_stress, 15));
         assert!(close(hardening[2], jc.hardening_exponent, 15));
@@ -456,7 +464,7 @@ mod tests {
                 .filter(|l| !l.starts_with('#') && !l.starts_with('/') && l.trim() != "HHA")
                 .collect();
             let density = read_fields(rows[0], &[20]).unwrap()[0];
-            let elastic = read_fields(rows[1], &[20, 20]).unwrap();
+            let elastic = read_fields(rows[1], &[20, 20, 10, 10]).unwrap();
             let hardening = read_fields(rows[2], &[20; 5]).unwrap();
             let rate = read_fields(rows[3], &[20, 20, 10, 10, 20]).unwrap();
             let heat = read_fields(rows[4], &[20; 4]).unwrap();
