@@ -1844,7 +1844,15 @@ fn cards_are_written_in_the_users_unit_system_with_the_users_id_and_name() {
     let recommendation = report.find("## Recommendation").expect("a recommendation");
     assert!(recommendation < report.find("## Model selection").unwrap());
     assert!(report.contains("Valid for the states the experiments covered"));
-    assert!(report.contains("| constant | symbol | unit | starting | selected | 95 % interval |"));
+    assert!(report.contains(
+        "| constant | symbol | unit | starting | selected | 95 % interval | 95 % posterior |"
+    ));
+    // Issue 51 item 2: the posterior and the prediction band reach the report and the cards.
+    assert!(report.contains("**Posterior**"), "{report}");
+    assert!(
+        report.contains("95 % prediction band of the calibrated"),
+        "{report}"
+    );
     assert!(report.contains("| yield_stress | A | MPa |"), "{report}");
     // Issue 51 item 5: parity and residual charts per experiment kind; held-out experiments
     // marked.

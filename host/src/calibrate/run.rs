@@ -805,10 +805,28 @@ impl Runner<'_> {
             None => None,
         };
         let at_bounds = constants_at_bounds(&space, &selected.values);
-        let uncertainty = if intervals {
-            crate::fit::uncertainty::linearised(campaign, &space, &selected.values, fitted).ok()
+        // The linearised intervals and the sampled posterior with its prediction bands, on
+        // every experiment (held-out ones too: their bands), else on the fitted ones.
+        let (uncertainty, posterior) = if intervals {
+            use crate::fit::uncertainty::{from_linearisation, linearise};
+            let linearisation = linearise(campaign, &space, &selected.values, &all)
+                .or_else(|_| linearise(campaign, &space, &selected.values, fitted));
+            match linearisation {
+                Ok(linearisation) => (
+                    from_linearisation(campaign, &linearisation, fitted).ok(),
+                    crate::fit::posterior::sample(
+                        campaign,
+                        &space,
+                        &linearisation,
+                        fitted,
+                        campaign.file.optimiser.seed,
+                    )
+                    .ok(),
+                ),
+                Err(_) => (None, None),
+            }
         } else {
-            None
+            (None, None)
         };
         let mut constants: Vec<NamedConstant> = space
             .names
@@ -824,6 +842,7 @@ impl Runner<'_> {
         let setup = constants.split_off(space.constant_count());
         Ok(ModelResult {
             uncertainty,
+            posterior,
             baseline,
             at_bounds,
             constants,

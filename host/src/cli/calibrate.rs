@@ -377,6 +377,10 @@ fn result_document(
                         "unit": c.unit,
                         "value": c.value,
                         "half_width_95": half.and_then(|h| h.get(k).copied().flatten()),
+                        "posterior_95": r
+                            .posterior
+                            .as_ref()
+                            .map(|p| [p.lower_95[k], p.upper_95[k]]),
                     })
                 })
                 .collect();

@@ -15,7 +15,8 @@
 //! - [`log`]: the simulation log that makes a calibration resumable;
 //! - [`result`]: what a calibration returns per model (`result.json`), read back by the
 //!   diagnosis and the report;
-//! - [`uncertainty`]: the linearised uncertainty of fitted constants.
+//! - [`uncertainty`]: the linearised uncertainty of fitted constants;
+//! - [`posterior`]: their sampled posterior and the prediction bands it gives.
 //!
 //! It may import the experiment layer and everything below it (experiment, solver, input,
 //! journal, hash, the kernel); it imports neither `calibrate` nor `diagnose`
@@ -30,6 +31,7 @@ pub mod least_squares;
 pub mod linear;
 pub mod log;
 pub mod objective;
+pub mod posterior;
 pub mod result;
 pub mod space;
 pub mod uncertainty;

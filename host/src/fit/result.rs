@@ -72,6 +72,10 @@ pub struct ModelResult {
     /// if it could not be computed).
     #[serde(default)]
     pub uncertainty: Option<super::uncertainty::Uncertainty>,
+    /// The sampled posterior of the selected constants and the prediction bands it gives
+    /// (`None` if it could not be computed; absent from results written before 2026-11-29).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub posterior: Option<super::posterior::Posterior>,
 }
 
 /// The starting constants of a model, scored as the calibration scores its candidates.
@@ -656,6 +660,7 @@ mod tests {
             baseline: None,
             at_bounds: Vec::new(),
             uncertainty: None,
+            posterior: None,
         };
         assert!(result
             .check_against(&space(&["yield_stress", "rate_sensitivity"]))

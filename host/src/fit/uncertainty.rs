@@ -52,43 +52,86 @@ pub struct Uncertainty {
     pub inflation: Vec<Option<f64>>,
 }
 
-/// Weighted residuals of every recorded point of `experiments` at `values`.
-fn residuals(
+/// The predictions at every recorded point of each experiment of `experiments` at `values`
+/// (`None` for a campaign experiment not in the list).
+fn predictions(
     campaign: &Campaign,
     space: &ModelSpace,
     values: &[f64],
     experiments: &[usize],
     settings: &SolverSettings,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<Option<Vec<f64>>>, String> {
     let (_, material) = space.material(&campaign.base, values)?;
     let setup = space.setup_values(values);
-    let mut out = Vec::new();
+    let mut out = vec![None; campaign.experiments.len()];
     for &e in experiments {
         let experiment = super::space::with_setup(&campaign.experiments[e], &setup)?;
-        let weight = libm::sqrt(campaign.file.experiments[e].weight);
         let outcome = experiment
             .simulate(&material, settings)
             .map_err(|error| format!("{}: {error}", experiment.file.name))?;
-        for (point, predicted) in experiment.recording.iter().zip(&outcome.predicted) {
-            out.push(weight * (point.value - predicted) / point.uncertainty);
+        if !outcome.predicted.iter().all(|p| p.is_finite()) {
+            return Err(format!(
+                "{}: a prediction is not finite",
+                experiment.file.name
+            ));
         }
+        out[e] = Some(outcome.predicted);
     }
-    if out.iter().all(|r| r.is_finite()) {
-        Ok(out)
-    } else {
-        Err("a prediction is not finite".into())
+    Ok(out)
+}
+
+/// The predictions of a model about its selected constants and their forward-difference
+/// slopes (step [`STEP`] of each constant's search range, towards the inside of the range):
+/// what the linearised intervals and the posterior's surrogate ([`super::posterior`]) are
+/// built from.
+#[derive(Clone, Debug)]
+pub struct Linearisation {
+    /// The selected constants.
+    pub values: Vec<f64>,
+    /// Predictions at every recorded point, per campaign experiment (`None`: not simulated).
+    pub predictions: Vec<Option<Vec<f64>>>,
+    /// `d prediction / d constant` at every recorded point, per campaign experiment:
+    /// `[point][constant]`.
+    pub slopes: Vec<Option<Vec<Vec<f64>>>>,
+}
+
+impl Linearisation {
+    /// The weighted residuals `r_k = sqrt(w_e) (y_k - m_k) / sigma_k` of `experiments` and
+    /// their Jacobian `dr/dtheta` (rows in the same order).
+    pub fn residuals(
+        &self,
+        campaign: &Campaign,
+        experiments: &[usize],
+    ) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
+        let (mut residuals, mut jacobian) = (Vec::new(), Vec::new());
+        for &e in experiments {
+            let (Some(predicted), Some(slopes)) = (&self.predictions[e], &self.slopes[e]) else {
+                return Err(format!("experiment {e} was not linearised"));
+            };
+            let weight = libm::sqrt(campaign.file.experiments[e].weight);
+            for ((point, m), slope) in campaign.experiments[e]
+                .recording
+                .iter()
+                .zip(predicted)
+                .zip(slopes)
+            {
+                let scale = weight / point.uncertainty;
+                residuals.push(scale * (point.value - m));
+                jacobian.push(slope.iter().map(|d| -scale * d).collect());
+            }
+        }
+        Ok((residuals, jacobian))
     }
 }
 
-/// The uncertainty of `values` (the selected constants of `space`) from the recordings of
-/// `experiments` (the fitted ones). `p + 1` simulations of each experiment, in parallel;
-/// the result does not depend on the thread count.
-pub fn linearised(
+/// Linearise `values` (the selected constants of `space`) on `experiments`: `p + 1`
+/// simulations of each, in parallel; the result does not depend on the thread count.
+pub fn linearise(
     campaign: &Campaign,
     space: &ModelSpace,
     values: &[f64],
     experiments: &[usize],
-) -> Result<Uncertainty, String> {
+) -> Result<Linearisation, String> {
     let p = values.len();
     let settings = SolverSettings {
         threads: Some(1),
@@ -110,26 +153,63 @@ pub fn linearised(
             shifted
         }))
         .collect();
-    let runs: Vec<Result<Vec<f64>, String>> = points
+    let runs: Vec<Result<Vec<Option<Vec<f64>>>, String>> = points
         .par_iter()
-        .map(|point| residuals(campaign, space, point, experiments, &settings))
+        .map(|point| predictions(campaign, space, point, experiments, &settings))
         .collect();
     let mut runs = runs.into_iter();
     let base = runs.next().ok_or("no evaluation")??;
+    let mut slopes: Vec<Option<Vec<Vec<f64>>>> = base
+        .iter()
+        .map(|p| p.as_ref().map(|p| vec![vec![0.0; values.len()]; p.len()]))
+        .collect();
+    for (i, run) in runs.enumerate() {
+        let shifted = run?;
+        let h = points[i + 1][i] - values[i];
+        for (e, (at, moved)) in base.iter().zip(&shifted).enumerate() {
+            if let (Some(at), Some(moved), Some(slope)) = (at, moved, &mut slopes[e]) {
+                for (k, row) in slope.iter_mut().enumerate() {
+                    row[i] = (moved[k] - at[k]) / h;
+                }
+            }
+        }
+    }
+    Ok(Linearisation {
+        values: values.to_vec(),
+        predictions: base,
+        slopes,
+    })
+}
+
+/// The uncertainty of `values` (the selected constants of `space`) from the recordings of
+/// `experiments` (the fitted ones): [`linearise`] then [`from_linearisation`].
+pub fn linearised(
+    campaign: &Campaign,
+    space: &ModelSpace,
+    values: &[f64],
+    experiments: &[usize],
+) -> Result<Uncertainty, String> {
+    from_linearisation(
+        campaign,
+        &linearise(campaign, space, values, experiments)?,
+        experiments,
+    )
+}
+
+/// The uncertainty of the linearised constants from the recordings of `experiments` (the
+/// fitted ones, which `linearisation` must cover).
+pub fn from_linearisation(
+    campaign: &Campaign,
+    linearisation: &Linearisation,
+    experiments: &[usize],
+) -> Result<Uncertainty, String> {
+    let p = linearisation.values.len();
+    let (base, jacobian) = linearisation.residuals(campaign, experiments)?;
     let n = base.len();
     if n <= p {
         return Err(format!(
             "{n} recorded points for {p} constants: no degrees of freedom left"
         ));
-    }
-    // J (n x p), column i = (r(theta + h e_i) - r(theta)) / h.
-    let mut jacobian = vec![vec![0.0; p]; n];
-    for (i, run) in runs.enumerate() {
-        let shifted = run?;
-        let h = points[i + 1][i] - values[i];
-        for k in 0..n {
-            jacobian[k][i] = (shifted[k] - base[k]) / h;
-        }
     }
     let chi_square: f64 = base.iter().map(|r| r * r).sum();
     let reduced_chi_square = chi_square / (n - p) as f64;
@@ -193,7 +273,7 @@ pub fn linearised(
 /// Inverse of a symmetric positive semi-definite matrix by Gauss-Jordan elimination with
 /// partial pivoting; `None` if a pivot falls below 1e-12 of the largest diagonal entry
 /// (singular: some combination of constants is not determined at all).
-fn invert(matrix: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
+pub(super) fn invert(matrix: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
     let n = matrix.len();
     let largest = (0..n).map(|i| matrix[i][i].abs()).fold(0.0, f64::max);
     let mut a: Vec<Vec<f64>> = matrix.to_vec();

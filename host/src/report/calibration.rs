@@ -273,6 +273,18 @@ impl<'a> Report<'a> {
                     .join(", ")
             );
         }
+        let posterior = results
+            .iter()
+            .find(|m| m.model == r.set.model)
+            .and_then(|m| m.posterior.as_ref());
+        if let Some(band) = posterior.and_then(|p| band_sentence(band_widths(self.campaign, p))) {
+            let _ = writeln!(
+                md,
+                "- The 95 % prediction band of the calibrated {} constants (their posterior, \
+                 sampled on the Gauss-Newton surrogate; section \"Posterior\") averages {band}.",
+                r.set.model
+            );
+        }
         let stem = card_stem(&r.set.model, r.set.starting);
         let _ = writeln!(
             md,
@@ -477,7 +489,8 @@ impl<'a> Report<'a> {
         let _ = writeln!(
             md,
             "## Model `{}`\n\n### Constants\n\n| constant | symbol | unit | starting | \
-             selected | 95 % interval | search range |\n|---|---|---|---|---|---|---|",
+             selected | 95 % interval | 95 % posterior | search range |\n|---|---|---|---|---|---|\
+             ---|---|",
             result.model
         );
         let constants = space.constant_count();
@@ -485,7 +498,7 @@ impl<'a> Report<'a> {
             let _ = writeln!(
                 md,
                 "| (none: the material's constants are fixed; only set-up parameters are \
-                 searched) | | | | | | |"
+                 searched) | | | | | | | |"
             );
         }
         let units = space.units(&self.campaign.base);
@@ -504,9 +517,16 @@ impl<'a> Report<'a> {
                 Some(None) => "undetermined".into(),
                 None => "-".into(),
             };
+            let credible = result.posterior.as_ref().map_or("-".into(), |p| {
+                format!(
+                    "{} to {}",
+                    to_digits(p.lower_95[k] * factor, 3),
+                    to_digits(p.upper_95[k] * factor, 3)
+                )
+            });
             let _ = writeln!(
                 md,
-                "| {name} | {} | {unit} | {} | {} | {interval} | {} to {} |",
+                "| {name} | {} | {unit} | {} | {} | {interval} | {credible} | {} to {} |",
                 symbols[k],
                 starting
                     .as_ref()
@@ -515,6 +535,73 @@ impl<'a> Report<'a> {
                 shown(result.selected.values[k]),
                 shown(space.lower[k]),
                 shown(space.upper[k]),
+            );
+        }
+        if let Some(p) = &result.posterior {
+            let worst = p.r_hat.iter().copied().fold(f64::NAN, f64::max);
+            let pairs: Vec<String> = (0..p.correlation.len())
+                .flat_map(|a| (a + 1..p.correlation.len()).map(move |b| (a, b)))
+                .filter(|&(a, b)| p.correlation[a][b].abs() >= 0.5)
+                .map(|(a, b)| {
+                    format!(
+                        "{}-{} {:+.2}",
+                        symbols.get(a).map_or("?", String::as_str),
+                        symbols.get(b).map_or("?", String::as_str),
+                        p.correlation[a][b]
+                    )
+                })
+                .collect();
+            let _ = writeln!(
+                md,
+                "\n**Posterior** (section \"Posterior\" of docs/calibration.md): {} samples in {} \
+                 chains of random-walk Metropolis on the Gauss-Newton surrogate of the misfit \
+                 centred at the selected constants, the search box as the prior, the recorded \
+                 uncertainties widened by s^2 = {:.2}; acceptance {:.0} %, largest R-hat {:.3}{}. \
+                 The 95 % posterior interval is the 2.5-97.5 percentile range; unlike the \
+                 linearised interval it respects the search bounds. Pairs correlated beyond 0.5 \
+                 in the posterior: {}.{}",
+                p.samples,
+                p.chains,
+                p.scale,
+                100.0 * p.acceptance,
+                worst,
+                if worst > 1.1 {
+                    " (above 1.1: the chains disagree, read the posterior with care)"
+                } else {
+                    ""
+                },
+                if pairs.is_empty() {
+                    "none".into()
+                } else {
+                    pairs.join(", ")
+                },
+                {
+                    let outside: Vec<String> = (0..p.least_squares.len())
+                        .filter(|&k| !(p.lower_95[k]..=p.upper_95[k]).contains(&p.least_squares[k]))
+                        .map(|k| {
+                            let (unit, factor) = shown_unit(units[k]);
+                            let unit = if unit == "-" { "" } else { unit };
+                            format!(
+                                "{} {}{}{unit}",
+                                symbols.get(k).map_or("?", String::as_str),
+                                to_digits(p.least_squares[k] * factor, 3),
+                                if unit.is_empty() { "" } else { " " }
+                            )
+                        })
+                        .collect();
+                    if outside.is_empty() {
+                        String::new()
+                    } else {
+                        format!(
+                            " The chi-square's own least-squares point (on the linear \
+                             surrogate) lies outside the posterior for {}: the calibration's \
+                             objective (range-scaled errors per experiment) and the chi-square \
+                             (each point by its recorded uncertainty) weigh the recordings \
+                             differently.",
+                            outside.join(", ")
+                        )
+                    }
+                }
             );
         }
         if space.setup.is_empty() {
@@ -722,7 +809,12 @@ impl<'a> Report<'a> {
                 .get(i)
                 .and_then(Option::as_ref)
                 .filter(|_| held_out);
-            let (axes, series) = overlay_series(experiment, outcome, start);
+            let band = result
+                .posterior
+                .as_ref()
+                .and_then(|p| p.bands.get(i))
+                .and_then(Option::as_ref);
+            let (axes, series) = overlay_series(experiment, outcome, start, band);
             let title = if held_out {
                 format!("{} (held out)", experiment.file.name)
             } else {
@@ -905,9 +997,14 @@ impl<'a> Report<'a> {
             .recommended
             .as_ref()
             .is_some_and(|set| !set.starting && set.model == result.model);
+        let band = result
+            .posterior
+            .as_ref()
+            .and_then(|p| band_sentence(band_widths(campaign, p)))
+            .map_or(String::new(), |b| format!("; 95 % prediction band {b}"));
         material_file.rename(
             format!(
-                "{} / {} (stoss calibration{})",
+                "{} / {} (stoss calibration{}{band})",
                 campaign.file.name,
                 result.model,
                 if recommended {
@@ -935,7 +1032,7 @@ impl<'a> Report<'a> {
             self.card_options,
         )?;
         self.card_sets.push((
-            format!("the calibrated {} constants", result.model),
+            format!("the calibrated {} constants{band}", result.model),
             recommended,
             written.clone(),
         ));
@@ -951,6 +1048,7 @@ fn overlay_series(
     experiment: &Experiment,
     outcome: &Outcome,
     starting: Option<&Outcome>,
+    band: Option<&crate::fit::posterior::PredictionBand>,
 ) -> (DisplayUnits, Vec<Series>) {
     let mut groups: Vec<String> = experiment
         .recording
@@ -1010,6 +1108,33 @@ fn overlay_series(
             style: if single { Style::Markers } else { Style::Line },
             colour: 3 * g + 1,
         });
+        if let Some(band) = band {
+            // The 95 % prediction band's edges at this quantity's points.
+            let edge = |values: &[f64]| {
+                let mut points: Vec<(f64, f64)> = experiment
+                    .recording
+                    .iter()
+                    .zip(values)
+                    .filter(|(p, _)| p.quantity == groups[g])
+                    .map(|(p, v)| (p.position * x_scale, *v * y_scale))
+                    .collect();
+                points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                points
+            };
+            for (edge_name, values) in [("lower", &band.lower), ("upper", &band.upper)] {
+                series.push(Series {
+                    errors: Vec::new(),
+                    label: format!("{quantity} 95 % band, {edge_name}"),
+                    points: edge(values),
+                    style: if single {
+                        Style::Markers
+                    } else {
+                        Style::Dashed
+                    },
+                    colour: 3 * g + 1,
+                });
+            }
+        }
         if let Some(starting) = starting {
             series.push(Series {
                 errors: Vec::new(),
@@ -1053,6 +1178,53 @@ fn to_digits(value: f64, digits: usize) -> String {
         format!("{value:.decimals$}")
     } else {
         format!("{value:.prec$e}", prec = digits.saturating_sub(1))
+    }
+}
+
+/// The mean relative half-width of `posterior`'s prediction bands over the fitted and over
+/// the held-out experiments of `campaign` (each `None` without a band there).
+fn band_widths(
+    campaign: &Campaign,
+    posterior: &crate::fit::posterior::Posterior,
+) -> (Option<f64>, Option<f64>) {
+    let mean = |held_out: bool| {
+        let widths: Vec<f64> = posterior
+            .bands
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| campaign.file.experiments[*i].holdout == held_out)
+            .filter_map(|(i, band)| {
+                let recorded: Vec<f64> = campaign.experiments[i]
+                    .recording
+                    .iter()
+                    .map(|p| p.value)
+                    .collect();
+                band.as_ref()?.relative_half_width(&recorded)
+            })
+            .collect();
+        (!widths.is_empty()).then(|| widths.iter().sum::<f64>() / widths.len() as f64)
+    };
+    (mean(false), mean(true))
+}
+
+/// "+-a % on the fitted experiments and +-b % on the held-out ones" from [`band_widths`].
+fn band_sentence(widths: (Option<f64>, Option<f64>)) -> Option<String> {
+    match widths {
+        (Some(fit), Some(held)) => Some(format!(
+            "±{:.1} % of the recorded values on the fitted experiments and ±{:.1} % on the \
+             held-out ones",
+            100.0 * fit,
+            100.0 * held
+        )),
+        (Some(fit), None) => Some(format!(
+            "±{:.1} % of the recorded values on the fitted experiments",
+            100.0 * fit
+        )),
+        (None, Some(held)) => Some(format!(
+            "±{:.1} % of the recorded values on the held-out experiments",
+            100.0 * held
+        )),
+        (None, None) => None,
     }
 }
 
