@@ -697,7 +697,7 @@ fn the_drop_weight_test_keeps_its_energy_and_ignores_the_thread_count() {
     let summary = |o: &stoss::experiment::Outcome| {
         o.summary
             .iter()
-            .map(|(k, v)| (k.clone(), v.to_bits()))
+            .map(|s| (s.name.clone(), s.value.to_bits()))
             .collect::<Vec<_>>()
     };
     assert_eq!(summary(&one), summary(&two));
@@ -723,10 +723,7 @@ fn the_drop_weight_test_keeps_its_energy_and_ignores_the_thread_count() {
     assert!(one.predicted[0] > 0.0 && one.predicted[0] < 6.7e-3);
     assert!(one.predicted[1] > 0.0);
     let striker_velocity = one
-        .summary
-        .iter()
-        .find(|(name, _)| name == "striker_velocity_final")
-        .map(|(_, v)| *v)
+        .summary_value("striker_velocity_final")
         .expect("the striker's final velocity");
     assert!(
         striker_velocity > 0.0 && striker_velocity < 6.7,

@@ -1135,12 +1135,7 @@ fn a_kc_campaign_fits_the_beam_concrete_by_its_dotted_paths() {
         let outcome = campaign.experiments[0]
             .simulate(&concrete, &settings)
             .unwrap();
-        outcome
-            .summary
-            .iter()
-            .find(|(name, _)| name == "first_crack_time")
-            .unwrap()
-            .1
+        outcome.summary_value("first_crack_time").unwrap()
     };
     let (table, doubled) = (crack_time(5.2e6), crack_time(10.4e6));
     eprintln!("first crack at the bottom fibre: ft 5.2 MPa {table:e} s, 10.4 MPa {doubled:e} s");

@@ -121,7 +121,7 @@ fn simulate_writes_outputs_and_reports_energy() {
     // GOAL: `stoss simulate` runs an experiment from a fresh clone and writes its outputs.
     // SETUP: the seed 001 tension cylinder at 1000 /s, output into a temporary folder.
     // REFERENCE: exit 0; the energy balance and the comparison table printed; measurements,
-    //   states, energy and VTK files written.
+    //   states, energy and VTK files written; every summary.json value with its unit.
     let output = std::env::temp_dir().join(format!("stoss-sim-{}", std::process::id()));
     let result = stoss()
         .args([
@@ -149,6 +149,19 @@ fn simulate_writes_outputs_and_reports_energy() {
     ] {
         assert!(output.join(file).is_file(), "missing {file}");
     }
+    // Issue 51 item 4: summary.json says the unit of every value.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(output.join("summary.json")).unwrap())
+            .unwrap();
+    let entries = summary.as_object().unwrap();
+    assert!(!entries.is_empty());
+    for (name, entry) in entries {
+        assert!(
+            entry["value"].is_number() && entry["unit"].is_string(),
+            "{name}: {entry}"
+        );
+    }
+    assert_eq!(summary["final_axial_stress"]["unit"], "Pa", "{summary}");
     std::fs::remove_dir_all(&output).unwrap();
 }
 

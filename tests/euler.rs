@@ -409,11 +409,8 @@ fn a_taylor_rod_on_the_eulerian_grid_ends_as_long_as_on_the_lagrangian_mesh() {
     let lagrange = experiment
         .simulate(&rod.into(), &stoss::solver::SolverSettings::default())
         .unwrap()
-        .summary
-        .iter()
-        .find(|(name, _)| name == "final_length")
-        .unwrap()
-        .1;
+        .summary_value("final_length")
+        .unwrap();
     let (length, radius, h): (f64, f64, f64) = (25.4e-3, 3.81e-3, 0.254e-3);
     let grid = Grid {
         cells_r: 28,

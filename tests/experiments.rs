@@ -523,9 +523,7 @@ fn the_quarter_3d_taylor_model_agrees_with_the_axisymmetric_one_and_writes_hexah
     };
     let flat = outcome_of("axisymmetric");
     let solid = outcome_of("quarter-3d");
-    let summary = |o: &stoss::experiment::Outcome, name: &str| {
-        o.summary.iter().find(|(n, _)| n == name).unwrap().1
-    };
+    let summary = |o: &stoss::experiment::Outcome, name: &str| o.summary_value(name).unwrap();
     for (name, tolerance) in [("final_length", 0.005), ("footprint_diameter", 0.02)] {
         let (a, b) = (summary(&flat, name), summary(&solid, name));
         assert!(

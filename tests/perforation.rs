@@ -263,19 +263,9 @@ fn a_coarse_perforation_perforates_with_a_closed_energy_balance_and_thread_indep
     );
     let two = run(2);
     assert_eq!(exit.to_bits(), two.predicted[0].to_bits());
-    let mass = one
-        .summary
-        .iter()
-        .find(|(name, _)| name == "projectile_mass")
-        .unwrap()
-        .1;
+    let mass = one.summary_value("projectile_mass").unwrap();
     assert!((mass / 46.2 - 1.0).abs() < 0.005, "{mass} kg");
-    let diameter = one
-        .summary
-        .iter()
-        .find(|(name, _)| name == "rear_damage_diameter")
-        .unwrap()
-        .1;
+    let diameter = one.summary_value("rear_damage_diameter").unwrap();
     assert!(diameter > 0.0 && diameter <= 2.4, "{diameter} m");
     let report = one.report.unwrap().text;
     assert!(

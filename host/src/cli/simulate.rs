@@ -135,14 +135,20 @@ fn write_outputs(
         );
     }
     std::fs::write(directory.join("measurements.csv"), csv)?;
+    // Each result with its unit: {"final_length": {"value": 0.0203, "unit": "m"}, ...}.
     let summary: serde_json::Map<String, serde_json::Value> = outcome
         .summary
         .iter()
-        .map(|(k, v)| (k.clone(), serde_json::json!(v)))
+        .map(|s| {
+            (
+                s.name.clone(),
+                serde_json::json!({"value": s.value, "unit": s.unit}),
+            )
+        })
         .chain(outcome.energy.map(|e| {
             (
                 "energy_error_percent".to_string(),
-                serde_json::json!(e.error_percent()),
+                serde_json::json!({"value": e.error_percent(), "unit": "%"}),
             )
         }))
         .collect();
@@ -303,8 +309,8 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
     if let Some(energy) = &outcome.energy {
         say!("{}", energy.report());
     }
-    for (name, value) in &outcome.summary {
-        say!("{name:<24} {value:.6e}");
+    for s in &outcome.summary {
+        say!("{:<24} {:.6e} {}", s.name, s.value, s.unit);
     }
     say!(
         "\n{:<20} {:>12} {:>12} {:>12} {:>10} {:>8}",
@@ -382,7 +388,12 @@ fn simulate(args: &SimulateArgs) -> Result<(), String> {
         "summary": outcome
             .summary
             .iter()
-            .map(|(name, value)| (name.clone(), serde_json::json!(value)))
+            .map(|s| {
+                (
+                    s.name.clone(),
+                    serde_json::json!({"value": s.value, "unit": s.unit}),
+                )
+            })
             .collect::<serde_json::Map<_, _>>(),
         "measurements": experiment
             .recording

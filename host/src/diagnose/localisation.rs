@@ -94,11 +94,7 @@ pub fn diagnose(
         );
     }
     let summary = |outcome: &crate::experiment::Outcome, name: &str| {
-        outcome
-            .summary
-            .iter()
-            .find(|(key, _)| key == name)
-            .map_or(f64::NAN, |(_, value)| *value)
+        outcome.summary_value(name).unwrap_or(f64::NAN)
     };
     let mode_name = |outcome: &crate::experiment::Outcome| -> String {
         let code = summary(outcome, "failure_mode");

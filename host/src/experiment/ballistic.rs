@@ -43,6 +43,7 @@ use super::{
     SimulationError,
 };
 use crate::analytic::ballistic::{fit_lambert_jonas, LambertJonas, Shot};
+use crate::experiment::SummaryValue;
 use crate::figure::{Series, Style};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
@@ -596,23 +597,32 @@ impl BallisticLimitSpec {
             .collect();
         let mut summary = Vec::new();
         if let Some(search) = &search {
-            summary.push(("ballistic_limit".to_string(), limit.unwrap_or(f64::NAN)));
+            summary.push(SummaryValue::new(
+                "ballistic_limit",
+                limit.unwrap_or(f64::NAN),
+                "m/s",
+            ));
             if let Some((low, high)) = search.bracket {
-                summary.push(("highest_stop".into(), low));
-                summary.push(("lowest_perforation".into(), high));
+                summary.push(SummaryValue::new("highest_stop", low, "m/s"));
+                summary.push(SummaryValue::new("lowest_perforation", high, "m/s"));
             }
             for (name, fit) in [
                 ("lambert_jonas", &search.lambert_jonas),
                 ("recht_ipson", &search.recht_ipson),
             ] {
                 if let Ok(fit) = fit {
-                    summary.push((format!("{name}_a"), fit.a));
-                    summary.push((format!("{name}_p"), fit.p));
-                    summary.push((format!("{name}_ballistic_limit"), fit.ballistic_limit));
+                    // V_r = a (V^p - V_bl^p)^(1/p): a dimensionless, p dimensionless.
+                    summary.push(SummaryValue::new(format!("{name}_a"), fit.a, "-"));
+                    summary.push(SummaryValue::new(format!("{name}_p"), fit.p, "-"));
+                    summary.push(SummaryValue::new(
+                        format!("{name}_ballistic_limit"),
+                        fit.ballistic_limit,
+                        "m/s",
+                    ));
                 }
             }
         }
-        summary.push(("shots".into(), shots.len() as f64));
+        summary.push(SummaryValue::new("shots", shots.len() as f64, "1"));
         // The worst energy balance of the shots stands for the experiment.
         let energy = shots
             .iter()

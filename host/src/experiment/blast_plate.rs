@@ -19,6 +19,7 @@
 //!   at the rear face's current radius; `peak_deflection` (m), the largest over the profile
 //!   (`position` unused).
 
+use crate::experiment::SummaryValue;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 
@@ -604,14 +605,15 @@ impl BlastPlateSpec {
             field_3d: None,
             predicted,
             summary: vec![
-                ("peak_deflection".into(), result.peak()),
-                ("centre_deflection".into(), result.deflection_at(0.0)),
-                ("settled_at".into(), result.settled_at),
-                ("load_time".into(), result.load_time),
-                ("load_impulse".into(), result.load_impulse),
-                (
-                    "centre_deflection_at_load_time".into(),
+                SummaryValue::new("peak_deflection", result.peak(), "m"),
+                SummaryValue::new("centre_deflection", result.deflection_at(0.0), "m"),
+                SummaryValue::new("settled_at", result.settled_at, "s"),
+                SummaryValue::new("load_time", result.load_time, "s"),
+                SummaryValue::new("load_impulse", result.load_impulse, "N s"),
+                SummaryValue::new(
+                    "centre_deflection_at_load_time",
                     result.deflection_at_load_time,
+                    "m",
                 ),
             ],
             energy: Some(run.energy()),

@@ -41,6 +41,7 @@
 //! the bottom fibre ([`classify`]).
 
 use super::{Check, HexFieldOutput, Outcome, SimulationError};
+use crate::experiment::SummaryValue;
 use crate::figure::{Series, Style};
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
@@ -1076,19 +1077,21 @@ impl DropWeightBeamSpec {
         let peak_force = maximum(&histories.contact_force);
         let last = |table: &[(f64, f64)]| table.last().map_or(f64::NAN, |p| p.1);
         let mut summary = vec![
-            ("impact_velocity".to_string(), built.impact_velocity),
-            (
-                "striker_displacement_final".into(),
+            SummaryValue::new("impact_velocity", built.impact_velocity, "m/s"),
+            SummaryValue::new(
+                "striker_displacement_final",
                 last(&histories.striker_displacement),
+                "m",
             ),
-            (
-                "striker_velocity_final".into(),
+            SummaryValue::new(
+                "striker_velocity_final",
                 last(&histories.striker_velocity),
+                "m/s",
             ),
-            ("peak_contact_force".into(), peak_force),
-            ("first_crack_time".into(), first_crack),
-            ("elements".into(), element_count as f64),
-            ("trusses".into(), model.trusses.len() as f64),
+            SummaryValue::new("peak_contact_force", peak_force, "N"),
+            SummaryValue::new("first_crack_time", first_crack, "s"),
+            SummaryValue::new("elements", element_count as f64, "1"),
+            SummaryValue::new("trusses", model.trusses.len() as f64, "1"),
         ];
         for (name, time) in [
             ("bottom_crack_time", mode.bottom_crack),
@@ -1101,14 +1104,27 @@ impl DropWeightBeamSpec {
             ("shear_crack_time", mode.shear_crack),
             ("punched_time", mode.punched),
         ] {
-            summary.push((name.into(), time.unwrap_or(f64::NAN)));
+            summary.push(SummaryValue::new(name, time.unwrap_or(f64::NAN), "s"));
         }
-        summary.push(("web_crack_angle".into(), mode.web_crack_angle));
-        summary.push(("bar_strain_midspan_peak".into(), peak_bar_strain));
-        summary.push(("web_band_elements".into(), mode.web_band_elements));
-        summary.push((
-            "failure_mode".into(),
+        summary.push(SummaryValue::new(
+            "web_crack_angle",
+            mode.web_crack_angle,
+            "deg",
+        ));
+        summary.push(SummaryValue::new(
+            "bar_strain_midspan_peak",
+            peak_bar_strain,
+            "-",
+        ));
+        summary.push(SummaryValue::new(
+            "web_band_elements",
+            mode.web_band_elements,
+            "1",
+        ));
+        summary.push(SummaryValue::new(
+            "failure_mode",
             MODES.iter().position(|&m| m == mode.name()).unwrap_or(0) as f64,
+            "index",
         ));
         let final_field = HexFieldOutput {
             time: run.final_time(),

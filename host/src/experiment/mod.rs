@@ -383,13 +383,46 @@ pub struct Experiment {
     pub recording: Vec<RecordedPoint>,
 }
 
+/// A named scalar result of a run (what `stoss simulate` prints and `summary.json` holds).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SummaryValue {
+    /// Name (snake case).
+    pub name: String,
+    /// Value (SI).
+    pub value: f64,
+    /// Its SI unit: `-` dimensionless, `1` a count, `index` a code (a failure mode's place
+    /// in its list), `deg` an angle.
+    pub unit: &'static str,
+}
+
+impl SummaryValue {
+    /// A result `name` of `value` in `unit`.
+    pub fn new(name: impl Into<String>, value: f64, unit: &'static str) -> Self {
+        Self {
+            name: name.into(),
+            value,
+            unit,
+        }
+    }
+}
+
+impl Outcome {
+    /// The summary value named `name`, if the run produced one.
+    pub fn summary_value(&self, name: &str) -> Option<f64> {
+        self.summary
+            .iter()
+            .find(|s| s.name == name)
+            .map(|s| s.value)
+    }
+}
+
 /// What a simulation of an experiment produced.
 #[derive(Clone, Debug)]
 pub struct Outcome {
     /// The prediction of each recorded point, in the recording's order.
     pub predicted: Vec<f64>,
-    /// Named scalar results (e.g. final length), SI.
-    pub summary: Vec<(String, f64)>,
+    /// Named scalar results (e.g. final length), SI, with their units.
+    pub summary: Vec<SummaryValue>,
     /// Energy balance (FE runs).
     pub energy: Option<EnergyBalance>,
     /// State histories of the material points that drive the measurements.

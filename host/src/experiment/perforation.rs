@@ -23,6 +23,7 @@
 use super::ballistic::BallisticLimitSpec;
 use super::{FieldOutput, Outcome, SimulationError};
 use crate::analytic::concrete::{forrestal, modified_ndrc, ndrc_ogive_nose_factor, ConcreteShot};
+use crate::experiment::SummaryValue;
 use crate::input::recording::RecordedPoint;
 use crate::solver::SolverSettings;
 use std::f64::consts::PI;
@@ -164,18 +165,21 @@ pub(super) fn simulate(
                     ndrc.residual_velocity
                 );
                 outcome.summary.extend([
-                    (format!("forrestal_depth_{velocity}"), depth),
-                    (
+                    SummaryValue::new(format!("forrestal_depth_{velocity}"), depth, "m"),
+                    SummaryValue::new(
                         format!("ndrc_perforation_thickness_{velocity}"),
                         ndrc.perforation_thickness,
+                        "m",
                     ),
-                    (
+                    SummaryValue::new(
                         format!("ndrc_ballistic_limit_{velocity}"),
                         ndrc.ballistic_limit,
+                        "m/s",
                     ),
-                    (
+                    SummaryValue::new(
                         format!("ndrc_residual_velocity_{velocity}"),
                         ndrc.residual_velocity,
+                        "m/s",
                     ),
                 ]);
             }
@@ -197,7 +201,9 @@ pub(super) fn simulate(
             "slab {:.3} m; projectile {mass:.2} kg as meshed, CRH {caliber_radius_head:.2}",
             spec.plate_thickness
         );
-        outcome.summary.push(("projectile_mass".into(), mass));
+        outcome
+            .summary
+            .push(SummaryValue::new("projectile_mass", mass, "kg"));
     }
     if let Some(field) = &outcome.field {
         let diameter = rear_damage_diameter(spec, field);
@@ -207,7 +213,7 @@ pub(super) fn simulate(
         );
         outcome
             .summary
-            .push(("rear_damage_diameter".into(), diameter));
+            .push(SummaryValue::new("rear_damage_diameter", diameter, "m"));
     }
     let report = outcome.report.get_or_insert_with(Default::default);
     report.text.push_str(&text);

@@ -4,6 +4,7 @@
 
 use super::default_temperature;
 use super::{Check, FieldOutput, Outcome, SimulationError};
+use crate::experiment::SummaryValue;
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::interpolate;
@@ -315,13 +316,14 @@ impl TaylorSpec {
 
 impl TaylorSpec {
     /// The named results `stoss simulate` prints: Lf, Df and the diameter at 0.2 L0.
-    fn summary(&self, result: &TaylorResult) -> Vec<(String, f64)> {
+    fn summary(&self, result: &TaylorResult) -> Vec<SummaryValue> {
         vec![
-            ("final_length".into(), result.final_length),
-            ("footprint_diameter".into(), result.footprint_diameter),
-            (
-                "diameter_at_0.2_L0".into(),
+            SummaryValue::new("final_length", result.final_length, "m"),
+            SummaryValue::new("footprint_diameter", result.footprint_diameter, "m"),
+            SummaryValue::new(
+                "diameter_at_0.2_L0",
                 result.diameter_at(0.2 * self.length),
+                "m",
             ),
         ]
     }

@@ -16,6 +16,7 @@
 
 use super::default_temperature;
 use super::{Check, FieldOutput, Outcome, SimulationError};
+use crate::experiment::SummaryValue;
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory};
@@ -315,9 +316,9 @@ impl TensionSpec {
             field_3d: None,
             predicted,
             summary: vec![
-                ("final_true_strain".into(), last.0),
-                ("final_axial_stress".into(), last.1),
-                ("mass_scaling".into(), result.mass_scaling),
+                SummaryValue::new("final_true_strain", last.0, "-"),
+                SummaryValue::new("final_axial_stress", last.1, "Pa"),
+                SummaryValue::new("mass_scaling", result.mass_scaling, "-"),
             ],
             energy: Some(run.energy()),
             states: result.mid_section,

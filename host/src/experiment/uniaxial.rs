@@ -8,6 +8,7 @@
 //!   path, the uniaxial strength of a softening material such as RHT concrete.
 
 use super::{Check, ExperimentReport, Outcome, SimulationError};
+use crate::experiment::SummaryValue;
 use crate::history::History;
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
@@ -275,10 +276,10 @@ impl UniaxialSpec {
             field_3d: None,
             predicted,
             summary: vec![
-                ("peak_stress".into(), peak),
-                ("final_true_stress".into(), last.axial_stress.abs()),
-                ("final_plastic_strain".into(), last.plastic_strain),
-                ("final_temperature".into(), last.temperature),
+                SummaryValue::new("peak_stress", peak, "Pa"),
+                SummaryValue::new("final_true_stress", last.axial_stress.abs(), "Pa"),
+                SummaryValue::new("final_plastic_strain", last.plastic_strain, "-"),
+                SummaryValue::new("final_temperature", last.temperature, "K"),
             ],
             energy: None,
             states: vec![history],

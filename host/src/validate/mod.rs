@@ -1420,8 +1420,8 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
             let (summary, _) = outcome(fixtures, experiment, adjust, threads)?;
             summary
                 .iter()
-                .find(|(name, _)| name == key)
-                .map(|(_, value)| *value)
+                .find(|s| s.name == *key)
+                .map(|s| s.value)
                 .filter(|value| value.is_finite())
                 .ok_or_else(|| format!("{experiment}: no finite `{key}` in the outcome"))
         }
@@ -1564,7 +1564,7 @@ fn simulate(
 }
 
 /// A simulated experiment's summary and predictions.
-type Simulated = (Vec<(String, f64)>, Vec<f64>);
+type Simulated = (Vec<crate::experiment::SummaryValue>, Vec<f64>);
 
 /// The experiments simulated in this process, by file and set-up change: rows that read one
 /// run share it.

@@ -18,6 +18,7 @@ use crate::blast::euler::{Geometry, Grid};
 use crate::euler::{
     EulerError, EulerMaterial, EulerSettings, EulerSolver, Region, Wall, Walls, MAX_MATERIALS,
 };
+use crate::experiment::SummaryValue;
 use crate::measure::StateHistory;
 use crate::solver::SolverSettings;
 use std::ops::ControlFlow;
@@ -393,13 +394,13 @@ impl PenetrationSpec {
             field_3d: None,
             predicted,
             summary: vec![
-                ("final_nose_depth".into(), last(&result.nose_depth)),
-                ("final_rod_length".into(), last(&result.rod_length)),
-                ("residual_velocity".into(), result.residual_velocity),
-                ("residual_mass".into(), result.residual_mass),
-                ("cell_size".into(), s.grid.spacing_z),
-                ("cells".into(), s.grid.cell_count() as f64),
-                ("cycles".into(), s.cycles as f64),
+                SummaryValue::new("final_nose_depth", last(&result.nose_depth), "m"),
+                SummaryValue::new("final_rod_length", last(&result.rod_length), "m"),
+                SummaryValue::new("residual_velocity", result.residual_velocity, "m/s"),
+                SummaryValue::new("residual_mass", result.residual_mass, "kg"),
+                SummaryValue::new("cell_size", s.grid.spacing_z, "m"),
+                SummaryValue::new("cells", s.grid.cell_count() as f64, "1"),
+                SummaryValue::new("cycles", s.cycles as f64, "1"),
             ],
             energy: Some(run.energy()),
             states: run.tracked.clone(),

@@ -44,6 +44,7 @@ use crate::analytic::penetration::{
     tate_history, tate_resistance_estimate, walker_anderson_history, PenetrationSample, RodTarget,
     STEEL_HUGONIOT, TUNGSTEN_ALLOY_HUGONIOT,
 };
+use crate::experiment::SummaryValue;
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::{interpolate, StateHistory};
@@ -873,26 +874,29 @@ impl PenetrationSpec {
             field_3d: None,
             predicted,
             summary: vec![
-                ("final_nose_depth".into(), final_depth),
-                ("final_rod_length".into(), final_length),
-                ("residual_velocity".into(), result.residual_velocity),
-                ("residual_mass".into(), result.residual_mass),
-                (
-                    "largest_surface_penetration".into(),
+                SummaryValue::new("final_nose_depth", final_depth, "m"),
+                SummaryValue::new("final_rod_length", final_length, "m"),
+                SummaryValue::new("residual_velocity", result.residual_velocity, "m/s"),
+                SummaryValue::new("residual_mass", result.residual_mass, "kg"),
+                SummaryValue::new(
+                    "largest_surface_penetration",
                     run.contact.largest_penetration,
+                    "m",
                 ),
-                (
-                    "largest_debris_penetration".into(),
+                SummaryValue::new(
+                    "largest_debris_penetration",
                     run.contact.largest_free_node_penetration,
+                    "m",
                 ),
                 // The deepest overlap the eroding contact found on exposure and tolerated
                 // (docs/solver.md, "Accuracy"): several elements here means material of one
                 // part overlaps the other without resisting.
-                (
-                    "largest_tolerated_overlap".into(),
+                SummaryValue::new(
+                    "largest_tolerated_overlap",
                     run.contact.largest_initial_penetration,
+                    "m",
                 ),
-                ("smallest_element".into(), built.smallest_element),
+                SummaryValue::new("smallest_element", built.smallest_element, "m"),
             ],
             energy: Some(run.energy()),
             states,

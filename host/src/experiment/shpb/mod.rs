@@ -44,6 +44,7 @@ pub use kolsky::{BarWaves, KolskyBar, StressStrain};
 
 use super::default_temperature;
 use super::{check_positive, Check, FieldOutput, Outcome, SimulationError};
+use crate::experiment::SummaryValue;
 use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::interpolate;
@@ -374,12 +375,13 @@ impl ShpbSpec {
             field_3d: None,
             predicted,
             summary: vec![
-                ("mean_strain_rate".into(), analysis.mean_strain_rate()),
-                ("max_engineering_strain".into(), analysis.max_strain()),
-                ("peak_engineering_stress".into(), peak),
-                (
-                    "incident_amplitude_strain".into(),
+                SummaryValue::new("mean_strain_rate", analysis.mean_strain_rate(), "1/s"),
+                SummaryValue::new("max_engineering_strain", analysis.max_strain(), "-"),
+                SummaryValue::new("peak_engineering_stress", peak, "Pa"),
+                SummaryValue::new(
+                    "incident_amplitude_strain",
                     result.waves.incident.iter().copied().fold(0.0, f64::max),
+                    "-",
                 ),
             ],
             energy: Some(run.energy()),
