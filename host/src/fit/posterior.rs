@@ -95,6 +95,38 @@ impl PredictionBand {
     }
 }
 
+impl Posterior {
+    /// The mean relative half-width of the prediction bands ([`PredictionBand::
+    /// relative_half_width`]) over `campaign`'s fitted and over its held-out experiments
+    /// (each `None` without a band there).
+    pub fn band_widths(&self, campaign: &Campaign) -> (Option<f64>, Option<f64>) {
+        let mean = |held_out: bool| {
+            let widths: Vec<f64> = self
+                .bands
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| {
+                    campaign
+                        .file
+                        .experiments
+                        .get(*i)
+                        .is_some_and(|e| e.holdout == held_out)
+                })
+                .filter_map(|(i, band)| {
+                    let recorded: Vec<f64> = campaign.experiments[i]
+                        .recording
+                        .iter()
+                        .map(|p| p.value)
+                        .collect();
+                    band.as_ref()?.relative_half_width(&recorded)
+                })
+                .collect();
+            (!widths.is_empty()).then(|| widths.iter().sum::<f64>() / widths.len() as f64)
+        };
+        (mean(false), mean(true))
+    }
+}
+
 /// Sample the posterior of `linearisation`'s constants (those of `space`) given the
 /// recordings of `fitted`, and the prediction band of every linearised experiment.
 pub fn sample(

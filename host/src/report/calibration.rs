@@ -277,7 +277,7 @@ impl<'a> Report<'a> {
             .iter()
             .find(|m| m.model == r.set.model)
             .and_then(|m| m.posterior.as_ref());
-        if let Some(band) = posterior.and_then(|p| band_sentence(band_widths(self.campaign, p))) {
+        if let Some(band) = posterior.and_then(|p| band_sentence(p.band_widths(self.campaign))) {
             let _ = writeln!(
                 md,
                 "- The 95 % prediction band of the calibrated {} constants (their posterior, \
@@ -1000,7 +1000,7 @@ impl<'a> Report<'a> {
         let band = result
             .posterior
             .as_ref()
-            .and_then(|p| band_sentence(band_widths(campaign, p)))
+            .and_then(|p| band_sentence(p.band_widths(campaign)))
             .map_or(String::new(), |b| format!("; 95 % prediction band {b}"));
         material_file.rename(
             format!(
@@ -1181,33 +1181,8 @@ fn to_digits(value: f64, digits: usize) -> String {
     }
 }
 
-/// The mean relative half-width of `posterior`'s prediction bands over the fitted and over
-/// the held-out experiments of `campaign` (each `None` without a band there).
-fn band_widths(
-    campaign: &Campaign,
-    posterior: &crate::fit::posterior::Posterior,
-) -> (Option<f64>, Option<f64>) {
-    let mean = |held_out: bool| {
-        let widths: Vec<f64> = posterior
-            .bands
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| campaign.file.experiments[*i].holdout == held_out)
-            .filter_map(|(i, band)| {
-                let recorded: Vec<f64> = campaign.experiments[i]
-                    .recording
-                    .iter()
-                    .map(|p| p.value)
-                    .collect();
-                band.as_ref()?.relative_half_width(&recorded)
-            })
-            .collect();
-        (!widths.is_empty()).then(|| widths.iter().sum::<f64>() / widths.len() as f64)
-    };
-    (mean(false), mean(true))
-}
-
-/// "+-a % on the fitted experiments and +-b % on the held-out ones" from [`band_widths`].
+/// "+-a % on the fitted experiments and +-b % on the held-out ones" from
+/// [`crate::fit::posterior::Posterior::band_widths`].
 fn band_sentence(widths: (Option<f64>, Option<f64>)) -> Option<String> {
     match widths {
         (Some(fit), Some(held)) => Some(format!(

@@ -64,15 +64,15 @@ pub enum Measure {
         position: f64,
     },
     /// Run `stoss calibrate` on `campaign` (relative to the fixtures folder) into a fresh
-    /// temporary folder and read `model`'s held-out error (`held_out`) or fit error from its
-    /// `report/result.json` (the folder is removed afterwards).
+    /// temporary folder and read one of `model`'s figures from its `report/result.json` (the
+    /// folder is removed afterwards).
     Calibration {
         /// Campaign file, relative to the fixtures folder.
         campaign: &'static str,
         /// Model name in the campaign.
         model: &'static str,
-        /// The held-out error (true) or the fit error (false).
-        held_out: bool,
+        /// Which figure.
+        figure: CalibrationFigure,
     },
     /// How many of [`identification::SEEDS`] noise seeds `stoss diagnose` names a concealed
     /// effect in (`fixtures/diagnosis/<case>`, the `level`-th of
@@ -674,7 +674,7 @@ pub const ROWS: &[Row] = &[
         measure: Measure::Calibration {
             campaign: "campaigns/4340-real.toml",
             model: "jc",
-            held_out: true,
+            figure: CalibrationFigure::HeldOutError,
         },
     },
     Row {
@@ -689,7 +689,67 @@ pub const ROWS: &[Row] = &[
         measure: Measure::Calibration {
             campaign: "campaigns/4340-real.toml",
             model: "mjc",
-            held_out: true,
+            figure: CalibrationFigure::HeldOutError,
+        },
+    },
+    Row {
+        name: "main-job-jc-starting",
+        figure: "held-out error of the published JC constants (the main job's recommendation)",
+        quoted_in: "docs/calibration.md, The recommendation",
+        stated: 2.1380,
+        tolerance: 0.0001,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Calibration {
+            campaign: "campaigns/4340-real.toml",
+            model: "jc",
+            figure: CalibrationFigure::StartingHeldOutError,
+        },
+    },
+    Row {
+        name: "main-job-mjc-starting",
+        figure: "held-out error of the published MJC constants in the main job",
+        quoted_in: "docs/calibration.md, The recommendation",
+        stated: 2.3445,
+        tolerance: 0.0001,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Calibration {
+            campaign: "campaigns/4340-real.toml",
+            model: "mjc",
+            figure: CalibrationFigure::StartingHeldOutError,
+        },
+    },
+    Row {
+        name: "main-job-jc-band-fitted",
+        figure: "95 % prediction band of the calibrated JC constants, fitted experiments, main job",
+        quoted_in: "docs/calibration.md, Posterior",
+        stated: 2.97,
+        tolerance: 0.01,
+        unit: "%",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Calibration {
+            campaign: "campaigns/4340-real.toml",
+            model: "jc",
+            figure: CalibrationFigure::FittedBand,
+        },
+    },
+    Row {
+        name: "main-job-jc-band-held-out",
+        figure: "95 % prediction band of the calibrated JC constants, held-out experiments, main job",
+        quoted_in: "docs/calibration.md, Posterior",
+        stated: 3.18,
+        tolerance: 0.01,
+        unit: "%",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::Calibration {
+            campaign: "campaigns/4340-real.toml",
+            model: "jc",
+            figure: CalibrationFigure::HeldOutBand,
         },
     },
     Row {
@@ -885,7 +945,7 @@ pub const ROWS: &[Row] = &[
         measure: Measure::Calibration {
             campaign: "campaigns/seed000-hha.toml",
             model: "jc",
-            held_out: false,
+            figure: CalibrationFigure::FitError,
         },
     },
     Row {
@@ -900,7 +960,7 @@ pub const ROWS: &[Row] = &[
         measure: Measure::Calibration {
             campaign: "campaigns/seed000-hha.toml",
             model: "jc",
-            held_out: true,
+            figure: CalibrationFigure::HeldOutError,
         },
     },
     foi_perforation(
@@ -1445,8 +1505,8 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
         Measure::Calibration {
             campaign,
             model,
-            held_out,
-        } => calibration_error(&fixtures.join(campaign), model, held_out),
+            figure,
+        } => calibration_error(&fixtures.join(campaign), model, figure),
         Measure::Identification { case, level, count } => {
             let tally = identified(fixtures, case, level)?;
             Ok(match count {
@@ -1692,6 +1752,22 @@ fn measured_crater(
     Ok(crater)
 }
 
+/// A figure of a model's calibration result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CalibrationFigure {
+    /// The selected constants' error over the fitted experiments.
+    FitError,
+    /// Their error over the held-out experiments.
+    HeldOutError,
+    /// The starting constants' error over the held-out experiments.
+    StartingHeldOutError,
+    /// The posterior's 95 % prediction band, mean half-width over the fitted experiments
+    /// relative to the recorded values (%).
+    FittedBand,
+    /// The same over the held-out experiments (%).
+    HeldOutBand,
+}
+
 /// The results of the campaigns calibrated in this process (two rows may read one run).
 static CALIBRATED: std::sync::Mutex<Vec<(PathBuf, Vec<ModelResult>)>> =
     std::sync::Mutex::new(Vec::new());
@@ -1699,7 +1775,12 @@ static CALIBRATED: std::sync::Mutex<Vec<(PathBuf, Vec<ModelResult>)>> =
 /// `model`'s held-out (or fit) error from a fresh `stoss calibrate` of `campaign` (once per
 /// process), run as a child process of this binary into a temporary folder that is removed
 /// afterwards.
-fn calibration_error(campaign: &Path, model: &str, held_out: bool) -> Result<f64, String> {
+fn calibration_error(
+    campaign_path: &Path,
+    model: &str,
+    figure: CalibrationFigure,
+) -> Result<f64, String> {
+    let campaign = campaign_path;
     let mut calibrated = CALIBRATED
         .lock()
         .map_err(|_| "a calibration row panicked")?;
@@ -1715,12 +1796,33 @@ fn calibration_error(campaign: &Path, model: &str, held_out: bool) -> Result<f64
         .iter()
         .find(|r| r.model == model)
         .ok_or_else(|| format!("{}: no model `{model}`", campaign.display()))?;
-    if held_out {
-        found
-            .holdout_error
-            .ok_or_else(|| format!("{}: `{model}` has no held-out error", campaign.display()))
-    } else {
-        Ok(found.fit_error)
+    let missing = |what: &str| format!("{}: `{model}` has no {what}", campaign.display());
+    match figure {
+        CalibrationFigure::FitError => Ok(found.fit_error),
+        CalibrationFigure::HeldOutError => {
+            found.holdout_error.ok_or_else(|| missing("held-out error"))
+        }
+        CalibrationFigure::StartingHeldOutError => found
+            .baseline
+            .as_ref()
+            .and_then(|b| b.holdout_error)
+            .ok_or_else(|| missing("starting constants' held-out error")),
+        CalibrationFigure::FittedBand | CalibrationFigure::HeldOutBand => {
+            let loaded = crate::fit::Campaign::load(campaign_path).map_err(|e| e.to_string())?;
+            let posterior = found
+                .posterior
+                .as_ref()
+                .ok_or_else(|| missing("posterior"))?;
+            let (fitted, held) = posterior.band_widths(&loaded);
+            let width = if figure == CalibrationFigure::FittedBand {
+                fitted
+            } else {
+                held
+            };
+            width
+                .map(|w| 100.0 * w)
+                .ok_or_else(|| missing("prediction band there"))
+        }
     }
 }
 
