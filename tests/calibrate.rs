@@ -1536,9 +1536,10 @@ fn a_set_up_value_hidden_in_a_recording_is_recovered_beside_the_constants() {
     //        (1 % uncertainty, no noise) while its file says 298 K. Fitted: the yield stress
     //        (bounds 0.5-2 GPa) and `hidden.temperature` (250-600 K); 24 Bayesian
     //        simulations, 12 polish, a least-squares finish of 4 iterations.
-    // REFERENCE: the truth: 420 K, A as the truth material states it; within 1 % (the
-    //        recording is exact, so the fit is limited by the search only), and each within
-    //        its reported 95 % interval.
+    // REFERENCE: the truth: 420 K, A as the truth material states it; A within 0.4 % and T
+    //        within 1.2 % (twice the -0.20 % and -0.59 % README quotes; the recording is
+    //        exact, so the fit is limited by the search only), and each within its reported
+    //        95 % interval.
     use stoss::experiment::Experiment;
     use stoss::solver::SolverSettings;
     let folder = temporary("setup-parameter");
@@ -1619,8 +1620,9 @@ fn a_set_up_value_hidden_in_a_recording_is_recovered_beside_the_constants() {
         "found A {:.6e} (truth {truth_a:.6e}), T {:.3} K (truth 420)",
         found[0], found[1]
     );
-    assert!((found[0] / truth_a - 1.0).abs() < 0.01, "A {}", found[0]);
-    assert!((found[1] / 420.0 - 1.0).abs() < 0.01, "T {}", found[1]);
+    // Measured: A -0.20 %, T -0.59 % (README); held at about twice those.
+    assert!((found[0] / truth_a - 1.0).abs() < 0.004, "A {}", found[0]);
+    assert!((found[1] / 420.0 - 1.0).abs() < 0.012, "T {}", found[1]);
     let intervals = &result
         .uncertainty
         .as_ref()

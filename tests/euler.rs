@@ -396,13 +396,15 @@ fn an_elastic_plastic_plate_impact_sends_the_hugoniot_elastic_limit_ahead_of_the
 #[test]
 fn a_taylor_rod_on_the_eulerian_grid_ends_as_long_as_on_the_lagrangian_mesh() {
     // GOAL: strength, plastic flow and the free surface on the Eulerian grid: the rod-on-anvil
-    //       final length within 2 % of the Lagrangian solver's on the same rod.
+    //       final length within 2 % of the Lagrangian solver's on the same rod (issue 47),
+    //       held here at 0.25 %, twice the figure docs/euler.md quotes.
     // SETUP: fixtures/experiments/taylor-4340-208.toml (25.4 x 7.62 mm 4340 rod at 208 m/s,
     //        Johnson-Cook 1985 constants) on the Lagrangian solver (8 elements across the
     //        radius) and on a 0.254 mm Eulerian grid (15 cells across the radius) with slip
     //        walls; the Eulerian length is the mean of the axis extents at 30-60 us (the
     //        event is over by 20 us; the elastic ringing left is +/- 0.3 %).
-    // REFERENCE: the Lagrangian solver's final length (22.55 mm; the test records 22.48).
+    // REFERENCE: the Lagrangian solver's final length, 22.554 mm (the Eulerian grid: 22.528
+    //            mm, -0.12 %; energy error -0.38 %).
     let experiment =
         stoss::experiment::Experiment::load(&fixture("experiments/taylor-4340-208.toml")).unwrap();
     let (_, rod) = material::load(&experiment.default_material_path().unwrap()).unwrap();
@@ -453,13 +455,13 @@ fn a_taylor_rod_on_the_eulerian_grid_ends_as_long_as_on_the_lagrangian_mesh() {
         lagrange * 1e3
     );
     assert!(lengths.len() >= 3, "{lengths:?}");
+    // Measured -0.12 % (issue 47 asks 2 %); asserted at about twice the figure the docs quote.
     assert!(
-        (euler / lagrange - 1.0).abs() < 0.02,
+        (euler / lagrange - 1.0).abs() < 0.0025,
         "Euler {euler} against Lagrange {lagrange}"
     );
-    // The drive works through the cavity wall's mixed cells, where the closure gives the
-    // cell's volume change to the void first: -1.7 % here, -1.2 % at half the cell size.
-    assert!(energy.abs() < 0.025, "energy error {energy}");
+    // Measured -0.38 %.
+    assert!(energy.abs() < 0.01, "energy error {energy}");
 }
 
 /// Plastic work per radian and unit length of a rigid-perfectly plastic, incompressible

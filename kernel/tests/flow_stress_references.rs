@@ -1,8 +1,10 @@
-//! The named strength families against independent transcriptions of their published formulas.
+//! The named strength families and every composed term against independent transcriptions
+//! of their published formulas.
 //!
 //! GOAL: the flow stress the kernel computes for Johnson-Cook, Zerilli-Armstrong (BCC and FCC),
-//! modified Johnson-Cook and two-part-rate Johnson-Cook is the published law, and its strain
-//! and rate derivatives (the return mapping's Newton slopes) are the law's. The kernel's own
+//! modified Johnson-Cook, two-part-rate Johnson-Cook and every hardening x rate x thermal
+//! composition the diagnosis builds is the published law, and its strain and rate
+//! derivatives (the return mapping's Newton slopes) are the law's. The kernel's own
 //! checks (`stoss verify`) compare the return mapping with the kernel's `flow_stress`, which
 //! proves consistency, not the law: this file is the law's reference.
 //! SETUP: each formula written out here from its source with the `libm` crate's `pow`, `log`,
@@ -18,8 +20,8 @@
 //! rate `(1 + deps/e01)^beta1 (1 + deps/e02)^beta2`), both with `1 - T*^m`.
 
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, Strength, TwoRateJohnsonCook,
-    ZerilliArmstrong,
+    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm,
+    Strength, ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
 };
 
 /// Relative agreement of the value: measured at most 4.4e-16 (two ulps of composition
@@ -283,4 +285,266 @@ fn a_wrong_term_is_caught_by_the_references() {
     let kernel = strength.flow_stress(0.1, 1e-3, 298.0).value;
     let wrong = slipped(0.1, 1e-3, 298.0);
     assert!((kernel - wrong).abs() / kernel > 1e3 * VALUE_TOLERANCE);
+}
+
+/// `T*` clamped to [0, 1].
+fn homologous(t: f64, tr: f64, tm: f64) -> f64 {
+    ((t - tr) / (tm - tr)).clamp(0.0, 1.0)
+}
+
+fn hardening_reference(h: &Hardening, eps: f64) -> f64 {
+    let voce = |q: f64, c: f64| q * (1.0 - libm::exp(-c * eps));
+    match *h {
+        Hardening::Power {
+            yield_stress,
+            hardening_modulus,
+            exponent,
+        } => yield_stress + hardening_modulus * libm::pow(eps, exponent),
+        Hardening::Voce2 {
+            yield_stress,
+            saturation_stress_1,
+            saturation_rate_1,
+            saturation_stress_2,
+            saturation_rate_2,
+        } => {
+            yield_stress
+                + voce(saturation_stress_1, saturation_rate_1)
+                + voce(saturation_stress_2, saturation_rate_2)
+        }
+        Hardening::PowerVoce2 {
+            yield_stress,
+            hardening_modulus,
+            exponent,
+            saturation_stress_1,
+            saturation_rate_1,
+            saturation_stress_2,
+            saturation_rate_2,
+        } => {
+            yield_stress
+                + hardening_modulus * libm::pow(eps, exponent)
+                + voce(saturation_stress_1, saturation_rate_1)
+                + voce(saturation_stress_2, saturation_rate_2)
+        }
+    }
+}
+
+fn rate_reference(r: &RateTerm, rate: f64, t: f64) -> f64 {
+    let log_factor = |c: f64, e0: f64| {
+        let star = rate / e0;
+        if star > 1.0 {
+            1.0 + c * libm::log(star)
+        } else {
+            1.0
+        }
+    };
+    let power = |beta: f64, e0: f64| libm::pow(1.0 + rate / e0, beta);
+    match *r {
+        RateTerm::None => 1.0,
+        RateTerm::JohnsonCookLog {
+            rate_sensitivity,
+            reference_rate,
+        } => log_factor(rate_sensitivity, reference_rate),
+        RateTerm::Power {
+            exponent,
+            reference_rate,
+        } => power(exponent, reference_rate),
+        RateTerm::TwoPart {
+            exponent_1,
+            reference_rate_1,
+            exponent_2,
+            reference_rate_2,
+        } => power(exponent_1, reference_rate_1) * power(exponent_2, reference_rate_2),
+        RateTerm::LogUpturn {
+            rate_sensitivity,
+            reference_rate,
+            upturn_exponent,
+            upturn_rate,
+        } => log_factor(rate_sensitivity, reference_rate) * power(upturn_exponent, upturn_rate),
+        RateTerm::LogThermal {
+            rate_sensitivity,
+            reference_rate,
+            coupling,
+            reference_temperature,
+            melting_temperature,
+        } => {
+            let star = homologous(t, reference_temperature, melting_temperature);
+            log_factor(rate_sensitivity * (1.0 + coupling * star), reference_rate)
+        }
+        RateTerm::CowperSymonds {
+            rate_constant,
+            exponent,
+        } => 1.0 + libm::pow(rate / rate_constant, 1.0 / exponent),
+    }
+}
+
+fn thermal_reference(th: &ThermalTerm, t: f64) -> f64 {
+    let power = |m: f64, tr: f64, tm: f64| {
+        let star = homologous(t, tr, tm);
+        if star == 0.0 {
+            1.0
+        } else {
+            1.0 - libm::pow(star, m)
+        }
+    };
+    match *th {
+        ThermalTerm::None => 1.0,
+        ThermalTerm::HomologousPower {
+            exponent,
+            reference_temperature,
+            melting_temperature,
+        } => power(exponent, reference_temperature, melting_temperature),
+        ThermalTerm::HomologousPowerDrop {
+            exponent,
+            reference_temperature,
+            melting_temperature,
+            drop,
+            drop_start_temperature,
+            drop_end_temperature,
+        } => {
+            let x = ((t - drop_start_temperature)
+                / (drop_end_temperature - drop_start_temperature))
+                .clamp(0.0, 1.0);
+            power(exponent, reference_temperature, melting_temperature)
+                * (1.0 - drop * x * x * (3.0 - 2.0 * x))
+        }
+        ThermalTerm::Linear {
+            reference_temperature,
+            melting_temperature,
+        } => 1.0 - homologous(t, reference_temperature, melting_temperature),
+    }
+}
+
+#[test]
+fn every_composed_term_is_its_published_form() {
+    // GOAL: the terms the diagnosis composes (and a material file may name) are their
+    //       published forms too, in every combination: hardening x rate x thermal.
+    // SETUP: Ludwik power, two-term Voce and power + Voce hardening; no rate, JC log, power,
+    //        two-part, JC log with a high-rate upturn, JC log with temperature-dependent
+    //        sensitivity and Cowper-Symonds rates; no softening, JC `1 - T*^m`, JC with a
+    //        smooth-step drop (600-900 K, 30 %) and linear softening; the grid of `compare`.
+    // REFERENCE: Ludwik (1909) `A + B eps^n`; Voce (1948) `Q (1 - exp(-c eps))`; Johnson &
+    //        Cook (1983); seed 000 sec. 2 (power and two-part rates); Cowper & Symonds
+    //        (1957) `1 + (deps/D)^(1/q)`; the upturn, coupling and drop terms as the kernel's
+    //        documentation writes them (`rate.rs`, `thermal.rs`: `(1 + C ln e*)(1 +
+    //        deps/e_up)^beta`, `1 + C (1 + kappa T*) ln e*`, `(1 - T*^m)(1 - d x^2 (3 - 2x))`),
+    //        each transcribed here with libm.
+    let hardenings = [
+        Hardening::Power {
+            yield_stress: 792e6,
+            hardening_modulus: 510e6,
+            exponent: 0.26,
+        },
+        Hardening::Voce2 {
+            yield_stress: 900e6,
+            saturation_stress_1: 250e6,
+            saturation_rate_1: 40.0,
+            saturation_stress_2: 600e6,
+            saturation_rate_2: 3.0,
+        },
+        Hardening::PowerVoce2 {
+            yield_stress: 1.2e9,
+            hardening_modulus: 0.4e9,
+            exponent: 0.3,
+            saturation_stress_1: 0.25e9,
+            saturation_rate_1: 40.0,
+            saturation_stress_2: 0.6e9,
+            saturation_rate_2: 3.0,
+        },
+    ];
+    let rates = [
+        (RateTerm::None, f64::INFINITY),
+        (
+            RateTerm::JohnsonCookLog {
+                rate_sensitivity: 0.014,
+                reference_rate: 1.0,
+            },
+            1.0,
+        ),
+        (
+            RateTerm::Power {
+                exponent: 0.012,
+                reference_rate: 1.0,
+            },
+            f64::INFINITY,
+        ),
+        (
+            RateTerm::TwoPart {
+                exponent_1: 0.008,
+                reference_rate_1: 1e-3,
+                exponent_2: 0.05,
+                reference_rate_2: 1e3,
+            },
+            f64::INFINITY,
+        ),
+        (
+            RateTerm::LogUpturn {
+                rate_sensitivity: 0.014,
+                reference_rate: 1.0,
+                upturn_exponent: 0.08,
+                upturn_rate: 1e3,
+            },
+            1.0,
+        ),
+        (
+            RateTerm::LogThermal {
+                rate_sensitivity: 0.014,
+                reference_rate: 1.0,
+                coupling: 2.5,
+                reference_temperature: 298.0,
+                melting_temperature: 1793.0,
+            },
+            1.0,
+        ),
+        (
+            RateTerm::CowperSymonds {
+                rate_constant: 40.0,
+                exponent: 5.0,
+            },
+            f64::INFINITY,
+        ),
+    ];
+    let thermals = [
+        ThermalTerm::None,
+        ThermalTerm::HomologousPower {
+            exponent: 1.03,
+            reference_temperature: 298.0,
+            melting_temperature: 1793.0,
+        },
+        ThermalTerm::HomologousPowerDrop {
+            exponent: 1.03,
+            reference_temperature: 298.0,
+            melting_temperature: 1793.0,
+            drop: 0.3,
+            drop_start_temperature: 600.0,
+            drop_end_temperature: 900.0,
+        },
+        ThermalTerm::Linear {
+            reference_temperature: 298.0,
+            melting_temperature: 1793.0,
+        },
+    ];
+    let mut compared = 0;
+    for hardening in hardenings {
+        for (rate, kink) in rates {
+            for thermal in thermals {
+                let strength = Strength::Composed(ComposedStrength {
+                    hardening,
+                    rate,
+                    thermal,
+                });
+                compare(
+                    &format!("{hardening:?} x {rate:?} x {thermal:?}"),
+                    strength,
+                    &|e, r, t| {
+                        hardening_reference(&hardening, e)
+                            * rate_reference(&rate, r, t)
+                            * thermal_reference(&thermal, t)
+                    },
+                    kink,
+                );
+                compared += 1;
+            }
+        }
+    }
+    assert_eq!(compared, 84);
 }
