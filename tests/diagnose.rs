@@ -571,6 +571,19 @@ fn real_aluminium_from_four_laboratories_names_the_rate_temperature_coupling() {
         held_after < held_before,
         "held-out {held_before} -> {held_after}"
     );
+    // The figures docs/diagnosis.md quotes, at their precision (one decimal).
+    eprintln!("fit error {before} -> {after}, held out {held_before} -> {held_after}");
+    for (figure, quoted) in [
+        (before, 43.2),
+        (after, 18.9),
+        (held_before, 69.0),
+        (held_after, 30.5),
+    ] {
+        assert!(
+            (figure - quoted).abs() <= 0.05,
+            "{figure} against the quoted {quoted}"
+        );
+    }
     let scale = refit["assessment"]["constants"]
         .as_array()
         .unwrap()
@@ -579,7 +592,8 @@ fn real_aluminium_from_four_laboratories_names_the_rate_temperature_coupling() {
         .unwrap()[1]
         .as_f64()
         .unwrap();
-    assert!((1.0..1.2).contains(&scale), "scale {scale}");
+    // docs/diagnosis.md: Green & Babcock's curves read 10 % high (measured 1.101).
+    assert!((1.09..1.11).contains(&scale), "scale {scale}");
     assert!(verdict.contains("green-babcock-1966 reads"), "{verdict}");
     let _ = std::fs::remove_dir_all(work);
 }
