@@ -175,18 +175,39 @@ pub fn line_chart(
                     PathElement::new(vec![(x, y), (x + 6, y)], c.stroke_width(2))
                 }),
             Style::Markers => {
-                draw_error_bars(&mut chart, s, c, false, &error)?;
-                chart
-                    .draw_series(points.map(|p| Circle::new(p, 4, c.filled())))
-                    .map_err(|e| error(&e))?
-                    .label(s.label.clone())
-                    .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()))
+                draw_markers(&mut chart, s, false, &error)?;
+                continue;
             }
         };
     }
     let all: Vec<&[(f64, f64)]> = series.iter().map(|s| s.points.as_slice()).collect();
     let position = emptiest_corner(&all, (x0, x1), (y0, y1));
     finish(&mut chart, &root, position, &error)
+}
+
+/// A marker series with its legend entry, and its error bars (vertical, or horizontal if
+/// `errors_along_x`).
+fn draw_markers<'a, 'b: 'a>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    series: &Series,
+    errors_along_x: bool,
+    error: &dyn Fn(&dyn std::fmt::Display) -> String,
+) -> PlotResult {
+    let c = colour(series.colour);
+    draw_error_bars(chart, series, c, errors_along_x, error)?;
+    chart
+        .draw_series(
+            series
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .map(|p| Circle::new(p, 4, c.filled())),
+        )
+        .map_err(|e| error(&e))?
+        .label(series.label.clone())
+        .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
+    Ok(())
 }
 
 /// The error bars of a marker series: `errors[i]` either side of point `i`, vertical (or
@@ -246,19 +267,7 @@ pub fn parity_chart(path: &Path, title: &str, label: &str, series: &[Series]) ->
         .label("simulated = recorded")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1)));
     for s in series {
-        let c = colour(s.colour);
-        draw_error_bars(&mut chart, s, c, true, &error)?;
-        chart
-            .draw_series(
-                s.points
-                    .iter()
-                    .copied()
-                    .filter(|p| p.0.is_finite() && p.1.is_finite())
-                    .map(|p| Circle::new(p, 4, c.filled())),
-            )
-            .map_err(|e| error(&e))?
-            .label(s.label.clone())
-            .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
+        draw_markers(&mut chart, s, true, &error)?;
     }
     let mut all: Vec<&[(f64, f64)]> = series.iter().map(|s| s.points.as_slice()).collect();
     let diagonal = [(lo, lo), (hi, hi)];
@@ -463,18 +472,7 @@ pub fn residual_chart(
             .map_err(|e| error(&e))?;
     }
     for s in series {
-        let c = colour(s.colour);
-        chart
-            .draw_series(
-                s.points
-                    .iter()
-                    .copied()
-                    .filter(|p| p.0.is_finite() && p.1.is_finite())
-                    .map(|p| Circle::new(p, 4, c.filled())),
-            )
-            .map_err(|e| error(&e))?
-            .label(s.label.clone())
-            .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
+        draw_markers(&mut chart, s, false, &error)?;
     }
     // The residuals scatter about zero: the bands and the series all count.
     let mut all: Vec<&[(f64, f64)]> = series.iter().map(|s| s.points.as_slice()).collect();
