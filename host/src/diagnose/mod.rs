@@ -315,12 +315,7 @@ pub fn selected<'r>(
             ))
         }),
         None => {
-            let calibrated: Vec<crate::fit::result::SetScore> = results
-                .iter()
-                .flat_map(|r| r.set_scores(campaign))
-                .filter(|s| !s.starting)
-                .collect();
-            let chosen = crate::fit::result::selected_model(&calibrated);
+            let chosen = crate::fit::result::selected_model_of(results, campaign);
             results
                 .iter()
                 .find(|r| Some(&r.model) == chosen.as_ref())

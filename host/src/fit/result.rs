@@ -614,6 +614,15 @@ pub fn selected_model(results: &[SetScore]) -> Option<String> {
     recommend(&calibrated).map(|r| r.set.model)
 }
 
+/// [`selected_model`] among a calibration's `results`, scored on `campaign`.
+pub fn selected_model_of(results: &[ModelResult], campaign: &Campaign) -> Option<String> {
+    let sets: Vec<SetScore> = results
+        .iter()
+        .flat_map(|r| r.set_scores(campaign))
+        .collect();
+    selected_model(&sets)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -346,12 +346,7 @@ impl<'a> Report<'a> {
                 );
             }
         }
-        let calibrated: Vec<SetScore> = results
-            .iter()
-            .flat_map(|r| r.set_scores(campaign))
-            .filter(|s| !s.starting)
-            .collect();
-        if let Some(selected) = crate::fit::result::selected_model(&calibrated) {
+        if let Some(selected) = crate::fit::result::selected_model_of(results, campaign) {
             let _ = writeln!(
                 md,
                 "\nSelected model: **{selected}**, the calibrated set the recommendation's rule \
@@ -1073,18 +1068,20 @@ fn overlay_series(
             .filter(|p| &p.quantity == quantity)
             .map(|p| p.uncertainty * y_scale)
             .collect();
-        let simulated = |outcome: &Outcome| {
+        // Values at this quantity's recorded points (a simulation's predictions, a band's
+        // edge), in display units, by position.
+        let at_points = |values: &[f64]| {
             let mut points: Vec<(f64, f64)> = experiment
                 .recording
                 .iter()
-                .zip(&outcome.predicted)
+                .zip(values)
                 .filter(|(p, _)| &p.quantity == quantity)
                 .map(|(p, v)| (p.position * x_scale, *v * y_scale))
                 .collect();
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
             points
         };
-        let predicted = simulated(outcome);
+        let predicted = at_points(&outcome.predicted);
         let quantity = if units == axes {
             quantity.clone()
         } else {
@@ -1110,22 +1107,11 @@ fn overlay_series(
         });
         if let Some(band) = band {
             // The 95 % prediction band's edges at this quantity's points.
-            let edge = |values: &[f64]| {
-                let mut points: Vec<(f64, f64)> = experiment
-                    .recording
-                    .iter()
-                    .zip(values)
-                    .filter(|(p, _)| p.quantity == groups[g])
-                    .map(|(p, v)| (p.position * x_scale, *v * y_scale))
-                    .collect();
-                points.sort_by(|a, b| a.0.total_cmp(&b.0));
-                points
-            };
             for (edge_name, values) in [("lower", &band.lower), ("upper", &band.upper)] {
                 series.push(Series {
                     errors: Vec::new(),
                     label: format!("{quantity} 95 % band, {edge_name}"),
-                    points: edge(values),
+                    points: at_points(values),
                     style: if single {
                         Style::Markers
                     } else {
@@ -1139,7 +1125,7 @@ fn overlay_series(
             series.push(Series {
                 errors: Vec::new(),
                 label: format!("{quantity} simulated, starting constants"),
-                points: simulated(starting),
+                points: at_points(&starting.predicted),
                 style: if single {
                     Style::Markers
                 } else {
