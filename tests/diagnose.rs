@@ -574,10 +574,10 @@ fn real_aluminium_from_four_laboratories_names_the_rate_temperature_coupling() {
     // The figures docs/diagnosis.md quotes, at their precision (one decimal).
     eprintln!("fit error {before} -> {after}, held out {held_before} -> {held_after}");
     for (figure, quoted) in [
-        (before, 43.2),
-        (after, 18.9),
-        (held_before, 69.0),
-        (held_after, 30.5),
+        (before, 32.2),
+        (after, 16.8),
+        (held_before, 67.6),
+        (held_after, 29.0),
     ] {
         assert!(
             (figure - quoted).abs() <= 0.05,
@@ -592,8 +592,8 @@ fn real_aluminium_from_four_laboratories_names_the_rate_temperature_coupling() {
         .unwrap()[1]
         .as_f64()
         .unwrap();
-    // docs/diagnosis.md: Green & Babcock's curves read 8.6 % high (1.086).
-    assert!((1.0855..1.0865).contains(&scale), "scale {scale}");
+    // docs/diagnosis.md: Green & Babcock's curves read 10.9 % high (1.109).
+    assert!((1.1085..1.1095).contains(&scale), "scale {scale}");
     assert!(verdict.contains("green-babcock-1966 reads"), "{verdict}");
     let _ = std::fs::remove_dir_all(work);
 }

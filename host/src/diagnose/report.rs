@@ -603,7 +603,7 @@ pub fn write(
     refits(&mut md, diagnosis);
     alternatives(&mut md, diagnosis);
     rounds(&mut md, diagnosis);
-    errors_per_experiment(&mut md, diagnosis, diagnosis.final_refit());
+    errors_per_experiment(&mut md, campaign, diagnosis, diagnosis.final_refit());
     let _ = writeln!(md, "\n## Figures\n");
     for (i, experiment) in campaign.experiments.iter().enumerate() {
         let stem = slug(&experiment_name(campaign, i));
@@ -986,23 +986,35 @@ fn alternatives(md: &mut String, diagnosis: &Diagnosis) {
 }
 
 /// Each experiment's error and chi before and after the accepted refit (`after`).
-fn errors_per_experiment(md: &mut String, diagnosis: &Diagnosis, after: Option<&Refit>) {
+fn errors_per_experiment(
+    md: &mut String,
+    campaign: &Campaign,
+    diagnosis: &Diagnosis,
+    after: Option<&Refit>,
+) {
     let _ = writeln!(
         md,
-        "\n## Errors per experiment (seed 000 min-max RMSE; chi = uncertainty-weighted RMS)\n"
+        "\n## Errors per experiment\n\n*error*: RMSE of the residuals over each quantity's scale: its measured range for a resolved curve (seed 000), its magnitude for fewer than {} points or a range within the noise (`docs/calibration.md`); *chi*: uncertainty-weighted RMS.\n",
+        crate::fit::objective::MIN_CURVE_POINTS
     );
     let _ = writeln!(
         md,
-        "| experiment | role | error before | chi before | error after | chi after |\n|---|---|---|---|---|---|"
+        "| experiment | role | scale | error before | chi before | error after | chi after |\n|---|---|---|---|---|---|---|"
     );
     for (i, m) in diagnosis.misfit_before.iter().enumerate() {
         let before = diagnosis.before.scores[i];
         let after_score = after.and_then(|r| r.assessment.scores[i]);
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} |",
             m.name,
             if m.holdout { "held out" } else { "fitted" },
+            campaign
+                .experiments
+                .get(m.index)
+                .map_or_else(String::new, |e| {
+                    crate::fit::describe_scales(&crate::fit::error_scales(&e.recording))
+                }),
             fmt_error(before.map(|s| s.error)),
             fmt_error(before.map(|s| s.chi)),
             fmt_error(after_score.map(|s| s.error)),

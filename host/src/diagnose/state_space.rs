@@ -174,6 +174,44 @@ fn point_state(
     })
 }
 
+/// Edges (indices into the sorted `values`, first 0, last `len`) of up to [`MAX_BINS`] bins of
+/// about equal count that never split equal values: short recordings (two-point curves of a
+/// rate-temperature series) give many points at one temperature or rate, and a bin edge
+/// inside such a tie would put one state in two bins. Each equal-count edge moves to the next
+/// change of value; a bin left with fewer than [`MIN_BIN_POINTS`] points joins its smaller
+/// neighbour.
+fn bin_edges(values: &[f64]) -> Vec<usize> {
+    let n = values.len();
+    let count = (n / MIN_BIN_POINTS).clamp(2, MAX_BINS);
+    let mut edges = vec![0];
+    for b in 1..count {
+        let mut edge = b * n / count;
+        while edge < n && edge > 0 && values[edge] == values[edge - 1] {
+            edge += 1;
+        }
+        if edge < n && edge > *edges.last().expect("edges start at 0") {
+            edges.push(edge);
+        }
+    }
+    edges.push(n);
+    // The smallest bin below MIN_BIN_POINTS joins its smaller neighbour, until none is.
+    while edges.len() > 2 {
+        let sizes: Vec<usize> = edges.windows(2).map(|w| w[1] - w[0]).collect();
+        let (smallest, &size) = sizes
+            .iter()
+            .enumerate()
+            .min_by_key(|(_, &size)| size)
+            .expect("at least one bin");
+        if size >= MIN_BIN_POINTS {
+            break;
+        }
+        let join_right = smallest == 0
+            || (smallest + 1 < sizes.len() && sizes[smallest + 1] < sizes[smallest - 1]);
+        edges.remove(if join_right { smallest + 1 } else { smallest });
+    }
+    edges
+}
+
 /// Bin the residuals of the fitted experiments (`misfits` not held out) by each state
 /// variable; sorted by share, largest first. Variables that do not vary over the points are
 /// left out.
@@ -226,13 +264,14 @@ pub fn bin_by_state(
         if !spread {
             continue;
         }
-        let count = (ordered.len() / MIN_BIN_POINTS).clamp(2, MAX_BINS);
-        let mut bins = Vec::with_capacity(count);
+        let edges = bin_edges(&ordered.iter().map(|o| o.0).collect::<Vec<_>>());
+        if edges.len() < 3 {
+            continue;
+        }
+        let mut bins = Vec::with_capacity(edges.len() - 1);
         let mut between = 0.0;
-        for b in 0..count {
-            let from = b * ordered.len() / count;
-            let to = (b + 1) * ordered.len() / count;
-            let members = &ordered[from..to];
+        for pair in edges.windows(2) {
+            let members = &ordered[pair[0]..pair[1]];
             let n = members.len() as f64;
             let mean_whitened = members.iter().map(|m| m.1).sum::<f64>() / n;
             between += n * mean_whitened * mean_whitened;
@@ -258,6 +297,27 @@ pub fn bin_by_state(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bin_edges_never_split_a_tie() {
+        // GOAL: bins of a short-curve series keep each state in one bin.
+        // SETUP: 12 points at 4 temperatures (a rate-temperature series of two-point curves
+        // repeated): 298 x5, 400 x3, 500 x2, 600 x2; and 12 distinct values.
+        // REFERENCE: edges only where the value changes; every bin at least MIN_BIN_POINTS;
+        // distinct values give 4 bins of 3.
+        let tied = [
+            298.0, 298.0, 298.0, 298.0, 298.0, 400.0, 400.0, 400.0, 500.0, 500.0, 600.0, 600.0,
+        ];
+        let edges = bin_edges(&tied);
+        assert_eq!(edges, vec![0, 5, 8, 12]);
+        for pair in edges.windows(2) {
+            assert!(pair[1] - pair[0] >= MIN_BIN_POINTS);
+        }
+        let distinct: Vec<f64> = (0..12).map(f64::from).collect();
+        assert_eq!(bin_edges(&distinct), vec![0, 3, 6, 9, 12]);
+        // One value throughout: a single bin (the variable does not vary).
+        assert_eq!(bin_edges(&[1.0; 9]), vec![0, 9]);
+    }
 
     #[test]
     fn bins_say_where_the_model_is_too_high_and_too_low() {

@@ -38,7 +38,10 @@ pub mod uncertainty;
 pub mod unit_cube;
 
 pub use campaign::Campaign;
-pub use objective::{evaluate, score, Evaluation, Score, Status};
+pub use objective::{
+    describe_scales, error_scales, evaluate, score, Evaluation, QuantityScale, ScaleKind, Score,
+    Status,
+};
 
 pub use engine::{Engine, Progress};
 pub use hypothesis::{Hypothesis, Parameter};

@@ -1,9 +1,17 @@
 //! The error measure and the evaluation of one candidate set of constants.
 //!
-//! Per experiment (seed 000 sec. 4.1): the RMSE of the residuals scaled by the measured range
-//! of that experiment, `e = sqrt(mean(((predicted - recorded) / (max - min))^2))`; a
-//! one-point recording is scaled by its value. The campaign error is the weighted sum over the
-//! fitted experiments. Reported beside it: the uncertainty-weighted RMS
+//! Per experiment (seed 000 sec. 4.1): the RMSE of the scaled residuals,
+//! `e = sqrt(mean(((predicted - recorded) / scale_q)^2))`, each point scaled by the scale of
+//! its quantity `q` ([`error_scales`]). Seed 000 scales a curve by its measured range
+//! (`max - min`) and a one-point recording by its value. stoss keeps the range where it
+//! describes a curve and falls back to the quantity's magnitude where it does not: for a
+//! quantity with fewer than [`MIN_CURVE_POINTS`] points (a two-point curve has a slope, not a
+//! shape) and for one whose range the noise alone could produce (range below
+//! [`RESOLVED_RANGE_Z`] standard deviations of the difference of its two extreme points).
+//! There a range-scaled error measures noise, not misfit, and blows up (a flat two-point
+//! curve scored 22). Quantities are scaled separately, so a recording that holds a time and a
+//! displacement does not scale one by the other's range. The campaign error is the weighted
+//! sum over the fitted experiments. Reported beside it: the uncertainty-weighted RMS
 //! `sqrt(mean(((predicted - recorded) / uncertainty)^2))` (1 = at the noise floor).
 
 use super::campaign::{Campaign, Constraints};
@@ -22,26 +30,140 @@ pub struct Score {
     pub chi: f64,
 }
 
-/// Seed 000's min-max-scaled RMSE and the uncertainty-weighted RMS.
+/// Fewest points of one quantity for its range to scale its error: a curve with a shape.
+pub const MIN_CURVE_POINTS: usize = 3;
+
+/// A quantity's range scales its error only when it exceeds this many standard deviations
+/// of the difference of its largest and smallest recorded points (two-sided 95 %): a range
+/// the noise cannot produce.
+pub const RESOLVED_RANGE_Z: f64 = 1.96;
+
+/// What a quantity's residuals are divided by in the error measure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ScaleKind {
+    /// Its measured range `max - min` (seed 000).
+    Range,
+    /// Its magnitude, the RMS of its recorded values: a relative error.
+    Magnitude,
+}
+
+impl ScaleKind {
+    /// Why this kind was chosen, in words.
+    pub fn reason(self) -> &'static str {
+        match self {
+            ScaleKind::Range => "range (a resolved curve)",
+            ScaleKind::Magnitude => "magnitude (too few points or a range within the noise)",
+        }
+    }
+}
+
+/// The scale of one quantity of a recording.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct QuantityScale {
+    /// The quantity's name.
+    pub quantity: String,
+    /// Its recorded points.
+    pub points: usize,
+    /// Range or magnitude.
+    pub kind: ScaleKind,
+    /// The scale (SI, > 0).
+    pub value: f64,
+}
+
+/// The error scale of each quantity of `recording`, in order of first appearance: its range
+/// when it has at least [`MIN_CURVE_POINTS`] points and `max - min > z sqrt(u_max^2 +
+/// u_min^2)` with `z` = [`RESOLVED_RANGE_Z`] and `u` the extreme points' uncertainties;
+/// otherwise its magnitude `sqrt(mean(value^2))` (a one-point quantity: its value, as in seed
+/// 000); the RMS uncertainty if every value is zero.
+pub fn error_scales(recording: &[RecordedPoint]) -> Vec<QuantityScale> {
+    let mut order: Vec<&str> = Vec::new();
+    for p in recording {
+        if !order.contains(&p.quantity.as_str()) {
+            order.push(&p.quantity);
+        }
+    }
+    order
+        .into_iter()
+        .map(|quantity| {
+            let points: Vec<&RecordedPoint> = recording
+                .iter()
+                .filter(|p| p.quantity == quantity)
+                .collect();
+            let n = points.len() as f64;
+            let lowest = points
+                .iter()
+                .min_by(|a, b| a.value.total_cmp(&b.value))
+                .expect("a quantity has a point");
+            let highest = points
+                .iter()
+                .max_by(|a, b| a.value.total_cmp(&b.value))
+                .expect("a quantity has a point");
+            let range = highest.value - lowest.value;
+            let noise = libm::sqrt(
+                highest.uncertainty * highest.uncertainty + lowest.uncertainty * lowest.uncertainty,
+            );
+            if points.len() >= MIN_CURVE_POINTS && range > RESOLVED_RANGE_Z * noise {
+                return QuantityScale {
+                    quantity: quantity.to_string(),
+                    points: points.len(),
+                    kind: ScaleKind::Range,
+                    value: range,
+                };
+            }
+            let rms = |f: fn(&RecordedPoint) -> f64| {
+                libm::sqrt(points.iter().map(|p| f(p) * f(p)).sum::<f64>() / n)
+            };
+            let magnitude = rms(|p| p.value);
+            QuantityScale {
+                quantity: quantity.to_string(),
+                points: points.len(),
+                kind: ScaleKind::Magnitude,
+                value: if magnitude > 0.0 {
+                    magnitude
+                } else {
+                    rms(|p| p.uncertainty).max(f64::MIN_POSITIVE)
+                },
+            }
+        })
+        .collect()
+}
+
+/// The scales of a recording in words for a report cell: `range` or `magnitude` for a
+/// one-quantity recording, else each quantity's (`final_length: magnitude; diameter: range`).
+pub fn describe_scales(scales: &[QuantityScale]) -> String {
+    let word = |kind: ScaleKind| match kind {
+        ScaleKind::Range => "range",
+        ScaleKind::Magnitude => "magnitude",
+    };
+    match scales {
+        [one] => word(one.kind).to_string(),
+        many => many
+            .iter()
+            .map(|s| format!("{}: {}", s.quantity, word(s.kind)))
+            .collect::<Vec<_>>()
+            .join("; "),
+    }
+}
+
+/// The scaled RMSE (seed 000's measure with [`error_scales`]) and the uncertainty-weighted
+/// RMS.
 pub fn score(recording: &[RecordedPoint], predicted: &[f64]) -> Option<Score> {
     if recording.len() != predicted.len() || predicted.iter().any(|p| !p.is_finite()) {
         return None;
     }
-    let (low, high) = recording
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(p.value), hi.max(p.value))
-        });
-    let range = if high > low {
-        high - low
-    } else {
-        high.abs().max(f64::MIN_POSITIVE)
+    let scales = error_scales(recording);
+    let scale_of = |quantity: &str| {
+        scales
+            .iter()
+            .find(|s| s.quantity == quantity)
+            .map_or(f64::MIN_POSITIVE, |s| s.value)
     };
     let n = recording.len() as f64;
     let error = (recording
         .iter()
         .zip(predicted)
-        .map(|(r, p)| ((p - r.value) / range).powi(2))
+        .map(|(r, p)| ((p - r.value) / scale_of(&r.quantity)).powi(2))
         .sum::<f64>()
         / n)
         .sqrt();
@@ -177,7 +299,7 @@ impl Evaluation {
         }
     }
 
-    /// Weighted sum of the min-max errors over `experiments`; `None` if any is missing.
+    /// Weighted sum of the scaled errors over `experiments`; `None` if any is missing.
     pub fn total(&self, campaign: &Campaign, experiments: &[usize]) -> Option<f64> {
         experiments
             .iter()
@@ -337,6 +459,52 @@ mod tests {
         assert!((s.error - (0.3125_f64 / 3.0).sqrt()).abs() < 1e-15);
         assert!((s.chi - (125.0_f64 / 3.0).sqrt()).abs() < 1e-12);
         assert!(score(&recording, &[1.0, f64::NAN, 3.0]).is_none());
+    }
+
+    #[test]
+    fn short_and_flat_curves_are_scaled_by_their_magnitude_and_quantities_separately() {
+        // GOAL: the error of a curve that has no shape (two points, or a range within the
+        // noise) is a relative error, not a multiple of a range the noise made; quantities of
+        // one recording are scaled separately.
+        // SETUP: a two-point flow curve 800 / 802 MPa (u 10 MPa) predicted 10 % high; a
+        // five-point curve 800..804 MPa (range 4 MPa < 1.96 sqrt(2) 10 MPa) predicted 10 % high;
+        // a recording of a time (1 ms) and a displacement (20 mm), each predicted 10 % high.
+        // REFERENCE: a 10 % offset on a magnitude scale gives about 0.1 (exactly 0.1 when the
+        // values are equal); the min-max scale would give 40 and 20.
+        let mpa = |v: f64| point(v * 1e6, 10e6);
+        let two = [mpa(800.0), mpa(802.0)];
+        let s = score(&two, &[880e6, 882.2e6]).unwrap();
+        assert!((s.error - 0.1).abs() < 1e-3, "{}", s.error);
+        assert_eq!(error_scales(&two)[0].kind, ScaleKind::Magnitude);
+        let flat: Vec<RecordedPoint> = (0..5).map(|k| mpa(800.0 + k as f64)).collect();
+        let predicted: Vec<f64> = flat.iter().map(|p| 1.1 * p.value).collect();
+        assert!((score(&flat, &predicted).unwrap().error - 0.1).abs() < 1e-12);
+        assert_eq!(error_scales(&flat)[0].kind, ScaleKind::Magnitude);
+        let mixed = [
+            RecordedPoint {
+                quantity: "first_crack_time".into(),
+                position: 0.0,
+                value: 1e-3,
+                uncertainty: 1e-4,
+            },
+            RecordedPoint {
+                quantity: "striker_displacement".into(),
+                position: 0.0,
+                value: 0.02,
+                uncertainty: 1e-3,
+            },
+        ];
+        let s = score(&mixed, &[1.1e-3, 0.022]).unwrap();
+        assert!((s.error - 0.1).abs() < 1e-12, "{}", s.error);
+        let scales = error_scales(&mixed);
+        assert_eq!(scales.len(), 2);
+        assert_eq!(scales[0].value, 1e-3);
+        assert_eq!(scales[1].value, 0.02);
+        // A resolved curve of three or more points keeps seed 000's range.
+        let resolved = [mpa(300.0), mpa(500.0), mpa(700.0)];
+        let scales = error_scales(&resolved);
+        assert_eq!(scales[0].kind, ScaleKind::Range);
+        assert!((scales[0].value - 400e6).abs() < 1.0);
     }
 
     #[test]

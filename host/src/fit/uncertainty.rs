@@ -12,9 +12,9 @@
 //! `VIF_i = (J^T J)_ii (J^T J)^-1_ii >= 10` (the usual collinearity threshold: a multiple
 //! correlation with the other constants above 0.95), which is determined only in combination
 //! with others (JC's A, B and n from flow curves over a narrow strain range are the classic
-//! case; no pair of them need reach 0.95). The calibration minimises a min-max-scaled RMSE,
-//! not this chi-square, and the intervals are local: along a curved valley of the misfit
-//! (A-B-n) the constants can sit several half-widths from the truth while the fit is at the
+//! case; no pair of them need reach 0.95). The calibration minimises a range- or
+//! magnitude-scaled RMSE, not this chi-square, and the intervals are local: along a curved
+//! valley of the misfit (A-B-n) the constants can sit several half-widths from the truth while the fit is at the
 //! noise floor. Read them as the recordings' information near the selected point.
 
 use super::campaign::Campaign;

@@ -232,7 +232,24 @@ impl<'a> Report<'a> {
                     ))
                 ),
             });
-        let _ = writeln!(md, "Error per experiment: RMSE of the residuals scaled by the measured range of that experiment (seed 000); total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n");
+        let _ = writeln!(md, "Error per experiment: RMSE of the residuals, each over its quantity's scale: the measured range of a resolved curve (seed 000), the quantity's magnitude (a relative error) for fewer than {} points or a range within {} standard deviations of the noise; total = weighted sum over the fitted experiments. `chi` = RMS of residuals over the recorded uncertainty, averaged over the fitted experiments (1 = at the noise).\n", crate::fit::objective::MIN_CURVE_POINTS, crate::fit::objective::RESOLVED_RANGE_Z);
+        let scales: Vec<String> = campaign
+            .experiments
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                format!(
+                    "| {} | {} |",
+                    experiment_name(campaign, i),
+                    crate::fit::describe_scales(&crate::fit::error_scales(&e.recording))
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            md,
+            "| experiment | error scale |\n|---|---|\n{}\n",
+            scales.join("\n")
+        );
     }
 
     /// Which constant set to use and why ([`recommend`]), at the top of the report, and the
