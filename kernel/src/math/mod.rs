@@ -6,7 +6,8 @@
 //! operations, never a fused multiply-add or a platform math library, so each result is the
 //! same everywhere. Their error is below 0.52 ulp, measured against a 50-digit oracle and
 //! against `libm` in `kernel/tests/math.rs`. Arguments outside their fast ranges (and
-//! `sqrt`, which IEEE rounds correctly) go to the `libm` crate.
+//! `sqrt`, which IEEE rounds correctly, and `erf`, `expm1`, `ln_1p`, which only the
+//! Preston-Tonks-Wallace model uses) go to the `libm` crate.
 
 mod exp;
 mod log;
@@ -21,6 +22,24 @@ pub use pow::pow;
 #[inline]
 pub fn sqrt(x: f64) -> f64 {
     libm::sqrt(x)
+}
+
+/// Error function, `libm::erf` (pure Rust, the same bits on every target).
+#[inline]
+pub fn erf(x: f64) -> f64 {
+    libm::erf(x)
+}
+
+/// `exp(x) - 1` without cancellation near 0, `libm::expm1`.
+#[inline]
+pub fn expm1(x: f64) -> f64 {
+    libm::expm1(x)
+}
+
+/// `ln(1 + x)` without cancellation near 0, `libm::log1p`.
+#[inline]
+pub fn ln_1p(x: f64) -> f64 {
+    libm::log1p(x)
 }
 
 /// Clamp `x` to `[lo, hi]` without panicking on NaN (NaN passes through).

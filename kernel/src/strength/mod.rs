@@ -2,7 +2,8 @@
 //!
 //! A model is either a [`ComposedStrength`] — a product of a hardening term, a rate term and a
 //! thermal term, each an enum, so that a missing term can be added without writing a new
-//! model — or [`ZerilliArmstrong`], whose rate and temperature dependence are coupled.
+//! model — or [`ZerilliArmstrong`] or [`PrestonTonksWallace`], whose rate and temperature
+//! dependence are coupled.
 //!
 //! The named families of seed 000 (JC, ZA, MJC, TJC) are parameter structs with `validate()`
 //! and their constants' descriptions ([`crate::parameters`]); each converts into a
@@ -12,6 +13,7 @@ mod composed;
 mod hardening;
 mod johnson_cook;
 mod modified_johnson_cook;
+mod preston_tonks_wallace;
 mod rate;
 mod thermal;
 mod two_rate_johnson_cook;
@@ -21,6 +23,7 @@ pub use composed::ComposedStrength;
 pub use hardening::Hardening;
 pub use johnson_cook::JohnsonCook;
 pub use modified_johnson_cook::ModifiedJohnsonCook;
+pub use preston_tonks_wallace::PrestonTonksWallace;
 pub use rate::RateTerm;
 pub use thermal::{homologous_temperature, ThermalTerm};
 pub use two_rate_johnson_cook::TwoRateJohnsonCook;
@@ -185,6 +188,8 @@ pub enum Strength {
     Composed(ComposedStrength),
     /// Zerilli-Armstrong (BCC or FCC): rate and temperature coupled.
     ZerilliArmstrong(ZerilliArmstrong),
+    /// Preston-Tonks-Wallace: glide and overdriven shock regimes, scaled by the shear modulus.
+    PrestonTonksWallace(PrestonTonksWallace),
 }
 
 impl Strength {
@@ -208,7 +213,7 @@ impl Strength {
     pub fn at_temperature(&self, temperature: f64) -> FlowAtTemperature<'_> {
         let thermal = match self {
             Strength::Composed(model) => model.thermal.evaluate(temperature),
-            Strength::ZerilliArmstrong(_) => 1.0,
+            Strength::ZerilliArmstrong(_) | Strength::PrestonTonksWallace(_) => 1.0,
         };
         FlowAtTemperature {
             strength: self,
@@ -222,6 +227,7 @@ impl Strength {
         match self {
             Strength::Composed(model) => model.validate(),
             Strength::ZerilliArmstrong(model) => model.validate(),
+            Strength::PrestonTonksWallace(model) => model.validate(),
         }
     }
 }
@@ -232,7 +238,7 @@ impl Strength {
 pub struct FlowAtTemperature<'a> {
     strength: &'a Strength,
     temperature: f64,
-    /// `theta(T)` of a composed model (1 for Zerilli-Armstrong, whose temperature dependence
+    /// `theta(T)` of a composed model (1 for Zerilli-Armstrong and PTW, whose temperature dependence
     /// is coupled with the rate).
     thermal: f64,
 }
@@ -250,6 +256,9 @@ impl FlowAtTemperature<'_> {
                 self.thermal,
             ),
             Strength::ZerilliArmstrong(model) => {
+                model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
+            }
+            Strength::PrestonTonksWallace(model) => {
                 model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
             }
         }
@@ -274,6 +283,9 @@ impl FlowAtTemperature<'_> {
             Strength::ZerilliArmstrong(model) => {
                 model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
             }
+            Strength::PrestonTonksWallace(model) => {
+                model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
+            }
         }
     }
 }
@@ -287,6 +299,12 @@ impl From<ComposedStrength> for Strength {
 impl From<ZerilliArmstrong> for Strength {
     fn from(model: ZerilliArmstrong) -> Self {
         Strength::ZerilliArmstrong(model)
+    }
+}
+
+impl From<PrestonTonksWallace> for Strength {
+    fn from(model: PrestonTonksWallace) -> Self {
+        Strength::PrestonTonksWallace(model)
     }
 }
 
