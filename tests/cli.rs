@@ -26,12 +26,13 @@ fn verify_prints_the_table_and_succeeds() {
         "za-fcc-copper",
         "mjc-hha",
         "tjc-hha",
+        "ptw-tantalum",
         "rht-hpc-92",
         "kc-hpc-100",
     ] {
         assert!(text.contains(model), "missing {model}");
     }
-    assert!(text.contains("golden histories: 49 of 49 bit-identical"));
+    assert!(text.contains("golden histories: 54 of 54 bit-identical"));
 }
 
 #[test]

@@ -4,7 +4,11 @@
 //! Domains (where the strong properties of [`crate::check::run_steps`] are asserted):
 //! - family constants: each family's search ranges (`PARAMETERS`) (seed 000 section 4.1); constants without a
 //!   bound: reference rates log-uniform in `[1e-3, 1e3]` /s (TJC: its bounds), `Tr` in
-//!   `[250, 350]` K, `Tm` in `[800, 4000]` K, ZA `C2` in `[0, 3 GPa]`;
+//!   `[250, 350]` K, `Tm` in `[800, 4000]` K, ZA `C2` in `[0, 3 GPa]`; PTW `G0` in
+//!   `[10, 300]` GPa (log), `alpha` in `[0, 0.6]`, `rho` in `[1000, 20000]` kg/m^3, `M` in
+//!   `[5, 250]` g/mol (its scaled constants drawn in their ranges; draws that break
+//!   `y_inf <= y0 <= s0`, `y_inf <= s_inf <= s0` fail `validate()` and only the weak
+//!   properties apply);
 //! - material: `rho0` in `[1000, 20000]` kg/m^3, `G` in `[1, 300]` GPa (log), `c_p` in
 //!   `[100, 2000]` J/kg/K, isothermal, adiabatic or transition heating with `chi` in
 //!   `[0, 1]`, linear EoS `K` in `[1, 500]` GPa (log), optional JC failure (`D1` in
@@ -23,8 +27,8 @@ use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::eos::{Eos, LinearEos};
 use stoss_kernel::parameters::Parameter;
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, Strength, TwoRateJohnsonCook,
-    ZerilliArmstrong,
+    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, Strength,
+    TwoRateJohnsonCook, ZerilliArmstrong,
 };
 use stoss_kernel::{
     Heating, Material, MaterialState, ParameterError, RateTreatment, StateFlags, StepInput,
@@ -42,6 +46,8 @@ pub enum Family {
     ModifiedJohnsonCook,
     /// Two-part-rate Johnson-Cook.
     TwoRateJohnsonCook,
+    /// Preston-Tonks-Wallace.
+    PrestonTonksWallace,
 }
 
 /// The bound named `name` in `bounds`.
@@ -135,6 +141,28 @@ fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), Parameter
                 thermal_exponent: draw(src, b, "thermal_exponent"),
                 reference_temperature: src.linear(250.0, 350.0),
                 melting_temperature: src.linear(800.0, 4000.0),
+            };
+            (model.into(), model.validate())
+        }
+        Family::PrestonTonksWallace => {
+            let b = &PrestonTonksWallace::PARAMETERS;
+            let model = PrestonTonksWallace {
+                theta: draw(src, b, "theta"),
+                p: draw(src, b, "p"),
+                s0: draw(src, b, "s0"),
+                s_inf: draw(src, b, "s_inf"),
+                kappa: draw(src, b, "kappa"),
+                gamma: draw_log(src, b, "gamma"),
+                y0: draw(src, b, "y0"),
+                y_inf: draw(src, b, "y_inf"),
+                y1: draw(src, b, "y1"),
+                y2: draw(src, b, "y2"),
+                beta: draw(src, b, "beta"),
+                shear_modulus_0: src.log(1e10, 3e11),
+                alpha: src.linear(0.0, 0.6),
+                melting_temperature: src.linear(800.0, 4000.0),
+                density: src.linear(1000.0, 20000.0),
+                atomic_mass: src.linear(5.0, 250.0),
             };
             (model.into(), model.validate())
         }

@@ -315,8 +315,16 @@ fn preston_tonks_wallace_is_the_published_law() {
     // 1e-3 /s, 250 K), the value and rate slope against a 50-digit evaluation of the printed
     // form (mpmath, mp.dps = 50): 10227903.182363766 Pa and 2282.2018714690283 Pa s.
     let at = Strength::from(cu).flow_stress(1e-4, 1e-3, 250.0);
-    assert!((at.value / 10_227_903.182_363_766 - 1.0).abs() < 1e-14, "{}", at.value);
-    assert!((at.d_rate / 2_282.201_871_469_028_3 - 1.0).abs() < 1e-8, "{}", at.d_rate);
+    assert!(
+        (at.value / 10_227_903.182_363_766 - 1.0).abs() < 1e-14,
+        "{}",
+        at.value
+    );
+    assert!(
+        (at.d_rate / 2_282.201_871_469_028_3 - 1.0).abs() < 1e-8,
+        "{}",
+        at.d_rate
+    );
 }
 
 #[test]

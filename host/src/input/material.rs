@@ -36,8 +36,8 @@ use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::parameters::{Constants, Parameter};
 use stoss_kernel::rht::{RhtMaterial, RhtParameters};
 use stoss_kernel::strength::{
-    ComposedStrength, JohnsonCook, ModifiedJohnsonCook, Strength, TwoRateJohnsonCook,
-    ZerilliArmstrong,
+    ComposedStrength, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, Strength,
+    TwoRateJohnsonCook, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, ParameterError, PartMaterial, RateTreatment};
 
@@ -53,6 +53,8 @@ pub enum StrengthSpec {
     ModifiedJohnsonCook(ModifiedJohnsonCook),
     /// Two-part-rate Johnson-Cook (seed 000 TJC).
     TwoRateJohnsonCook(TwoRateJohnsonCook),
+    /// Preston-Tonks-Wallace.
+    PrestonTonksWallace(PrestonTonksWallace),
     /// Any composition of hardening, rate and thermal terms.
     Composed(ComposedStrength),
 }
@@ -65,6 +67,7 @@ impl StrengthSpec {
             StrengthSpec::ZerilliArmstrong(m) => m.into(),
             StrengthSpec::ModifiedJohnsonCook(m) => m.into(),
             StrengthSpec::TwoRateJohnsonCook(m) => m.into(),
+            StrengthSpec::PrestonTonksWallace(m) => m.into(),
             StrengthSpec::Composed(m) => m.into(),
         }
     }
@@ -90,6 +93,7 @@ impl StrengthSpec {
             StrengthSpec::ZerilliArmstrong(_) => family(ZerilliArmstrong::PARAMETERS),
             StrengthSpec::ModifiedJohnsonCook(_) => family(ModifiedJohnsonCook::PARAMETERS),
             StrengthSpec::TwoRateJohnsonCook(_) => family(TwoRateJohnsonCook::PARAMETERS),
+            StrengthSpec::PrestonTonksWallace(_) => family(PrestonTonksWallace::PARAMETERS),
             StrengthSpec::Composed(m) => m
                 .parameters()
                 .map(|(term, p)| (format!("{term}.{}", p.name), p))
@@ -137,7 +141,9 @@ impl StrengthSpec {
                     .map(|(name, _)| (name.clone(), name))
                     .collect(),
             ),
-            StrengthSpec::ZerilliArmstrong(_) => return None,
+            StrengthSpec::ZerilliArmstrong(_) | StrengthSpec::PrestonTonksWallace(_) => {
+                return None
+            }
         })
     }
 
@@ -148,6 +154,7 @@ impl StrengthSpec {
             StrengthSpec::ZerilliArmstrong(m) => m.validate(),
             StrengthSpec::ModifiedJohnsonCook(m) => m.validate(),
             StrengthSpec::TwoRateJohnsonCook(m) => m.validate(),
+            StrengthSpec::PrestonTonksWallace(m) => m.validate(),
             StrengthSpec::Composed(m) => m.validate(),
         }
     }
@@ -806,6 +813,7 @@ impl ConstantPaths for StrengthSpec {
             StrengthSpec::ZerilliArmstrong(m) => m.named_slot(name),
             StrengthSpec::ModifiedJohnsonCook(m) => m.named_slot(name),
             StrengthSpec::TwoRateJohnsonCook(m) => m.named_slot(name),
+            StrengthSpec::PrestonTonksWallace(m) => m.named_slot(name),
             StrengthSpec::Composed(m) => m.slot(name),
         }
     }

@@ -352,12 +352,13 @@ fn named_dimension(key: &str) -> Option<Dimension> {
 pub fn described_constants() -> impl Iterator<Item = &'static Parameter> {
     use stoss_kernel::eos::{Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial};
     use stoss_kernel::strength::{
-        Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm, ThermalTerm, TwoRateJohnsonCook,
-        ZerilliArmstrong,
+        Hardening, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, RateTerm, ThermalTerm,
+        TwoRateJohnsonCook, ZerilliArmstrong,
     };
-    let families: [&'static [Parameter]; 11] = [
+    let families: [&'static [Parameter]; 12] = [
         JohnsonCook::PARAMETERS,
         ZerilliArmstrong::PARAMETERS,
+        PrestonTonksWallace::PARAMETERS,
         ModifiedJohnsonCook::PARAMETERS,
         TwoRateJohnsonCook::PARAMETERS,
         stoss_kernel::rht::RhtParameters::PARAMETERS,

@@ -3,7 +3,8 @@
 
 use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, TwoRateJohnsonCook, ZerilliArmstrong,
+    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, TwoRateJohnsonCook,
+    ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, RateTreatment};
 
@@ -90,6 +91,15 @@ pub fn reference_materials() -> Vec<ReferenceMaterial> {
     copper.eos = stoss_kernel::eos::Eos::Linear(stoss_kernel::eos::LinearEos {
         bulk_modulus: 137.0e9,
     });
+    // Tantalum's elasticity: Steinberg (1996) via Uintah SCG_Tantalum.xml, rho 16690 kg/m^3,
+    // G 69.0 GPa, K = rho C0^2 with C0 3410 m/s (194 GPa), c_p 135 J/kg/K.
+    let mut tantalum = steel(PrestonTonksWallace::TANTALUM);
+    tantalum.density = 16690.0;
+    tantalum.shear_modulus = 69.0e9;
+    tantalum.specific_heat = 135.0;
+    tantalum.eos = stoss_kernel::eos::Eos::Linear(stoss_kernel::eos::LinearEos {
+        bulk_modulus: 16690.0 * 3410.0 * 3410.0,
+    });
     let mut jc_failure = steel(JohnsonCook::STEEL_4340);
     jc_failure.heating = Heating::ADIABATIC;
     jc_failure.failure = Failure {
@@ -135,6 +145,11 @@ pub fn reference_materials() -> Vec<ReferenceMaterial> {
             name: "tjc-hha",
             source: "illustrative HHA-range TJC constants (seed 000 form)",
             material: steel(TJC_HHA_ILLUSTRATIVE),
+        },
+        ReferenceMaterial {
+            name: "ptw-tantalum",
+            source: "Preston, Tonks & Wallace (2003) tantalum, Steinberg (1996) elasticity",
+            material: tantalum,
         },
     ]
 }

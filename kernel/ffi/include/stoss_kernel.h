@@ -72,7 +72,10 @@
 // the new term).
 // Version 5 added K&C concrete ([`StossStrengthModel::Kc`], [`StossKc`] at the end of
 // [`StossStrength`]); cards of versions 1 to 4 are valid version-5 cards.
-#define STOSS_LAYOUT_VERSION 5
+// Version 6 added Preston-Tonks-Wallace ([`StossStrengthModel::PrestonTonksWallace`],
+// [`StossPrestonTonksWallace`] at the end of [`StossStrength`]); cards of versions 1 to 5 are
+// valid version-6 cards.
+#define STOSS_LAYOUT_VERSION 6
 
 // Points of the tabulated-compaction EoS table in the block (the kernel's
 // `MAX_COMPACTION_POINTS`).
@@ -195,6 +198,8 @@ enum StossStrengthModel
   // isothermal, the rate treatment implicit, and Johnson-Cook failure, erosion and the
   // pressure cut-off off (K&C has its own damage and tensile cut-off). Layout 5.
   STOSS_STRENGTH_MODEL_KC = 8,
+  // Preston-Tonks-Wallace, `strength.preston_tonks_wallace`. Layout 6.
+  STOSS_STRENGTH_MODEL_PRESTON_TONKS_WALLACE = 9,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -628,6 +633,42 @@ typedef struct StossKc {
   double constants[STOSS_KC_MAX_CONSTANTS];
 } StossKc;
 
+// Preston-Tonks-Wallace constants (SI; the scaled stresses dimensionless).
+typedef struct StossPrestonTonksWallace {
+  // `theta` (-).
+  double theta;
+  // `p` (-).
+  double p;
+  // `s0` (-).
+  double s0;
+  // `s_inf` (-).
+  double s_inf;
+  // `kappa` (-).
+  double kappa;
+  // `gamma` (-).
+  double gamma;
+  // `y0` (-).
+  double y0;
+  // `y_inf` (-).
+  double y_inf;
+  // `y1` (-).
+  double y1;
+  // `y2` (-).
+  double y2;
+  // `beta` (-).
+  double beta;
+  // `G0` (Pa), shear modulus at 0 K in the flow stress.
+  double shear_modulus_0;
+  // `alpha` (-), its softening with `T / Tm`.
+  double alpha;
+  // `Tm` (K).
+  double melting_temperature;
+  // `rho` (kg/m^3) in the atomic vibration rate.
+  double density;
+  // `M` (g/mol), atomic mass.
+  double atomic_mass;
+} StossPrestonTonksWallace;
+
 // Constants of every strength family; `strength_model` says which one is read.
 typedef struct StossStrength {
   // Johnson-Cook.
@@ -644,6 +685,8 @@ typedef struct StossStrength {
   struct StossRht rht;
   // K&C concrete (layout 5).
   struct StossKc kc;
+  // Preston-Tonks-Wallace (layout 6).
+  struct StossPrestonTonksWallace preston_tonks_wallace;
 } StossStrength;
 
 // Linear EoS.

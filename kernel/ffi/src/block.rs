@@ -19,8 +19,8 @@ use stoss_kernel::kc::{
 };
 use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters, TensileFailure};
 use stoss_kernel::strength::{
-    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook, RateTerm,
-    Strength, ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
+    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook,
+    PrestonTonksWallace, RateTerm, Strength, ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, MaterialState, PartMaterial, PointModel, RateTreatment};
 
@@ -41,7 +41,10 @@ use stoss_kernel::ParameterError;
 /// the new term).
 /// Version 5 added K&C concrete ([`StossStrengthModel::Kc`], [`StossKc`] at the end of
 /// [`StossStrength`]); cards of versions 1 to 4 are valid version-5 cards.
-pub const STOSS_LAYOUT_VERSION: u32 = 5;
+/// Version 6 added Preston-Tonks-Wallace ([`StossStrengthModel::PrestonTonksWallace`],
+/// [`StossPrestonTonksWallace`] at the end of [`StossStrength`]); cards of versions 1 to 5 are
+/// valid version-6 cards.
+pub const STOSS_LAYOUT_VERSION: u32 = 6;
 
 /// Points of the tabulated-compaction EoS table in the block (the kernel's
 /// `MAX_COMPACTION_POINTS`).
@@ -95,6 +98,8 @@ pub enum StossStrengthModel {
     /// isothermal, the rate treatment implicit, and Johnson-Cook failure, erosion and the
     /// pressure cut-off off (K&C has its own damage and tensile cut-off). Layout 5.
     Kc = 8,
+    /// Preston-Tonks-Wallace, `strength.preston_tonks_wallace`. Layout 6.
+    PrestonTonksWallace = 9,
 }
 
 /// K&C rate enhancement (`StossKc::rate`).
@@ -422,6 +427,67 @@ crate::described_section!(
     ]
 );
 
+/// Preston-Tonks-Wallace constants (SI; the scaled stresses dimensionless).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossPrestonTonksWallace {
+    /// `theta` (-).
+    pub theta: f64,
+    /// `p` (-).
+    pub p: f64,
+    /// `s0` (-).
+    pub s0: f64,
+    /// `s_inf` (-).
+    pub s_inf: f64,
+    /// `kappa` (-).
+    pub kappa: f64,
+    /// `gamma` (-).
+    pub gamma: f64,
+    /// `y0` (-).
+    pub y0: f64,
+    /// `y_inf` (-).
+    pub y_inf: f64,
+    /// `y1` (-).
+    pub y1: f64,
+    /// `y2` (-).
+    pub y2: f64,
+    /// `beta` (-).
+    pub beta: f64,
+    /// `G0` (Pa), shear modulus at 0 K in the flow stress.
+    pub shear_modulus_0: f64,
+    /// `alpha` (-), its softening with `T / Tm`.
+    pub alpha: f64,
+    /// `Tm` (K).
+    pub melting_temperature: f64,
+    /// `rho` (kg/m^3) in the atomic vibration rate.
+    pub density: f64,
+    /// `M` (g/mol), atomic mass.
+    pub atomic_mass: f64,
+}
+
+crate::described_section!(
+    StossPrestonTonksWallace,
+    PrestonTonksWallace,
+    [
+        theta,
+        p,
+        s0,
+        s_inf,
+        kappa,
+        gamma,
+        y0,
+        y_inf,
+        y1,
+        y2,
+        beta,
+        shear_modulus_0,
+        alpha,
+        melting_temperature,
+        density,
+        atomic_mass,
+    ]
+);
+
 /// Hardening constants of a composed model (read according to `hardening_model`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -647,6 +713,8 @@ pub struct StossStrength {
     pub rht: StossRht,
     /// K&C concrete (layout 5).
     pub kc: StossKc,
+    /// Preston-Tonks-Wallace (layout 6).
+    pub preston_tonks_wallace: StossPrestonTonksWallace,
 }
 
 /// Linear EoS.
@@ -902,7 +970,8 @@ code_enum!(
         TwoRateJohnsonCook,
         Composed,
         Rht,
-        Kc
+        Kc,
+        PrestonTonksWallace
     ]
 );
 code_enum!(StossKcRate, "strength.kc.rate", [None, CebFip]);
@@ -1182,6 +1251,14 @@ impl StossMaterialBlock {
                 described(
                     model.validate().map(|()| model),
                     "strength.two_rate_johnson_cook",
+                )?
+            }
+            StossStrengthModel::PrestonTonksWallace => {
+                // Every described constant of the base is overwritten by name.
+                let model = to_model(&s.preston_tonks_wallace, PrestonTonksWallace::TANTALUM);
+                described(
+                    model.validate().map(|()| model),
+                    "strength.preston_tonks_wallace",
                 )?
             }
             StossStrengthModel::Rht => {

@@ -6,7 +6,7 @@
 //!
 //! | P | meaning |
 //! |---|---|
-//! | 1 | card layout version (`STOSS_LAYOUT_VERSION` = 4; cards of versions 1 to 3 are read too) |
+//! | 1 | card layout version (`STOSS_LAYOUT_VERSION` = 6; cards of versions 1 to 5 are read too) |
 //! | 2 | reference density `rho0` (kg/m^3) |
 //! | 3 | shear modulus `G` (Pa) — LS-DYNA `IG = 3` |
 //! | 4 | bulk modulus `K` (Pa) — LS-DYNA `IBULK = 4`; the linear EoS's `K`, otherwise the initial EoS slope (informative, must be > 0) |
@@ -33,6 +33,7 @@
 //! | modified Johnson-Cook | `A B n Q1 c1 Q2 c2 beta e0 m Tr Tm` |
 //! | two-rate Johnson-Cook | `A B n Q1 c1 Q2 c2 beta1 e01 beta2 e02 m Tr Tm` |
 //! | composed | `hardening rate thermal A B n Q1 c1 Q2 c2 R1 R2 R3 R4 m Tr Tm` |
+//! | Preston-Tonks-Wallace (code 9, layout 6) | `theta p s0 s_inf kappa gamma y0 y_inf y1 y2 beta G0 alpha Tm rho M` |
 //!
 //! RHT concrete (strength code 7) uses P17..P40 instead of the JC failure and strength slots:
 //! P17..P20 its tensile-failure, meridian and rate-scaling codes and elastic-cap switch,
@@ -52,9 +53,10 @@ use stoss_kernel::PartMaterial;
 
 use crate::block::{
     initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel, StossJohnsonCook,
-    StossMaterialBlock, StossModifiedJohnsonCook, StossRateModel, StossRht, StossStrengthModel,
-    StossThermalModel, StossTwoRateJohnsonCook, StossZerilliArmstrong, KC_CONSTANTS,
-    STOSS_KC_MAX_DAMAGE_POINTS, STOSS_LAYOUT_VERSION, STOSS_MAX_COMPACTION_POINTS,
+    StossMaterialBlock, StossModifiedJohnsonCook, StossPrestonTonksWallace, StossRateModel,
+    StossRht, StossStrengthModel, StossThermalModel, StossTwoRateJohnsonCook,
+    StossZerilliArmstrong, KC_CONSTANTS, STOSS_KC_MAX_DAMAGE_POINTS, STOSS_LAYOUT_VERSION,
+    STOSS_MAX_COMPACTION_POINTS,
 };
 use crate::section::DescribedSection;
 use crate::status::{FfiError, StossStatus};
@@ -102,7 +104,8 @@ const _: () = assert!(
     <StossJohnsonCook as DescribedSection>::FIELDS.len() <= 17
         && <StossZerilliArmstrong as DescribedSection>::FIELDS.len() <= 17
         && <StossModifiedJohnsonCook as DescribedSection>::FIELDS.len() <= 17
-        && <StossTwoRateJohnsonCook as DescribedSection>::FIELDS.len() <= 17,
+        && <StossTwoRateJohnsonCook as DescribedSection>::FIELDS.len() <= 17
+        && <StossPrestonTonksWallace as DescribedSection>::FIELDS.len() <= 17,
     "a J2 family's constants no longer fit in the 17 strength slots P25..P41"
 );
 
@@ -274,6 +277,9 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
         }
         StossStrengthModel::TwoRateJohnsonCook => {
             read_constants(&s, &mut strength.two_rate_johnson_cook);
+        }
+        StossStrengthModel::PrestonTonksWallace => {
+            read_constants(&s, &mut strength.preston_tonks_wallace);
         }
         StossStrengthModel::Composed => {
             let p = &mut strength.composed;
@@ -565,6 +571,9 @@ pub fn card_from_block(
         }
         StossStrengthModel::TwoRateJohnsonCook => {
             write_constants(s, &strength.two_rate_johnson_cook);
+        }
+        StossStrengthModel::PrestonTonksWallace => {
+            write_constants(s, &strength.preston_tonks_wallace);
         }
         StossStrengthModel::Composed => {
             let p = &strength.composed;

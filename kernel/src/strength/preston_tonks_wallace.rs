@@ -170,8 +170,7 @@ impl PrestonTonksWallace {
         let activation = erf(argument);
         // d erf(a)/d rate = (2/sqrt(pi)) exp(-a^2) da/drate, da/drate = -kappa T^ / rate.
         let d_activation = if active {
-            -core::f64::consts::FRAC_2_SQRT_PI * exp(-argument * argument) * self.kappa
-                * homologous
+            -core::f64::consts::FRAC_2_SQRT_PI * exp(-argument * argument) * self.kappa * homologous
                 / rate
         } else {
             0.0
@@ -397,8 +396,7 @@ mod tests {
                             - model.flow_stress(eps, rate - k, t).value)
                             / (2.0 * k);
                         assert!(
-                            (f.d_plastic_strain - d_eps).abs()
-                                <= 1e-5 * d_eps.abs().max(f.value),
+                            (f.d_plastic_strain - d_eps).abs() <= 1e-5 * d_eps.abs().max(f.value),
                             "{t} K {rate} /s {eps}: {} vs {d_eps}",
                             f.d_plastic_strain
                         );

@@ -79,6 +79,7 @@ fn temperature_range(strength: &Strength) -> (f64, f64) {
             .temperature_limits()
             .unwrap_or(DEFAULT_TEMPERATURES),
         Strength::ZerilliArmstrong(_) => DEFAULT_TEMPERATURES,
+        Strength::PrestonTonksWallace(model) => (DEFAULT_TEMPERATURES.0, model.melting_temperature),
     }
 }
 
