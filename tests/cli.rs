@@ -27,12 +27,13 @@ fn verify_prints_the_table_and_succeeds() {
         "mjc-hha",
         "tjc-hha",
         "ptw-tantalum",
+        "khl-illustrative",
         "rht-hpc-92",
         "kc-hpc-100",
     ] {
         assert!(text.contains(model), "missing {model}");
     }
-    assert!(text.contains("golden histories: 54 of 54 bit-identical"));
+    assert!(text.contains("golden histories: 59 of 59 bit-identical"));
 }
 
 #[test]

@@ -34,6 +34,7 @@ fn main() {
         "strength_update_mjc" => |d| stoss_fuzz::strength::run(Family::ModifiedJohnsonCook, d),
         "strength_update_tjc" => |d| stoss_fuzz::strength::run(Family::TwoRateJohnsonCook, d),
         "strength_update_ptw" => |d| stoss_fuzz::strength::run(Family::PrestonTonksWallace, d),
+        "strength_update_khl" => |d| stoss_fuzz::strength::run(Family::KhanHuangLiang, d),
         "eos" => stoss_fuzz::eos::run,
         "rht_update" => stoss_fuzz::rht::run,
         "kc_update" => stoss_fuzz::kc::run,

@@ -6,7 +6,7 @@
 //!   bound: reference rates log-uniform in `[1e-3, 1e3]` /s (TJC: its bounds), `Tr` in
 //!   `[250, 350]` K, `Tm` in `[800, 4000]` K, ZA `C2` in `[0, 3 GPa]`; PTW `G0` in
 //!   `[10, 300]` GPa (log), `alpha` in `[0, 0.6]`, `rho` in `[1000, 20000]` kg/m^3, `M` in
-//!   `[5, 250]` g/mol (its scaled constants drawn in their ranges; draws that break
+//!   `[5, 250]` g/mol; KHL `D0p` in `[1e4, 1e8]` /s (log) (its scaled constants drawn in their ranges; draws that break
 //!   `y_inf <= y0 <= s0`, `y_inf <= s_inf <= s0` fail `validate()` and only the weak
 //!   properties apply);
 //! - material: `rho0` in `[1000, 20000]` kg/m^3, `G` in `[1, 300]` GPa (log), `c_p` in
@@ -27,8 +27,8 @@ use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::eos::{Eos, LinearEos};
 use stoss_kernel::parameters::Parameter;
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, Strength,
-    TwoRateJohnsonCook, ZerilliArmstrong,
+    CrystalStructure, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
+    Strength, TwoRateJohnsonCook, ZerilliArmstrong,
 };
 use stoss_kernel::{
     Heating, Material, MaterialState, ParameterError, RateTreatment, StateFlags, StepInput,
@@ -48,6 +48,8 @@ pub enum Family {
     TwoRateJohnsonCook,
     /// Preston-Tonks-Wallace.
     PrestonTonksWallace,
+    /// Khan-Huang-Liang.
+    KhanHuangLiang,
 }
 
 /// The bound named `name` in `bounds`.
@@ -163,6 +165,22 @@ fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), Parameter
                 melting_temperature: src.linear(800.0, 4000.0),
                 density: src.linear(1000.0, 20000.0),
                 atomic_mass: src.linear(5.0, 250.0),
+            };
+            (model.into(), model.validate())
+        }
+        Family::KhanHuangLiang => {
+            let b = &KhanHuangLiang::PARAMETERS;
+            let model = KhanHuangLiang {
+                yield_stress: draw(src, b, "yield_stress"),
+                hardening_modulus: draw(src, b, "hardening_modulus"),
+                hardening_exponent: draw(src, b, "hardening_exponent"),
+                coupling_exponent: draw(src, b, "coupling_exponent"),
+                rate_sensitivity: draw(src, b, "rate_sensitivity"),
+                reference_rate: src.log(1e-3, 1e3),
+                upper_rate: src.log(1e4, 1e8),
+                thermal_exponent: draw(src, b, "thermal_exponent"),
+                reference_temperature: src.linear(250.0, 350.0),
+                melting_temperature: src.linear(800.0, 4000.0),
             };
             (model.into(), model.validate())
         }

@@ -18,11 +18,14 @@
 //! exp(-C3 T + C4 T ln e*)`); seed 000 (Ryan et al. 2022) sec. 2 for MJC (`A + B eps^n + Q1 (1 -
 //! exp(-c1 eps)) + Q2 (1 - exp(-c2 eps))`, rate `(1 + e*)^beta`) and TJC (the same hardening,
 //! rate `(1 + deps/e01)^beta1 (1 + deps/e02)^beta2`), both with `1 - T*^m`; Preston, Tonks &
-//! Wallace (2003), J. Appl. Phys. 93, eqs. 7, 11, 12 and 15 (`sigma = 2 G tau^`).
+//! Wallace (2003), J. Appl. Phys. 93, eqs. 7, 11, 12 and 15 (`sigma = 2 G tau^`); Khan, Suh &
+//! Kazmi (2004), Int. J. Plasticity 20, eq. 1 (`[A + B (1 - ln e'/ln D0p)^n1 eps^n0] (e'/e0)^C
+//! (1 - T*^m)`).
 
 use stoss_kernel::strength::{
-    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook,
-    PrestonTonksWallace, RateTerm, Strength, ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
+    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, KhanHuangLiang,
+    ModifiedJohnsonCook, PrestonTonksWallace, RateTerm, Strength, ThermalTerm, TwoRateJohnsonCook,
+    ZerilliArmstrong,
 };
 
 /// Relative agreement of the value: measured at most 4.4e-16 (two ulps of composition
@@ -155,6 +158,31 @@ fn ptw_reference(c: &PrestonTonksWallace, eps: f64, rate: f64, t: f64) -> f64 {
         y + a * libm::log1p(grown * -libm::expm1(-c.theta * psi / (a * grown)))
     };
     2.0 * g * tau
+}
+
+/// Khan-Huang-Liang (Khan, Suh & Kazmi 2004 eq. 1), the rate held at 1e-6 /s below it and the
+/// coupled factor 0 at and above `D0p`.
+fn khl_reference(c: &KhanHuangLiang, eps: f64, rate: f64, t: f64) -> f64 {
+    let rate = rate.max(1e-6);
+    let w = 1.0 - libm::log(rate) / libm::log(c.upper_rate);
+    let coupled = if w > 0.0 {
+        libm::pow(w, c.coupling_exponent)
+    } else {
+        0.0
+    };
+    let hardening = if eps > 0.0 {
+        c.hardening_modulus * libm::pow(eps, c.hardening_exponent)
+    } else {
+        0.0
+    };
+    (c.yield_stress + hardening * coupled)
+        * libm::pow(rate / c.reference_rate, c.rate_sensitivity)
+        * johnson_cook_thermal(
+            t,
+            c.reference_temperature,
+            c.melting_temperature,
+            c.thermal_exponent,
+        )
 }
 
 const STRAINS: [f64; 7] = [0.0, 1e-4, 0.01, 0.05, 0.2, 0.8, 2.0];
@@ -324,6 +352,29 @@ fn preston_tonks_wallace_is_the_published_law() {
         (at.d_rate / 2_282.201_871_469_028_3 - 1.0).abs() < 1e-8,
         "{}",
         at.d_rate
+    );
+}
+
+#[test]
+fn khan_huang_liang_is_the_published_law() {
+    // Constants in the range of Khan et al.'s titanium fits (their D0p 1e6 /s).
+    let khl = KhanHuangLiang {
+        yield_stress: 1000.0e6,
+        hardening_modulus: 800.0e6,
+        hardening_exponent: 0.4,
+        coupling_exponent: 0.8,
+        rate_sensitivity: 0.012,
+        reference_rate: 1.0,
+        upper_rate: 1.0e6,
+        thermal_exponent: 0.8,
+        reference_temperature: 298.0,
+        melting_temperature: 1878.0,
+    };
+    compare(
+        "KHL",
+        khl.into(),
+        &|e, r, t| khl_reference(&khl, e, r, t),
+        KhanHuangLiang::MINIMUM_RATE,
     );
 }
 

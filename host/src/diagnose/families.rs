@@ -1,6 +1,6 @@
 //! Non-nested alternatives: the calibrated model's strength replaced by another family of the
 //! kernel (Johnson-Cook, Zerilli-Armstrong BCC and FCC, modified Johnson-Cook,
-//! Preston-Tonks-Wallace). A term of the
+//! Preston-Tonks-Wallace, Khan-Huang-Liang). A term of the
 //! library extends the current model and can be scored at its null; a family switch cannot
 //! (Zerilli-Armstrong's coupled rate and temperature is no value of a Johnson-Cook constant),
 //! so each alternative is fitted in full and compared with the current model by the criteria
@@ -34,8 +34,8 @@ use crate::fit::linear::{gram, solve_damped, transpose_times};
 use crate::input::material::StrengthSpec;
 use stoss_kernel::parameters::Parameter as Described;
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, Strength,
-    ZerilliArmstrong,
+    CrystalStructure, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
+    Strength, ZerilliArmstrong,
 };
 
 /// Drop of the Bayesian information criterion an alternative needs to replace the model:
@@ -244,6 +244,27 @@ fn families(context: Context) -> Vec<Family> {
             }),
             fitted: &["theta", "s0", "s_inf", "kappa", "gamma", "y0", "y_inf"],
             described: PrestonTonksWallace::PARAMETERS,
+        },
+        Family {
+            name: "khan-huang-liang",
+            physics: "Khan-Huang-Liang: work hardening that weakens as the strain rate rises \
+                      ((1 - ln(rate)/ln(D0p))^n1), a power-law rate factor and Johnson-Cook \
+                      thermal softening",
+            strength: StrengthSpec::KhanHuangLiang(KhanHuangLiang {
+                reference_rate,
+                reference_temperature,
+                melting_temperature: melting,
+                ..KhanHuangLiang::ILLUSTRATIVE
+            }),
+            fitted: &[
+                "yield_stress",
+                "hardening_modulus",
+                "hardening_exponent",
+                "coupling_exponent",
+                "rate_sensitivity",
+                "thermal_exponent",
+            ],
+            described: KhanHuangLiang::PARAMETERS,
         },
     ]
 }

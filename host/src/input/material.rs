@@ -36,8 +36,8 @@ use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::parameters::{Constants, Parameter};
 use stoss_kernel::rht::{RhtMaterial, RhtParameters};
 use stoss_kernel::strength::{
-    ComposedStrength, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, Strength,
-    TwoRateJohnsonCook, ZerilliArmstrong,
+    ComposedStrength, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
+    Strength, TwoRateJohnsonCook, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, ParameterError, PartMaterial, RateTreatment};
 
@@ -55,6 +55,8 @@ pub enum StrengthSpec {
     TwoRateJohnsonCook(TwoRateJohnsonCook),
     /// Preston-Tonks-Wallace.
     PrestonTonksWallace(PrestonTonksWallace),
+    /// Khan-Huang-Liang.
+    KhanHuangLiang(KhanHuangLiang),
     /// Any composition of hardening, rate and thermal terms.
     Composed(ComposedStrength),
 }
@@ -68,6 +70,7 @@ impl StrengthSpec {
             StrengthSpec::ModifiedJohnsonCook(m) => m.into(),
             StrengthSpec::TwoRateJohnsonCook(m) => m.into(),
             StrengthSpec::PrestonTonksWallace(m) => m.into(),
+            StrengthSpec::KhanHuangLiang(m) => m.into(),
             StrengthSpec::Composed(m) => m.into(),
         }
     }
@@ -94,6 +97,7 @@ impl StrengthSpec {
             StrengthSpec::ModifiedJohnsonCook(_) => family(ModifiedJohnsonCook::PARAMETERS),
             StrengthSpec::TwoRateJohnsonCook(_) => family(TwoRateJohnsonCook::PARAMETERS),
             StrengthSpec::PrestonTonksWallace(_) => family(PrestonTonksWallace::PARAMETERS),
+            StrengthSpec::KhanHuangLiang(_) => family(KhanHuangLiang::PARAMETERS),
             StrengthSpec::Composed(m) => m
                 .parameters()
                 .map(|(term, p)| (format!("{term}.{}", p.name), p))
@@ -141,9 +145,9 @@ impl StrengthSpec {
                     .map(|(name, _)| (name.clone(), name))
                     .collect(),
             ),
-            StrengthSpec::ZerilliArmstrong(_) | StrengthSpec::PrestonTonksWallace(_) => {
-                return None
-            }
+            StrengthSpec::ZerilliArmstrong(_)
+            | StrengthSpec::PrestonTonksWallace(_)
+            | StrengthSpec::KhanHuangLiang(_) => return None,
         })
     }
 
@@ -155,6 +159,7 @@ impl StrengthSpec {
             StrengthSpec::ModifiedJohnsonCook(m) => m.validate(),
             StrengthSpec::TwoRateJohnsonCook(m) => m.validate(),
             StrengthSpec::PrestonTonksWallace(m) => m.validate(),
+            StrengthSpec::KhanHuangLiang(m) => m.validate(),
             StrengthSpec::Composed(m) => m.validate(),
         }
     }
@@ -814,6 +819,7 @@ impl ConstantPaths for StrengthSpec {
             StrengthSpec::ModifiedJohnsonCook(m) => m.named_slot(name),
             StrengthSpec::TwoRateJohnsonCook(m) => m.named_slot(name),
             StrengthSpec::PrestonTonksWallace(m) => m.named_slot(name),
+            StrengthSpec::KhanHuangLiang(m) => m.named_slot(name),
             StrengthSpec::Composed(m) => m.slot(name),
         }
     }

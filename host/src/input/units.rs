@@ -352,10 +352,11 @@ fn named_dimension(key: &str) -> Option<Dimension> {
 pub fn described_constants() -> impl Iterator<Item = &'static Parameter> {
     use stoss_kernel::eos::{Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial};
     use stoss_kernel::strength::{
-        Hardening, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, RateTerm, ThermalTerm,
-        TwoRateJohnsonCook, ZerilliArmstrong,
+        Hardening, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace, RateTerm,
+        ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
     };
-    let families: [&'static [Parameter]; 12] = [
+    let families: [&'static [Parameter]; 13] = [
+        KhanHuangLiang::PARAMETERS,
         JohnsonCook::PARAMETERS,
         ZerilliArmstrong::PARAMETERS,
         PrestonTonksWallace::PARAMETERS,

@@ -3,8 +3,8 @@
 
 use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, ModifiedJohnsonCook, PrestonTonksWallace, TwoRateJohnsonCook,
-    ZerilliArmstrong,
+    CrystalStructure, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
+    TwoRateJohnsonCook, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, RateTreatment};
 
@@ -150,6 +150,12 @@ pub fn reference_materials() -> Vec<ReferenceMaterial> {
             name: "ptw-tantalum",
             source: "Preston, Tonks & Wallace (2003) tantalum, Steinberg (1996) elasticity",
             material: tantalum,
+        },
+        ReferenceMaterial {
+            name: "khl-illustrative",
+            source: "illustrative Khan-Huang-Liang constants (titanium-alloy range), on 4340 \
+                     elasticity",
+            material: steel(KhanHuangLiang::ILLUSTRATIVE),
         },
     ]
 }

@@ -73,8 +73,9 @@
 // Version 5 added K&C concrete ([`StossStrengthModel::Kc`], [`StossKc`] at the end of
 // [`StossStrength`]); cards of versions 1 to 4 are valid version-5 cards.
 // Version 6 added Preston-Tonks-Wallace ([`StossStrengthModel::PrestonTonksWallace`],
-// [`StossPrestonTonksWallace`] at the end of [`StossStrength`]); cards of versions 1 to 5 are
-// valid version-6 cards.
+// [`StossPrestonTonksWallace`]) and Khan-Huang-Liang ([`StossStrengthModel::KhanHuangLiang`],
+// [`StossKhanHuangLiang`]) at the end of [`StossStrength`]; cards of versions 1 to 5 are valid
+// version-6 cards.
 #define STOSS_LAYOUT_VERSION 6
 
 // Points of the tabulated-compaction EoS table in the block (the kernel's
@@ -200,6 +201,8 @@ enum StossStrengthModel
   STOSS_STRENGTH_MODEL_KC = 8,
   // Preston-Tonks-Wallace, `strength.preston_tonks_wallace`. Layout 6.
   STOSS_STRENGTH_MODEL_PRESTON_TONKS_WALLACE = 9,
+  // Khan-Huang-Liang, `strength.khan_huang_liang`. Layout 6.
+  STOSS_STRENGTH_MODEL_KHAN_HUANG_LIANG = 10,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -669,6 +672,30 @@ typedef struct StossPrestonTonksWallace {
   double atomic_mass;
 } StossPrestonTonksWallace;
 
+// Khan-Huang-Liang constants (SI).
+typedef struct StossKhanHuangLiang {
+  // `A` (Pa).
+  double yield_stress;
+  // `B` (Pa).
+  double hardening_modulus;
+  // `n0` (-).
+  double hardening_exponent;
+  // `n1` (-), exponent of the rate coupling `(1 - ln(rate)/ln(D0p))`.
+  double coupling_exponent;
+  // `C` (-).
+  double rate_sensitivity;
+  // `e0` (1/s).
+  double reference_rate;
+  // `D0p` (1/s), upper bound of the strain rates.
+  double upper_rate;
+  // `m` (-).
+  double thermal_exponent;
+  // `Tr` (K).
+  double reference_temperature;
+  // `Tm` (K).
+  double melting_temperature;
+} StossKhanHuangLiang;
+
 // Constants of every strength family; `strength_model` says which one is read.
 typedef struct StossStrength {
   // Johnson-Cook.
@@ -687,6 +714,8 @@ typedef struct StossStrength {
   struct StossKc kc;
   // Preston-Tonks-Wallace (layout 6).
   struct StossPrestonTonksWallace preston_tonks_wallace;
+  // Khan-Huang-Liang (layout 6).
+  struct StossKhanHuangLiang khan_huang_liang;
 } StossStrength;
 
 // Linear EoS.

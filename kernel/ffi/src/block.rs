@@ -19,8 +19,9 @@ use stoss_kernel::kc::{
 };
 use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters, TensileFailure};
 use stoss_kernel::strength::{
-    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, ModifiedJohnsonCook,
-    PrestonTonksWallace, RateTerm, Strength, ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
+    ComposedStrength, CrystalStructure, Hardening, JohnsonCook, KhanHuangLiang,
+    ModifiedJohnsonCook, PrestonTonksWallace, RateTerm, Strength, ThermalTerm, TwoRateJohnsonCook,
+    ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, MaterialState, PartMaterial, PointModel, RateTreatment};
 
@@ -42,8 +43,9 @@ use stoss_kernel::ParameterError;
 /// Version 5 added K&C concrete ([`StossStrengthModel::Kc`], [`StossKc`] at the end of
 /// [`StossStrength`]); cards of versions 1 to 4 are valid version-5 cards.
 /// Version 6 added Preston-Tonks-Wallace ([`StossStrengthModel::PrestonTonksWallace`],
-/// [`StossPrestonTonksWallace`] at the end of [`StossStrength`]); cards of versions 1 to 5 are
-/// valid version-6 cards.
+/// [`StossPrestonTonksWallace`]) and Khan-Huang-Liang ([`StossStrengthModel::KhanHuangLiang`],
+/// [`StossKhanHuangLiang`]) at the end of [`StossStrength`]; cards of versions 1 to 5 are valid
+/// version-6 cards.
 pub const STOSS_LAYOUT_VERSION: u32 = 6;
 
 /// Points of the tabulated-compaction EoS table in the block (the kernel's
@@ -100,6 +102,8 @@ pub enum StossStrengthModel {
     Kc = 8,
     /// Preston-Tonks-Wallace, `strength.preston_tonks_wallace`. Layout 6.
     PrestonTonksWallace = 9,
+    /// Khan-Huang-Liang, `strength.khan_huang_liang`. Layout 6.
+    KhanHuangLiang = 10,
 }
 
 /// K&C rate enhancement (`StossKc::rate`).
@@ -488,6 +492,49 @@ crate::described_section!(
     ]
 );
 
+/// Khan-Huang-Liang constants (SI).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossKhanHuangLiang {
+    /// `A` (Pa).
+    pub yield_stress: f64,
+    /// `B` (Pa).
+    pub hardening_modulus: f64,
+    /// `n0` (-).
+    pub hardening_exponent: f64,
+    /// `n1` (-), exponent of the rate coupling `(1 - ln(rate)/ln(D0p))`.
+    pub coupling_exponent: f64,
+    /// `C` (-).
+    pub rate_sensitivity: f64,
+    /// `e0` (1/s).
+    pub reference_rate: f64,
+    /// `D0p` (1/s), upper bound of the strain rates.
+    pub upper_rate: f64,
+    /// `m` (-).
+    pub thermal_exponent: f64,
+    /// `Tr` (K).
+    pub reference_temperature: f64,
+    /// `Tm` (K).
+    pub melting_temperature: f64,
+}
+
+crate::described_section!(
+    StossKhanHuangLiang,
+    KhanHuangLiang,
+    [
+        yield_stress,
+        hardening_modulus,
+        hardening_exponent,
+        coupling_exponent,
+        rate_sensitivity,
+        reference_rate,
+        upper_rate,
+        thermal_exponent,
+        reference_temperature,
+        melting_temperature,
+    ]
+);
+
 /// Hardening constants of a composed model (read according to `hardening_model`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -715,6 +762,8 @@ pub struct StossStrength {
     pub kc: StossKc,
     /// Preston-Tonks-Wallace (layout 6).
     pub preston_tonks_wallace: StossPrestonTonksWallace,
+    /// Khan-Huang-Liang (layout 6).
+    pub khan_huang_liang: StossKhanHuangLiang,
 }
 
 /// Linear EoS.
@@ -971,7 +1020,8 @@ code_enum!(
         Composed,
         Rht,
         Kc,
-        PrestonTonksWallace
+        PrestonTonksWallace,
+        KhanHuangLiang
     ]
 );
 code_enum!(StossKcRate, "strength.kc.rate", [None, CebFip]);
@@ -1259,6 +1309,14 @@ impl StossMaterialBlock {
                 described(
                     model.validate().map(|()| model),
                     "strength.preston_tonks_wallace",
+                )?
+            }
+            StossStrengthModel::KhanHuangLiang => {
+                // Every described constant of the base is overwritten by name.
+                let model = to_model(&s.khan_huang_liang, KhanHuangLiang::ILLUSTRATIVE);
+                described(
+                    model.validate().map(|()| model),
+                    "strength.khan_huang_liang",
                 )?
             }
             StossStrengthModel::Rht => {

@@ -34,6 +34,7 @@
 //! | two-rate Johnson-Cook | `A B n Q1 c1 Q2 c2 beta1 e01 beta2 e02 m Tr Tm` |
 //! | composed | `hardening rate thermal A B n Q1 c1 Q2 c2 R1 R2 R3 R4 m Tr Tm` |
 //! | Preston-Tonks-Wallace (code 9, layout 6) | `theta p s0 s_inf kappa gamma y0 y_inf y1 y2 beta G0 alpha Tm rho M` |
+//! | Khan-Huang-Liang (code 10, layout 6) | `A B n0 n1 C e0 D0p m Tr Tm` |
 //!
 //! RHT concrete (strength code 7) uses P17..P40 instead of the JC failure and strength slots:
 //! P17..P20 its tensile-failure, meridian and rate-scaling codes and elastic-cap switch,
@@ -53,8 +54,8 @@ use stoss_kernel::PartMaterial;
 
 use crate::block::{
     initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel, StossJohnsonCook,
-    StossMaterialBlock, StossModifiedJohnsonCook, StossPrestonTonksWallace, StossRateModel,
-    StossRht, StossStrengthModel, StossThermalModel, StossTwoRateJohnsonCook,
+    StossKhanHuangLiang, StossMaterialBlock, StossModifiedJohnsonCook, StossPrestonTonksWallace,
+    StossRateModel, StossRht, StossStrengthModel, StossThermalModel, StossTwoRateJohnsonCook,
     StossZerilliArmstrong, KC_CONSTANTS, STOSS_KC_MAX_DAMAGE_POINTS, STOSS_LAYOUT_VERSION,
     STOSS_MAX_COMPACTION_POINTS,
 };
@@ -105,7 +106,8 @@ const _: () = assert!(
         && <StossZerilliArmstrong as DescribedSection>::FIELDS.len() <= 17
         && <StossModifiedJohnsonCook as DescribedSection>::FIELDS.len() <= 17
         && <StossTwoRateJohnsonCook as DescribedSection>::FIELDS.len() <= 17
-        && <StossPrestonTonksWallace as DescribedSection>::FIELDS.len() <= 17,
+        && <StossPrestonTonksWallace as DescribedSection>::FIELDS.len() <= 17
+        && <StossKhanHuangLiang as DescribedSection>::FIELDS.len() <= 17,
     "a J2 family's constants no longer fit in the 17 strength slots P25..P41"
 );
 
@@ -280,6 +282,9 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
         }
         StossStrengthModel::PrestonTonksWallace => {
             read_constants(&s, &mut strength.preston_tonks_wallace);
+        }
+        StossStrengthModel::KhanHuangLiang => {
+            read_constants(&s, &mut strength.khan_huang_liang);
         }
         StossStrengthModel::Composed => {
             let p = &mut strength.composed;
@@ -574,6 +579,9 @@ pub fn card_from_block(
         }
         StossStrengthModel::PrestonTonksWallace => {
             write_constants(s, &strength.preston_tonks_wallace);
+        }
+        StossStrengthModel::KhanHuangLiang => {
+            write_constants(s, &strength.khan_huang_liang);
         }
         StossStrengthModel::Composed => {
             let p = &strength.composed;

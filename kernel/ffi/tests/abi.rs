@@ -9,8 +9,9 @@ use stoss_kernel::damage::JohnsonCookFailure;
 use stoss_kernel::drivers::{uniaxial_strain, LastRecord, UniaxialStrainLoading};
 use stoss_kernel::{Material, MaterialState};
 use stoss_kernel_ffi::block::{
-    StossEosModel, StossJohnsonCook, StossMieGruneisen, StossModifiedJohnsonCook,
-    StossPrestonTonksWallace, StossRht, StossTwoRateJohnsonCook, StossZerilliArmstrong,
+    StossEosModel, StossJohnsonCook, StossKhanHuangLiang, StossMieGruneisen,
+    StossModifiedJohnsonCook, StossPrestonTonksWallace, StossRht, StossTwoRateJohnsonCook,
+    StossZerilliArmstrong,
 };
 use stoss_kernel_ffi::card::STOSS_CARD_MAX_LENGTH;
 use stoss_kernel_ffi::section::DescribedSection;
@@ -1008,6 +1009,10 @@ fn described_sections_match_the_generated_header() {
     assert_eq!(
         doubles(&body("StossPrestonTonksWallace")),
         fields::<StossPrestonTonksWallace>()
+    );
+    assert_eq!(
+        doubles(&body("StossKhanHuangLiang")),
+        fields::<StossKhanHuangLiang>()
     );
     // RHT's public order happens to be its descriptor's.
     let described: Vec<&str> = stoss_kernel::rht::RhtParameters::PARAMETERS

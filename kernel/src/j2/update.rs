@@ -61,6 +61,8 @@ pub const CORRECTION_STEP_LIMIT: f64 = 1e-3;
 /// given as `inverse_slope = 1/g'`, flow stress `flow` along the path) to `newton` ends it: the accepted multiplier and the
 /// flow stress there.
 ///
+/// - Nothing is accepted where the flow stress reports an unbounded curvature (the return
+///   then evaluates the flow stress at the next iterate).
 /// - A step below [`RETURN_STEP_TOLERANCE`] of the multiplier is accepted as it is.
 /// - A step below [`CORRECTION_STEP_LIMIT`] is corrected to third order (Chebyshev's step
 ///   `s_c = s - g'' s^2 / (2 g')`, `s` the Newton step) and accepted if what it leaves,
@@ -80,6 +82,12 @@ fn final_step(
 ) -> Option<(f64, f64)> {
     let step = newton - dl;
     let size = step.abs();
+    // A flow stress that reports no bounded curvature (Preston-Tonks-Wallace, Khan-Huang-Liang:
+    // regime switches, a singular slope at an upper rate) is never extrapolated: the return
+    // goes on to evaluate it at the step's end, where the residual test accepts it.
+    if !flow.curvature.is_finite() {
+        return None;
+    }
     if size <= RETURN_STEP_TOLERANCE * newton {
         return Some((newton, flow.value + flow.slope * step));
     }

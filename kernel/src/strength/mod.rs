@@ -2,8 +2,8 @@
 //!
 //! A model is either a [`ComposedStrength`] — a product of a hardening term, a rate term and a
 //! thermal term, each an enum, so that a missing term can be added without writing a new
-//! model — or [`ZerilliArmstrong`] or [`PrestonTonksWallace`], whose rate and temperature
-//! dependence are coupled.
+//! model — or [`ZerilliArmstrong`], [`PrestonTonksWallace`] or [`KhanHuangLiang`], whose
+//! rate dependence is coupled with the temperature or the strain.
 //!
 //! The named families of seed 000 (JC, ZA, MJC, TJC) are parameter structs with `validate()`
 //! and their constants' descriptions ([`crate::parameters`]); each converts into a
@@ -12,6 +12,7 @@
 mod composed;
 mod hardening;
 mod johnson_cook;
+mod khan_huang_liang;
 mod modified_johnson_cook;
 mod preston_tonks_wallace;
 mod rate;
@@ -22,6 +23,7 @@ mod zerilli_armstrong;
 pub use composed::ComposedStrength;
 pub use hardening::Hardening;
 pub use johnson_cook::JohnsonCook;
+pub use khan_huang_liang::KhanHuangLiang;
 pub use modified_johnson_cook::ModifiedJohnsonCook;
 pub use preston_tonks_wallace::PrestonTonksWallace;
 pub use rate::RateTerm;
@@ -190,6 +192,8 @@ pub enum Strength {
     ZerilliArmstrong(ZerilliArmstrong),
     /// Preston-Tonks-Wallace: glide and overdriven shock regimes, scaled by the shear modulus.
     PrestonTonksWallace(PrestonTonksWallace),
+    /// Khan-Huang-Liang: strain hardening coupled with the rate.
+    KhanHuangLiang(KhanHuangLiang),
 }
 
 impl Strength {
@@ -213,7 +217,9 @@ impl Strength {
     pub fn at_temperature(&self, temperature: f64) -> FlowAtTemperature<'_> {
         let thermal = match self {
             Strength::Composed(model) => model.thermal.evaluate(temperature),
-            Strength::ZerilliArmstrong(_) | Strength::PrestonTonksWallace(_) => 1.0,
+            Strength::ZerilliArmstrong(_)
+            | Strength::PrestonTonksWallace(_)
+            | Strength::KhanHuangLiang(_) => 1.0,
         };
         FlowAtTemperature {
             strength: self,
@@ -228,6 +234,7 @@ impl Strength {
             Strength::Composed(model) => model.validate(),
             Strength::ZerilliArmstrong(model) => model.validate(),
             Strength::PrestonTonksWallace(model) => model.validate(),
+            Strength::KhanHuangLiang(model) => model.validate(),
         }
     }
 }
@@ -238,7 +245,7 @@ impl Strength {
 pub struct FlowAtTemperature<'a> {
     strength: &'a Strength,
     temperature: f64,
-    /// `theta(T)` of a composed model (1 for Zerilli-Armstrong and PTW, whose temperature dependence
+    /// `theta(T)` of a composed model (1 for Zerilli-Armstrong, PTW and KHL, whose temperature dependence
     /// is coupled with the rate).
     thermal: f64,
 }
@@ -259,6 +266,9 @@ impl FlowAtTemperature<'_> {
                 model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
             }
             Strength::PrestonTonksWallace(model) => {
+                model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
+            }
+            Strength::KhanHuangLiang(model) => {
                 model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
             }
         }
@@ -286,6 +296,9 @@ impl FlowAtTemperature<'_> {
             Strength::PrestonTonksWallace(model) => {
                 model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
             }
+            Strength::KhanHuangLiang(model) => {
+                model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
+            }
         }
     }
 }
@@ -305,6 +318,12 @@ impl From<ZerilliArmstrong> for Strength {
 impl From<PrestonTonksWallace> for Strength {
     fn from(model: PrestonTonksWallace) -> Self {
         Strength::PrestonTonksWallace(model)
+    }
+}
+
+impl From<KhanHuangLiang> for Strength {
+    fn from(model: KhanHuangLiang) -> Self {
+        Strength::KhanHuangLiang(model)
     }
 }
 

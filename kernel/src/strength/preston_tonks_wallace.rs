@@ -216,7 +216,9 @@ impl PrestonTonksWallace {
             };
         }
         let headroom = self.s0 - yield_stress;
-        if self.p == 0.0 || headroom <= 0.0 {
+        // The p -> 0 limit also where p is so small against (s0 - y^)/(s^ - y^) that
+        // A = (s0 - y^)/p would overflow (eq. 7 and its limit then agree to 1e-12).
+        if headroom <= 0.0 || self.p * span <= 1e-12 * headroom {
             // t^ = s^ - (s^ - y^) exp(-k) = y^ - (s^ - y^) expm1(-k), k = theta psi / (s^ - y^):
             // the second form has no cancellation where t^ is near y^ (small strain).
             let k = self.theta * psi / span;

@@ -80,6 +80,7 @@ fn temperature_range(strength: &Strength) -> (f64, f64) {
             .unwrap_or(DEFAULT_TEMPERATURES),
         Strength::ZerilliArmstrong(_) => DEFAULT_TEMPERATURES,
         Strength::PrestonTonksWallace(model) => (DEFAULT_TEMPERATURES.0, model.melting_temperature),
+        Strength::KhanHuangLiang(model) => (model.reference_temperature, model.melting_temperature),
     }
 }
 
