@@ -28,12 +28,13 @@ fn verify_prints_the_table_and_succeeds() {
         "tjc-hha",
         "ptw-tantalum",
         "khl-illustrative",
+        "vk-illustrative",
         "rht-hpc-92",
         "kc-hpc-100",
     ] {
         assert!(text.contains(model), "missing {model}");
     }
-    assert!(text.contains("golden histories: 59 of 59 bit-identical"));
+    assert!(text.contains("golden histories: 64 of 64 bit-identical"));
 }
 
 #[test]

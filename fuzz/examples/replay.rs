@@ -35,6 +35,7 @@ fn main() {
         "strength_update_tjc" => |d| stoss_fuzz::strength::run(Family::TwoRateJohnsonCook, d),
         "strength_update_ptw" => |d| stoss_fuzz::strength::run(Family::PrestonTonksWallace, d),
         "strength_update_khl" => |d| stoss_fuzz::strength::run(Family::KhanHuangLiang, d),
+        "strength_update_vk" => |d| stoss_fuzz::strength::run(Family::VoceKocks, d),
         "eos" => stoss_fuzz::eos::run,
         "rht_update" => stoss_fuzz::rht::run,
         "kc_update" => stoss_fuzz::kc::run,

@@ -6,7 +6,8 @@
 //!   bound: reference rates log-uniform in `[1e-3, 1e3]` /s (TJC: its bounds), `Tr` in
 //!   `[250, 350]` K, `Tm` in `[800, 4000]` K, ZA `C2` in `[0, 3 GPa]`; PTW `G0` in
 //!   `[10, 300]` GPa (log), `alpha` in `[0, 0.6]`, `rho` in `[1000, 20000]` kg/m^3, `M` in
-//!   `[5, 250]` g/mol; KHL `D0p` in `[1e4, 1e8]` /s (log) (its scaled constants drawn in their ranges; draws that break
+//!   `[5, 250]` g/mol; KHL `D0p` in `[1e4, 1e8]` /s (log); Voce-Kocks `e_s0` in `[1e5, 1e9]`
+//!   /s (log) (its scaled constants drawn in their ranges; draws that break
 //!   `y_inf <= y0 <= s0`, `y_inf <= s_inf <= s0` fail `validate()` and only the weak
 //!   properties apply);
 //! - material: `rho0` in `[1000, 20000]` kg/m^3, `G` in `[1, 300]` GPa (log), `c_p` in
@@ -28,7 +29,7 @@ use stoss_kernel::eos::{Eos, LinearEos};
 use stoss_kernel::parameters::Parameter;
 use stoss_kernel::strength::{
     CrystalStructure, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
-    Strength, TwoRateJohnsonCook, ZerilliArmstrong,
+    Strength, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{
     Heating, Material, MaterialState, ParameterError, RateTreatment, StateFlags, StepInput,
@@ -50,6 +51,8 @@ pub enum Family {
     PrestonTonksWallace,
     /// Khan-Huang-Liang.
     KhanHuangLiang,
+    /// Voce-Kocks.
+    VoceKocks,
 }
 
 /// The bound named `name` in `bounds`.
@@ -181,6 +184,17 @@ fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), Parameter
                 thermal_exponent: draw(src, b, "thermal_exponent"),
                 reference_temperature: src.linear(250.0, 350.0),
                 melting_temperature: src.linear(800.0, 4000.0),
+            };
+            (model.into(), model.validate())
+        }
+        Family::VoceKocks => {
+            let b = &VoceKocks::PARAMETERS;
+            let model = VoceKocks {
+                yield_stress: draw(src, b, "yield_stress"),
+                initial_hardening: draw(src, b, "initial_hardening"),
+                saturation_stress: draw(src, b, "saturation_stress"),
+                saturation_reference_rate: src.log(1e5, 1e9),
+                activation_temperature: draw(src, b, "activation_temperature"),
             };
             (model.into(), model.validate())
         }

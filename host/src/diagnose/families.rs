@@ -1,6 +1,6 @@
 //! Non-nested alternatives: the calibrated model's strength replaced by another family of the
 //! kernel (Johnson-Cook, Zerilli-Armstrong BCC and FCC, modified Johnson-Cook,
-//! Preston-Tonks-Wallace, Khan-Huang-Liang). A term of the
+//! Preston-Tonks-Wallace, Khan-Huang-Liang, Voce-Kocks). A term of the
 //! library extends the current model and can be scored at its null; a family switch cannot
 //! (Zerilli-Armstrong's coupled rate and temperature is no value of a Johnson-Cook constant),
 //! so each alternative is fitted in full and compared with the current model by the criteria
@@ -35,7 +35,7 @@ use crate::input::material::StrengthSpec;
 use stoss_kernel::parameters::Parameter as Described;
 use stoss_kernel::strength::{
     CrystalStructure, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
-    Strength, ZerilliArmstrong,
+    Strength, VoceKocks, ZerilliArmstrong,
 };
 
 /// Drop of the Bayesian information criterion an alternative needs to replace the model:
@@ -265,6 +265,20 @@ fn families(context: Context) -> Vec<Family> {
                 "thermal_exponent",
             ],
             described: KhanHuangLiang::PARAMETERS,
+        },
+        Family {
+            name: "voce-kocks",
+            physics: "Voce-Kocks: Voce hardening to a saturation stress that rises with rate and \
+                      falls with temperature (sigma_s0 (rate/e_s0)^(T/T_A)), an athermal yield \
+                      stress",
+            strength: StrengthSpec::VoceKocks(VoceKocks::ILLUSTRATIVE),
+            fitted: &[
+                "yield_stress",
+                "initial_hardening",
+                "saturation_stress",
+                "activation_temperature",
+            ],
+            described: VoceKocks::PARAMETERS,
         },
     ]
 }

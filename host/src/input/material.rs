@@ -37,7 +37,7 @@ use stoss_kernel::parameters::{Constants, Parameter};
 use stoss_kernel::rht::{RhtMaterial, RhtParameters};
 use stoss_kernel::strength::{
     ComposedStrength, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
-    Strength, TwoRateJohnsonCook, ZerilliArmstrong,
+    Strength, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, ParameterError, PartMaterial, RateTreatment};
 
@@ -57,6 +57,8 @@ pub enum StrengthSpec {
     PrestonTonksWallace(PrestonTonksWallace),
     /// Khan-Huang-Liang.
     KhanHuangLiang(KhanHuangLiang),
+    /// Voce-Kocks.
+    VoceKocks(VoceKocks),
     /// Any composition of hardening, rate and thermal terms.
     Composed(ComposedStrength),
 }
@@ -71,6 +73,7 @@ impl StrengthSpec {
             StrengthSpec::TwoRateJohnsonCook(m) => m.into(),
             StrengthSpec::PrestonTonksWallace(m) => m.into(),
             StrengthSpec::KhanHuangLiang(m) => m.into(),
+            StrengthSpec::VoceKocks(m) => m.into(),
             StrengthSpec::Composed(m) => m.into(),
         }
     }
@@ -98,6 +101,7 @@ impl StrengthSpec {
             StrengthSpec::TwoRateJohnsonCook(_) => family(TwoRateJohnsonCook::PARAMETERS),
             StrengthSpec::PrestonTonksWallace(_) => family(PrestonTonksWallace::PARAMETERS),
             StrengthSpec::KhanHuangLiang(_) => family(KhanHuangLiang::PARAMETERS),
+            StrengthSpec::VoceKocks(_) => family(VoceKocks::PARAMETERS),
             StrengthSpec::Composed(m) => m
                 .parameters()
                 .map(|(term, p)| (format!("{term}.{}", p.name), p))
@@ -147,7 +151,8 @@ impl StrengthSpec {
             ),
             StrengthSpec::ZerilliArmstrong(_)
             | StrengthSpec::PrestonTonksWallace(_)
-            | StrengthSpec::KhanHuangLiang(_) => return None,
+            | StrengthSpec::KhanHuangLiang(_)
+            | StrengthSpec::VoceKocks(_) => return None,
         })
     }
 
@@ -160,6 +165,7 @@ impl StrengthSpec {
             StrengthSpec::TwoRateJohnsonCook(m) => m.validate(),
             StrengthSpec::PrestonTonksWallace(m) => m.validate(),
             StrengthSpec::KhanHuangLiang(m) => m.validate(),
+            StrengthSpec::VoceKocks(m) => m.validate(),
             StrengthSpec::Composed(m) => m.validate(),
         }
     }
@@ -820,6 +826,7 @@ impl ConstantPaths for StrengthSpec {
             StrengthSpec::TwoRateJohnsonCook(m) => m.named_slot(name),
             StrengthSpec::PrestonTonksWallace(m) => m.named_slot(name),
             StrengthSpec::KhanHuangLiang(m) => m.named_slot(name),
+            StrengthSpec::VoceKocks(m) => m.named_slot(name),
             StrengthSpec::Composed(m) => m.slot(name),
         }
     }

@@ -353,10 +353,11 @@ pub fn described_constants() -> impl Iterator<Item = &'static Parameter> {
     use stoss_kernel::eos::{Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial};
     use stoss_kernel::strength::{
         Hardening, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace, RateTerm,
-        ThermalTerm, TwoRateJohnsonCook, ZerilliArmstrong,
+        ThermalTerm, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
     };
-    let families: [&'static [Parameter]; 13] = [
+    let families: [&'static [Parameter]; 14] = [
         KhanHuangLiang::PARAMETERS,
+        VoceKocks::PARAMETERS,
         JohnsonCook::PARAMETERS,
         ZerilliArmstrong::PARAMETERS,
         PrestonTonksWallace::PARAMETERS,

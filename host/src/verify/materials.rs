@@ -4,7 +4,7 @@
 use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::strength::{
     CrystalStructure, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
-    TwoRateJohnsonCook, ZerilliArmstrong,
+    TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, RateTreatment};
 
@@ -156,6 +156,15 @@ pub fn reference_materials() -> Vec<ReferenceMaterial> {
             source: "illustrative Khan-Huang-Liang constants (titanium-alloy range), on 4340 \
                      elasticity",
             material: steel(KhanHuangLiang::ILLUSTRATIVE),
+        },
+        ReferenceMaterial {
+            name: "vk-illustrative",
+            source: "illustrative Voce-Kocks constants (annealed-copper range), on copper \
+                     elasticity",
+            material: Material {
+                strength: VoceKocks::ILLUSTRATIVE.into(),
+                ..copper
+            },
         },
     ]
 }

@@ -74,7 +74,8 @@
 // [`StossStrength`]); cards of versions 1 to 4 are valid version-5 cards.
 // Version 6 added Preston-Tonks-Wallace ([`StossStrengthModel::PrestonTonksWallace`],
 // [`StossPrestonTonksWallace`]) and Khan-Huang-Liang ([`StossStrengthModel::KhanHuangLiang`],
-// [`StossKhanHuangLiang`]) at the end of [`StossStrength`]; cards of versions 1 to 5 are valid
+// [`StossKhanHuangLiang`]) and Voce-Kocks ([`StossStrengthModel::VoceKocks`],
+// [`StossVoceKocks`]) at the end of [`StossStrength`]; cards of versions 1 to 5 are valid
 // version-6 cards.
 #define STOSS_LAYOUT_VERSION 6
 
@@ -203,6 +204,8 @@ enum StossStrengthModel
   STOSS_STRENGTH_MODEL_PRESTON_TONKS_WALLACE = 9,
   // Khan-Huang-Liang, `strength.khan_huang_liang`. Layout 6.
   STOSS_STRENGTH_MODEL_KHAN_HUANG_LIANG = 10,
+  // Voce-Kocks, `strength.voce_kocks`. Layout 6.
+  STOSS_STRENGTH_MODEL_VOCE_KOCKS = 11,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -696,6 +699,20 @@ typedef struct StossKhanHuangLiang {
   double melting_temperature;
 } StossKhanHuangLiang;
 
+// Voce-Kocks constants (SI).
+typedef struct StossVoceKocks {
+  // `sigma_0` (Pa).
+  double yield_stress;
+  // `theta_0` (Pa).
+  double initial_hardening;
+  // `sigma_s0` (Pa).
+  double saturation_stress;
+  // `e_s0` (1/s).
+  double saturation_reference_rate;
+  // `T_A` (K).
+  double activation_temperature;
+} StossVoceKocks;
+
 // Constants of every strength family; `strength_model` says which one is read.
 typedef struct StossStrength {
   // Johnson-Cook.
@@ -716,6 +733,8 @@ typedef struct StossStrength {
   struct StossPrestonTonksWallace preston_tonks_wallace;
   // Khan-Huang-Liang (layout 6).
   struct StossKhanHuangLiang khan_huang_liang;
+  // Voce-Kocks (layout 6).
+  struct StossVoceKocks voce_kocks;
 } StossStrength;
 
 // Linear EoS.

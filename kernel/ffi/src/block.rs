@@ -21,7 +21,7 @@ use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters
 use stoss_kernel::strength::{
     ComposedStrength, CrystalStructure, Hardening, JohnsonCook, KhanHuangLiang,
     ModifiedJohnsonCook, PrestonTonksWallace, RateTerm, Strength, ThermalTerm, TwoRateJohnsonCook,
-    ZerilliArmstrong,
+    VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, MaterialState, PartMaterial, PointModel, RateTreatment};
 
@@ -44,7 +44,8 @@ use stoss_kernel::ParameterError;
 /// [`StossStrength`]); cards of versions 1 to 4 are valid version-5 cards.
 /// Version 6 added Preston-Tonks-Wallace ([`StossStrengthModel::PrestonTonksWallace`],
 /// [`StossPrestonTonksWallace`]) and Khan-Huang-Liang ([`StossStrengthModel::KhanHuangLiang`],
-/// [`StossKhanHuangLiang`]) at the end of [`StossStrength`]; cards of versions 1 to 5 are valid
+/// [`StossKhanHuangLiang`]) and Voce-Kocks ([`StossStrengthModel::VoceKocks`],
+/// [`StossVoceKocks`]) at the end of [`StossStrength`]; cards of versions 1 to 5 are valid
 /// version-6 cards.
 pub const STOSS_LAYOUT_VERSION: u32 = 6;
 
@@ -104,6 +105,8 @@ pub enum StossStrengthModel {
     PrestonTonksWallace = 9,
     /// Khan-Huang-Liang, `strength.khan_huang_liang`. Layout 6.
     KhanHuangLiang = 10,
+    /// Voce-Kocks, `strength.voce_kocks`. Layout 6.
+    VoceKocks = 11,
 }
 
 /// K&C rate enhancement (`StossKc::rate`).
@@ -535,6 +538,34 @@ crate::described_section!(
     ]
 );
 
+/// Voce-Kocks constants (SI).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossVoceKocks {
+    /// `sigma_0` (Pa).
+    pub yield_stress: f64,
+    /// `theta_0` (Pa).
+    pub initial_hardening: f64,
+    /// `sigma_s0` (Pa).
+    pub saturation_stress: f64,
+    /// `e_s0` (1/s).
+    pub saturation_reference_rate: f64,
+    /// `T_A` (K).
+    pub activation_temperature: f64,
+}
+
+crate::described_section!(
+    StossVoceKocks,
+    VoceKocks,
+    [
+        yield_stress,
+        initial_hardening,
+        saturation_stress,
+        saturation_reference_rate,
+        activation_temperature,
+    ]
+);
+
 /// Hardening constants of a composed model (read according to `hardening_model`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -764,6 +795,8 @@ pub struct StossStrength {
     pub preston_tonks_wallace: StossPrestonTonksWallace,
     /// Khan-Huang-Liang (layout 6).
     pub khan_huang_liang: StossKhanHuangLiang,
+    /// Voce-Kocks (layout 6).
+    pub voce_kocks: StossVoceKocks,
 }
 
 /// Linear EoS.
@@ -1021,7 +1054,8 @@ code_enum!(
         Rht,
         Kc,
         PrestonTonksWallace,
-        KhanHuangLiang
+        KhanHuangLiang,
+        VoceKocks
     ]
 );
 code_enum!(StossKcRate, "strength.kc.rate", [None, CebFip]);
@@ -1318,6 +1352,11 @@ impl StossMaterialBlock {
                     model.validate().map(|()| model),
                     "strength.khan_huang_liang",
                 )?
+            }
+            StossStrengthModel::VoceKocks => {
+                // Every described constant of the base is overwritten by name.
+                let model = to_model(&s.voce_kocks, VoceKocks::ILLUSTRATIVE);
+                described(model.validate().map(|()| model), "strength.voce_kocks")?
             }
             StossStrengthModel::Rht => {
                 return Err(invalid(

@@ -35,6 +35,7 @@
 //! | composed | `hardening rate thermal A B n Q1 c1 Q2 c2 R1 R2 R3 R4 m Tr Tm` |
 //! | Preston-Tonks-Wallace (code 9, layout 6) | `theta p s0 s_inf kappa gamma y0 y_inf y1 y2 beta G0 alpha Tm rho M` |
 //! | Khan-Huang-Liang (code 10, layout 6) | `A B n0 n1 C e0 D0p m Tr Tm` |
+//! | Voce-Kocks (code 11, layout 6) | `sigma_0 theta_0 sigma_s0 e_s0 T_A` |
 //!
 //! RHT concrete (strength code 7) uses P17..P40 instead of the JC failure and strength slots:
 //! P17..P20 its tensile-failure, meridian and rate-scaling codes and elastic-cap switch,
@@ -56,8 +57,8 @@ use crate::block::{
     initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel, StossJohnsonCook,
     StossKhanHuangLiang, StossMaterialBlock, StossModifiedJohnsonCook, StossPrestonTonksWallace,
     StossRateModel, StossRht, StossStrengthModel, StossThermalModel, StossTwoRateJohnsonCook,
-    StossZerilliArmstrong, KC_CONSTANTS, STOSS_KC_MAX_DAMAGE_POINTS, STOSS_LAYOUT_VERSION,
-    STOSS_MAX_COMPACTION_POINTS,
+    StossVoceKocks, StossZerilliArmstrong, KC_CONSTANTS, STOSS_KC_MAX_DAMAGE_POINTS,
+    STOSS_LAYOUT_VERSION, STOSS_MAX_COMPACTION_POINTS,
 };
 use crate::section::DescribedSection;
 use crate::status::{FfiError, StossStatus};
@@ -107,7 +108,8 @@ const _: () = assert!(
         && <StossModifiedJohnsonCook as DescribedSection>::FIELDS.len() <= 17
         && <StossTwoRateJohnsonCook as DescribedSection>::FIELDS.len() <= 17
         && <StossPrestonTonksWallace as DescribedSection>::FIELDS.len() <= 17
-        && <StossKhanHuangLiang as DescribedSection>::FIELDS.len() <= 17,
+        && <StossKhanHuangLiang as DescribedSection>::FIELDS.len() <= 17
+        && <StossVoceKocks as DescribedSection>::FIELDS.len() <= 17,
     "a J2 family's constants no longer fit in the 17 strength slots P25..P41"
 );
 
@@ -286,6 +288,7 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
         StossStrengthModel::KhanHuangLiang => {
             read_constants(&s, &mut strength.khan_huang_liang);
         }
+        StossStrengthModel::VoceKocks => read_constants(&s, &mut strength.voce_kocks),
         StossStrengthModel::Composed => {
             let p = &mut strength.composed;
             p.hardening_model = code(card, STRENGTH, "composed hardening model")?;
@@ -583,6 +586,7 @@ pub fn card_from_block(
         StossStrengthModel::KhanHuangLiang => {
             write_constants(s, &strength.khan_huang_liang);
         }
+        StossStrengthModel::VoceKocks => write_constants(s, &strength.voce_kocks),
         StossStrengthModel::Composed => {
             let p = &strength.composed;
             let h = &p.hardening;

@@ -11,7 +11,7 @@ use stoss_kernel::{Material, MaterialState};
 use stoss_kernel_ffi::block::{
     StossEosModel, StossJohnsonCook, StossKhanHuangLiang, StossMieGruneisen,
     StossModifiedJohnsonCook, StossPrestonTonksWallace, StossRht, StossTwoRateJohnsonCook,
-    StossZerilliArmstrong,
+    StossVoceKocks, StossZerilliArmstrong,
 };
 use stoss_kernel_ffi::card::STOSS_CARD_MAX_LENGTH;
 use stoss_kernel_ffi::section::DescribedSection;
@@ -1014,6 +1014,7 @@ fn described_sections_match_the_generated_header() {
         doubles(&body("StossKhanHuangLiang")),
         fields::<StossKhanHuangLiang>()
     );
+    assert_eq!(doubles(&body("StossVoceKocks")), fields::<StossVoceKocks>());
     // RHT's public order happens to be its descriptor's.
     let described: Vec<&str> = stoss_kernel::rht::RhtParameters::PARAMETERS
         .iter()

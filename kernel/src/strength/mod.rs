@@ -2,8 +2,8 @@
 //!
 //! A model is either a [`ComposedStrength`] — a product of a hardening term, a rate term and a
 //! thermal term, each an enum, so that a missing term can be added without writing a new
-//! model — or [`ZerilliArmstrong`], [`PrestonTonksWallace`] or [`KhanHuangLiang`], whose
-//! rate dependence is coupled with the temperature or the strain.
+//! model — or [`ZerilliArmstrong`], [`PrestonTonksWallace`], [`KhanHuangLiang`] or
+//! [`VoceKocks`], whose rate dependence is coupled with the temperature or the strain.
 //!
 //! The named families of seed 000 (JC, ZA, MJC, TJC) are parameter structs with `validate()`
 //! and their constants' descriptions ([`crate::parameters`]); each converts into a
@@ -18,6 +18,7 @@ mod preston_tonks_wallace;
 mod rate;
 mod thermal;
 mod two_rate_johnson_cook;
+mod voce_kocks;
 mod zerilli_armstrong;
 
 pub use composed::ComposedStrength;
@@ -29,6 +30,7 @@ pub use preston_tonks_wallace::PrestonTonksWallace;
 pub use rate::RateTerm;
 pub use thermal::{homologous_temperature, ThermalTerm};
 pub use two_rate_johnson_cook::TwoRateJohnsonCook;
+pub use voce_kocks::VoceKocks;
 pub use zerilli_armstrong::{CrystalStructure, ZerilliArmstrong};
 
 use crate::error::ParameterError;
@@ -194,6 +196,8 @@ pub enum Strength {
     PrestonTonksWallace(PrestonTonksWallace),
     /// Khan-Huang-Liang: strain hardening coupled with the rate.
     KhanHuangLiang(KhanHuangLiang),
+    /// Voce-Kocks: Voce hardening to a rate- and temperature-dependent saturation.
+    VoceKocks(VoceKocks),
 }
 
 impl Strength {
@@ -219,7 +223,8 @@ impl Strength {
             Strength::Composed(model) => model.thermal.evaluate(temperature),
             Strength::ZerilliArmstrong(_)
             | Strength::PrestonTonksWallace(_)
-            | Strength::KhanHuangLiang(_) => 1.0,
+            | Strength::KhanHuangLiang(_)
+            | Strength::VoceKocks(_) => 1.0,
         };
         FlowAtTemperature {
             strength: self,
@@ -235,6 +240,7 @@ impl Strength {
             Strength::ZerilliArmstrong(model) => model.validate(),
             Strength::PrestonTonksWallace(model) => model.validate(),
             Strength::KhanHuangLiang(model) => model.validate(),
+            Strength::VoceKocks(model) => model.validate(),
         }
     }
 }
@@ -245,7 +251,7 @@ impl Strength {
 pub struct FlowAtTemperature<'a> {
     strength: &'a Strength,
     temperature: f64,
-    /// `theta(T)` of a composed model (1 for Zerilli-Armstrong, PTW and KHL, whose temperature dependence
+    /// `theta(T)` of a composed model (1 for Zerilli-Armstrong, PTW, KHL and Voce-Kocks, whose temperature dependence
     /// is coupled with the rate).
     thermal: f64,
 }
@@ -269,6 +275,9 @@ impl FlowAtTemperature<'_> {
                 model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
             }
             Strength::KhanHuangLiang(model) => {
+                model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
+            }
+            Strength::VoceKocks(model) => {
                 model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
             }
         }
@@ -299,6 +308,9 @@ impl FlowAtTemperature<'_> {
             Strength::KhanHuangLiang(model) => {
                 model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
             }
+            Strength::VoceKocks(model) => {
+                model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
+            }
         }
     }
 }
@@ -324,6 +336,12 @@ impl From<PrestonTonksWallace> for Strength {
 impl From<KhanHuangLiang> for Strength {
     fn from(model: KhanHuangLiang) -> Self {
         Strength::KhanHuangLiang(model)
+    }
+}
+
+impl From<VoceKocks> for Strength {
+    fn from(model: VoceKocks) -> Self {
+        Strength::VoceKocks(model)
     }
 }
 
