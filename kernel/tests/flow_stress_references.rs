@@ -332,24 +332,7 @@ fn preston_tonks_wallace_is_the_published_law() {
         PrestonTonksWallace::MINIMUM_RATE,
         COUPLED_SLOPE_TOLERANCE,
     );
-    let cu = PrestonTonksWallace {
-        theta: 0.025,
-        p: 2.0,
-        s0: 0.0085,
-        s_inf: 0.00055,
-        kappa: 0.11,
-        gamma: 1.0e-5,
-        y0: 0.0001,
-        y_inf: 0.0001,
-        y1: 0.094,
-        y2: 0.575,
-        beta: 0.25,
-        shear_modulus_0: 51.8e9,
-        alpha: 0.20,
-        melting_temperature: 1358.0,
-        density: 8933.0,
-        atomic_mass: 63.546,
-    };
+    let cu = PrestonTonksWallace::COPPER;
     compare_within(
         "PTW copper",
         cu.into(),

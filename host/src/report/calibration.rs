@@ -607,7 +607,7 @@ impl<'a> Report<'a> {
                         format!(
                             " The chi-square's own least-squares point (on the linear \
                              surrogate) lies outside the posterior for {}: the calibration's \
-                             objective (range-scaled errors per experiment) and the chi-square \
+                             objective (range- or magnitude-scaled errors per experiment) and the chi-square \
                              (each point by its recorded uncertainty) weigh the recordings \
                              differently.",
                             outside.join(", ")

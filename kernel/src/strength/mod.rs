@@ -46,6 +46,24 @@ pub struct FlowStress {
     pub d_rate: f64,
 }
 
+impl FlowStress {
+    /// This flow stress, taken at a return path's point `(eps_n + dl, dl/dt)`, as a
+    /// [`PathFlow`]: the exact first derivative in `dl`, `d sigma/d eps + (d sigma/d rate) /
+    /// dt`, and unbounded second and third, for the models that provide no higher derivatives
+    /// (Preston-Tonks-Wallace, Khan-Huang-Liang, Voce-Kocks): the return mapping then converges
+    /// by safeguarded Newton steps and evaluates the flow stress where it stops.
+    #[inline]
+    pub fn first_order_path(self, inverse_dt: f64, kink_rate: f64) -> PathFlow {
+        PathFlow {
+            value: self.value,
+            slope: self.d_plastic_strain + self.d_rate * inverse_dt,
+            curvature: f64::INFINITY,
+            third: f64::INFINITY,
+            kink_rate,
+        }
+    }
+}
+
 /// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt)` at fixed temperature,
 /// and its first three derivatives in the plastic multiplier `dl`.
 ///

@@ -137,6 +137,30 @@ impl PrestonTonksWallace {
         atomic_mass: 180.948,
     };
 
+    /// Preston, Tonks & Wallace (2003) table II, copper: theta 0.025, p 2, s0 0.0085, s_inf
+    /// 0.00055, kappa 0.11, gamma 1e-5, y0 = y_inf 1e-4, y1 0.094, y2 0.575, beta 0.25, G0
+    /// 51.8 GPa, alpha 0.20, rho 8.933 g/cm^3; Tm 1358 K (copper's melting point) and M
+    /// 63.546 (copper's atomic mass; the F_UNCLE copy of the table prints 64.54). Public copy:
+    /// F_UNCLE `Ptw.py`. The family's `p > 0` case in the checks.
+    pub const COPPER: PrestonTonksWallace = PrestonTonksWallace {
+        theta: 0.025,
+        p: 2.0,
+        s0: 0.0085,
+        s_inf: 0.00055,
+        kappa: 0.11,
+        gamma: 1.0e-5,
+        y0: 0.0001,
+        y_inf: 0.0001,
+        y1: 0.094,
+        y2: 0.575,
+        beta: 0.25,
+        shear_modulus_0: 51.8e9,
+        alpha: 0.20,
+        melting_temperature: 1358.0,
+        density: 8933.0,
+        atomic_mass: 63.546,
+    };
+
     /// `G(T) = G0 (1 - alpha T^)` (Pa).
     #[inline]
     pub fn shear_modulus(&self, temperature: f64) -> f64 {
@@ -289,14 +313,8 @@ impl PrestonTonksWallace {
         inverse_dt: f64,
         temperature: f64,
     ) -> PathFlow {
-        let flow = self.flow_stress(plastic_strain + dl, dl * inverse_dt, temperature);
-        PathFlow {
-            value: flow.value,
-            slope: flow.d_plastic_strain + flow.d_rate * inverse_dt,
-            curvature: f64::INFINITY,
-            third: f64::INFINITY,
-            kink_rate: Self::MINIMUM_RATE,
-        }
+        self.flow_stress(plastic_strain + dl, dl * inverse_dt, temperature)
+            .first_order_path(inverse_dt, Self::MINIMUM_RATE)
     }
 
     /// Reject non-physical constants: positive scales, `y_inf <= y0 <= s0`, `y_inf <= s_inf
@@ -357,33 +375,13 @@ crate::struct_constants!(
 mod tests {
     use super::*;
 
-    /// PTW with a non-zero `p` (PTW 2003 table II, copper).
-    const COPPER: PrestonTonksWallace = PrestonTonksWallace {
-        theta: 0.025,
-        p: 2.0,
-        s0: 0.0085,
-        s_inf: 0.00055,
-        kappa: 0.11,
-        gamma: 1.0e-5,
-        y0: 0.0001,
-        y_inf: 0.0001,
-        y1: 0.094,
-        y2: 0.575,
-        beta: 0.25,
-        shear_modulus_0: 51.8e9,
-        alpha: 0.20,
-        melting_temperature: 1358.0,
-        density: 8933.0,
-        atomic_mass: 63.546,
-    };
-
     #[test]
     fn derivatives_match_central_differences() {
         // GOAL: the strain and rate derivatives are those of the value.
         // SETUP: Ta (p = 0) and Cu (p = 2) at 298 and 900 K, rates 1e-3 to 1e5 /s, strains 0.01
         //        to 0.5; central differences with relative steps 1e-6.
         // REFERENCE: agreement within 1e-5 of the derivative's scale.
-        for model in [PrestonTonksWallace::TANTALUM, COPPER] {
+        for model in [PrestonTonksWallace::TANTALUM, PrestonTonksWallace::COPPER] {
             model.validate().unwrap();
             for &t in &[298.0, 900.0] {
                 for &rate in &[1e-3, 1.0, 1e3, 1e5] {

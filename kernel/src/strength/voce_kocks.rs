@@ -124,14 +124,8 @@ impl VoceKocks {
         inverse_dt: f64,
         temperature: f64,
     ) -> PathFlow {
-        let flow = self.flow_stress(plastic_strain + dl, dl * inverse_dt, temperature);
-        PathFlow {
-            value: flow.value,
-            slope: flow.d_plastic_strain + flow.d_rate * inverse_dt,
-            curvature: f64::INFINITY,
-            third: f64::INFINITY,
-            kink_rate: Self::MINIMUM_RATE,
-        }
+        self.flow_stress(plastic_strain + dl, dl * inverse_dt, temperature)
+            .first_order_path(inverse_dt, Self::MINIMUM_RATE)
     }
 
     /// Reject non-physical constants: positive stresses, non-negative hardening, positive
