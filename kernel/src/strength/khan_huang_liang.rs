@@ -24,7 +24,7 @@
 //! steps elastic where the dynamic flow stress is exceeded.
 
 use super::hardening::power_term;
-use super::{FlowStress, PathFlow, ThermalTerm};
+use super::{FlowStress, ThermalTerm};
 use crate::error::{check, ParameterError};
 use crate::math::{ln, pow};
 use crate::parameters;
@@ -89,6 +89,13 @@ impl KhanHuangLiang {
         }
     }
 
+    /// Johnson-Cook's `1 - T*^m` at `temperature`: temperature only, so the return mapping
+    /// evaluates it once per step ([`super::Strength::at_temperature`]).
+    #[inline]
+    pub fn thermal_factor(&self, temperature: f64) -> f64 {
+        self.thermal().evaluate(temperature)
+    }
+
     /// Flow stress and its strain and rate derivatives at fixed temperature.
     #[inline]
     pub fn flow_stress(
@@ -97,13 +104,20 @@ impl KhanHuangLiang {
         plastic_strain_rate: f64,
         temperature: f64,
     ) -> FlowStress {
-        let active = plastic_strain_rate > Self::MINIMUM_RATE;
-        let rate = if active {
-            plastic_strain_rate
-        } else {
-            Self::MINIMUM_RATE
-        };
-        let thermal = self.thermal().evaluate(temperature);
+        let thermal = self.thermal_factor(temperature);
+        self.flow_stress_with_thermal(plastic_strain, plastic_strain_rate, thermal)
+    }
+
+    /// [`Self::flow_stress`] with its thermal factor ([`Self::thermal_factor`]) already
+    /// evaluated.
+    #[inline]
+    pub fn flow_stress_with_thermal(
+        &self,
+        plastic_strain: f64,
+        plastic_strain_rate: f64,
+        thermal: f64,
+    ) -> FlowStress {
+        let (rate, active) = super::floored_rate(plastic_strain_rate, Self::MINIMUM_RATE);
         let hardening = power_term(
             self.hardening_modulus,
             self.hardening_exponent,
@@ -135,20 +149,6 @@ impl KhanHuangLiang {
             d_plastic_strain: hardening.slope * coupled * factor * thermal,
             d_rate: (hardening.value * d_coupled * factor + strain_part * d_factor) * thermal,
         }
-    }
-
-    /// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt, T)`, its exact first
-    /// derivative in `dl`, and unbounded second and third (see the module documentation).
-    #[inline]
-    pub fn along_path(
-        &self,
-        plastic_strain: f64,
-        dl: f64,
-        inverse_dt: f64,
-        temperature: f64,
-    ) -> PathFlow {
-        self.flow_stress(plastic_strain + dl, dl * inverse_dt, temperature)
-            .first_order_path(inverse_dt, Self::MINIMUM_RATE)
     }
 
     /// Reject non-physical constants: positive `A`, non-negative `B`, exponents and `C`,

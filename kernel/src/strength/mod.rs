@@ -46,6 +46,17 @@ pub struct FlowStress {
     pub d_rate: f64,
 }
 
+/// A plastic strain rate held at `floor` below it, and whether it was above (where the rate
+/// derivatives of a model with a rate floor are its law's; below, they are 0).
+#[inline]
+pub(crate) fn floored_rate(plastic_strain_rate: f64, floor: f64) -> (f64, bool) {
+    if plastic_strain_rate > floor {
+        (plastic_strain_rate, true)
+    } else {
+        (floor, false)
+    }
+}
+
 impl FlowStress {
     /// This flow stress, taken at a return path's point `(eps_n + dl, dl/dt)`, as a
     /// [`PathFlow`]: the exact first derivative in `dl`, `d sigma/d eps + (d sigma/d rate) /
@@ -232,22 +243,20 @@ impl Strength {
             .flow_stress(plastic_strain, plastic_strain_rate)
     }
 
-    /// The model at a fixed temperature, with its temperature-only factors (the thermal term
-    /// `theta(T)` of a composed model) evaluated once: the return mapping holds `T_n` fixed
-    /// while it iterates on the plastic multiplier.
+    /// The model at a fixed temperature, with its temperature-only factor evaluated once: the
+    /// return mapping holds `T_n` fixed while it iterates on the plastic multiplier.
     #[inline]
     pub fn at_temperature(&self, temperature: f64) -> FlowAtTemperature<'_> {
-        let thermal = match self {
+        let factor = match self {
             Strength::Composed(model) => model.thermal.evaluate(temperature),
-            Strength::ZerilliArmstrong(_)
-            | Strength::PrestonTonksWallace(_)
-            | Strength::KhanHuangLiang(_)
-            | Strength::VoceKocks(_) => 1.0,
+            Strength::KhanHuangLiang(model) => model.thermal_factor(temperature),
+            Strength::PrestonTonksWallace(model) => model.rate_scale(temperature),
+            Strength::ZerilliArmstrong(_) | Strength::VoceKocks(_) => 1.0,
         };
         FlowAtTemperature {
             strength: self,
             temperature,
-            thermal,
+            factor,
         }
     }
 
@@ -269,9 +278,10 @@ impl Strength {
 pub struct FlowAtTemperature<'a> {
     strength: &'a Strength,
     temperature: f64,
-    /// `theta(T)` of a composed model (1 for Zerilli-Armstrong, PTW, KHL and Voce-Kocks, whose temperature dependence
-    /// is coupled with the rate).
-    thermal: f64,
+    /// The model's temperature-only factor: `theta(T)` of a composed model, `1 - T*^m` of
+    /// Khan-Huang-Liang, the rate scale `gamma xi'(T)` of Preston-Tonks-Wallace; 1 (unused)
+    /// for Zerilli-Armstrong and Voce-Kocks, whose temperature acts through the rate.
+    factor: f64,
 }
 
 impl FlowAtTemperature<'_> {
@@ -284,16 +294,19 @@ impl FlowAtTemperature<'_> {
                 plastic_strain,
                 plastic_strain_rate,
                 self.temperature,
-                self.thermal,
+                self.factor,
             ),
             Strength::ZerilliArmstrong(model) => {
                 model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
             }
-            Strength::PrestonTonksWallace(model) => {
-                model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
-            }
+            Strength::PrestonTonksWallace(model) => model.flow_stress_at_rate_scale(
+                plastic_strain,
+                plastic_strain_rate,
+                self.temperature,
+                self.factor,
+            ),
             Strength::KhanHuangLiang(model) => {
-                model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
+                model.flow_stress_with_thermal(plastic_strain, plastic_strain_rate, self.factor)
             }
             Strength::VoceKocks(model) => {
                 model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
@@ -315,20 +328,20 @@ impl FlowAtTemperature<'_> {
                 dl,
                 inverse_dt,
                 self.temperature,
-                self.thermal,
+                self.factor,
             ),
             Strength::ZerilliArmstrong(model) => {
                 model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
             }
-            Strength::PrestonTonksWallace(model) => {
-                model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
-            }
-            Strength::KhanHuangLiang(model) => {
-                model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
-            }
-            Strength::VoceKocks(model) => {
-                model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
-            }
+            Strength::PrestonTonksWallace(_) => self
+                .flow_stress(plastic_strain + dl, dl * inverse_dt)
+                .first_order_path(inverse_dt, PrestonTonksWallace::MINIMUM_RATE),
+            Strength::KhanHuangLiang(_) => self
+                .flow_stress(plastic_strain + dl, dl * inverse_dt)
+                .first_order_path(inverse_dt, KhanHuangLiang::MINIMUM_RATE),
+            Strength::VoceKocks(_) => self
+                .flow_stress(plastic_strain + dl, dl * inverse_dt)
+                .first_order_path(inverse_dt, VoceKocks::MINIMUM_RATE),
         }
     }
 }

@@ -25,7 +25,7 @@
 //! alone and never accepts a third-order-corrected step (the regime switches of `max`/`min`
 //! make those derivatives discontinuous anyway).
 
-use super::{FlowStress, PathFlow};
+use super::FlowStress;
 use crate::error::{check, ParameterError};
 use crate::math::{clamp, erf, exp, expm1, ln, ln_1p, pow, sqrt};
 use crate::parameters;
@@ -177,19 +177,26 @@ impl PrestonTonksWallace {
         0.5 * pow(number_density, 1.0 / 3.0) * sqrt(shear_modulus / self.density)
     }
 
-    /// `G(T)`, the scaled saturation stress `s^` and the scaled yield stress `y^` with their
-    /// rate derivatives (0 below the rate floor).
+    /// The rate scale `gamma xi'(G(T))` (1/s) of `u = deps_p / (gamma xi')`: temperature only,
+    /// so the return mapping evaluates it once per step ([`super::Strength::at_temperature`]).
     #[inline]
-    fn limits(&self, plastic_strain_rate: f64, temperature: f64) -> (f64, Scaled, Scaled) {
+    pub fn rate_scale(&self, temperature: f64) -> f64 {
+        self.gamma * self.vibration_rate(self.shear_modulus(temperature))
+    }
+
+    /// `G(T)`, the scaled saturation stress `s^` and the scaled yield stress `y^` with their
+    /// rate derivatives (0 below the rate floor), given the rate scale `gamma xi'`.
+    #[inline]
+    fn limits(
+        &self,
+        plastic_strain_rate: f64,
+        temperature: f64,
+        rate_scale: f64,
+    ) -> (f64, Scaled, Scaled) {
         let homologous = clamp(temperature / self.melting_temperature, 0.0, 1.0);
         let shear_modulus = self.shear_modulus_0 * (1.0 - self.alpha * homologous);
-        let active = plastic_strain_rate > Self::MINIMUM_RATE;
-        let rate = if active {
-            plastic_strain_rate
-        } else {
-            Self::MINIMUM_RATE
-        };
-        let u = rate / (self.gamma * self.vibration_rate(shear_modulus));
+        let (rate, active) = super::floored_rate(plastic_strain_rate, Self::MINIMUM_RATE);
+        let u = rate / rate_scale;
         let argument = -self.kappa * homologous * ln(u);
         let activation = erf(argument);
         // d erf(a)/d rate = (2/sqrt(pi)) exp(-a^2) da/drate, da/drate = -kappa T^ / rate.
@@ -292,8 +299,21 @@ impl PrestonTonksWallace {
         plastic_strain_rate: f64,
         temperature: f64,
     ) -> FlowStress {
+        let scale = self.rate_scale(temperature);
+        self.flow_stress_at_rate_scale(plastic_strain, plastic_strain_rate, temperature, scale)
+    }
+
+    /// [`Self::flow_stress`] with its rate scale ([`Self::rate_scale`]) already evaluated.
+    #[inline]
+    pub fn flow_stress_at_rate_scale(
+        &self,
+        plastic_strain: f64,
+        plastic_strain_rate: f64,
+        temperature: f64,
+        rate_scale: f64,
+    ) -> FlowStress {
         let (shear_modulus, saturation, yield_stress) =
-            self.limits(plastic_strain_rate, temperature);
+            self.limits(plastic_strain_rate, temperature, rate_scale);
         let h = self.hardened(saturation.value, yield_stress.value, plastic_strain);
         let scale = 2.0 * shear_modulus;
         FlowStress {
@@ -301,20 +321,6 @@ impl PrestonTonksWallace {
             d_plastic_strain: scale * h.d_strain,
             d_rate: scale * (h.d_saturation * saturation.d_rate + h.d_yield * yield_stress.d_rate),
         }
-    }
-
-    /// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt, T)`, its exact first
-    /// derivative in `dl`, and unbounded second and third (see the module documentation).
-    #[inline]
-    pub fn along_path(
-        &self,
-        plastic_strain: f64,
-        dl: f64,
-        inverse_dt: f64,
-        temperature: f64,
-    ) -> PathFlow {
-        self.flow_stress(plastic_strain + dl, dl * inverse_dt, temperature)
-            .first_order_path(inverse_dt, Self::MINIMUM_RATE)
     }
 
     /// Reject non-physical constants: positive scales, `y_inf <= y0 <= s0`, `y_inf <= s_inf

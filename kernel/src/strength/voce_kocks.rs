@@ -21,7 +21,7 @@
 //! return path the first derivative is exact and the higher ones are reported unbounded, as for
 //! Preston-Tonks-Wallace.
 
-use super::{FlowStress, PathFlow};
+use super::FlowStress;
 use crate::error::{check, ParameterError};
 use crate::math::{exp, expm1, pow};
 use crate::parameters;
@@ -67,12 +67,7 @@ impl VoceKocks {
     /// The saturation stress and its rate derivative at `rate` (floored) and `temperature`.
     #[inline]
     fn saturation(&self, plastic_strain_rate: f64, temperature: f64) -> (f64, f64) {
-        let active = plastic_strain_rate > Self::MINIMUM_RATE;
-        let rate = if active {
-            plastic_strain_rate
-        } else {
-            Self::MINIMUM_RATE
-        };
+        let (rate, active) = super::floored_rate(plastic_strain_rate, Self::MINIMUM_RATE);
         let temperature = if temperature > 0.0 { temperature } else { 0.0 };
         let exponent = temperature / self.activation_temperature;
         let value = self.saturation_stress * pow(rate / self.saturation_reference_rate, exponent);
@@ -112,20 +107,6 @@ impl VoceKocks {
             d_plastic_strain: self.initial_hardening * span / saturation * e,
             d_rate: d_value_d_saturation * d_saturation,
         }
-    }
-
-    /// The flow stress along a return path, `sigma_y(eps_n + dl, dl/dt, T)`, its exact first
-    /// derivative in `dl`, and unbounded second and third.
-    #[inline]
-    pub fn along_path(
-        &self,
-        plastic_strain: f64,
-        dl: f64,
-        inverse_dt: f64,
-        temperature: f64,
-    ) -> PathFlow {
-        self.flow_stress(plastic_strain + dl, dl * inverse_dt, temperature)
-            .first_order_path(inverse_dt, Self::MINIMUM_RATE)
     }
 
     /// Reject non-physical constants: positive stresses, non-negative hardening, positive
