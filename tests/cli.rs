@@ -29,12 +29,13 @@ fn verify_prints_the_table_and_succeeds() {
         "ptw-tantalum",
         "khl-illustrative",
         "vk-illustrative",
+        "mts-copper",
         "rht-hpc-92",
         "kc-hpc-100",
     ] {
         assert!(text.contains(model), "missing {model}");
     }
-    assert!(text.contains("golden histories: 64 of 64 bit-identical"));
+    assert!(text.contains("golden histories: 69 of 69 bit-identical"));
 }
 
 #[test]

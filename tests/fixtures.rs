@@ -332,7 +332,8 @@ fn every_bundled_metal_simulates_and_johnson_cook_ones_match_their_closed_form()
     // REFERENCE: for `model = "johnson-cook"` files, the closed form (A + B 0.1^n)(1 + C
     //        ln(1000/e0)) at the reference temperature 298 K, from the file's own numbers;
     //        within 0.2 % (the driver's plastic rate is the imposed rate less the elastic
-    //        part's, which at this strain is a fraction of a percent).
+    //        part's, which at this strain is a fraction of a percent); for the MTS copper file,
+    //        the kernel's `MechanicalThresholdStress::COPPER` at the same point, within 0.2 %.
     let folder = std::env::temp_dir().join(format!("stoss-bundled-{}", std::process::id()));
     std::fs::create_dir_all(&folder).unwrap();
     std::fs::write(
@@ -348,7 +349,7 @@ fn every_bundled_metal_simulates_and_johnson_cook_ones_match_their_closed_form()
     )
     .unwrap();
     let experiment = stoss::experiment::Experiment::load(&folder.join("flow.toml")).unwrap();
-    let (mut simulated, mut closed) = (0, 0);
+    let (mut simulated, mut closed, mut mts) = (0, 0, 0);
     for entry in std::fs::read_dir(fixtures().join("materials")).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().and_then(|e| e.to_str()) != Some("toml") {
@@ -367,6 +368,18 @@ fn every_bundled_metal_simulates_and_johnson_cook_ones_match_their_closed_form()
         let text = std::fs::read_to_string(&path).unwrap();
         let file: toml::Table = toml::from_str(&text).unwrap();
         let strength = file["strength"].as_table().unwrap();
+        if strength.get("model").and_then(|m| m.as_str()) == Some("mechanical-threshold-stress") {
+            // The file transcribes the kernel's published copper set (Follansbee & Kocks).
+            let expected = stoss_kernel::strength::MechanicalThresholdStress::COPPER
+                .flow_stress(0.1, 1000.0, 298.0)
+                .value;
+            assert!(
+                (stress / expected - 1.0).abs() < 2e-3,
+                "{}: simulated {stress:.6e}, the kernel's copper set {expected:.6e}",
+                path.display()
+            );
+            mts += 1;
+        }
         if strength.get("model").and_then(|m| m.as_str()) != Some("johnson-cook")
             || strength["reference_temperature"].as_float() != Some(298.0)
         {
@@ -384,8 +397,8 @@ fn every_bundled_metal_simulates_and_johnson_cook_ones_match_their_closed_form()
         closed += 1;
     }
     assert!(
-        simulated >= 15 && closed >= 7,
-        "{simulated} simulated, {closed} closed forms"
+        simulated >= 16 && closed >= 7 && mts >= 1,
+        "{simulated} simulated, {closed} closed forms, {mts} MTS"
     );
     std::fs::remove_dir_all(&folder).unwrap();
 }

@@ -14,7 +14,7 @@ fn every_golden_history_is_bit_identical() {
     // SETUP: every reference material through every single-element driver.
     // REFERENCE: fixtures/golden/*.golden (regenerate with `stoss verify --bless`).
     let all = cases();
-    assert_eq!(all.len(), 64);
+    assert_eq!(all.len(), 69);
     let mut errors = Vec::new();
     for case in &all {
         if let Err(error) = compare(&golden_dir(), case) {

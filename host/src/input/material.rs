@@ -36,8 +36,8 @@ use stoss_kernel::parameters::ConstantPaths;
 use stoss_kernel::parameters::{Constants, Parameter};
 use stoss_kernel::rht::{RhtMaterial, RhtParameters};
 use stoss_kernel::strength::{
-    ComposedStrength, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
-    Strength, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
+    ComposedStrength, JohnsonCook, KhanHuangLiang, MechanicalThresholdStress, ModifiedJohnsonCook,
+    PrestonTonksWallace, Strength, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, ParameterError, PartMaterial, RateTreatment};
 
@@ -59,6 +59,8 @@ pub enum StrengthSpec {
     KhanHuangLiang(KhanHuangLiang),
     /// Voce-Kocks.
     VoceKocks(VoceKocks),
+    /// Mechanical Threshold Stress (Follansbee-Kocks).
+    MechanicalThresholdStress(MechanicalThresholdStress),
     /// Any composition of hardening, rate and thermal terms.
     Composed(ComposedStrength),
 }
@@ -74,6 +76,7 @@ impl StrengthSpec {
             StrengthSpec::PrestonTonksWallace(m) => m.into(),
             StrengthSpec::KhanHuangLiang(m) => m.into(),
             StrengthSpec::VoceKocks(m) => m.into(),
+            StrengthSpec::MechanicalThresholdStress(m) => m.into(),
             StrengthSpec::Composed(m) => m.into(),
         }
     }
@@ -102,6 +105,9 @@ impl StrengthSpec {
             StrengthSpec::PrestonTonksWallace(_) => family(PrestonTonksWallace::PARAMETERS),
             StrengthSpec::KhanHuangLiang(_) => family(KhanHuangLiang::PARAMETERS),
             StrengthSpec::VoceKocks(_) => family(VoceKocks::PARAMETERS),
+            StrengthSpec::MechanicalThresholdStress(_) => {
+                family(MechanicalThresholdStress::PARAMETERS)
+            }
             StrengthSpec::Composed(m) => m
                 .parameters()
                 .map(|(term, p)| (format!("{term}.{}", p.name), p))
@@ -152,7 +158,8 @@ impl StrengthSpec {
             StrengthSpec::ZerilliArmstrong(_)
             | StrengthSpec::PrestonTonksWallace(_)
             | StrengthSpec::KhanHuangLiang(_)
-            | StrengthSpec::VoceKocks(_) => return None,
+            | StrengthSpec::VoceKocks(_)
+            | StrengthSpec::MechanicalThresholdStress(_) => return None,
         })
     }
 
@@ -166,6 +173,7 @@ impl StrengthSpec {
             StrengthSpec::PrestonTonksWallace(m) => m.validate(),
             StrengthSpec::KhanHuangLiang(m) => m.validate(),
             StrengthSpec::VoceKocks(m) => m.validate(),
+            StrengthSpec::MechanicalThresholdStress(m) => m.validate(),
             StrengthSpec::Composed(m) => m.validate(),
         }
     }
@@ -827,6 +835,7 @@ impl ConstantPaths for StrengthSpec {
             StrengthSpec::PrestonTonksWallace(m) => m.named_slot(name),
             StrengthSpec::KhanHuangLiang(m) => m.named_slot(name),
             StrengthSpec::VoceKocks(m) => m.named_slot(name),
+            StrengthSpec::MechanicalThresholdStress(m) => m.named_slot(name),
             StrengthSpec::Composed(m) => m.slot(name),
         }
     }

@@ -352,10 +352,12 @@ fn named_dimension(key: &str) -> Option<Dimension> {
 pub fn described_constants() -> impl Iterator<Item = &'static Parameter> {
     use stoss_kernel::eos::{Jwl, LinearEos, MieGruneisen, PAlpha, Polynomial};
     use stoss_kernel::strength::{
-        Hardening, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace, RateTerm,
-        ThermalTerm, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
+        Hardening, JohnsonCook, KhanHuangLiang, MechanicalThresholdStress, ModifiedJohnsonCook,
+        PrestonTonksWallace, RateTerm, ThermalTerm, TwoRateJohnsonCook, VoceKocks,
+        ZerilliArmstrong,
     };
-    let families: [&'static [Parameter]; 14] = [
+    let families: [&'static [Parameter]; 15] = [
+        MechanicalThresholdStress::PARAMETERS,
         KhanHuangLiang::PARAMETERS,
         VoceKocks::PARAMETERS,
         JohnsonCook::PARAMETERS,

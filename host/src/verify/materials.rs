@@ -3,8 +3,8 @@
 
 use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
-    TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
+    CrystalStructure, JohnsonCook, KhanHuangLiang, MechanicalThresholdStress, ModifiedJohnsonCook,
+    PrestonTonksWallace, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, RateTreatment};
 
@@ -163,6 +163,15 @@ pub fn reference_materials() -> Vec<ReferenceMaterial> {
                      elasticity",
             material: Material {
                 strength: VoceKocks::ILLUSTRATIVE.into(),
+                ..copper
+            },
+        },
+        ReferenceMaterial {
+            name: "mts-copper",
+            source: "Follansbee & Kocks (1988) copper, Mechanical Threshold Stress (Uintah's \
+                     tabulation), on copper elasticity",
+            material: Material {
+                strength: MechanicalThresholdStress::COPPER.into(),
                 ..copper
             },
         },

@@ -77,7 +77,11 @@
 // [`StossKhanHuangLiang`]) and Voce-Kocks ([`StossStrengthModel::VoceKocks`],
 // [`StossVoceKocks`]) at the end of [`StossStrength`]; cards of versions 1 to 5 are valid
 // version-6 cards.
-#define STOSS_LAYOUT_VERSION 6
+// Version 7 added the Mechanical Threshold Stress
+// ([`StossStrengthModel::MechanicalThresholdStress`], [`StossMechanicalThresholdStress`]) at
+// the end of [`StossStrength`]; its card takes P25..P41 and five slots after the EoS section.
+// Cards of versions 1 to 6 are valid version-7 cards.
+#define STOSS_LAYOUT_VERSION 7
 
 // Points of the tabulated-compaction EoS table in the block (the kernel's
 // `MAX_COMPACTION_POINTS`).
@@ -206,6 +210,9 @@ enum StossStrengthModel
   STOSS_STRENGTH_MODEL_KHAN_HUANG_LIANG = 10,
   // Voce-Kocks, `strength.voce_kocks`. Layout 6.
   STOSS_STRENGTH_MODEL_VOCE_KOCKS = 11,
+  // Mechanical Threshold Stress (Follansbee-Kocks), `strength.mechanical_threshold_stress`.
+  // Layout 7.
+  STOSS_STRENGTH_MODEL_MECHANICAL_THRESHOLD_STRESS = 12,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -713,6 +720,54 @@ typedef struct StossVoceKocks {
   double activation_temperature;
 } StossVoceKocks;
 
+// Mechanical Threshold Stress constants (SI; Follansbee & Kocks' names).
+typedef struct StossMechanicalThresholdStress {
+  // `sigma_a` (Pa).
+  double athermal_stress;
+  // `sigma_i` (Pa); 0 switches the intrinsic term off.
+  double intrinsic_stress;
+  // `g_0i` (-).
+  double intrinsic_activation_energy;
+  // `e_0i` (1/s).
+  double intrinsic_reference_rate;
+  // `p_i` (-).
+  double intrinsic_p;
+  // `q_i` (-).
+  double intrinsic_q;
+  // `g_0e` (-).
+  double structure_activation_energy;
+  // `e_0e` (1/s).
+  double structure_reference_rate;
+  // `p_e` (-).
+  double structure_p;
+  // `q_e` (-).
+  double structure_q;
+  // `sigma_es0` (Pa).
+  double saturation_stress;
+  // `g_0es` (-).
+  double saturation_activation_energy;
+  // `e_es0` (1/s).
+  double saturation_reference_rate;
+  // `a_0` (Pa).
+  double hardening_a0;
+  // `a_1` (Pa).
+  double hardening_a1;
+  // `a_2` (Pa).
+  double hardening_a2;
+  // `a_3` (Pa/K).
+  double hardening_a3;
+  // `alpha` (-).
+  double hardening_shape;
+  // `mu_0` (Pa).
+  double shear_modulus_0;
+  // Varshni's `D` (Pa).
+  double shear_modulus_drop;
+  // Varshni's `T_0` (K).
+  double varshni_temperature;
+  // `k/b^3` (Pa/K).
+  double boltzmann_per_burgers_cubed;
+} StossMechanicalThresholdStress;
+
 // Constants of every strength family; `strength_model` says which one is read.
 typedef struct StossStrength {
   // Johnson-Cook.
@@ -735,6 +790,8 @@ typedef struct StossStrength {
   struct StossKhanHuangLiang khan_huang_liang;
   // Voce-Kocks (layout 6).
   struct StossVoceKocks voce_kocks;
+  // Mechanical Threshold Stress (layout 7).
+  struct StossMechanicalThresholdStress mechanical_threshold_stress;
 } StossStrength;
 
 // Linear EoS.

@@ -20,8 +20,8 @@ use stoss_kernel::kc::{
 use stoss_kernel::rht::{FailureMeridian, RateScaling, RhtMaterial, RhtParameters, TensileFailure};
 use stoss_kernel::strength::{
     ComposedStrength, CrystalStructure, Hardening, JohnsonCook, KhanHuangLiang,
-    ModifiedJohnsonCook, PrestonTonksWallace, RateTerm, Strength, ThermalTerm, TwoRateJohnsonCook,
-    VoceKocks, ZerilliArmstrong,
+    MechanicalThresholdStress, ModifiedJohnsonCook, PrestonTonksWallace, RateTerm, Strength,
+    ThermalTerm, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{Heating, Material, MaterialState, PartMaterial, PointModel, RateTreatment};
 
@@ -47,7 +47,11 @@ use stoss_kernel::ParameterError;
 /// [`StossKhanHuangLiang`]) and Voce-Kocks ([`StossStrengthModel::VoceKocks`],
 /// [`StossVoceKocks`]) at the end of [`StossStrength`]; cards of versions 1 to 5 are valid
 /// version-6 cards.
-pub const STOSS_LAYOUT_VERSION: u32 = 6;
+/// Version 7 added the Mechanical Threshold Stress
+/// ([`StossStrengthModel::MechanicalThresholdStress`], [`StossMechanicalThresholdStress`]) at
+/// the end of [`StossStrength`]; its card takes P25..P41 and five slots after the EoS section.
+/// Cards of versions 1 to 6 are valid version-7 cards.
+pub const STOSS_LAYOUT_VERSION: u32 = 7;
 
 /// Points of the tabulated-compaction EoS table in the block (the kernel's
 /// `MAX_COMPACTION_POINTS`).
@@ -107,6 +111,9 @@ pub enum StossStrengthModel {
     KhanHuangLiang = 10,
     /// Voce-Kocks, `strength.voce_kocks`. Layout 6.
     VoceKocks = 11,
+    /// Mechanical Threshold Stress (Follansbee-Kocks), `strength.mechanical_threshold_stress`.
+    /// Layout 7.
+    MechanicalThresholdStress = 12,
 }
 
 /// K&C rate enhancement (`StossKc::rate`).
@@ -566,6 +573,85 @@ crate::described_section!(
     ]
 );
 
+/// Mechanical Threshold Stress constants (SI; Follansbee & Kocks' names).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StossMechanicalThresholdStress {
+    /// `sigma_a` (Pa).
+    pub athermal_stress: f64,
+    /// `sigma_i` (Pa); 0 switches the intrinsic term off.
+    pub intrinsic_stress: f64,
+    /// `g_0i` (-).
+    pub intrinsic_activation_energy: f64,
+    /// `e_0i` (1/s).
+    pub intrinsic_reference_rate: f64,
+    /// `p_i` (-).
+    pub intrinsic_p: f64,
+    /// `q_i` (-).
+    pub intrinsic_q: f64,
+    /// `g_0e` (-).
+    pub structure_activation_energy: f64,
+    /// `e_0e` (1/s).
+    pub structure_reference_rate: f64,
+    /// `p_e` (-).
+    pub structure_p: f64,
+    /// `q_e` (-).
+    pub structure_q: f64,
+    /// `sigma_es0` (Pa).
+    pub saturation_stress: f64,
+    /// `g_0es` (-).
+    pub saturation_activation_energy: f64,
+    /// `e_es0` (1/s).
+    pub saturation_reference_rate: f64,
+    /// `a_0` (Pa).
+    pub hardening_a0: f64,
+    /// `a_1` (Pa).
+    pub hardening_a1: f64,
+    /// `a_2` (Pa).
+    pub hardening_a2: f64,
+    /// `a_3` (Pa/K).
+    pub hardening_a3: f64,
+    /// `alpha` (-).
+    pub hardening_shape: f64,
+    /// `mu_0` (Pa).
+    pub shear_modulus_0: f64,
+    /// Varshni's `D` (Pa).
+    pub shear_modulus_drop: f64,
+    /// Varshni's `T_0` (K).
+    pub varshni_temperature: f64,
+    /// `k/b^3` (Pa/K).
+    pub boltzmann_per_burgers_cubed: f64,
+}
+
+crate::described_section!(
+    StossMechanicalThresholdStress,
+    MechanicalThresholdStress,
+    [
+        athermal_stress,
+        intrinsic_stress,
+        intrinsic_activation_energy,
+        intrinsic_reference_rate,
+        intrinsic_p,
+        intrinsic_q,
+        structure_activation_energy,
+        structure_reference_rate,
+        structure_p,
+        structure_q,
+        saturation_stress,
+        saturation_activation_energy,
+        saturation_reference_rate,
+        hardening_a0,
+        hardening_a1,
+        hardening_a2,
+        hardening_a3,
+        hardening_shape,
+        shear_modulus_0,
+        shear_modulus_drop,
+        varshni_temperature,
+        boltzmann_per_burgers_cubed,
+    ]
+);
+
 /// Hardening constants of a composed model (read according to `hardening_model`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -797,6 +883,8 @@ pub struct StossStrength {
     pub khan_huang_liang: StossKhanHuangLiang,
     /// Voce-Kocks (layout 6).
     pub voce_kocks: StossVoceKocks,
+    /// Mechanical Threshold Stress (layout 7).
+    pub mechanical_threshold_stress: StossMechanicalThresholdStress,
 }
 
 /// Linear EoS.
@@ -1055,7 +1143,8 @@ code_enum!(
         Kc,
         PrestonTonksWallace,
         KhanHuangLiang,
-        VoceKocks
+        VoceKocks,
+        MechanicalThresholdStress
     ]
 );
 code_enum!(StossKcRate, "strength.kc.rate", [None, CebFip]);
@@ -1357,6 +1446,17 @@ impl StossMaterialBlock {
                 // Every described constant of the base is overwritten by name.
                 let model = to_model(&s.voce_kocks, VoceKocks::ILLUSTRATIVE);
                 described(model.validate().map(|()| model), "strength.voce_kocks")?
+            }
+            StossStrengthModel::MechanicalThresholdStress => {
+                // Every described constant of the base is overwritten by name.
+                let model = to_model(
+                    &s.mechanical_threshold_stress,
+                    MechanicalThresholdStress::COPPER,
+                );
+                described(
+                    model.validate().map(|()| model),
+                    "strength.mechanical_threshold_stress",
+                )?
             }
             StossStrengthModel::Rht => {
                 return Err(invalid(

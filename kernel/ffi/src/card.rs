@@ -6,7 +6,7 @@
 //!
 //! | P | meaning |
 //! |---|---|
-//! | 1 | card layout version (`STOSS_LAYOUT_VERSION` = 6; cards of versions 1 to 5 are read too) |
+//! | 1 | card layout version (`STOSS_LAYOUT_VERSION` = 7; cards of versions 1 to 6 are read too) |
 //! | 2 | reference density `rho0` (kg/m^3) |
 //! | 3 | shear modulus `G` (Pa) — LS-DYNA `IG = 3` |
 //! | 4 | bulk modulus `K` (Pa) — LS-DYNA `IBULK = 4`; the linear EoS's `K`, otherwise the initial EoS slope (informative, must be > 0) |
@@ -36,6 +36,7 @@
 //! | Preston-Tonks-Wallace (code 9, layout 6) | `theta p s0 s_inf kappa gamma y0 y_inf y1 y2 beta G0 alpha Tm rho M` |
 //! | Khan-Huang-Liang (code 10, layout 6) | `A B n0 n1 C e0 D0p m Tr Tm` |
 //! | Voce-Kocks (code 11, layout 6) | `sigma_0 theta_0 sigma_s0 e_s0 T_A` |
+//! | Mechanical Threshold Stress (code 12, layout 7) | `sigma_a sigma_i g_0i e_0i p_i q_i g_0e e_0e p_e q_e sigma_es0 g_0es e_es0 a_0 a_1 a_2 a_3`, and after the EoS section `alpha mu_0 D T_0 k/b^3` |
 //!
 //! RHT concrete (strength code 7) uses P17..P40 instead of the JC failure and strength slots:
 //! P17..P20 its tensile-failure, meridian and rate-scaling codes and elastic-cap switch,
@@ -55,10 +56,11 @@ use stoss_kernel::PartMaterial;
 
 use crate::block::{
     initial_bulk_modulus, StossEosModel, StossHardeningModel, StossHeatingModel, StossJohnsonCook,
-    StossKhanHuangLiang, StossMaterialBlock, StossModifiedJohnsonCook, StossPrestonTonksWallace,
-    StossRateModel, StossRht, StossStrengthModel, StossThermalModel, StossTwoRateJohnsonCook,
-    StossVoceKocks, StossZerilliArmstrong, KC_CONSTANTS, STOSS_KC_MAX_DAMAGE_POINTS,
-    STOSS_LAYOUT_VERSION, STOSS_MAX_COMPACTION_POINTS,
+    StossKhanHuangLiang, StossMaterialBlock, StossMechanicalThresholdStress,
+    StossModifiedJohnsonCook, StossPrestonTonksWallace, StossRateModel, StossRht,
+    StossStrengthModel, StossThermalModel, StossTwoRateJohnsonCook, StossVoceKocks,
+    StossZerilliArmstrong, KC_CONSTANTS, STOSS_KC_MAX_DAMAGE_POINTS, STOSS_LAYOUT_VERSION,
+    STOSS_MAX_COMPACTION_POINTS,
 };
 use crate::section::DescribedSection;
 use crate::status::{FfiError, StossStatus};
@@ -116,6 +118,15 @@ const _: () = assert!(
 const _: () = assert!(
     KC_CONSTANTS_SLOT + KC_CONSTANTS <= STOSS_CARD_FIXED_LENGTH,
     "K&C's described constants no longer fit in P29..P41 of the card"
+);
+
+/// Constants of the Mechanical Threshold Stress beyond the 17 strength slots: written right
+/// after the EoS section (`alpha mu_0 D T_0 k/b^3`).
+const MTS_TAIL: usize = <StossMechanicalThresholdStress as DescribedSection>::FIELDS.len() - 17;
+
+const _: () = assert!(
+    MTS_TAIL <= 1 + 2 * STOSS_KC_MAX_DAMAGE_POINTS,
+    "the MTS tail no longer fits in the card's longest tail"
 );
 
 /// 0-based index of the first EoS slot (P42).
@@ -289,6 +300,27 @@ pub fn block_from_card(card: &[f64]) -> Result<StossMaterialBlock, FfiError> {
             read_constants(&s, &mut strength.khan_huang_liang);
         }
         StossStrengthModel::VoceKocks => read_constants(&s, &mut strength.voce_kocks),
+        StossStrengthModel::MechanicalThresholdStress => {
+            let tail = read_eos(card, &mut block, bulk_modulus)?;
+            if card.len() < tail + MTS_TAIL {
+                return Err(FfiError::new(
+                    StossStatus::InvalidParameter,
+                    format!(
+                        "card: {} values, the Mechanical Threshold Stress needs {} (its last \
+                         {MTS_TAIL} constants `alpha mu_0 D T_0 k/b^3` follow the EoS section \
+                         at P{}..P{})",
+                        card.len(),
+                        tail + MTS_TAIL,
+                        tail + 1,
+                        tail + MTS_TAIL
+                    ),
+                ));
+            }
+            let constants = block.strength.mechanical_threshold_stress.constants_mut();
+            constants[..17].copy_from_slice(&s);
+            constants[17..].copy_from_slice(&card[tail..tail + MTS_TAIL]);
+            return Ok(block);
+        }
         StossStrengthModel::Composed => {
             let p = &mut strength.composed;
             p.hardening_model = code(card, STRENGTH, "composed hardening model")?;
@@ -587,6 +619,10 @@ pub fn card_from_block(
             write_constants(s, &strength.khan_huang_liang);
         }
         StossStrengthModel::VoceKocks => write_constants(s, &strength.voce_kocks),
+        StossStrengthModel::MechanicalThresholdStress => {
+            // P25..P41 here; the last MTS_TAIL constants after the EoS section, below.
+            s.copy_from_slice(&strength.mechanical_threshold_stress.constants()[..17]);
+        }
         StossStrengthModel::Composed => {
             let p = &strength.composed;
             let h = &p.hardening;
@@ -739,6 +775,13 @@ pub fn card_from_block(
         card[length + 1..length + 1 + count].copy_from_slice(&k.damage_lambda[..count]);
         card[length + 1 + count..length + 1 + 2 * count].copy_from_slice(&k.damage_eta[..count]);
         return Ok((card, length + 1 + 2 * count));
+    }
+    if StossStrengthModel::from_code(block.strength_model)?
+        == StossStrengthModel::MechanicalThresholdStress
+    {
+        card[length..length + MTS_TAIL]
+            .copy_from_slice(&block.strength.mechanical_threshold_stress.constants()[17..]);
+        return Ok((card, length + MTS_TAIL));
     }
     Ok((card, length))
 }
@@ -1020,5 +1063,29 @@ mod tests {
             .unwrap_err()
             .message
             .starts_with("card P14"));
+    }
+
+    #[test]
+    fn a_mechanical_threshold_stress_card_carries_its_tail_after_the_eos() {
+        // GOAL: the MTS's 22 constants survive a card; a card cut before its tail is refused
+        //       naming the slots.
+        // SETUP: copper MTS over 4340's block (linear EoS: the tail is P42..P46).
+        // REFERENCE: the block itself; the slot numbers of the layout.
+        let mut block = StossMaterialBlock::steel_4340();
+        block.strength_model = StossStrengthModel::MechanicalThresholdStress as i32;
+        let mut model = stoss_kernel::strength::MechanicalThresholdStress::COPPER;
+        crate::section::from_model(&mut model, &mut block.strength.mechanical_threshold_stress);
+        let (card, length) = card_from_block(&block).unwrap();
+        assert_eq!(length, 46);
+        assert_eq!(card[24], 40.0e6);
+        assert_eq!(card[41..46], [2.0, 47.7e9, 3.0e9, 180.0, 0.823e6]);
+        let back = block_from_card(&card[..length]).unwrap();
+        assert_eq!(
+            back.strength.mechanical_threshold_stress,
+            block.strength.mechanical_threshold_stress
+        );
+        let error = block_from_card(&card[..44]).unwrap_err();
+        assert_eq!(error.status, StossStatus::InvalidParameter);
+        assert!(error.message.contains("P42..P46"), "{}", error.message);
     }
 }

@@ -774,7 +774,7 @@ mod tests {
         assert_eq!(call.state.damage.len(), 2);
 
         let mut call = batch(2);
-        call.block.layout_version = 7;
+        call.block.layout_version = crate::block::STOSS_LAYOUT_VERSION + 1;
         assert_eq!(
             update_batch(&mut call).unwrap().status,
             StossStatus::BadLayoutVersion

@@ -231,6 +231,11 @@ fn write_strength(block: &mut StossMaterialBlock, strength: &Strength) {
             let mut model = *vk;
             from_model(&mut model, &mut block.strength.voce_kocks);
         }
+        Strength::MechanicalThresholdStress(mts) => {
+            block.strength_model = StossStrengthModel::MechanicalThresholdStress as i32;
+            let mut model = *mts;
+            from_model(&mut model, &mut block.strength.mechanical_threshold_stress);
+        }
         Strength::Composed(composed) => {
             if let Some(mut jc) = JohnsonCook::from_composed(composed) {
                 block.strength_model = StossStrengthModel::JohnsonCook as i32;
@@ -492,15 +497,15 @@ mod tests {
     use stoss_kernel::damage::JohnsonCookFailure;
     use stoss_kernel::eos::{Jwl, MieGruneisen, PAlpha, Polynomial, TabulatedCompaction};
     use stoss_kernel::strength::{
-        JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace, TwoRateJohnsonCook,
-        VoceKocks, ZerilliArmstrong,
+        JohnsonCook, KhanHuangLiang, MechanicalThresholdStress, ModifiedJohnsonCook,
+        PrestonTonksWallace, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
     };
 
     #[test]
     fn every_strength_eos_and_heating_comes_back_from_its_block_and_card() {
         // GOAL: every kernel model a calibration or the diagnosis produces has a user-material
         //       block and card that give back the same kernel material.
-        // SETUP: JC (with failure, erosion and cut-off), ZA BCC and FCC, MJC, TJC, PTW, KHL, VK, JC with
+        // SETUP: JC (with failure, erosion and cut-off), ZA BCC and FCC, MJC, TJC, PTW, KHL, VK, MTS, JC with
         //        each diagnosis rate term, a Voce + Cowper-Symonds + linear-thermal
         //        composition; every EoS; every heating; both rate treatments.
         // REFERENCE: the material itself (exact equality) after block -> material and after
@@ -562,6 +567,7 @@ mod tests {
         strengths.push(PrestonTonksWallace::TANTALUM.into());
         strengths.push(KhanHuangLiang::ILLUSTRATIVE.into());
         strengths.push(VoceKocks::ILLUSTRATIVE.into());
+        strengths.push(MechanicalThresholdStress::COPPER.into());
         for rate in [
             RateTerm::LogUpturn {
                 rate_sensitivity: 0.014,
@@ -667,7 +673,7 @@ mod tests {
                 checked += 1;
             }
         }
-        assert_eq!(checked, 11 * 6);
+        assert_eq!(checked, 12 * 6);
         let mut material = Material::STEEL_4340;
         material.failure.erosion_geometric_strain = Some(1.5);
         assert!(from_material(&material, 298.0).unwrap().1);

@@ -9,9 +9,9 @@ use stoss_kernel::damage::JohnsonCookFailure;
 use stoss_kernel::drivers::{uniaxial_strain, LastRecord, UniaxialStrainLoading};
 use stoss_kernel::{Material, MaterialState};
 use stoss_kernel_ffi::block::{
-    StossEosModel, StossJohnsonCook, StossKhanHuangLiang, StossMieGruneisen,
-    StossModifiedJohnsonCook, StossPrestonTonksWallace, StossRht, StossTwoRateJohnsonCook,
-    StossVoceKocks, StossZerilliArmstrong,
+    StossEosModel, StossJohnsonCook, StossKhanHuangLiang, StossMechanicalThresholdStress,
+    StossMieGruneisen, StossModifiedJohnsonCook, StossPrestonTonksWallace, StossRht,
+    StossTwoRateJohnsonCook, StossVoceKocks, StossZerilliArmstrong,
 };
 use stoss_kernel_ffi::card::STOSS_CARD_MAX_LENGTH;
 use stoss_kernel_ffi::section::DescribedSection;
@@ -1015,6 +1015,10 @@ fn described_sections_match_the_generated_header() {
         fields::<StossKhanHuangLiang>()
     );
     assert_eq!(doubles(&body("StossVoceKocks")), fields::<StossVoceKocks>());
+    assert_eq!(
+        doubles(&body("StossMechanicalThresholdStress")),
+        fields::<StossMechanicalThresholdStress>()
+    );
     // RHT's public order happens to be its descriptor's.
     let described: Vec<&str> = stoss_kernel::rht::RhtParameters::PARAMETERS
         .iter()

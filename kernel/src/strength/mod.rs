@@ -2,8 +2,9 @@
 //!
 //! A model is either a [`ComposedStrength`] — a product of a hardening term, a rate term and a
 //! thermal term, each an enum, so that a missing term can be added without writing a new
-//! model — or [`ZerilliArmstrong`], [`PrestonTonksWallace`], [`KhanHuangLiang`] or
-//! [`VoceKocks`], whose rate dependence is coupled with the temperature or the strain.
+//! model — or [`ZerilliArmstrong`], [`PrestonTonksWallace`], [`KhanHuangLiang`],
+//! [`VoceKocks`] or [`MechanicalThresholdStress`], whose rate dependence is coupled with the
+//! temperature or the strain.
 //!
 //! The named families of seed 000 (JC, ZA, MJC, TJC) are parameter structs with `validate()`
 //! and their constants' descriptions ([`crate::parameters`]); each converts into a
@@ -13,6 +14,7 @@ mod composed;
 mod hardening;
 mod johnson_cook;
 mod khan_huang_liang;
+mod mechanical_threshold_stress;
 mod modified_johnson_cook;
 mod preston_tonks_wallace;
 mod rate;
@@ -25,6 +27,7 @@ pub use composed::ComposedStrength;
 pub use hardening::Hardening;
 pub use johnson_cook::JohnsonCook;
 pub use khan_huang_liang::KhanHuangLiang;
+pub use mechanical_threshold_stress::MechanicalThresholdStress;
 pub use modified_johnson_cook::ModifiedJohnsonCook;
 pub use preston_tonks_wallace::PrestonTonksWallace;
 pub use rate::RateTerm;
@@ -61,8 +64,9 @@ impl FlowStress {
     /// This flow stress, taken at a return path's point `(eps_n + dl, dl/dt)`, as a
     /// [`PathFlow`]: the exact first derivative in `dl`, `d sigma/d eps + (d sigma/d rate) /
     /// dt`, and unbounded second and third, for the models that provide no higher derivatives
-    /// (Preston-Tonks-Wallace, Khan-Huang-Liang, Voce-Kocks): the return mapping then converges
-    /// by safeguarded Newton steps and evaluates the flow stress where it stops.
+    /// (Preston-Tonks-Wallace, Khan-Huang-Liang, Voce-Kocks, Mechanical Threshold Stress): the
+    /// return mapping then converges by safeguarded Newton steps and evaluates the flow stress
+    /// where it stops.
     #[inline]
     pub fn first_order_path(self, inverse_dt: f64, kink_rate: f64) -> PathFlow {
         PathFlow {
@@ -227,6 +231,9 @@ pub enum Strength {
     KhanHuangLiang(KhanHuangLiang),
     /// Voce-Kocks: Voce hardening to a rate- and temperature-dependent saturation.
     VoceKocks(VoceKocks),
+    /// Mechanical Threshold Stress (Follansbee-Kocks): thermally activated parts of a
+    /// threshold stress that evolves with strain, scaled by the shear modulus.
+    MechanicalThresholdStress(MechanicalThresholdStress),
 }
 
 impl Strength {
@@ -251,6 +258,7 @@ impl Strength {
             Strength::Composed(model) => model.thermal.evaluate(temperature),
             Strength::KhanHuangLiang(model) => model.thermal_factor(temperature),
             Strength::PrestonTonksWallace(model) => model.rate_scale(temperature),
+            Strength::MechanicalThresholdStress(model) => model.modulus_ratio(temperature),
             Strength::ZerilliArmstrong(_) | Strength::VoceKocks(_) => 1.0,
         };
         FlowAtTemperature {
@@ -268,6 +276,7 @@ impl Strength {
             Strength::PrestonTonksWallace(model) => model.validate(),
             Strength::KhanHuangLiang(model) => model.validate(),
             Strength::VoceKocks(model) => model.validate(),
+            Strength::MechanicalThresholdStress(model) => model.validate(),
         }
     }
 }
@@ -279,7 +288,8 @@ pub struct FlowAtTemperature<'a> {
     strength: &'a Strength,
     temperature: f64,
     /// The model's temperature-only factor: `theta(T)` of a composed model, `1 - T*^m` of
-    /// Khan-Huang-Liang, the rate scale `gamma xi'(T)` of Preston-Tonks-Wallace; 1 (unused)
+    /// Khan-Huang-Liang, the rate scale `gamma xi'(T)` of Preston-Tonks-Wallace, `mu(T)/mu_0`
+    /// of the Mechanical Threshold Stress; 1 (unused)
     /// for Zerilli-Armstrong and Voce-Kocks, whose temperature acts through the rate.
     factor: f64,
 }
@@ -311,6 +321,12 @@ impl FlowAtTemperature<'_> {
             Strength::VoceKocks(model) => {
                 model.flow_stress(plastic_strain, plastic_strain_rate, self.temperature)
             }
+            Strength::MechanicalThresholdStress(model) => model.flow_stress_at_modulus_ratio(
+                plastic_strain,
+                plastic_strain_rate,
+                self.temperature,
+                self.factor,
+            ),
         }
     }
 }
@@ -342,6 +358,9 @@ impl FlowAtTemperature<'_> {
             Strength::VoceKocks(_) => self
                 .flow_stress(plastic_strain + dl, dl * inverse_dt)
                 .first_order_path(inverse_dt, VoceKocks::MINIMUM_RATE),
+            Strength::MechanicalThresholdStress(_) => self
+                .flow_stress(plastic_strain + dl, dl * inverse_dt)
+                .first_order_path(inverse_dt, MechanicalThresholdStress::MINIMUM_RATE),
         }
     }
 }
@@ -373,6 +392,12 @@ impl From<KhanHuangLiang> for Strength {
 impl From<VoceKocks> for Strength {
     fn from(model: VoceKocks) -> Self {
         Strength::VoceKocks(model)
+    }
+}
+
+impl From<MechanicalThresholdStress> for Strength {
+    fn from(model: MechanicalThresholdStress) -> Self {
+        Strength::MechanicalThresholdStress(model)
     }
 }
 

@@ -81,7 +81,7 @@ fn temperature_range(strength: &Strength) -> (f64, f64) {
         Strength::ZerilliArmstrong(_) => DEFAULT_TEMPERATURES,
         Strength::PrestonTonksWallace(model) => (DEFAULT_TEMPERATURES.0, model.melting_temperature),
         Strength::KhanHuangLiang(model) => (model.reference_temperature, model.melting_temperature),
-        Strength::VoceKocks(_) => DEFAULT_TEMPERATURES,
+        Strength::VoceKocks(_) | Strength::MechanicalThresholdStress(_) => DEFAULT_TEMPERATURES,
     }
 }
 
