@@ -17,7 +17,8 @@ import random
 
 TARGETS = ["strength_update_jc", "strength_update_za", "strength_update_mjc",
            "strength_update_tjc", "eos", "rht_update", "abi_batch", "kc_update",
-           "strength_update_ptw", "strength_update_khl", "strength_update_vk"]
+           "strength_update_ptw", "strength_update_khl", "strength_update_vk",
+           "strength_update_mts"]
 
 here = os.path.dirname(os.path.abspath(__file__))
 for index, target in enumerate(TARGETS):

@@ -36,6 +36,9 @@ fn main() {
         "strength_update_ptw" => |d| stoss_fuzz::strength::run(Family::PrestonTonksWallace, d),
         "strength_update_khl" => |d| stoss_fuzz::strength::run(Family::KhanHuangLiang, d),
         "strength_update_vk" => |d| stoss_fuzz::strength::run(Family::VoceKocks, d),
+        "strength_update_mts" => {
+            |d| stoss_fuzz::strength::run(Family::MechanicalThresholdStress, d)
+        }
         "eos" => stoss_fuzz::eos::run,
         "rht_update" => stoss_fuzz::rht::run,
         "kc_update" => stoss_fuzz::kc::run,

@@ -7,7 +7,11 @@
 //!   `[250, 350]` K, `Tm` in `[800, 4000]` K, ZA `C2` in `[0, 3 GPa]`; PTW `G0` in
 //!   `[10, 300]` GPa (log), `alpha` in `[0, 0.6]`, `rho` in `[1000, 20000]` kg/m^3, `M` in
 //!   `[5, 250]` g/mol; KHL `D0p` in `[1e4, 1e8]` /s (log); Voce-Kocks `e_s0` in `[1e5, 1e9]`
-//!   /s (log) (its scaled constants drawn in their ranges; draws that break
+//!   /s (log); MTS `sigma_i` 0 (one draw in two) or in its range, `e_0i` in `[1e9, 1e15]` /s
+//!   and `e_0e`, `e_es0` in `[1e5, 1e9]` /s (log), `p` in `[0.1, 1]`, `q` in `[1, 2]`, `a_1`
+//!   in `[-20, 50]` MPa, `a_2` in `[0, 5]` MPa, `a_3` in `[0, 5]` MPa/K, `alpha` 0 (one in
+//!   four) or in `[0.01, 5]`, `mu_0` in `[10, 300]` GPa (log), `D` in `[0, 0.2] mu_0`, `T_0`
+//!   in `[50, 400]` K, `k/b^3` in `[0.3, 2]` MPa/K (PTW's scaled constants drawn in their ranges; draws that break
 //!   `y_inf <= y0 <= s0`, `y_inf <= s_inf <= s0` fail `validate()` and only the weak
 //!   properties apply);
 //! - material: `rho0` in `[1000, 20000]` kg/m^3, `G` in `[1, 300]` GPa (log), `c_p` in
@@ -28,8 +32,8 @@ use stoss_kernel::damage::{Failure, JohnsonCookFailure};
 use stoss_kernel::eos::{Eos, LinearEos};
 use stoss_kernel::parameters::Parameter;
 use stoss_kernel::strength::{
-    CrystalStructure, JohnsonCook, KhanHuangLiang, ModifiedJohnsonCook, PrestonTonksWallace,
-    Strength, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
+    CrystalStructure, JohnsonCook, KhanHuangLiang, MechanicalThresholdStress, ModifiedJohnsonCook,
+    PrestonTonksWallace, Strength, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{
     Heating, Material, MaterialState, ParameterError, RateTreatment, StateFlags, StepInput,
@@ -53,6 +57,8 @@ pub enum Family {
     KhanHuangLiang,
     /// Voce-Kocks.
     VoceKocks,
+    /// Mechanical Threshold Stress.
+    MechanicalThresholdStress,
 }
 
 /// The bound named `name` in `bounds`.
@@ -195,6 +201,44 @@ fn strength(src: &mut Source, family: Family) -> (Strength, Result<(), Parameter
                 saturation_stress: draw(src, b, "saturation_stress"),
                 saturation_reference_rate: src.log(1e5, 1e9),
                 activation_temperature: draw(src, b, "activation_temperature"),
+            };
+            (model.into(), model.validate())
+        }
+        Family::MechanicalThresholdStress => {
+            let b = &MechanicalThresholdStress::PARAMETERS;
+            let intrinsic = src.choice(2) == 1;
+            let shear_modulus_0 = src.log(1e10, 3e11);
+            let model = MechanicalThresholdStress {
+                athermal_stress: draw(src, b, "athermal_stress"),
+                intrinsic_stress: if intrinsic {
+                    draw(src, b, "intrinsic_stress")
+                } else {
+                    0.0
+                },
+                intrinsic_activation_energy: draw(src, b, "intrinsic_activation_energy"),
+                intrinsic_reference_rate: src.log(1e9, 1e15),
+                intrinsic_p: src.linear(0.1, 1.0),
+                intrinsic_q: src.linear(1.0, 2.0),
+                structure_activation_energy: draw(src, b, "structure_activation_energy"),
+                structure_reference_rate: src.log(1e5, 1e9),
+                structure_p: src.linear(0.1, 1.0),
+                structure_q: src.linear(1.0, 2.0),
+                saturation_stress: draw(src, b, "saturation_stress"),
+                saturation_activation_energy: draw(src, b, "saturation_activation_energy"),
+                saturation_reference_rate: src.log(1e5, 1e9),
+                hardening_a0: draw(src, b, "hardening_a0"),
+                hardening_a1: src.linear(-20e6, 50e6),
+                hardening_a2: src.linear(0.0, 5e6),
+                hardening_a3: src.linear(0.0, 5e6),
+                hardening_shape: if src.choice(4) == 0 {
+                    0.0
+                } else {
+                    src.linear(0.01, 5.0)
+                },
+                shear_modulus_0,
+                shear_modulus_drop: src.linear(0.0, 0.2) * shear_modulus_0,
+                varshni_temperature: src.linear(50.0, 400.0),
+                boltzmann_per_burgers_cubed: src.linear(0.3e6, 2e6),
             };
             (model.into(), model.validate())
         }

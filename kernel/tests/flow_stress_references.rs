@@ -210,7 +210,7 @@ fn vk_reference(c: &VoceKocks, eps: f64, rate: f64, t: f64) -> f64 {
 /// - tanh(alpha sigma_e / sigma_es) / tanh(alpha))` integrated from 0 by 4000 classical
 /// Runge-Kutta steps (a fixed count, so that the truncation error is smooth in the strain and
 /// the slopes' central differences see the law), with the kernel's stated floors: rate 1e-6
-/// /s, `mu/mu_0` 1e-6, `theta_0` 0, `sigma_es` 1e-6 `sigma_es0`.
+/// /s, `mu/mu_0` 1e-6, `theta_0` 0, `sigma_es` between 1e-6 and 1e6 `sigma_es0`.
 fn mts_reference(c: &MechanicalThresholdStress, eps: f64, rate: f64, t: f64) -> f64 {
     let rate = rate.max(1e-6);
     let mu = if t > 0.0 {
@@ -250,7 +250,7 @@ fn mts_reference(c: &MechanicalThresholdStress, eps: f64, rate: f64, t: f64) -> 
             rate / c.saturation_reference_rate,
             c.boltzmann_per_burgers_cubed * t / (c.saturation_activation_energy * mu),
         ))
-    .max(1e-6 * c.saturation_stress);
+    .clamp(1e-6 * c.saturation_stress, 1e6 * c.saturation_stress);
     let theta_0 =
         (c.hardening_a0 + c.hardening_a1 * libm::log(rate) + c.hardening_a2 * libm::sqrt(rate)
             - c.hardening_a3 * t)

@@ -31,8 +31,8 @@
 //! Limits, each continuous: `S_k = 1` at or above the reference rate `e_0k` (no thermal
 //! barrier left to overcome) and `S_k = 0` where thermal activation alone overcomes it;
 //! `mu(T)/mu_0` held at or above [`MechanicalThresholdStress::MODULUS_FLOOR`]; `theta_0` held
-//! at or above 0; the saturation held at or above [`MechanicalThresholdStress::SATURATION_FLOOR`]
-//! of `sigma_es0`; the rate held at [`MechanicalThresholdStress::MINIMUM_RATE`] below it. An
+//! at or above 0; the saturation held between [`MechanicalThresholdStress::SATURATION_FLOOR`]
+//! and its reciprocal times `sigma_es0`; the rate held at [`MechanicalThresholdStress::MINIMUM_RATE`] below it. An
 //! intrinsic stress `sigma_i = 0` (a pure FCC metal) switches its factor off, and its shape
 //! constants are then not read. Along a return path the first derivative is exact and the
 //! higher ones are reported unbounded, as for Preston-Tonks-Wallace.
@@ -119,7 +119,9 @@ impl MechanicalThresholdStress {
     pub const MODULUS_FLOOR: f64 = 1e-6;
 
     /// Floor of the saturation threshold as a fraction of `sigma_es0` (hot and slow enough,
-    /// Kocks' saturation falls towards 0; the floor keeps `theta_0 eps_p / sigma_es` finite).
+    /// Kocks' saturation falls towards 0; the floor keeps `theta_0 eps_p / sigma_es` finite),
+    /// and its reciprocal the ceiling (above the reference rate with the modulus near its
+    /// floor, the saturation's exponent `k T / (g_0es mu b^3)` is large enough to overflow).
     pub const SATURATION_FLOOR: f64 = 1e-6;
 
     /// Largest `alpha`: beyond it `sinh^2(alpha)` makes the closed form lose digits.
@@ -327,10 +329,13 @@ impl MechanicalThresholdStress {
         let exponent = thermal / self.saturation_activation_energy;
         let raw = self.saturation_stress * pow(rate / self.saturation_reference_rate, exponent);
         let floor = Self::SATURATION_FLOOR * self.saturation_stress;
-        let (saturation, d_saturation) = if raw > floor {
-            (raw, raw * exponent / rate)
-        } else {
+        let ceiling = self.saturation_stress / Self::SATURATION_FLOOR;
+        let (saturation, d_saturation) = if raw <= floor {
             (floor, 0.0)
+        } else if raw >= ceiling {
+            (ceiling, 0.0)
+        } else {
+            (raw, raw * exponent / rate)
         };
 
         // Stage-II hardening rate theta_0 and its rate derivative.
@@ -350,7 +355,10 @@ impl MechanicalThresholdStress {
         let Structure { x, dx } = self.structure(e);
         let structure = saturation * x;
         // d(sigma_es x(theta eps / sigma_es))/drate.
-        let d_structure = d_saturation * (x - dx * e) + dx * eps * d_theta;
+        // dx e -> 0 as E grows (dx falls as exp(-E)); E itself may overflow to infinity for a
+        // vanishing saturation, where the structure is saturated (dx = 0).
+        let dx_e = if dx > 0.0 { dx * e } else { 0.0 };
+        let d_structure = d_saturation * (x - dx_e) + dx * eps * d_theta;
 
         let value = self.athermal_stress
             + modulus_ratio
@@ -590,6 +598,46 @@ mod tests {
         );
         let expected = 1.0 - 3.0e9 / (47.7e9 * (libm::exp(180.0 / 298.0) - 1.0));
         assert!((m.modulus_ratio(298.0) / expected - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn extreme_states_keep_a_finite_flow_stress_and_slopes() {
+        // GOAL: beyond the law's range (hot enough for Varshni's modulus to reach its floor,
+        //       rates far above the saturation's reference) the flow stress and its slopes
+        //       stay finite (the fuzzer found the saturation's power overflowing to infinity,
+        //       and E = theta_0 eps / sigma_es overflowing for a vanishing saturation).
+        // SETUP: the fuzzer's case: mu_0 95.9 GPa, D 12.25 GPa, T_0 326 K at 2928 K, rate
+        //        4.3e6 /s against e_es0 4.19e6 /s; copper at 1e-9 /s and 5000 K; a saturation of
+        //        5.4e-299 Pa, where theta_0 eps / sigma_es overflows; strains 0 to 2.
+        // REFERENCE: finite value, strain and rate slopes.
+        let hot = MechanicalThresholdStress {
+            shear_modulus_0: 95.9e9,
+            shear_modulus_drop: 12.25e9,
+            varshni_temperature: 325.6,
+            saturation_reference_rate: 4.19e6,
+            saturation_activation_energy: 2.6,
+            ..bcc_like()
+        };
+        let faint = MechanicalThresholdStress {
+            saturation_stress: 5.4e-299,
+            hardening_a0: 1e10,
+            hardening_a2: 2.5e6,
+            ..bcc_like()
+        };
+        for (m, rate, t) in [
+            (hot, 4.33e6, 2928.0),
+            (hot, 1e9, 2928.0),
+            (MechanicalThresholdStress::COPPER, 1e-9, 5000.0),
+            (faint, 8e7, 44.5),
+        ] {
+            for eps in [0.0, 1e-5, 0.3, 2.0] {
+                let f = m.flow_stress(eps, rate, t);
+                assert!(
+                    f.value.is_finite() && f.d_plastic_strain.is_finite() && f.d_rate.is_finite(),
+                    "{eps} {rate} {t}: {f:?}"
+                );
+            }
+        }
     }
 
     #[test]
