@@ -192,6 +192,7 @@ fn the_concrete_beam_sags_under_its_own_weight_as_beam_theory_says() {
         damping: Some(NodalDamping {
             start_time: 0.0,
             coefficient: 2.0 * euler_bernoulli_frequency(young),
+            start_when_plastic_settled: None,
         }),
         threads: Some(2),
         ..SolverSettings::default()

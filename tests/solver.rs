@@ -202,6 +202,45 @@ fn taylor_final_length_converges_under_mesh_and_time_step_refinement() {
 }
 
 #[test]
+fn a_taylor_run_ends_once_its_shape_has_settled_and_reads_the_full_runs_shape() {
+    // GOAL: the settling criterion (issue 53 item 3) ends a Taylor run early without changing
+    //       what it measures, says so, and an explicit end_time still runs to that time.
+    // SETUP: 4340 JC rod 25.4 x 7.62 mm at 208 m/s, 6 elements across; the default shape
+    //        tolerance (a tenth of 1e-3 L0: 2.5 um); the same rod with end_time = the cap
+    //        (damping start + 40 elastic transits), the fixed end of earlier versions.
+    // REFERENCE: the capped run: the settled run ends before 40 % of the cap (measured 24 % on
+    //        the bundled 208 m/s test), its final length and footprint within the tolerance of
+    //        the capped run's (measured 0.04 um); the capped run ends at the cap, unsettled.
+    let spec = TaylorSpec::new(25.4e-3, 7.62e-3, 208.0, 6);
+    let settings = SolverSettings::default();
+    let (settled, _, _) = spec.run(&Material::STEEL_4340, &settings).unwrap();
+    let cap = spec.end_time_or_cap();
+    let capped_spec = TaylorSpec {
+        end_time: Some(cap),
+        ..spec.clone()
+    };
+    let (capped, _, _) = capped_spec.run(&Material::STEEL_4340, &settings).unwrap();
+    let tolerance = spec.shape_tolerance(&[]);
+    assert!((tolerance - 2.54e-6).abs() < 1e-12, "{tolerance}");
+    assert!(settled.settled && !capped.settled);
+    assert!(
+        settled.ended_at < 0.4 * cap && capped.ended_at >= cap,
+        "settled at {} of the cap {cap}; capped at {}",
+        settled.ended_at,
+        capped.ended_at
+    );
+    for (a, b) in [
+        (settled.final_length, capped.final_length),
+        (settled.footprint_diameter, capped.footprint_diameter),
+    ] {
+        assert!(
+            (a - b).abs() < tolerance,
+            "{a} vs {b} (tolerance {tolerance})"
+        );
+    }
+}
+
+#[test]
 fn results_are_bit_identical_for_one_two_and_three_threads() {
     // GOAL: host results do not depend on the thread count.
     // SETUP: the 343 m/s Taylor rod, 24 elements across (1224 elements, 1300 nodes: 20 element

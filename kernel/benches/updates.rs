@@ -47,7 +47,8 @@ use stoss_kernel::eos::{Eos, Jwl, LinearEos, MieGruneisen, Polynomial, Tabulated
 use stoss_kernel::math::{exp, ln};
 use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::strength::{
-    JohnsonCook, ModifiedJohnsonCook, TwoRateJohnsonCook, ZerilliArmstrong,
+    JohnsonCook, KhanHuangLiang, MechanicalThresholdStress, ModifiedJohnsonCook,
+    PrestonTonksWallace, Strength, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
 use stoss_kernel::{update, Material, MaterialState, RateTreatment, StateFlags, StepInput};
 
@@ -386,6 +387,45 @@ mod block {
     #[divan::bench(args = [RateTreatment::Implicit])]
     fn tjc(bencher: Bencher, treatment: RateTreatment) {
         bench_block(bencher, super::tjc(), treatment);
+    }
+
+    /// A family of issue 50 on 4340's elasticity (the constants only set how far the return
+    /// goes; these families report no bounded curvature, so their returns take safeguarded
+    /// Newton steps).
+    fn on_4340(strength: Strength) -> Material {
+        Material { strength, ..jc() }
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn ptw_tantalum(bencher: Bencher, treatment: RateTreatment) {
+        bench_block(
+            bencher,
+            on_4340(PrestonTonksWallace::TANTALUM.into()),
+            treatment,
+        );
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn khl_illustrative(bencher: Bencher, treatment: RateTreatment) {
+        bench_block(
+            bencher,
+            on_4340(KhanHuangLiang::ILLUSTRATIVE.into()),
+            treatment,
+        );
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn vk_illustrative(bencher: Bencher, treatment: RateTreatment) {
+        bench_block(bencher, on_4340(VoceKocks::ILLUSTRATIVE.into()), treatment);
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn mts_copper(bencher: Bencher, treatment: RateTreatment) {
+        bench_block(
+            bencher,
+            on_4340(MechanicalThresholdStress::COPPER.into()),
+            treatment,
+        );
     }
 }
 

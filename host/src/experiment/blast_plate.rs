@@ -466,6 +466,7 @@ impl BlastPlateSpec {
                 damping: Some(NodalDamping {
                     start_time: self.damping_start,
                     coefficient: self.damping(material),
+                    start_when_plastic_settled: None,
                 }),
                 output_interval: OBSERVATION_INTERVAL,
                 rest_fraction: 0.0,

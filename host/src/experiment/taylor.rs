@@ -1,6 +1,19 @@
 //! Taylor rod-on-anvil: a rod hits a rigid anvil; its final shape is measured. Quantities:
 //! `final_length` (m), `footprint_diameter` (m, at the impact face), `diameter` (m) at
 //! `position` = distance from the impact face in the deformed rod (m).
+//!
+//! **When the shape is final.** The plastic event is over within a few plastic-wave transits;
+//! what follows is elastic ringing, damped by nodal damping from the first output at which the
+//! summed plastic strain grew by less than [`PLASTIC_SETTLE`] of itself over
+//! [`SETTLE_WINDOW_TRANSITS`] transits, at the latest from [`TaylorSpec::damping_start`].
+//! The run stops at the first output at which, over the last [`SETTLE_WINDOW_TRANSITS`]
+//! elastic transits, (1) the rod's length and its footprint diameter each varied by less than
+//! [`SETTLE_FRACTION`] of the recording's smallest uncertainty on a shape quantity (or of
+//! [`DEFAULT_SHAPE_UNCERTAINTY`] times `L0` without one), and (2) the plastic strain summed
+//! over the elements grew by less than [`PLASTIC_SETTLE`] of itself: the measurement has
+//! settled below what the recording can resolve, and no element still deforms plastically.
+//! The cap is the former fixed end, damping start plus 40 transits; an explicit `end_time`
+//! replaces both, and its damping starts at `damping_start` (the former behaviour). The run says which ended it (`ended_at`, `settled` in the summary).
 
 use super::default_temperature;
 use super::{Check, FieldOutput, Outcome, SimulationError};
@@ -10,10 +23,11 @@ use crate::input::InputError;
 use crate::measure::interpolate;
 use crate::mesh::{Grading, HexMesh, QuadMesh};
 use crate::solver::{
-    Amplitude, AxisymmetricModel, AxisymmetricRun, ExplicitRun, HexModel, NodalDamping, RigidWall,
-    SolverError, SolverSettings, VelocityConstraint,
+    Amplitude, AxisymmetricModel, AxisymmetricRun, ExplicitRun, HexModel, NodalDamping,
+    PlasticSettle, RigidWall, Snapshot, SolverError, SolverSettings, VelocityConstraint,
 };
 use serde::{Deserialize, Serialize};
+use std::ops::ControlFlow;
 use stoss_kernel::Material;
 
 /// Quantities a Taylor test records.
@@ -22,6 +36,22 @@ pub const QUANTITIES: &[&str] = &["final_length", "footprint_diameter", "diamete
 fn default_radial() -> usize {
     8
 }
+
+/// Window over which the shape must have settled, in elastic transits `L0 / 5000 m/s` (two
+/// periods of the rod's fundamental longitudinal mode, `2 L0 / c`).
+pub const SETTLE_WINDOW_TRANSITS: f64 = 4.0;
+
+/// The shape has settled when it varies by less than this fraction of the recording's
+/// uncertainty over the window.
+pub const SETTLE_FRACTION: f64 = 0.1;
+
+/// Relative growth of the summed plastic strain over the window below which no element is
+/// still deforming plastically.
+pub const PLASTIC_SETTLE: f64 = 1e-4;
+
+/// Uncertainty of a shape measurement, as a fraction of `L0`, when the run has no recording
+/// to take it from (a caliper's 0.025 mm on a 25 mm rod).
+pub const DEFAULT_SHAPE_UNCERTAINTY: f64 = 1e-3;
 
 /// Geometry, loading and discretisation of a Taylor test.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -47,6 +77,9 @@ pub struct TaylorSpec {
     /// 3D).
     #[serde(default)]
     pub geometry: TaylorGeometry,
+    /// Explicit end time (s) in place of the settling criterion (module documentation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_time: Option<f64>,
 }
 
 /// Which model of the rod a Taylor test runs.
@@ -77,6 +110,7 @@ impl TaylorSpec {
             anvil_friction: 0.0,
             radial_elements,
             geometry: TaylorGeometry::Axisymmetric,
+            end_time: None,
         }
     }
 
@@ -97,6 +131,13 @@ impl TaylorSpec {
             "must be > 0 (m/s)",
         )?;
         check("temperature", self.temperature > 0.0, "must be > 0 (K)")?;
+        if let Some(end) = self.end_time {
+            check(
+                "end_time",
+                end > 0.0 && end.is_finite(),
+                "must be > 0 (s), or left out to end when the shape has settled",
+            )?;
+        }
         check("anvil_friction", self.anvil_friction >= 0.0, "must be >= 0")?;
         check(
             "radial_elements",
@@ -127,10 +168,46 @@ impl TaylorSpec {
         };
         let axial = ((self.length / size).round() as usize).max(4);
         (
-            self.damping_start() + 40.0 * transit(self.length),
+            self.end_time_or_cap(),
             super::undeformed_time_step(size, false),
             section * axial as f64,
         )
+    }
+
+    /// The explicit `end_time`, else the cap of a settling run: damping start plus 40
+    /// elastic transits.
+    pub fn end_time_or_cap(&self) -> f64 {
+        self.end_time
+            .unwrap_or(self.damping_start() + 40.0 * transit(self.length))
+    }
+
+    /// The shape tolerance of the settling criterion for `recording`: [`SETTLE_FRACTION`] of
+    /// its smallest positive uncertainty on a shape quantity, else of
+    /// [`DEFAULT_SHAPE_UNCERTAINTY`] `L0`.
+    pub fn shape_tolerance(&self, recording: &[RecordedPoint]) -> f64 {
+        let smallest = recording
+            .iter()
+            .filter(|p| QUANTITIES.contains(&p.quantity.as_str()) && p.uncertainty > 0.0)
+            .map(|p| p.uncertainty)
+            .fold(f64::INFINITY, f64::min);
+        let uncertainty = if smallest.is_finite() {
+            smallest
+        } else {
+            DEFAULT_SHAPE_UNCERTAINTY * self.length
+        };
+        SETTLE_FRACTION * uncertainty
+    }
+
+    /// The observer that ends a run once its shape has settled (module documentation), fed
+    /// each output's length, footprint radius and summed plastic strain; `None` with an
+    /// explicit `end_time`.
+    fn settling(&self, tolerance: f64) -> Option<Settling> {
+        self.end_time.is_none().then(|| Settling {
+            window: SETTLE_WINDOW_TRANSITS * transit(self.length),
+            tolerance,
+            records: Vec::new(),
+            settled_at: None,
+        })
     }
 
     /// Elements along the rod (square elements).
@@ -143,6 +220,21 @@ impl TaylorSpec {
     /// transits (at least 30 elastic transits, or 1.2 L0/U).
     pub fn damping_start(&self) -> f64 {
         (1.2 * self.length / self.velocity).max(30.0 * transit(self.length))
+    }
+
+    /// Nodal damping (coefficient 2 per elastic transit) from [`Self::damping_start`] at the
+    /// latest, or from the end of the plastic event (the summed plastic strain grew by less than
+    /// [`PLASTIC_SETTLE`] over [`SETTLE_WINDOW_TRANSITS`] transits) when the run ends by
+    /// settling; with an explicit `end_time`, from `damping_start` as before.
+    fn damping(&self) -> NodalDamping {
+        NodalDamping {
+            start_time: self.damping_start(),
+            coefficient: 2.0 / transit(self.length),
+            start_when_plastic_settled: self.end_time.is_none().then(|| PlasticSettle {
+                window: SETTLE_WINDOW_TRANSITS * transit(self.length),
+                fraction: PLASTIC_SETTLE,
+            }),
+        }
     }
 
     /// The finite-element model with `material` for the rod.
@@ -165,7 +257,7 @@ impl TaylorSpec {
         let tracked = (0..self.axial_elements())
             .map(|row| row * self.radial_elements + self.radial_elements - 1)
             .collect();
-        let end_time = self.damping_start() + 40.0 * transit(self.length);
+        let end_time = self.end_time_or_cap();
         AxisymmetricModel {
             mesh,
             materials: vec![*material],
@@ -192,10 +284,7 @@ impl TaylorSpec {
             node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time,
-                damping: Some(NodalDamping {
-                    start_time: self.damping_start(),
-                    coefficient: 2.0 / transit(self.length),
-                }),
+                damping: Some(self.damping()),
                 output_interval: end_time / 200.0,
                 ..settings.clone()
             },
@@ -223,7 +312,7 @@ impl TaylorSpec {
         };
         let constraints = vec![symmetry("x0", 0), symmetry("y0", 1)];
         let initial_velocity = vec![[0.0, 0.0, -self.velocity]; mesh.nodes.len()];
-        let end_time = self.damping_start() + 40.0 * transit(self.length);
+        let end_time = self.end_time_or_cap();
         HexModel {
             mesh,
             materials: vec![*material],
@@ -246,10 +335,7 @@ impl TaylorSpec {
             node_contacts: Vec::new(),
             settings: SolverSettings {
                 end_time,
-                damping: Some(NodalDamping {
-                    start_time: self.damping_start(),
-                    coefficient: 2.0 / transit(self.length),
-                }),
+                damping: Some(self.damping()),
                 output_interval: end_time / 200.0,
                 ..settings.clone()
             },
@@ -257,13 +343,15 @@ impl TaylorSpec {
         }
     }
 
-    /// Run the 3D model; returns the final length and the run.
+    /// Run the 3D model until its shape has settled (default tolerance); returns the final
+    /// length and the run.
     pub fn run_3d(
         &self,
         material: &Material,
         settings: &SolverSettings,
     ) -> Result<(f64, ExplicitRun), SolverError> {
-        let run = self.model_3d(material, settings).run(&mut |_, _| {})?;
+        let model = self.model_3d(material, settings);
+        let (run, _) = self.run_3d_settled(&model, self.shape_tolerance(&[]))?;
         let (low, high) = run
             .positions
             .iter()
@@ -273,15 +361,60 @@ impl TaylorSpec {
         Ok((high - low, run))
     }
 
-    /// Run the model and measure the final shape.
+    /// Run the model until its shape has settled (default tolerance) and measure it.
     pub fn run(
         &self,
         material: &Material,
         settings: &SolverSettings,
     ) -> Result<(TaylorResult, AxisymmetricRun, AxisymmetricModel), SolverError> {
+        self.run_to_tolerance(material, settings, self.shape_tolerance(&[]))
+    }
+
+    /// [`Self::run`] with the settling criterion's shape tolerance given (m).
+    pub fn run_to_tolerance(
+        &self,
+        material: &Material,
+        settings: &SolverSettings,
+        tolerance: f64,
+    ) -> Result<(TaylorResult, AxisymmetricRun, AxisymmetricModel), SolverError> {
         let model = self.model(material, settings);
-        let run = model.run(&mut |_, _| {})?;
-        Ok((TaylorResult::measure(&model.mesh, &run), run, model))
+        let mut settling = self.settling(tolerance);
+        let run = model.run_observed(&mut |snapshot| match settling.as_mut() {
+            Some(settling) => {
+                let (low, high, radius) = snapshot.positions.iter().fold(
+                    (f64::INFINITY, f64::NEG_INFINITY, 0.0f64),
+                    |(lo, hi, r), p| (lo.min(p[1]), hi.max(p[1]), r.max(p[0])),
+                );
+                settling.observe(snapshot, high - low, radius)
+            }
+            None => ControlFlow::Continue(()),
+        })?;
+        let mut result = TaylorResult::measure(&model.mesh, &run);
+        result.ended_at = run.final_time();
+        result.settled = settling.is_some_and(|s| s.settled_at.is_some());
+        Ok((result, run, model))
+    }
+
+    /// Run the 3D model with the settling criterion's shape tolerance `tolerance` (m);
+    /// returns the run and whether it settled.
+    fn run_3d_settled(
+        &self,
+        model: &HexModel,
+        tolerance: f64,
+    ) -> Result<(ExplicitRun, bool), SolverError> {
+        let mut settling = self.settling(tolerance);
+        let run = model.run_observed(&mut |snapshot| match settling.as_mut() {
+            Some(settling) => {
+                let (low, high, radius) = snapshot.positions.iter().fold(
+                    (f64::INFINITY, f64::NEG_INFINITY, 0.0f64),
+                    |(lo, hi, r), p| (lo.min(p[2]), hi.max(p[2]), r.max(libm::hypot(p[0], p[1]))),
+                );
+                settling.observe(snapshot, high - low, radius)
+            }
+            None => ControlFlow::Continue(()),
+        })?;
+        let settled = settling.is_some_and(|s| s.settled_at.is_some());
+        Ok((run, settled))
     }
 
     pub(super) fn simulate(
@@ -293,7 +426,8 @@ impl TaylorSpec {
         if self.geometry == TaylorGeometry::Quarter3d {
             return self.simulate_3d(material, settings, recording);
         }
-        let (result, run, model) = self.run(material, settings)?;
+        let (result, run, model) =
+            self.run_to_tolerance(material, settings, self.shape_tolerance(recording))?;
         Ok(Outcome {
             field_3d: None,
             predicted: Self::predictions(&result, recording),
@@ -325,6 +459,8 @@ impl TaylorSpec {
                 result.diameter_at(0.2 * self.length),
                 "m",
             ),
+            SummaryValue::new("ended_at", result.ended_at, "s"),
+            SummaryValue::new("settled", if result.settled { 1.0 } else { 0.0 }, "1"),
         ]
     }
 
@@ -349,8 +485,10 @@ impl TaylorSpec {
         recording: &[RecordedPoint],
     ) -> Result<Outcome, SimulationError> {
         let model = self.model_3d(material, settings);
-        let run = model.run(&mut |_, _| {})?;
-        let result = TaylorResult::measure_3d(&model.mesh, &run);
+        let (run, settled) = self.run_3d_settled(&model, self.shape_tolerance(recording))?;
+        let mut result = TaylorResult::measure_3d(&model.mesh, &run);
+        result.ended_at = run.final_time();
+        result.settled = settled;
         Ok(Outcome {
             predicted: Self::predictions(&result, recording),
             summary: self.summary(&result),
@@ -379,6 +517,62 @@ pub struct TaylorResult {
     pub footprint_diameter: f64,
     /// Outer profile `(z, radius)` from the impact face, sorted by `z`.
     pub profile: Vec<(f64, f64)>,
+    /// Time at which the shape was read (s).
+    pub ended_at: f64,
+    /// Whether the settling criterion ended the run (else its cap or an explicit `end_time`).
+    pub settled: bool,
+}
+
+/// The settling criterion's record of a run (module documentation).
+struct Settling {
+    /// Window (s).
+    window: f64,
+    /// Shape tolerance (m).
+    tolerance: f64,
+    /// `(time, length, footprint radius, summed plastic strain)` at each output.
+    records: Vec<(f64, f64, f64, f64)>,
+    /// When the criterion was met.
+    settled_at: Option<f64>,
+}
+
+impl Settling {
+    /// Record an output; `Break` once the shape has settled.
+    fn observe(&mut self, snapshot: &Snapshot, length: f64, radius: f64) -> ControlFlow<()> {
+        let plastic: f64 = snapshot
+            .states
+            .iter()
+            .zip(snapshot.eroded)
+            .filter(|(_, gone)| !**gone)
+            .map(|(s, _)| s.plastic_strain)
+            .sum();
+        let time = snapshot.time;
+        self.records.push((time, length, radius, plastic));
+        let start = time - self.window;
+        if start <= 0.0 {
+            return ControlFlow::Continue(());
+        }
+        // The records of the window: from the last output at or before its start.
+        let first = self.records.iter().rposition(|r| r.0 <= start).unwrap_or(0);
+        let window = &self.records[first..];
+        let spread = |value: fn(&(f64, f64, f64, f64)) -> f64| {
+            let (lo, hi) = window
+                .iter()
+                .map(value)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                });
+            hi - lo
+        };
+        let grown = plastic - window[0].3;
+        if spread(|r| r.1) < self.tolerance
+            && 2.0 * spread(|r| r.2) < self.tolerance
+            && grown <= PLASTIC_SETTLE * plastic
+        {
+            self.settled_at = Some(time);
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    }
 }
 
 impl TaylorResult {
@@ -402,6 +596,8 @@ impl TaylorResult {
             final_length: high - low,
             footprint_diameter: 2.0 * footprint,
             profile,
+            ended_at: run.final_time(),
+            settled: false,
         }
     }
 
@@ -442,6 +638,8 @@ impl TaylorResult {
             final_length: high - low,
             footprint_diameter: 2.0 * footprint,
             profile,
+            ended_at: run.final_time(),
+            settled: false,
         }
     }
 

@@ -70,13 +70,28 @@ pub struct RigidWall {
 }
 
 /// Mass-proportional nodal damping, used to bring a structure to rest and read its final
-/// shape (LS-DYNA *DAMPING_GLOBAL): `v <- v (1 - coefficient dt)` from `start_time` on.
+/// shape (LS-DYNA *DAMPING_GLOBAL): `v <- v (1 - coefficient dt)` from `start_time` on, or
+/// from the first output at which the plastic event is over if `start_when_plastic_settled`
+/// says how to tell.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NodalDamping {
-    /// Time at which damping starts (s).
+    /// Time at which damping starts at the latest (s).
     pub start_time: f64,
     /// Damping coefficient (1/s).
     pub coefficient: f64,
+    /// Start earlier, once the plastic deformation has ended.
+    pub start_when_plastic_settled: Option<PlasticSettle>,
+}
+
+/// The plastic event is over at the first output at which the equivalent plastic strain summed
+/// over the (uneroded) elements is positive and has grown by at most `fraction` of itself over
+/// the last `window`: damping from then on removes elastic ringing only.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlasticSettle {
+    /// Window (s).
+    pub window: f64,
+    /// Largest relative growth over the window.
+    pub fraction: f64,
 }
 
 /// A pressure history over a surface, as a function of the initial radius and of time:

@@ -118,6 +118,11 @@ pub(super) struct Run<'m, M, P> {
     next_output: f64,
     steps: usize,
     element_cycles: u64,
+    /// Time from which nodal damping applies: its `start_time`, or earlier once the plastic
+    /// event is over ([`super::super::PlasticSettle`]); infinite without damping.
+    damping_from: f64,
+    /// `(time, summed plastic strain)` at each output while an early damping start is watched.
+    plastic_history: Vec<(f64, f64)>,
 }
 
 impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
@@ -248,6 +253,8 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
             next_output: settings.output_interval,
             steps: 0,
             element_cycles: 0,
+            damping_from: settings.damping.map_or(f64::INFINITY, |d| d.start_time),
+            plastic_history: Vec::new(),
             model,
         })
     }
@@ -268,7 +275,7 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
         self.add_contact_forces(dt_average);
         self.add_pressure_forces()?;
         let damping_factor = match settings.damping {
-            Some(damping) if self.time >= damping.start_time => {
+            Some(damping) if self.time >= self.damping_from => {
                 Some(1.0 - damping.coefficient * self.dt)
             }
             _ => None,
@@ -828,6 +835,7 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
             ));
         }
         settings.progress.report(time, settings.end_time);
+        self.watch_plastic_event(time);
         let decision = observer(&Snapshot {
             time,
             positions: &self.x,
@@ -850,6 +858,43 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
             }
         }
         ControlFlow::Continue(())
+    }
+
+    /// An early damping start: once the plastic event is over (summed plastic strain positive
+    /// and grown by at most the settle fraction over its window), damping applies from `time`.
+    fn watch_plastic_event(&mut self, time: f64) {
+        let Some(settle) = self
+            .model
+            .settings
+            .damping
+            .and_then(|d| d.start_when_plastic_settled)
+        else {
+            return;
+        };
+        if time >= self.damping_from {
+            return;
+        }
+        let plastic: f64 = self
+            .states
+            .iter()
+            .zip(&self.eroded)
+            .filter(|(_, gone)| !**gone)
+            .map(|(s, _)| s.plastic_strain)
+            .sum();
+        self.plastic_history.push((time, plastic));
+        let start = time - settle.window;
+        if start <= 0.0 || plastic <= 0.0 {
+            return;
+        }
+        let earlier = self
+            .plastic_history
+            .iter()
+            .rev()
+            .find(|(t, _)| *t <= start)
+            .map_or(0.0, |p| p.1);
+        if plastic - earlier <= settle.fraction * plastic {
+            self.damping_from = time;
+        }
     }
 
     /// The result: the final state, the balances and histories (the final energy balance
