@@ -222,47 +222,55 @@ impl MechanicalThresholdStress {
                 dx: decay,
             };
         }
-        let sinh = |a: f64| 0.5 * (expm1(a) - expm1(-a));
-        let cosh = |a: f64| 0.5 * (exp(a) + exp(-a));
-        let (s, c) = (sinh(alpha), cosh(alpha));
+        // sinh and cosh of a >= 0 from one expm1 (no cancellation in sinh at small a).
+        let hyperbolic = |a: f64| {
+            let m = expm1(a);
+            let grown = 1.0 + m;
+            (0.5 * (m + m / grown), 0.5 * (grown + 1.0 / grown))
+        };
+        let (s, c) = hyperbolic(alpha);
         let scale = s * c / alpha;
-        // G(y) = scale ln(s / sinh(alpha y)) - s^2 (1 - y) - E, y = 1 - x: decreasing and
-        // convex on (0, 1], G(1) = -E < 0.
-        let residual = |y: f64| scale * ln(s / sinh(alpha * y)) - s * s * (1.0 - y) - e;
+        // At y = 1 - x: sinh(alpha y) and cosh(alpha x) (each from its own argument: the
+        // addition formula would cancel digits at large alpha).
+        let at = |y: f64| (hyperbolic(alpha * y).0, hyperbolic(alpha * (1.0 - y)).1);
+        // G(y) = scale ln(s / sinh(alpha y)) - s^2 (1 - y) - E: decreasing and convex on
+        // (0, 1], G(1) = -E < 0.
+        let residual = |sy: f64, y: f64| scale * ln(s / sy) - s * s * (1.0 - y) - e;
         // sinh(alpha y) ~ alpha y for small y: the asymptotic root.
-        let mut y = s / alpha * exp(-(e + s * s) / scale);
-        if y < 1e-30 {
+        let asymptotic = s / alpha * exp(-(e + s * s) / scale);
+        if asymptotic < 1e-30 {
             // x = 1 - y rounds to 1; the slope dx/dE = sinh(alpha y)/(s cosh(alpha x)).
             return Structure {
                 x: 1.0,
-                dx: alpha * y / (s * c),
+                dx: alpha * asymptotic / (s * c),
             };
         }
+        // Start below the root (G >= 0), where Newton's iterates rise monotonically, at the
+        // larger of two lower bounds of the root: the Voce solution exp(-E)
+        // (tanh(alpha x)/tanh(alpha) >= x, so the structure grows no faster than Voce's) and
+        // the asymptotic root over cosh(alpha) (sinh(alpha y) <= alpha y cosh(alpha) on (0, 1]).
+        let voce = exp(-e);
+        let lower = asymptotic / c;
+        let mut y = if voce > lower { voce } else { lower };
         if y > 1.0 {
             y = 1.0;
         }
-        // Start below the root (G > 0): Newton's iterates from there rise monotonically.
-        let mut g = residual(y);
-        let mut halvings = 0;
-        while (g.is_nan() || g <= 0.0) && halvings < 200 {
-            y *= 0.5;
-            g = residual(y);
-            halvings += 1;
-        }
+        let (mut sy, mut cx) = at(y);
+        let mut g = residual(sy, y);
         for _ in 0..60 {
-            let slope = -s * cosh(alpha * (1.0 - y)) / sinh(alpha * y);
-            let next = y - g / slope;
+            let next = y + g * sy / (s * cx);
             let next = if next > 1.0 { 1.0 } else { next };
             let converged = (next - y).is_nan() || next - y <= 1e-16 * y;
             y = next;
+            (sy, cx) = at(y);
             if converged {
                 break;
             }
-            g = residual(y);
+            g = residual(sy, y);
         }
         Structure {
             x: 1.0 - y,
-            dx: sinh(alpha * y) / (s * cosh(alpha * (1.0 - y))),
+            dx: sy / (s * cx),
         }
     }
 
@@ -618,6 +626,17 @@ mod tests {
             saturation_activation_energy: 2.6,
             ..bcc_like()
         };
+        // E = theta_0 eps / sigma_es near 740, where exp(-E) is subnormal (a Newton start there
+        // crept and lost the root; the fuzzer's third case).
+        let steep = MechanicalThresholdStress {
+            saturation_stress: 1.585e8,
+            saturation_reference_rate: 1.135e7,
+            saturation_activation_energy: 2.34,
+            hardening_a0: 1.8e10,
+            hardening_a2: 1.97e6,
+            hardening_shape: 2.505,
+            ..MechanicalThresholdStress::COPPER
+        };
         let faint = MechanicalThresholdStress {
             saturation_stress: 5.4e-299,
             hardening_a0: 1e10,
@@ -629,8 +648,9 @@ mod tests {
             (hot, 1e9, 2928.0),
             (MechanicalThresholdStress::COPPER, 1e-9, 5000.0),
             (faint, 8e7, 44.5),
+            (steep, 4e6, 280.0),
         ] {
-            for eps in [0.0, 1e-5, 0.3, 2.0] {
+            for eps in [0.0, 1e-5, 0.3, 2.0, 5.152] {
                 let f = m.flow_stress(eps, rate, t);
                 assert!(
                     f.value.is_finite() && f.d_plastic_strain.is_finite() && f.d_rate.is_finite(),
