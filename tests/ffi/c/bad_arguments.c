@@ -295,7 +295,7 @@ int main(void) {
                  STOSS_STATUS_INVALID_PARAMETER, "card too short");
     double wrong[STOSS_CARD_MAX_LENGTH];
     memcpy(wrong, card, sizeof wrong);
-    wrong[0] = 7.0;
+    wrong[0] = (double)(STOSS_LAYOUT_VERSION + 1);
     check_status(stoss_material_from_card(wrong, length, &parsed, message, sizeof message),
                  STOSS_STATUS_BAD_LAYOUT_VERSION, "card with a wrong version");
     wrong[0] = 1.0;
