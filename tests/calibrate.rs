@@ -1963,39 +1963,35 @@ fn a_calibration_is_bounded_by_what_it_would_cost() {
     assert!(checked >= 9, "{checked}");
 }
 
-#[test]
-fn a_preston_tonks_wallace_calibration_recovers_hidden_tantalum_constants_and_writes_its_cards() {
-    // GOAL: a PTW model calibrates like any family (issue 50 item 3): its constants are
-    //       searched by name, the fit reaches the noise, and its cards are written (the
-    //       user-material card and the tabulated flow-stress cards, PTW having no native card).
-    // SETUP: four compression flow curves of fixtures/materials/tantalum-ptw.toml (PTW 2003
-    //        tantalum) at 1e-3, 1 and 1e3 /s (298 K) and 1e3 /s (573 K), plastic strain 0.02 to
-    //        0.2, synthesised with 1 % noise; PTW started 15-25 % off the truth in s0, y0, kappa
-    //        and theta, searched in boxes where every corner is a valid PTW (y0 <= s0); 30
-    //        Bayesian simulations and a least-squares finish of up to 15 iterations, one
-    //        instance.
-    // REFERENCE: the truth (PTW table II: s0 0.012, y0 0.01, kappa 0.6, theta 0.02): the fitted
-    //        curves within 3 % of the noise-free truth at every point, mean chi < 2, every
-    //        constant's truth inside the calibration's linearised 95 % interval, and y0 and
-    //        kappa (which set the rate and temperature dependence of the yield) within 10 %.
-    let folder = temporary("ptw-calibration");
-    let truth = fixtures().join("materials/tantalum-ptw.toml");
+/// Four isothermal compression flow curves of the material file `truth` (at 1e-3, 1 and 1e3
+/// /s at 298 K, and 1e3 /s at 573 K) at the plastic strains `strains`, synthesised by `stoss
+/// synthesize` with 1 % noise into `folder`, each curve with its own noise seed (one seed for
+/// all would repeat the same relative errors at the same strains in every curve, a bias no
+/// interval accounts for); returns the campaign's `[[experiments]]` entries.
+fn synthetic_compression_curves(
+    folder: &Path,
+    truth: &Path,
+    metal: &str,
+    strains: &[f64],
+) -> String {
     let conditions = [
         ("slow", 1e-3, 298.0),
         ("quasi", 1.0, 298.0),
         ("fast", 1e3, 298.0),
         ("hot", 1e3, 573.0),
     ];
-    let points: String = (1..=10)
-        .map(|k| format!("true_stress,{},4e8,4e6\n", 0.02 * f64::from(k)))
+    // Placeholder points: `synthesize` reads their quantities and positions.
+    let points: String = strains
+        .iter()
+        .map(|strain| format!("true_stress,{strain},1e8,1e6\n"))
         .collect();
     let mut experiments = String::new();
-    for (name, rate, temperature) in conditions {
+    for (index, (name, rate, temperature)) in conditions.into_iter().enumerate() {
         let write = |recording: &str| {
             std::fs::write(
                 folder.join(format!("{name}.toml")),
                 format!(
-                    "name = \"tantalum compression {rate} /s, {temperature} K\"\n\
+                    "name = \"{metal} compression {rate} /s, {temperature} K\"\n\
                      recording = \"{recording}\"\n\n[setup]\nkind = \"uniaxial\"\n\
                      strain_rate = {rate}\ntemperature = {temperature}\ncompression = true\n\
                      isothermal = true\n"
@@ -2013,8 +2009,9 @@ fn a_preston_tonks_wallace_calibration_recovers_hidden_tantalum_constants_and_wr
             .arg("synthesize")
             .arg(folder.join(format!("{name}.toml")))
             .arg("--material")
-            .arg(&truth)
-            .args(["--noise", "0.01", "--seed", "7", "--quiet", "--output"])
+            .arg(truth)
+            .args(["--noise", "0.01", "--seed", &(7 + index).to_string()])
+            .args(["--quiet", "--output"])
             .arg(folder.join(format!("{name}.csv")))
             .output()
             .unwrap();
@@ -2026,6 +2023,28 @@ fn a_preston_tonks_wallace_calibration_recovers_hidden_tantalum_constants_and_wr
         write(&format!("{name}.csv"));
         experiments.push_str(&format!("[[experiments]]\nfile = \"{name}.toml\"\n"));
     }
+    experiments
+}
+
+#[test]
+fn a_preston_tonks_wallace_calibration_recovers_hidden_tantalum_constants_and_writes_its_cards() {
+    // GOAL: a PTW model calibrates like any family (issue 50 item 3): its constants are
+    //       searched by name, the fit reaches the noise, and its cards are written (the
+    //       user-material card and the tabulated flow-stress cards, PTW having no native card).
+    // SETUP: four compression flow curves of fixtures/materials/tantalum-ptw.toml (PTW 2003
+    //        tantalum) at 1e-3, 1 and 1e3 /s (298 K) and 1e3 /s (573 K), plastic strain 0.02 to
+    //        0.2, synthesised with 1 % noise (independent per curve); PTW started 15-25 % off
+    //        the truth in s0, y0, kappa and theta, searched in boxes where every corner is a
+    //        valid PTW (y0 <= s0); 30 Bayesian simulations and a least-squares finish of up to
+    //        15 iterations, one instance.
+    // REFERENCE: the truth (PTW table II: s0 0.012, y0 0.01, kappa 0.6, theta 0.02): the fitted
+    //        curves within 3 % of the noise-free truth at every point, mean chi < 2, every
+    //        constant's truth inside the calibration's linearised 95 % interval, and y0 and
+    //        kappa (which set the rate and temperature dependence of the yield) within 10 %.
+    let folder = temporary("ptw-calibration");
+    let truth = fixtures().join("materials/tantalum-ptw.toml");
+    let strains: Vec<f64> = (1..=10).map(|k| 0.02 * f64::from(k)).collect();
+    let experiments = synthetic_compression_curves(&folder, &truth, "tantalum", &strains);
     let text = std::fs::read_to_string(&truth).unwrap();
     let strength = &text[text.find("[strength]").unwrap()..text.find("[heating]").unwrap()];
     let started = strength
@@ -2143,66 +2162,19 @@ fn a_mechanical_threshold_stress_calibration_recovers_hidden_copper_constants() 
     //       the tabulated flow-stress cards).
     // SETUP: four compression flow curves of fixtures/materials/ofhc-copper-mts.toml
     //        (Follansbee & Kocks 1988 copper) at 1e-3, 1 and 1e3 /s (298 K) and 1e3 /s (573
-    //        K), ten plastic strains from 0.01 to 0.5, synthesised with 1 % noise (independent per curve); MTS started 15-25 %
-    //        off the truth in sigma_a, g_0e, sigma_es0 and a_0; 30 Bayesian simulations and a
-    //        least-squares finish of up to 15 iterations, one instance.
+    //        K), ten plastic strains from 0.01 to 0.5, synthesised with 1 % noise (independent
+    //        per curve); MTS started 15-25 % off the truth in sigma_a, g_0e, sigma_es0 and a_0;
+    //        30 Bayesian simulations and a least-squares finish of up to 15 iterations, one
+    //        instance.
     // REFERENCE: the truth (sigma_a 40 MPa, g_0e 1.6, sigma_es0 770 MPa, a_0 2390 MPa): the
     //        fitted curves within 3 % of the noise-free truth at every point, mean chi < 2,
     //        every constant's truth inside the calibration's linearised 95 % interval.
     let folder = temporary("mts-calibration");
     let truth = fixtures().join("materials/ofhc-copper-mts.toml");
-    let conditions = [
-        ("slow", 1e-3, 298.0),
-        ("quasi", 1.0, 298.0),
-        ("fast", 1e3, 298.0),
-        ("hot", 1e3, 573.0),
-    ];
     // From near the yield (sigma_e starts at 0, so the first points fix sigma_a apart from
     // a_0) to where the structure approaches its saturation.
-    let points: String = [0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5]
-        .iter()
-        .map(|strain| format!("true_stress,{strain},2e8,2e6\n"))
-        .collect();
-    let mut experiments = String::new();
-    // Each curve its own noise seed: one seed for all four would repeat the same relative
-    // errors at the same strains in every curve, a bias no interval accounts for.
-    for (index, (name, rate, temperature)) in conditions.into_iter().enumerate() {
-        let write = |recording: &str| {
-            std::fs::write(
-                folder.join(format!("{name}.toml")),
-                format!(
-                    "name = \"copper compression {rate} /s, {temperature} K\"\n\
-                     recording = \"{recording}\"\n\n[setup]\nkind = \"uniaxial\"\n\
-                     strain_rate = {rate}\ntemperature = {temperature}\ncompression = true\n\
-                     isothermal = true\n"
-                ),
-            )
-            .unwrap();
-        };
-        std::fs::write(
-            folder.join(format!("{name}-points.csv")),
-            format!("quantity,position,value,uncertainty\n{points}"),
-        )
-        .unwrap();
-        write(&format!("{name}-points.csv"));
-        let synthesised = stoss()
-            .arg("synthesize")
-            .arg(folder.join(format!("{name}.toml")))
-            .arg("--material")
-            .arg(&truth)
-            .args(["--noise", "0.01", "--seed", &(7 + index).to_string()])
-            .args(["--quiet", "--output"])
-            .arg(folder.join(format!("{name}.csv")))
-            .output()
-            .unwrap();
-        assert!(
-            synthesised.status.success(),
-            "{}",
-            String::from_utf8_lossy(&synthesised.stderr)
-        );
-        write(&format!("{name}.csv"));
-        experiments.push_str(&format!("[[experiments]]\nfile = \"{name}.toml\"\n"));
-    }
+    let strains = [0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5];
+    let experiments = synthetic_compression_curves(&folder, &truth, "copper", &strains);
     let text = std::fs::read_to_string(&truth).unwrap();
     let strength = &text[text.find("[strength]").unwrap()..text.find("[heating]").unwrap()];
     let started = strength
