@@ -101,6 +101,7 @@ fn cases() -> Vec<Case> {
         ("temperature", true),
         ("anvil_friction", false),
         ("radial_elements", false),
+        ("end_time", true),
     ] {
         let mut values = vec!["-1.0", "inf", "nan", "\"abc\"", "-inf"];
         if dimensioned {

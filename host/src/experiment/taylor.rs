@@ -145,11 +145,16 @@ impl TaylorSpec {
             "must be in 2..=200",
         )?;
         // A length in mm entered as m is a runaway, not a test: refuse it up front. The error
-        // names the field that makes the run too large: `radial_elements` if the rod would fit
-        // at the default mesh, else `length`.
+        // names the field that makes the run too large: `end_time` if the run would fit at the
+        // settling cap, else `radial_elements` if the rod would fit at the default mesh, else
+        // `length`.
         let (end_time, step, elements) = self.run_size(self.radial_elements);
         let (end, default_step, default_elements) = self.run_size(default_radial());
-        let field = if super::within_run_budget(end, default_step, default_elements) {
+        let field = if end_time > self.settling_cap()
+            && super::within_run_budget(self.settling_cap(), step, elements)
+        {
+            "end_time"
+        } else if super::within_run_budget(end, default_step, default_elements) {
             "radial_elements"
         } else {
             "length"
@@ -174,11 +179,14 @@ impl TaylorSpec {
         )
     }
 
-    /// The explicit `end_time`, else the cap of a settling run: damping start plus 40
-    /// elastic transits.
+    /// The explicit `end_time`, else [`Self::settling_cap`].
     pub fn end_time_or_cap(&self) -> f64 {
-        self.end_time
-            .unwrap_or(self.damping_start() + 40.0 * transit(self.length))
+        self.end_time.unwrap_or(self.settling_cap())
+    }
+
+    /// The latest end of a settling run: damping start plus 40 elastic transits.
+    pub fn settling_cap(&self) -> f64 {
+        self.damping_start() + 40.0 * transit(self.length)
     }
 
     /// The shape tolerance of the settling criterion for `recording`: [`SETTLE_FRACTION`] of
