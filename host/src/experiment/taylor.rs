@@ -388,13 +388,7 @@ impl TaylorSpec {
         let model = self.model(material, settings);
         let mut settling = self.settling(tolerance);
         let run = model.run_observed(&mut |snapshot| match settling.as_mut() {
-            Some(settling) => {
-                let (low, high, radius) = snapshot.positions.iter().fold(
-                    (f64::INFINITY, f64::NEG_INFINITY, 0.0f64),
-                    |(lo, hi, r), p| (lo.min(p[1]), hi.max(p[1]), r.max(p[0])),
-                );
-                settling.observe(snapshot, high - low, radius)
-            }
+            Some(settling) => settling.observe_rod(snapshot, 1, |p| p[0]),
             None => ControlFlow::Continue(()),
         })?;
         let mut result = TaylorResult::measure(&model.mesh, &run);
@@ -412,13 +406,7 @@ impl TaylorSpec {
     ) -> Result<(ExplicitRun, bool), SolverError> {
         let mut settling = self.settling(tolerance);
         let run = model.run_observed(&mut |snapshot| match settling.as_mut() {
-            Some(settling) => {
-                let (low, high, radius) = snapshot.positions.iter().fold(
-                    (f64::INFINITY, f64::NEG_INFINITY, 0.0f64),
-                    |(lo, hi, r), p| (lo.min(p[2]), hi.max(p[2]), r.max(libm::hypot(p[0], p[1]))),
-                );
-                settling.observe(snapshot, high - low, radius)
-            }
+            Some(settling) => settling.observe_rod(snapshot, 2, |p| libm::hypot(p[0], p[1])),
             None => ControlFlow::Continue(()),
         })?;
         let settled = settling.is_some_and(|s| s.settled_at.is_some());
@@ -544,7 +532,22 @@ struct Settling {
 }
 
 impl Settling {
-    /// Record an output; `Break` once the shape has settled.
+    /// Record an output of a rod whose axis is coordinate `axial` and whose nodes lie at
+    /// `radius(position)` from it; `Break` once the shape has settled.
+    fn observe_rod(
+        &mut self,
+        snapshot: &Snapshot,
+        axial: usize,
+        radius: fn(&[f64; 3]) -> f64,
+    ) -> ControlFlow<()> {
+        let (low, high, widest) = snapshot.positions.iter().fold(
+            (f64::INFINITY, f64::NEG_INFINITY, 0.0f64),
+            |(lo, hi, r), p| (lo.min(p[axial]), hi.max(p[axial]), r.max(radius(p))),
+        );
+        self.observe(snapshot, high - low, widest)
+    }
+
+    /// Record an output's rod length and footprint radius; `Break` once the shape has settled.
     fn observe(&mut self, snapshot: &Snapshot, length: f64, radius: f64) -> ControlFlow<()> {
         let plastic: f64 = snapshot
             .states
