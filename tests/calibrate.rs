@@ -2026,6 +2026,106 @@ fn synthetic_compression_curves(
     experiments
 }
 
+/// Calibrate `folder/campaign.toml` (30 Bayesian simulations, a least-squares finish of up
+/// to 15 iterations, one instance) and check that it recovered the material file `truth`:
+/// every fitted constant's truth (`truths`, every fitted constant named) inside the
+/// calibration's own 95 % interval, the fitted curves within 3 % of the noise-free truth at
+/// every point, mean chi below 2, and the user-material and tabulated cards written. Returns
+/// the selected constants.
+fn calibrate_and_check_recovery(
+    folder: &Path,
+    truth: &Path,
+    truths: &[(&str, f64)],
+) -> serde_json::Value {
+    let output = folder.join("run");
+    let calibrated = stoss()
+        .arg("calibrate")
+        .arg(folder.join("campaign.toml"))
+        .args(one_instance("30", "0"))
+        .args(["--least-squares", "15", "--quiet", "--output"])
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert!(
+        calibrated.status.success(),
+        "{}",
+        String::from_utf8_lossy(&calibrated.stderr)
+    );
+    let constants = selected_constants(&output);
+    let value = |name: &str| {
+        constants[name]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{name} in {constants}"))
+    };
+    let campaign = Campaign::load(&folder.join("campaign.toml")).unwrap();
+    let space = campaign.space(&campaign.file.models[0]);
+    let names: Vec<String> = space.names.clone();
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(output.join("report/result.json")).unwrap())
+            .unwrap();
+    let halves = &result[0]["uncertainty"]["half_width_95"];
+    let truth_of = |name: &str| {
+        truths
+            .iter()
+            .find(|(n, _)| *n == name)
+            .unwrap_or_else(|| panic!("unexpected constant {name}"))
+            .1
+    };
+    for (k, name) in names.iter().enumerate() {
+        let half = halves[k].as_f64().unwrap();
+        eprintln!(
+            "{name}: {} +- {half} (truth {})",
+            value(name),
+            truth_of(name)
+        );
+    }
+    for (k, name) in names.iter().enumerate() {
+        let (half, truth_value) = (halves[k].as_f64().unwrap(), truth_of(name));
+        assert!(
+            (value(name) - truth_value).abs() <= half,
+            "{name}: {} +- {half} misses the truth {truth_value}",
+            value(name)
+        );
+    }
+    let values: Vec<f64> = names.iter().map(|n| value(n)).collect();
+    let (_, fitted) = space.material(&campaign.base, &values).unwrap();
+    let (_, truth_material) = material::load(truth).unwrap();
+    let mut chi = 0.0;
+    for experiment in &campaign.experiments {
+        let settings = SolverSettings::default();
+        let a = experiment.simulate(&fitted, &settings).unwrap().predicted;
+        let b = experiment
+            .simulate(&truth_material.into(), &settings)
+            .unwrap()
+            .predicted;
+        for ((x, y), point) in a.iter().zip(&b).zip(&experiment.recording) {
+            assert!(
+                (x / y - 1.0).abs() < 0.03,
+                "{}: {x} vs truth {y}",
+                experiment.file.name
+            );
+            chi += ((x - point.value) / point.uncertainty).powi(2);
+        }
+    }
+    let n: usize = campaign.experiments.iter().map(|e| e.recording.len()).sum();
+    assert!(
+        (chi / n as f64).sqrt() < 2.0,
+        "chi {}",
+        (chi / n as f64).sqrt()
+    );
+    let cards: Vec<String> = std::fs::read_dir(output.join("report/cards"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    for suffix in ["-umat.k", "-mat224.k", "-plastic.inp"] {
+        assert!(
+            cards.iter().any(|c| c.ends_with(suffix)),
+            "no {suffix} card in {cards:?}"
+        );
+    }
+    constants
+}
+
 #[test]
 fn a_preston_tonks_wallace_calibration_recovers_hidden_tantalum_constants_and_writes_its_cards() {
     // GOAL: a PTW model calibrates like any family (issue 50 item 3): its constants are
@@ -2064,91 +2164,16 @@ fn a_preston_tonks_wallace_calibration_recovers_hidden_tantalum_constants_and_wr
         ),
     )
     .unwrap();
-    let output = folder.join("run");
-    let calibrated = stoss()
-        .arg("calibrate")
-        .arg(folder.join("campaign.toml"))
-        .args(one_instance("30", "0"))
-        .args(["--least-squares", "15", "--quiet", "--output"])
-        .arg(&output)
-        .output()
-        .unwrap();
-    assert!(
-        calibrated.status.success(),
-        "{}",
-        String::from_utf8_lossy(&calibrated.stderr)
+    let constants = calibrate_and_check_recovery(
+        &folder,
+        &truth,
+        &[("s0", 0.012), ("y0", 0.01), ("kappa", 0.6), ("theta", 0.02)],
     );
-    let constants = selected_constants(&output);
-    let value = |name: &str| {
-        constants[name]
-            .as_f64()
-            .unwrap_or_else(|| panic!("{name} in {constants}"))
-    };
     for (name, truth_value) in [("y0", 0.01), ("kappa", 0.6)] {
+        let value = constants[name].as_f64().unwrap();
         assert!(
-            (value(name) / truth_value - 1.0).abs() < 0.1,
-            "{name} {} against the truth {truth_value}",
-            value(name)
-        );
-    }
-    let campaign = Campaign::load(&folder.join("campaign.toml")).unwrap();
-    let space = campaign.space(&campaign.file.models[0]);
-    let names: Vec<String> = space.names.clone();
-    // Every fitted constant's truth inside the calibration's own 95 % interval.
-    let result: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(output.join("report/result.json")).unwrap())
-            .unwrap();
-    let halves = &result[0]["uncertainty"]["half_width_95"];
-    for (k, name) in names.iter().enumerate() {
-        let truth_value = match name.as_str() {
-            "s0" => 0.012,
-            "y0" => 0.01,
-            "kappa" => 0.6,
-            "theta" => 0.02,
-            other => panic!("unexpected constant {other}"),
-        };
-        let half = halves[k].as_f64().unwrap();
-        eprintln!("{name}: {} +- {half} (truth {truth_value})", value(name));
-        assert!(
-            (value(name) - truth_value).abs() <= half,
-            "{name}: {} +- {half} misses the truth {truth_value}",
-            value(name)
-        );
-    }
-    let values: Vec<f64> = names.iter().map(|n| value(n)).collect();
-    let (_, fitted) = space.material(&campaign.base, &values).unwrap();
-    let (_, truth_material) = material::load(&truth).unwrap();
-    let mut chi = 0.0;
-    for experiment in &campaign.experiments {
-        let settings = SolverSettings::default();
-        let a = experiment.simulate(&fitted, &settings).unwrap().predicted;
-        let b = experiment
-            .simulate(&truth_material.into(), &settings)
-            .unwrap()
-            .predicted;
-        for ((x, y), point) in a.iter().zip(&b).zip(&experiment.recording) {
-            assert!(
-                (x / y - 1.0).abs() < 0.03,
-                "{}: {x} vs truth {y}",
-                experiment.file.name
-            );
-            chi += ((x - point.value) / point.uncertainty).powi(2);
-        }
-    }
-    let n: usize = campaign.experiments.iter().map(|e| e.recording.len()).sum();
-    assert!(
-        (chi / n as f64).sqrt() < 2.0,
-        "chi {}",
-        (chi / n as f64).sqrt()
-    );
-    let cards: Vec<String> = std::fs::read_dir(output.join("report/cards"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    for suffix in ["-umat.k", "-mat224.k", "-plastic.inp"] {
-        assert!(
-            cards.iter().any(|c| c.ends_with(suffix)),
-            "no {suffix} card in {cards:?}"
+            (value / truth_value - 1.0).abs() < 0.1,
+            "{name} {value} against the truth {truth_value}"
         );
     }
     std::fs::remove_dir_all(&folder).unwrap();
@@ -2208,94 +2233,15 @@ fn a_mechanical_threshold_stress_calibration_recovers_hidden_copper_constants() 
         ),
     )
     .unwrap();
-    let output = folder.join("run");
-    let calibrated = stoss()
-        .arg("calibrate")
-        .arg(folder.join("campaign.toml"))
-        .args(one_instance("30", "0"))
-        .args(["--least-squares", "15", "--quiet", "--output"])
-        .arg(&output)
-        .output()
-        .unwrap();
-    assert!(
-        calibrated.status.success(),
-        "{}",
-        String::from_utf8_lossy(&calibrated.stderr)
+    calibrate_and_check_recovery(
+        &folder,
+        &truth,
+        &[
+            ("athermal_stress", 40.0e6),
+            ("structure_activation_energy", 1.6),
+            ("saturation_stress", 770.0e6),
+            ("hardening_a0", 2390.0e6),
+        ],
     );
-    let constants = selected_constants(&output);
-    let value = |name: &str| {
-        constants[name]
-            .as_f64()
-            .unwrap_or_else(|| panic!("{name} in {constants}"))
-    };
-    let campaign = Campaign::load(&folder.join("campaign.toml")).unwrap();
-    let space = campaign.space(&campaign.file.models[0]);
-    let names: Vec<String> = space.names.clone();
-    let result: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(output.join("report/result.json")).unwrap())
-            .unwrap();
-    let halves = &result[0]["uncertainty"]["half_width_95"];
-    for (k, name) in names.iter().enumerate() {
-        let truth_value = match name.as_str() {
-            "athermal_stress" => 40.0e6,
-            "structure_activation_energy" => 1.6,
-            "saturation_stress" => 770.0e6,
-            "hardening_a0" => 2390.0e6,
-            other => panic!("unexpected constant {other}"),
-        };
-        let half = halves[k].as_f64().unwrap();
-        eprintln!("{name}: {} +- {half} (truth {truth_value})", value(name));
-    }
-    for (k, name) in names.iter().enumerate() {
-        let truth_value = match name.as_str() {
-            "athermal_stress" => 40.0e6,
-            "structure_activation_energy" => 1.6,
-            "saturation_stress" => 770.0e6,
-            "hardening_a0" => 2390.0e6,
-            other => panic!("unexpected constant {other}"),
-        };
-        let half = halves[k].as_f64().unwrap();
-        assert!(
-            (value(name) - truth_value).abs() <= half,
-            "{name}: {} +- {half} misses the truth {truth_value}",
-            value(name)
-        );
-    }
-    let values: Vec<f64> = names.iter().map(|n| value(n)).collect();
-    let (_, fitted) = space.material(&campaign.base, &values).unwrap();
-    let (_, truth_material) = material::load(&truth).unwrap();
-    let mut chi = 0.0;
-    for experiment in &campaign.experiments {
-        let settings = SolverSettings::default();
-        let a = experiment.simulate(&fitted, &settings).unwrap().predicted;
-        let b = experiment
-            .simulate(&truth_material.into(), &settings)
-            .unwrap()
-            .predicted;
-        for ((x, y), point) in a.iter().zip(&b).zip(&experiment.recording) {
-            assert!(
-                (x / y - 1.0).abs() < 0.03,
-                "{}: {x} vs truth {y}",
-                experiment.file.name
-            );
-            chi += ((x - point.value) / point.uncertainty).powi(2);
-        }
-    }
-    let n: usize = campaign.experiments.iter().map(|e| e.recording.len()).sum();
-    assert!(
-        (chi / n as f64).sqrt() < 2.0,
-        "chi {}",
-        (chi / n as f64).sqrt()
-    );
-    let cards: Vec<String> = std::fs::read_dir(output.join("report/cards"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    for suffix in ["-umat.k", "-mat224.k", "-plastic.inp"] {
-        assert!(
-            cards.iter().any(|c| c.ends_with(suffix)),
-            "no {suffix} card in {cards:?}"
-        );
-    }
     std::fs::remove_dir_all(&folder).unwrap();
 }
