@@ -294,7 +294,10 @@ fn families(context: Context) -> Vec<Family> {
                       thermally activated parts of a threshold stress scaled by the shear \
                       modulus, the structure's part hardening towards a saturation that rises \
                       with rate and falls with temperature",
-            strength: StrengthSpec::MechanicalThresholdStress(mts_start(shear_modulus)),
+            strength: StrengthSpec::MechanicalThresholdStress(mts_start(
+                shear_modulus,
+                reference_temperature,
+            )),
             fitted: &[
                 "athermal_stress",
                 "intrinsic_stress",
@@ -308,11 +311,12 @@ fn families(context: Context) -> Vec<Family> {
     ]
 }
 
-/// The MTS family's start for a material of room-temperature shear modulus `shear_modulus`
-/// (see the module documentation).
-fn mts_start(shear_modulus: f64) -> MechanicalThresholdStress {
+/// The MTS family's start for a material whose shear modulus is `shear_modulus` at the
+/// current model's reference temperature (see the module documentation).
+fn mts_start(shear_modulus: f64, reference_temperature: f64) -> MechanicalThresholdStress {
     let copper = MechanicalThresholdStress::COPPER;
-    let scale = shear_modulus / (copper.shear_modulus_0 * copper.modulus_ratio(298.0));
+    let scale =
+        shear_modulus / (copper.shear_modulus_0 * copper.modulus_ratio(reference_temperature));
     let (g, e, p, q) = MechanicalThresholdStress::BCC_INTRINSIC_SHAPE;
     MechanicalThresholdStress {
         intrinsic_activation_energy: g,
