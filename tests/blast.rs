@@ -263,8 +263,8 @@ mod plate_support {
             impulse_scale: 1.0,
             damping_start: 2.0e-4,
             damping_coefficient: None,
-            end_time: 1.5e-3,
-            steady_tolerance: 1.0e-5,
+            end_time: Some(1.5e-3),
+            steady_tolerance: Some(1.0e-5),
             load_cache: None,
             cache_folder: Some(cache_folder.to_path_buf()),
         }
