@@ -118,6 +118,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         let coefficient = self.settings.hourglass_coefficient;
         (0..self.grid.cell_count())
             .into_par_iter()
+            .with_max_len(super::CELLS_PER_TASK)
             .map(|c| {
                 let (i, j) = (c % cells_r, c / cells_r);
                 let volume = self.cell_volume(i);
@@ -209,7 +210,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             v[0] += dt * f[0] / m;
             v[1] += dt * f[1] / m;
         });
-        let hourglass: f64 = forces.iter().map(|f| f.1).sum();
+        let hourglass = super::ordered_sum(forces.len(), |c| forces[c].1);
         // A wall node was at rest (in the constrained direction) and stays so: the wall's
         // reaction does no work, and the velocity the step gave it is not kinetic energy.
         apply_walls(self);
@@ -329,6 +330,7 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
         .zip(s.viscous_pressure.par_iter_mut())
         .zip(s.mass.par_chunks(MAX_MATERIALS))
         .enumerate()
+        .with_max_len(super::CELLS_PER_TASK)
         .map(|(c, ((((states, volumes), waves), q), masses))| {
             let (i, j) = (c % cells_r, c / cells_r);
             let change = fluxes.r[j * nodes_r + i + 1] - fluxes.r[j * nodes_r + i]

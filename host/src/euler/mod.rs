@@ -25,7 +25,7 @@
 //! tension.
 //!
 //! Cells and nodes are updated in parallel with no reductions other than exact maxima and
-//! sums in a fixed order, so results do not depend on the thread count.
+//! sums in a fixed order ([`ordered_sum`]), so results do not depend on the thread count.
 
 pub mod closure;
 pub mod interface;
@@ -35,6 +35,28 @@ pub mod remap;
 use crate::blast::euler::{Geometry, Grid};
 use crate::solver::BulkViscosity;
 use stoss_kernel::{MaterialState, PointModel, StepInput};
+
+/// Largest number of cells (or faces) in one parallel task of a cell loop: small enough that
+/// a thread finishing its share of void cells takes over part of the material cells' work.
+const CELLS_PER_TASK: usize = 4096;
+
+/// Terms per partial sum of [`ordered_sum`].
+const SUM_CHUNK: usize = 4096;
+
+/// `sum_{i < count} term(i)`, computed in parallel as partial sums over fixed chunks of
+/// [`SUM_CHUNK`] terms added in chunk order: the same bits for any thread count.
+pub fn ordered_sum(count: usize, term: impl Fn(usize) -> f64 + Sync) -> f64 {
+    use rayon::prelude::*;
+    let partial: Vec<f64> = (0..count.div_ceil(SUM_CHUNK))
+        .into_par_iter()
+        .map(|chunk| {
+            (chunk * SUM_CHUNK..((chunk + 1) * SUM_CHUNK).min(count))
+                .map(&term)
+                .sum::<f64>()
+        })
+        .collect();
+    partial.iter().sum()
+}
 
 /// Most materials a model may hold (besides void).
 pub const MAX_MATERIALS: usize = 3;
@@ -370,26 +392,26 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     /// Kinetic energy of the nodes (J, whole body).
     pub fn kinetic_energy(&self) -> f64 {
         let masses = self.node_masses();
-        let sum: f64 = masses
-            .iter()
-            .zip(&self.velocity)
-            .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
-            .sum();
+        let sum = ordered_sum(masses.len(), |n| {
+            let v = self.velocity[n];
+            0.5 * masses[n] * (v[0] * v[0] + v[1] * v[1])
+        });
         sum * self.body_factor()
     }
 
     /// Internal energy of every material (J, whole body).
     pub fn internal_energy(&self) -> f64 {
-        let mut sum = 0.0;
-        for c in 0..self.grid.cell_count() {
+        let sum = ordered_sum(self.grid.cell_count(), |c| {
+            let mut cell = 0.0;
             for (k, material) in self.materials.iter().enumerate() {
                 let m = self.mass[c * MAX_MATERIALS + k];
                 if m > 0.0 {
-                    sum += m / material.model.density()
+                    cell += m / material.model.density()
                         * self.state[c * MAX_MATERIALS + k].internal_energy;
                 }
             }
-        }
+            cell
+        });
         sum * self.body_factor()
     }
 
@@ -691,23 +713,27 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     }
 
     fn check_finite(&self) -> Result<(), EulerError> {
+        use rayon::prelude::*;
         let cells_r = self.grid.cells_r;
-        for c in 0..self.grid.cell_count() {
-            let bad = (0..self.materials.len()).any(|k| {
-                let s = &self.state[c * MAX_MATERIALS + k];
-                !(self.mass[c * MAX_MATERIALS + k].is_finite() && s.is_finite())
-            }) || !self.volume[c * MAX_PHASES..(c + 1) * MAX_PHASES]
-                .iter()
-                .all(|v| v.is_finite());
-            if bad {
-                return Err(self.non_finite(c % cells_r, c / cells_r));
-            }
+        // The first non-finite cell in index order, whatever the threads.
+        let first_bad = (0..self.grid.cell_count())
+            .into_par_iter()
+            .position_first(|c| {
+                (0..self.materials.len()).any(|k| {
+                    let s = &self.state[c * MAX_MATERIALS + k];
+                    !(self.mass[c * MAX_MATERIALS + k].is_finite() && s.is_finite())
+                }) || !self.volume[c * MAX_PHASES..(c + 1) * MAX_PHASES]
+                    .iter()
+                    .all(|v| v.is_finite())
+            });
+        if let Some(c) = first_bad {
+            return Err(self.non_finite(c % cells_r, c / cells_r));
         }
         let nr = self.nodes_r();
         if let Some(n) = self
             .velocity
-            .iter()
-            .position(|v| !(v[0].is_finite() && v[1].is_finite()))
+            .par_iter()
+            .position_first(|v| !(v[0].is_finite() && v[1].is_finite()))
         {
             let (i, j) = (
                 (n % nr).min(cells_r - 1),

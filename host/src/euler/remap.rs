@@ -166,6 +166,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         let mixed: Vec<usize> = (0..single.len()).filter(|&c| single[c] == MIXED).collect();
         let cells: Vec<Reconstruction> = mixed
             .par_iter()
+            .with_max_len(16)
             .map(|&c| {
                 let mut r = Reconstruction {
                     phases: [0; MAX_PHASES],
@@ -426,6 +427,7 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
     transfers
         .par_iter_mut()
         .enumerate()
+        .with_max_len(super::CELLS_PER_TASK)
         .for_each(|(f, t)| match face_cells(f) {
             (Some(low), Some(high), swept) => {
                 solver.transfer(&reconstruction, direction, (low, high, swept), t)
@@ -458,6 +460,7 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
         .zip(s.state.par_chunks_mut(MAX_MATERIALS))
         .zip(s.wave_speed.par_chunks_mut(MAX_MATERIALS))
         .enumerate()
+        .with_max_len(super::CELLS_PER_TASK)
         .for_each(|(c, (((volumes, masses), states), waves))| {
             let (below, above) = faces_of(c);
             let faces = [&transfers[below], &transfers[above]];
@@ -589,7 +592,7 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
     let nodes_z = cells_z + 1;
     // Signed mass flux through each face along the sweep.
     let face_mass: Vec<f64> = transfers
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(f, t)| {
             let m: f64 = t.mass.iter().sum();
@@ -711,13 +714,12 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
         })
         .collect();
     apply_walls(s);
-    // Kinetic energy lost by the sweep (summed in node order: independent of the threads).
+    // Kinetic energy lost by the sweep (summed in a fixed order: independent of the threads).
     let kinetic = |masses: &[f64], velocity: &[[f64; 2]]| -> f64 {
-        masses
-            .iter()
-            .zip(velocity)
-            .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
-            .sum()
+        super::ordered_sum(masses.len(), |n| {
+            let v = velocity[n];
+            0.5 * masses[n] * (v[0] * v[0] + v[1] * v[1])
+        })
     };
     let lost = kinetic(&node_mass, &velocity) - kinetic(&new_mass, &s.velocity);
     s.energy.remap += lost * s.body_factor();
