@@ -91,7 +91,9 @@ impl VoceKocks {
         let (raw, raw_slope) = self.saturation(plastic_strain_rate, temperature);
         // The saturation is held at or above SATURATION_FLOOR of the yield stress: below it the
         // law's hardening slope theta_0 (1 - sigma_0/sigma_s) is unbounded at the yield.
-        let floor = Self::SATURATION_FLOOR * self.yield_stress;
+        // (At least the smallest normal double: a subnormal yield stress would otherwise floor
+        // the saturation at zero, and `k` below at 0/0.)
+        let floor = (Self::SATURATION_FLOOR * self.yield_stress).max(f64::MIN_POSITIVE);
         let (saturation, d_saturation) = if raw > floor {
             (raw, raw_slope)
         } else {
@@ -100,8 +102,14 @@ impl VoceKocks {
         let span = saturation - self.yield_stress;
         let k = self.initial_hardening * eps / saturation;
         let e = exp(-k);
-        // d sigma / d sigma_s = 1 - e^-k (1 + k (sigma_s - sigma_0) / sigma_s).
-        let d_value_d_saturation = 1.0 - e * (1.0 + k * span / saturation);
+        // d sigma / d sigma_s = 1 - e^-k (1 + k (sigma_s - sigma_0) / sigma_s), whose limit is 1
+        // where e^-k underflows (k e^-k -> 0; k itself may have overflowed, and 0 * inf is not
+        // a number).
+        let d_value_d_saturation = if e > 0.0 {
+            1.0 - e * (1.0 + k * span / saturation)
+        } else {
+            1.0
+        };
         FlowStress {
             value: self.yield_stress - span * expm1(-k),
             d_plastic_strain: self.initial_hardening * span / saturation * e,
@@ -189,5 +197,40 @@ mod tests {
         assert!(at(1e3, 298.0) > at(1e-3, 298.0));
         assert!(at(1e3, 600.0) < at(1e3, 298.0));
         assert_eq!(at(0.0, 298.0), at(VoceKocks::MINIMUM_RATE, 298.0));
+    }
+
+    #[test]
+    fn extreme_constants_keep_finite_slopes() {
+        // GOAL: the fuzzer's reproducer (fuzz/regressions/strength_update_vk/): a yield and a
+        //       saturation stress at the smallest normal double under a 5 GPa hardening
+        //       modulus at 2100 K; `k = theta_0 eps / sigma_s` overflowed, `e^-k` underflowed,
+        //       and `0 * inf` made the rate slope (and the consistent tangent) not a number.
+        // SETUP: those constants, plastic strains 0 to 1, rates 1e-6 to 1e8 /s, and a
+        //        subnormal yield stress (the saturation's floor would have been zero).
+        // REFERENCE: every value and slope finite; the rate slope's limit where `e^-k`
+        //            underflows is `d sigma / d sigma_s = 1` times the saturation's slope.
+        for yield_stress in [f64::MIN_POSITIVE, 5e-324, 2.0e-310] {
+            let m = VoceKocks {
+                yield_stress,
+                initial_hardening: 5193587868.111053,
+                saturation_stress: f64::MIN_POSITIVE,
+                saturation_reference_rate: 5654668.876892094,
+                activation_temperature: 1000.0,
+            };
+            m.validate().unwrap();
+            for &eps in &[0.0, 1e-8, 0.05, 1.0] {
+                for &rate in &[1e-6, 1.0, 1.07e6, 1e8] {
+                    for &t in &[0.0, 298.0, 2100.0] {
+                        let f = m.flow_stress(eps, rate, t);
+                        assert!(
+                            f.value.is_finite()
+                                && f.d_plastic_strain.is_finite()
+                                && f.d_rate.is_finite(),
+                            "{yield_stress:e} {eps} {rate} {t}: {f:?}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }
