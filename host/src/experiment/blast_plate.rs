@@ -714,6 +714,7 @@ impl BlastPlateSpec {
                 SummaryValue::new("peak_deflection", result.peak(), "m"),
                 SummaryValue::new("centre_deflection", result.deflection_at(0.0), "m"),
                 SummaryValue::new("settled_at", result.settled_at, "s"),
+                SummaryValue::new("settled", if result.steady { 1.0 } else { 0.0 }, "1"),
                 SummaryValue::new("load_time", result.load_time, "s"),
                 SummaryValue::new("load_impulse", result.load_impulse, "N s"),
                 SummaryValue::new(
