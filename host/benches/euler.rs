@@ -16,7 +16,8 @@
 //! - `threads`: the 1250 m/s shot to 20 us on 1 and 2 threads: speed-up and identical depth.
 //! - `crater`: the crater radius of the 1250 m/s shot as the eroding model's is measured, the
 //!   target's A varied; `crater-heating` (on demand): the bundled target with and without its
-//!   thermal softening.
+//!   thermal softening; `crater-velocity` (on demand): the bundled target struck at 1250 and
+//!   1700 m/s against Walker–Anderson's 1.59 a and 1.92 a.
 //! - `converge` (on demand, about 25 minutes): the 1250 m/s shot at 0.4, 0.2 and 0.1 mm cells,
 //!   for the 0.2 / 0.1 mm criterion (3 %).
 //!
@@ -189,6 +190,42 @@ fn crater_heating() {
     }
 }
 
+/// The crater of the bundled HzB-W target struck at 1250 and 1700 m/s (seed 000's two
+/// velocities), against the `awcsc` default radius Walker–Anderson use.
+fn crater_velocity() {
+    let shot = shot();
+    println!("| velocity (m/s) | element | rate FE / WA | R_c / a, 1-3 a above the nose | at the head, 0-1 a | WA R_c / a | wall (s) |");
+    println!("|---|---|---|---|---|---|---|");
+    for element in [0.4e-3, 0.2e-3] {
+        for velocity in [1250.0, 1700.0] {
+            let wa = default_crater_radius(shot.spec.rod_diameter, velocity)
+                .expect("crater radius")
+                / (0.5 * shot.spec.rod_diameter);
+            let started = Instant::now();
+            match stoss::validate::semi_infinite::euler_crater_at(
+                &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures"),
+                shot.target.clone(),
+                element,
+                velocity,
+                Some(2),
+            ) {
+                Ok(crater) => println!(
+                    "| {velocity:.0} | {:.1} mm | {:.2} | {:.2} | {:.2} | {wa:.2} | {:.0} |",
+                    element * 1e3,
+                    crater.rate_ratio,
+                    crater.behind_head,
+                    crater.at_head,
+                    started.elapsed().as_secs_f64()
+                ),
+                Err(error) => println!(
+                    "| {velocity:.0} | {:.1} mm | failed: {error} | | | | |",
+                    element * 1e3
+                ),
+            }
+        }
+    }
+}
+
 /// One row of the crater tables: the 1250 m/s shot into `file` on `element` cells.
 fn crater_row(label: &str, file: &material::MaterialFile, element: f64) {
     let started = Instant::now();
@@ -281,6 +318,9 @@ fn main() {
     }
     if sections.contains("smooth") {
         smooth();
+    }
+    if sections.split(',').any(|s| s == "crater-velocity") {
+        crater_velocity();
     }
     if sections.split(',').any(|s| s == "crater-heating") {
         crater_heating();

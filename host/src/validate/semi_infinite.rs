@@ -145,12 +145,25 @@ pub fn euler_crater_of(
     element: f64,
     threads: Option<usize>,
 ) -> Result<EulerCrater, String> {
+    let velocity = shot(fixtures)?.spec.velocity;
+    euler_crater_at(fixtures, file, element, velocity, threads)
+}
+
+/// [`euler_crater_of`] with the rod striking at `velocity` (m/s) instead of 1250 m/s.
+pub fn euler_crater_at(
+    fixtures: &Path,
+    file: MaterialFile,
+    element: f64,
+    velocity: f64,
+    threads: Option<usize>,
+) -> Result<EulerCrater, String> {
     let shot = shot(fixtures)?;
     let a = 0.5 * shot.spec.rod_diameter;
     let target = file.material().map_err(|e| e.to_string())?;
     let mut spec = shot.spec;
     spec.solver = PenetrationSolver::Euler;
     spec.element_size = element;
+    spec.velocity = velocity;
     let check = spec.cross_check(&target).map_err(|e| e.to_string())?;
     let settings = SolverSettings {
         threads,
