@@ -152,10 +152,12 @@ pub enum Measure {
         /// The limit (else the RMS exit difference).
         limit: bool,
     },
-    /// The Eulerian 1250 m/s shot's crater radius over the rod radius, 10-30 us
+    /// The Eulerian shot's crater radius over the rod radius, 10-30 us
     /// ([`semi_infinite::euler_crater`]): one to three rod radii above the nose, or within one
-    /// (`at_head`); one run per cell size and heating in a process.
+    /// (`at_head`); one run per velocity, cell size and heating in a process.
     EulerCrater {
+        /// Striking velocity (m/s).
+        velocity: f64,
         /// Cell size (m).
         element: f64,
         /// The target made isothermal.
@@ -300,12 +302,12 @@ const fn foi_core(
 }
 
 /// A row of the Eulerian crater (docs/euler.md), `R_c / a` with the bundled HzB-W target
-/// (adiabatic) on `element` cells, behind the head or at it.
+/// (adiabatic) struck at `velocity` on `element` cells, behind the head or at it.
 const fn euler_crater_row(
     name: &'static str,
     figure: &'static str,
     stated: f64,
-    (element, at_head): (f64, bool),
+    (velocity, element, at_head): (f64, f64, bool),
     speed: Speed,
 ) -> Row {
     Row {
@@ -318,6 +320,7 @@ const fn euler_crater_row(
         scale: 1.0,
         speed,
         measure: Measure::EulerCrater {
+            velocity,
             element,
             isothermal: false,
             at_head,
@@ -1139,28 +1142,42 @@ pub const ROWS: &[Row] = &[
         "euler-crater-behind",
         "Eulerian 1250 m/s shot's crater radius 1-3 rod radii above the nose, 10-30 us, HzB-W target, 0.4 mm (Walker-Anderson 1.59 a)",
         1.84,
-        (0.4e-3, false),
+        (1250.0, 0.4e-3, false),
         Speed::Fast,
     ),
     euler_crater_row(
         "euler-crater-head",
         "Eulerian 1250 m/s shot's crater radius within one rod radius of the nose, 10-30 us, HzB-W target, 0.4 mm",
         1.26,
-        (0.4e-3, true),
+        (1250.0, 0.4e-3, true),
         Speed::Fast,
     ),
     euler_crater_row(
         "euler-crater-behind-fine",
         "Eulerian 1250 m/s shot's crater radius 1-3 rod radii above the nose, 10-30 us, HzB-W target, 0.2 mm",
         1.82,
-        (0.2e-3, false),
+        (1250.0, 0.2e-3, false),
         Speed::Slow,
     ),
     euler_crater_row(
         "euler-crater-head-fine",
         "Eulerian 1250 m/s shot's crater radius within one rod radius of the nose, 10-30 us, HzB-W target, 0.2 mm",
         1.29,
-        (0.2e-3, true),
+        (1250.0, 0.2e-3, true),
+        Speed::Slow,
+    ),
+    euler_crater_row(
+        "euler-crater-behind-1700",
+        "Eulerian 1700 m/s shot's crater radius 1-3 rod radii above the nose, 10-30 us, HzB-W target, 0.4 mm (Walker-Anderson 1.92 a)",
+        1.92,
+        (1700.0, 0.4e-3, false),
+        Speed::Fast,
+    ),
+    euler_crater_row(
+        "euler-crater-behind-1700-fine",
+        "Eulerian 1700 m/s shot's crater radius 1-3 rod radii above the nose, 10-30 us, HzB-W target, 0.2 mm",
+        1.93,
+        (1700.0, 0.2e-3, false),
         Speed::Slow,
     ),
     Row {
@@ -1576,11 +1593,12 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
             })
         }
         Measure::EulerCrater {
+            velocity,
             element,
             isothermal,
             at_head,
         } => {
-            let crater = measured_crater(fixtures, element, isothermal, threads)?;
+            let crater = measured_crater(fixtures, velocity, element, isothermal, threads)?;
             Ok(if at_head {
                 crater.at_head
             } else {
@@ -1731,23 +1749,26 @@ fn computed_blast_load(
     Ok(found)
 }
 
-/// The Eulerian craters measured in this process, by cell size (bits) and heating.
-static CRATERS: std::sync::Mutex<Vec<((u64, bool), semi_infinite::EulerCrater)>> =
+/// The Eulerian craters measured in this process, by velocity and cell size (bits) and
+/// heating.
+type CraterKey = (u64, u64, bool);
+static CRATERS: std::sync::Mutex<Vec<(CraterKey, semi_infinite::EulerCrater)>> =
     std::sync::Mutex::new(Vec::new());
 
-/// The Eulerian crater on `element` cells, once per process.
+/// The Eulerian crater at `velocity` on `element` cells, once per process.
 fn measured_crater(
     fixtures: &Path,
+    velocity: f64,
     element: f64,
     isothermal: bool,
     threads: Option<usize>,
 ) -> Result<semi_infinite::EulerCrater, String> {
     let mut craters = CRATERS.lock().map_err(|_| "a crater row panicked")?;
-    let key = (element.to_bits(), isothermal);
+    let key = (velocity.to_bits(), element.to_bits(), isothermal);
     if let Some((_, found)) = craters.iter().find(|(k, _)| *k == key) {
         return Ok(*found);
     }
-    let crater = semi_infinite::euler_crater(fixtures, element, isothermal, threads)?;
+    let crater = semi_infinite::euler_crater(fixtures, element, velocity, isothermal, threads)?;
     craters.push((key, crater));
     Ok(crater)
 }

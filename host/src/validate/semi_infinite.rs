@@ -122,11 +122,13 @@ pub struct EulerCrater {
     pub at_head: f64,
 }
 
-/// The 1250 m/s shot's crater on the Eulerian solver with `element` cells, the target the
-/// fixture's HzB-W file as it is or made isothermal (its thermal softening off).
+/// The shot's crater on the Eulerian solver with `element` cells, the rod striking at
+/// `velocity` (m/s), the target the fixture's HzB-W file as it is or made isothermal (its
+/// thermal softening off).
 pub fn euler_crater(
     fixtures: &Path,
     element: f64,
+    velocity: f64,
     isothermal: bool,
     threads: Option<usize>,
 ) -> Result<EulerCrater, String> {
@@ -134,7 +136,7 @@ pub fn euler_crater(
     if isothermal {
         file.heating = Heating::Isothermal;
     }
-    euler_crater_of(fixtures, file, element, threads)
+    euler_crater_at(fixtures, file, element, velocity, threads)
 }
 
 /// The 1250 m/s shot's crater on the Eulerian solver with `element` cells, into a target of
