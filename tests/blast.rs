@@ -284,6 +284,35 @@ mod plate {
     use stoss::mesh::{Grading, QuadMesh};
     use stoss::solver::{shared, AxisymmetricModel, PressureHistory, PressureLoad, SolverSettings};
 
+    /// GOAL: a plate whose default end, fixed by its material, would run away is refused
+    /// before anything is computed, with an error that says why and what to change (the check
+    /// at load assumed a metal's plate wave speed).
+    /// SETUP: the small plate without `end_time`, its steel a million times as dense (plate
+    /// wave speed about 5 m/s: a fundamental period of seconds).
+    /// REFERENCE: an error naming `end_time` and the plate wave speed; no blast load computed
+    /// (the cache folder is never created); with `end_time` set the same plate is accepted.
+    #[test]
+    fn a_plate_whose_material_makes_the_run_too_long_is_refused_before_it_runs() {
+        let folder = scratch("slow-plate");
+        let mut spec = small_plate(&folder);
+        spec.end_time = None;
+        let mut slow = steel();
+        slow.density *= 1.0e6;
+        let error = match spec.run(&slow, &SolverSettings::default()) {
+            Err(error) => error.to_string(),
+            Ok(_) => panic!("a run of seconds was not refused"),
+        };
+        println!("{error}");
+        assert!(
+            error.contains("`end_time`") && error.contains("plate wave speed"),
+            "{error}"
+        );
+        assert!(!folder.exists(), "the load was computed before the refusal");
+        spec.end_time = Some(3.0e-4);
+        assert!(spec.run(&slow, &SolverSettings::default()).is_ok());
+        let _ = std::fs::remove_dir_all(&folder);
+    }
+
     /// GOAL: a pressure load delivers the impulse its history integrates to.
     /// SETUP: a free elastic disc (radius 10 mm, 2 mm thick, 2 x 20 elements), a uniform
     /// 10 MPa on its top face for 2 us, no constraints; momentum read at 10 us.

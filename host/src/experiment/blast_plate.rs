@@ -350,7 +350,7 @@ impl BlastPlateSpec {
             (1.0..=4.0).contains(&self.aspect_ratio),
             "must be in [1, 4] (radial over through-thickness element length)",
         )?;
-        let elements = self.radial_elements() as f64 * self.layers as f64;
+        let elements = self.element_count();
         check(
             "layers",
             elements <= 2.0e5,
@@ -372,15 +372,16 @@ impl BlastPlateSpec {
         if let Some(tolerance) = self.steady_tolerance {
             check_positive(check, "steady_tolerance", tolerance, "m")?;
         }
-        let time_step = undeformed_time_step(self.thickness / self.layers as f64, false);
-        let estimated_end = self.end_time.unwrap_or_else(|| {
-            self.damping_start + CAP_PERIODS * self.fundamental_period(BUDGET_PLATE_SPEED)
-        });
+        let time_step = self.plate_time_step();
         match self.end_time {
             Some(end_time) => check_run_budget(check, end_time, time_step, elements)?,
-            None => {
-                check_run_budget_of(check, "exposed_radius", estimated_end, time_step, elements)?
-            }
+            None => check_run_budget_of(
+                check,
+                "exposed_radius",
+                self.cap_at(BUDGET_PLATE_SPEED),
+                time_step,
+                elements,
+            )?,
         }
         let blast = self.blast();
         if let Err(error) = blast.validate(self.load_radius()) {
@@ -455,12 +456,49 @@ impl BlastPlateSpec {
         std::f64::consts::PI / omega * (self.damping(material) / (2.0 * omega)).max(1.0)
     }
 
-    /// The latest end of a run (s): `end_time`, else `damping_start` plus [`CAP_PERIODS`]
-    /// fundamental periods.
+    /// The latest end of a run (s): `end_time`, else [`Self::cap_at`] the material's plate
+    /// wave speed.
     pub fn latest_end(&self, material: &Material) -> f64 {
-        self.end_time.unwrap_or_else(|| {
-            self.damping_start + CAP_PERIODS * self.fundamental_period(Self::plate_speed(material))
-        })
+        self.end_time
+            .unwrap_or_else(|| self.cap_at(Self::plate_speed(material)))
+    }
+
+    /// The default latest end at plate wave speed `plate_speed` (m/s): `damping_start` plus
+    /// [`CAP_PERIODS`] fundamental periods.
+    fn cap_at(&self, plate_speed: f64) -> f64 {
+        self.damping_start + CAP_PERIODS * self.fundamental_period(plate_speed)
+    }
+
+    /// The stable time step of the undeformed plate at the fastest metal's wave speed (s),
+    /// the step the run-size checks count with.
+    fn plate_time_step(&self) -> f64 {
+        undeformed_time_step(self.thickness / self.layers as f64, false)
+    }
+
+    /// The plate's element count.
+    fn element_count(&self) -> f64 {
+        self.radial_elements() as f64 * self.layers as f64
+    }
+
+    /// Refuse a run whose latest end for `material` needs more steps than the run budget
+    /// allows. The check at load ([`Self::validate`]) had to assume a plate wave speed
+    /// ([`BUDGET_PLATE_SPEED`]); a material whose plate is slower ends later, so the run is
+    /// checked again with its own before anything is computed.
+    fn check_run_size(&self, material: &Material) -> Result<(), SolverError> {
+        let end = self.latest_end(material);
+        let elements = self.element_count();
+        let step = self.plate_time_step();
+        if crate::input::implausible_allowed() || super::within_run_budget(end, step, elements) {
+            return Ok(());
+        }
+        Err(SolverError::Model(format!(
+            "the blast plate would run to {end:.3e} s (damping_start + {CAP_PERIODS} periods of \
+             its fundamental mode at this material's plate wave speed, {:.0} m/s): {:.0} steps \
+             of {elements:.0} elements, beyond the run budget; set `end_time`, check the units \
+             of `exposed_radius` and `thickness`, or pass --force to run it anyway",
+            Self::plate_speed(material),
+            end / step
+        )))
     }
 
     /// The steady tolerance for `recording` (m): `steady_tolerance`, else [`STEADY_FRACTION`]
@@ -585,6 +623,7 @@ impl BlastPlateSpec {
         ),
         SolverError,
     > {
+        self.check_run_size(material)?;
         let clock = std::time::Instant::now();
         let mut coupled = None;
         let (history, load_source) = match self.coupling {
