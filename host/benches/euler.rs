@@ -171,7 +171,13 @@ fn crater() {
             let mut file = shot.target.clone();
             file.set_constant("strength.yield_stress", yield_stress * 1e9)
                 .expect("a Johnson-Cook target");
-            crater_row(&format!("{yield_stress:.1}"), &file, element);
+            crater_row(
+                &format!("{yield_stress:.1}"),
+                &file,
+                element,
+                shot.spec.velocity,
+                "",
+            );
         }
     }
 }
@@ -183,10 +189,16 @@ fn crater_heating() {
     println!("| target | element | rate FE / WA | R_c / a, 1-3 a above the nose (WA 1.59) | at the head, 0-1 a | wall (s) |");
     println!("|---|---|---|---|---|---|");
     for element in [0.4e-3, 0.2e-3] {
-        crater_row("HzB-W, adiabatic", &shot.target, element);
+        crater_row(
+            "HzB-W, adiabatic",
+            &shot.target,
+            element,
+            shot.spec.velocity,
+            "",
+        );
         let mut file = shot.target.clone();
         file.heating = stoss_kernel::Heating::Isothermal;
-        crater_row("HzB-W, isothermal", &file, element);
+        crater_row("HzB-W, isothermal", &file, element, shot.spec.velocity, "");
     }
 }
 
@@ -201,52 +213,50 @@ fn crater_velocity() {
             let wa = default_crater_radius(shot.spec.rod_diameter, velocity)
                 .expect("crater radius")
                 / (0.5 * shot.spec.rod_diameter);
-            let started = Instant::now();
-            match stoss::validate::semi_infinite::euler_crater_at(
-                &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures"),
-                shot.target.clone(),
+            let label = format!("{velocity:.0}");
+            crater_row(
+                &label,
+                &shot.target,
                 element,
                 velocity,
-                Some(2),
-            ) {
-                Ok(crater) => println!(
-                    "| {velocity:.0} | {:.1} mm | {:.2} | {:.2} | {:.2} | {wa:.2} | {:.0} |",
-                    element * 1e3,
-                    crater.rate_ratio,
-                    crater.behind_head,
-                    crater.at_head,
-                    started.elapsed().as_secs_f64()
-                ),
-                Err(error) => println!(
-                    "| {velocity:.0} | {:.1} mm | failed: {error} | | | | |",
-                    element * 1e3
-                ),
-            }
+                &format!(" {wa:.2} |"),
+            );
         }
     }
 }
 
-/// One row of the crater tables: the 1250 m/s shot into `file` on `element` cells.
-fn crater_row(label: &str, file: &material::MaterialFile, element: f64) {
+/// One row of the crater tables: the rod striking `file` at `velocity` on `element` cells,
+/// with `extra` columns (already formatted, each ending in `|`) before the wall time.
+fn crater_row(
+    label: &str,
+    file: &material::MaterialFile,
+    element: f64,
+    velocity: f64,
+    extra: &str,
+) {
     let started = Instant::now();
-    match stoss::validate::semi_infinite::euler_crater_of(
+    match stoss::validate::semi_infinite::euler_crater_at(
         &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures"),
         file.clone(),
         element,
+        velocity,
         Some(2),
     ) {
         Ok(crater) => println!(
-            "| {label} | {:.1} mm | {:.2} | {:.2} | {:.2} | {:.0} |",
+            "| {label} | {:.1} mm | {:.2} | {:.2} | {:.2} |{extra} {:.0} |",
             element * 1e3,
             crater.rate_ratio,
             crater.behind_head,
             crater.at_head,
             started.elapsed().as_secs_f64()
         ),
-        Err(error) => println!(
-            "| {label} | {:.1} mm | failed: {error} | | | |",
-            element * 1e3
-        ),
+        Err(error) => {
+            let blanks = " |".repeat(extra.matches('|').count());
+            println!(
+                "| {label} | {:.1} mm | failed: {error} | | |{blanks} |",
+                element * 1e3
+            )
+        }
     }
 }
 

@@ -302,6 +302,13 @@ pub struct BlastPlateSpec {
     pub cache_folder: Option<PathBuf>,
 }
 
+/// A plate run: its measurement, the solver's run and the model it ran.
+pub type PlateRun = (
+    BlastPlateResult,
+    crate::solver::AxisymmetricRun,
+    AxisymmetricModel,
+);
+
 /// The plate's final shape and the run's figures.
 #[derive(Clone, Debug)]
 pub struct BlastPlateResult {
@@ -597,14 +604,7 @@ impl BlastPlateSpec {
         &self,
         material: &Material,
         settings: &SolverSettings,
-    ) -> Result<
-        (
-            BlastPlateResult,
-            crate::solver::AxisymmetricRun,
-            AxisymmetricModel,
-        ),
-        SolverError,
-    > {
+    ) -> Result<PlateRun, SolverError> {
         self.run_to_tolerance(material, settings, self.steady_tolerance(&[]))
     }
 
@@ -615,14 +615,7 @@ impl BlastPlateSpec {
         material: &Material,
         settings: &SolverSettings,
         tolerance: f64,
-    ) -> Result<
-        (
-            BlastPlateResult,
-            crate::solver::AxisymmetricRun,
-            AxisymmetricModel,
-        ),
-        SolverError,
-    > {
+    ) -> Result<PlateRun, SolverError> {
         self.check_run_size(material)?;
         let clock = std::time::Instant::now();
         let mut coupled = None;

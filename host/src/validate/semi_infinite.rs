@@ -139,19 +139,8 @@ pub fn euler_crater(
     euler_crater_at(fixtures, file, element, velocity, threads)
 }
 
-/// The 1250 m/s shot's crater on the Eulerian solver with `element` cells, into a target of
-/// material `file` (the [`shot`] set-up: 80 mm, 30 us).
-pub fn euler_crater_of(
-    fixtures: &Path,
-    file: MaterialFile,
-    element: f64,
-    threads: Option<usize>,
-) -> Result<EulerCrater, String> {
-    let velocity = shot(fixtures)?.spec.velocity;
-    euler_crater_at(fixtures, file, element, velocity, threads)
-}
-
-/// [`euler_crater_of`] with the rod striking at `velocity` (m/s) instead of 1250 m/s.
+/// The shot's crater on the Eulerian solver with `element` cells, the rod striking a target of
+/// material `file` at `velocity` (m/s) (the [`shot`] set-up: 80 mm, 30 us).
 pub fn euler_crater_at(
     fixtures: &Path,
     file: MaterialFile,
