@@ -1318,6 +1318,7 @@ fn the_evaluate_worker_reproduces_the_in_process_evaluation() {
         fold: None,
         instance: 0,
         index: 5,
+        fidelity: Default::default(),
     };
     let task = TaskFile {
         campaign: campaign_path.clone(),
@@ -2242,6 +2243,113 @@ fn a_mechanical_threshold_stress_calibration_recovers_hidden_copper_constants() 
             ("saturation_stress", 770.0e6),
             ("hardening_a0", 2390.0e6),
         ],
+    );
+    std::fs::remove_dir_all(&folder).unwrap();
+}
+
+#[test]
+fn a_multi_fidelity_search_checks_on_the_fine_mesh_corrects_the_coarse_and_resumes() {
+    // GOAL: multi-fidelity calibration (issue 53, item 2): the search's candidates run the
+    //       meshed experiment on its coarse mesh, one in `fine_every` also on its own mesh;
+    //       the correction learned from those pairs predicts the later checks better than
+    //       the coarse mesh alone; the instance's best, the polish and the result are
+    //       simulations on the fine mesh, never corrected predictions; a second run on the
+    //       same folder simulates nothing again and selects the same constants bit for bit.
+    //       Bad `coarse` and `fine_every` values are refused naming the line and field.
+    // SETUP: the synthetic HHA Taylor test at 208 m/s (6 elements across the radius; coarse
+    //        factor 2: 3) and the 1000 /s flow curve (single element: one mesh); A fitted
+    //        (0.5-2 GPa); a budget of 9 (design 3), fine_every 3, polish 2, one instance.
+    // REFERENCE: 9 coarse candidates, of which those at 0, 3 and 6 checked (plus at most
+    //        the search's best re-simulated); the coarse mesh's bias against the fine one
+    //        is nearly a constant offset, so once learned the corrected predictions lie
+    //        closer to the fine simulations than the coarse ones; the selected evaluation is
+    //        a fine simulation.
+    let folder = temporary("multi-fidelity");
+    let fixtures = fixtures();
+    let experiment = |stem: &str| {
+        fixtures
+            .join(format!("experiments/{stem}.toml"))
+            .display()
+            .to_string()
+    };
+    let campaign_text = |coarse: &str, fine_every: &str| {
+        format!(
+            "name = \"multi-fidelity test\"\nmaterial = \"{}\"\nrecordings = \"simulation\"\n\
+             [[models]]\nname = \"jc\"\n[models.parameters]\nyield_stress = [\"0.5 GPa\", \"2 GPa\"]\n\
+             [[experiments]]\nfile = \"{}\"\n{coarse}\n\
+             [[experiments]]\nfile = \"{}\"\n\
+             [optimiser]\nbudget = 9\ndesign = 3\ninstances = 1\nseed = 3\nparallel = 2\n\
+             uncertainty = \"none\"\n{fine_every}\n",
+            fixtures.join("materials/4340-jc.toml").display(),
+            experiment("synthetic-taylor-hha-208"),
+            experiment("synthetic-flow-hha-1000s"),
+        )
+    };
+    let path = folder.join("campaign.toml");
+    std::fs::write(&path, campaign_text("coarse = 2.0", "fine_every = 3")).unwrap();
+    let campaign = Campaign::load(&path).unwrap();
+    assert!(campaign.is_multi_fidelity());
+    let output = folder.join("run");
+    std::fs::create_dir_all(&output).unwrap();
+    let results = calibrate_quietly(&campaign, &output, &options(9, 2, false));
+    let result = &results[0];
+    let summary = result.instances[0].fidelity.as_ref().expect("a summary");
+    eprintln!("{summary:?}");
+    assert_eq!(summary.coarse, 9);
+    assert!(
+        (3..=4).contains(&summary.fine_checks),
+        "{}",
+        summary.fine_checks
+    );
+    let (raw, corrected, checks) = summary.accuracy().expect("checks after learning");
+    assert!(checks >= 2, "{checks}");
+    assert!(
+        corrected < raw,
+        "corrected {corrected} against coarse {raw}"
+    );
+    assert!(
+        !result.selected.corrected && result.selected.fidelity.is_fine(),
+        "{:?}",
+        result.selected
+    );
+    assert!(!result.instances[0].best.corrected);
+    let line = result.fidelity_summary().unwrap();
+    assert!(line.contains("9 candidates on the coarse meshes"), "{line}");
+    // The log: every search candidate once on the coarse mesh, the checks on the fine one.
+    let lines = log_lines(&output);
+    let coarse_lines = lines.iter().filter(|l| l.contains("\"coarse\"")).count();
+    assert!(coarse_lines >= 9, "{coarse_lines} of {}", lines.len());
+    // Resumed: nothing simulated again, the same constants.
+    let again = calibrate_quietly(&campaign, &output, &options(9, 2, false));
+    assert_eq!(log_lines(&output).len(), lines.len());
+    assert_eq!(
+        again[0].selected.values, result.selected.values,
+        "bit for bit"
+    );
+    // Bad input, each naming its line and field.
+    for (coarse, fine_every, field, says) in [
+        ("coarse = 0.5", "", "coarse", "above 1"),
+        ("coarse = 2.0", "fine_every = 0", "fine_every", "at least 1"),
+    ] {
+        std::fs::write(&path, campaign_text(coarse, fine_every)).unwrap();
+        let error = Campaign::load(&path).unwrap_err().to_string();
+        let line = error
+            .strip_prefix(&format!("{}:", path.display()))
+            .is_some_and(|rest| rest.starts_with(|c: char| c.is_ascii_digit()));
+        assert!(
+            line && error.contains(&format!("`{field}`")) && error.contains(says),
+            "{error}"
+        );
+    }
+    let flow_coarse = campaign_text("", "").replace(
+        "synthetic-flow-hha-1000s.toml\"\n",
+        "synthetic-flow-hha-1000s.toml\"\ncoarse = 2.0\n",
+    );
+    std::fs::write(&path, flow_coarse).unwrap();
+    let error = Campaign::load(&path).unwrap_err().to_string();
+    assert!(
+        error.contains("coarse") && error.contains("no mesh to scale"),
+        "{error}"
     );
     std::fs::remove_dir_all(&folder).unwrap();
 }

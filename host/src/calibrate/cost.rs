@@ -96,13 +96,25 @@ impl Sizes {
 }
 
 /// The estimated cost of calibrating `campaign` with `sizes`.
+///
+/// Multi-fidelity: a search candidate (design, proposals, a warm fold's new candidates) runs
+/// the experiments with a coarse fidelity on their coarse meshes, and one in `fine_every` of
+/// them again on the fine ones; the polish runs on the fine meshes.
 pub fn estimate(campaign: &Campaign, sizes: &Sizes) -> Estimate {
-    let per_candidate: f64 = campaign
+    let seconds = |e: &crate::experiment::Experiment| {
+        e.estimated_element_cycles().max(SIMULATION_FLOOR) / THROUGHPUT
+    };
+    let per_candidate: f64 = campaign.experiments.iter().map(seconds).sum();
+    let every = campaign.file.optimiser.fine_every.max(1) as f64;
+    let per_search: f64 = campaign
         .experiments
         .iter()
-        .map(|e| e.estimated_element_cycles().max(SIMULATION_FLOOR))
-        .sum::<f64>()
-        / THROUGHPUT;
+        .zip(&campaign.coarse)
+        .map(|(fine, coarse)| match coarse {
+            Some(coarse) => seconds(coarse) + seconds(fine) / every,
+            None => seconds(fine),
+        })
+        .sum();
     let models = campaign.file.models.len().max(1) as f64;
     let instances = sizes.instances as f64;
     let folds = if sizes.leave_one_out.is_on() {
@@ -118,18 +130,20 @@ pub fn estimate(campaign: &Campaign, sizes: &Sizes) -> Estimate {
         0.0
     };
     let instance = (sizes.budget + sizes.polish) as f64;
-    let (fold_candidates, fold_surrogate) = match sizes.fold_budget {
+    let instance_seconds = sizes.budget as f64 * per_search + sizes.polish as f64 * per_candidate;
+    let (fold_candidates, fold_seconds, fold_surrogate) = match sizes.fold_budget {
         // Warm-started: the fold's optimiser holds the model's simulations and its own.
         Some(fold) => (
             fold as f64,
+            fold as f64 * per_search,
             surrogate_seconds(sizes.instances * sizes.budget + fold),
         ),
-        None => (instance, surrogate_seconds(sizes.budget)),
+        None => (instance, instance_seconds, surrogate_seconds(sizes.budget)),
     };
     let candidates = models * instances * instance + folds * instances * fold_candidates;
     Estimate {
         candidates,
-        simulating: candidates * per_candidate,
+        simulating: models * instances * instance_seconds + folds * instances * fold_seconds,
         surrogate: models * instances * surrogate_seconds(sizes.budget)
             + folds * instances * fold_surrogate,
     }

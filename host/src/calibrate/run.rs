@@ -7,13 +7,15 @@
 use super::polish::NelderMead;
 use crate::fit::campaign::{Campaign, LeaveOneOut, UncertaintyFor};
 use crate::fit::executor::{Batch, Candidate, Executor, ExecutorError, Origin};
+use crate::fit::fidelity::{Correction, Fidelity, FidelitySummary};
 use crate::fit::log::{Entry, Key, LogError, SimulationLog};
-use crate::fit::objective::{Evaluation, Status};
+use crate::fit::objective::{score, Evaluation, Status};
 use crate::fit::result::{Baseline, InstanceResult, ModelResult, NamedConstant};
 use crate::fit::space::constants_at_bounds;
 use crate::fit::unit_cube;
 use crate::fit::ModelSpace;
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// An ask/tell optimiser over a model's box of constants (physical units).
@@ -108,7 +110,13 @@ struct Place<'p> {
 /// counts of simulated and failed candidates.
 #[derive(Default)]
 struct Tally {
+    /// The best simulated candidate (a corrected coarse prediction never is one).
     best: Option<(Evaluation, f64)>,
+    /// Multi-fidelity: the best corrected coarse candidate and its index, re-simulated on
+    /// the fine meshes at the end of the search if it beats `best`.
+    best_corrected: Option<(Evaluation, f64, usize)>,
+    /// Multi-fidelity: the search's coarse candidates and fine checks.
+    fidelity: Option<FidelitySummary>,
     history: Vec<Option<f64>>,
     simulated: usize,
     failed: usize,
@@ -118,8 +126,9 @@ struct Tally {
 }
 
 impl Tally {
-    /// Record one evaluated candidate and its objective value (`None`: failed or infeasible).
-    fn record(&mut self, evaluation: Evaluation, value: Option<f64>) {
+    /// Record one evaluated candidate, its index and its objective value (`None`: failed or
+    /// infeasible).
+    fn record(&mut self, evaluation: Evaluation, index: usize, value: Option<f64>) {
         match &evaluation.status {
             Status::Ok => self.simulated += 1,
             Status::Failed(reason) => {
@@ -132,26 +141,43 @@ impl Tally {
                 self.first_failure.get_or_insert_with(|| reason.clone());
             }
         }
-        if let Some(value) = value {
-            if self.best.as_ref().is_none_or(|(_, b)| value < *b) {
-                self.best = Some((evaluation, value));
-            }
-        }
+        self.offer_at(&evaluation, index, value);
         self.history.push(self.best_value());
     }
 
     /// Offer an earlier simulation (a warm start) as a candidate for the best, without
     /// counting it as simulated by this instance or adding to its history.
     fn offer(&mut self, evaluation: &Evaluation, value: Option<f64>) {
-        if let Some(value) = value {
-            if self.best.as_ref().is_none_or(|(_, b)| value < *b) {
-                self.best = Some((evaluation.clone(), value));
+        self.offer_at(evaluation, usize::MAX, value);
+    }
+
+    /// `evaluation` as the best (simulated) or best corrected candidate if it beats it.
+    fn offer_at(&mut self, evaluation: &Evaluation, index: usize, value: Option<f64>) {
+        let Some(value) = value else {
+            return;
+        };
+        if evaluation.corrected {
+            if self
+                .best_corrected
+                .as_ref()
+                .is_none_or(|(_, b, _)| value < *b)
+            {
+                self.best_corrected = Some((evaluation.clone(), value, index));
             }
+        } else if self.best.as_ref().is_none_or(|(_, b)| value < *b) {
+            self.best = Some((evaluation.clone(), value));
         }
     }
 
+    /// The best value the search has seen: simulated, or (multi-fidelity) a corrected coarse
+    /// prediction, the optimiser's view.
     fn best_value(&self) -> Option<f64> {
-        self.best.as_ref().map(|b| b.1)
+        let simulated = self.best.as_ref().map(|b| b.1);
+        let corrected = self.best_corrected.as_ref().map(|b| b.1);
+        match (simulated, corrected) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 }
 
@@ -169,6 +195,10 @@ struct Runner<'a> {
     fold_budget: Option<usize>,
     /// Where the least-squares finishes log their simulations (for resume).
     output: PathBuf,
+    /// Multi-fidelity: each model's correction, learned from its fine checks in the order
+    /// they ran (instances and folds of a model share it: a pair depends only on the
+    /// constants, not on which experiments a fold fits).
+    corrections: BTreeMap<String, Correction>,
 }
 
 impl Runner<'_> {
@@ -183,6 +213,8 @@ impl Runner<'_> {
         seed: u64,
     ) -> Result<Vec<Evaluation>, CalibrateError> {
         let mut results = Vec::with_capacity(points.len());
+        // Every key of a batch names the same mesh.
+        let fidelity = keys.first().map_or(Fidelity::Fine, |k| k.fidelity);
         for (key, point) in keys.iter().zip(points) {
             let mut logged = self.log.lookup(key, point)?;
             if let Some(evaluation) = &mut logged {
@@ -211,6 +243,7 @@ impl Runner<'_> {
                     values: &points[i],
                 })
                 .collect(),
+            fidelity,
         };
         // Each new evaluation is appended to the log as soon as it finishes (a run killed in
         // the middle of a batch loses only the simulations still running); the log is keyed,
@@ -274,6 +307,7 @@ impl Runner<'_> {
             fold: place.fold.map(str::to_string),
             instance: place.instance,
             index: *index,
+            fidelity: Default::default(),
         };
         let evaluation = self
             .evaluate_batch(
@@ -290,7 +324,7 @@ impl Runner<'_> {
             None
         };
         seen.push(evaluation.clone());
-        tally.record(evaluation, value);
+        tally.record(evaluation, *index, value);
         *index += 1;
         (self.progress)(
             &place.space.name,
@@ -365,23 +399,14 @@ impl Runner<'_> {
                 break;
             }
             points.truncate(budget - *index);
-            let keys: Vec<Key> = (0..points.len())
-                .map(|k| Key {
-                    model: space.name.clone(),
-                    fold: place.fold.map(str::to_string),
-                    instance: place.instance,
-                    index: *index + k,
-                })
-                .collect();
-            let evaluations =
-                self.evaluate_batch(&keys, &points, space, place.experiments, place.seed)?;
+            let evaluations = self.search_batch(place, *index, &points, tally)?;
             let values: Vec<Option<f64>> = evaluations
                 .iter()
                 .map(|e| value_of(self.campaign, e, place.experiments))
                 .collect();
             seen.extend(evaluations.iter().cloned());
-            for (evaluation, value) in evaluations.into_iter().zip(&values) {
-                tally.record(evaluation, *value);
+            for (k, (evaluation, value)) in evaluations.into_iter().zip(&values).enumerate() {
+                tally.record(evaluation, *index + k, *value);
             }
             // The surrogate models ln(error): errors are positive and heavy-tailed (from the
             // noise floor up to orders of magnitude above it), which a GP fits far better in
@@ -408,6 +433,208 @@ impl Runner<'_> {
                 break;
             }
         }
+        Ok(())
+    }
+
+    /// The key of the candidate `index` of the instance at `place`, on `fidelity`.
+    fn key(place: &Place<'_>, index: usize, fidelity: Fidelity) -> Key {
+        Key {
+            model: place.space.name.clone(),
+            fold: place.fold.map(str::to_string),
+            instance: place.instance,
+            index,
+            fidelity,
+        }
+    }
+
+    /// The experiments of `place` that have a coarse fidelity (empty: a single-fidelity
+    /// search).
+    fn coarse_experiments(&self, place: &Place<'_>) -> Vec<usize> {
+        place
+            .experiments
+            .iter()
+            .copied()
+            .filter(|&i| self.campaign.coarse.get(i).is_some_and(Option::is_some))
+            .collect()
+    }
+
+    /// Simulate a batch of the search (the design and the proposals), its first candidate
+    /// the instance's `first`-th. Single-fidelity: as they are. Multi-fidelity: every
+    /// candidate on the coarse meshes; those whose index is a multiple of `fine_every` also on
+    /// the fine ones (fine checks: the correction is measured on them, then learns from
+    /// them, and they count as simulated); the rest corrected. Returns the evaluations the
+    /// optimiser is told.
+    fn search_batch(
+        &mut self,
+        place: &Place<'_>,
+        first: usize,
+        points: &[Vec<f64>],
+        tally: &mut Tally,
+    ) -> Result<Vec<Evaluation>, CalibrateError> {
+        let (space, experiments, seed) = (place.space, place.experiments, place.seed);
+        let coarse = self.coarse_experiments(place);
+        if coarse.is_empty() {
+            let keys: Vec<Key> = (0..points.len())
+                .map(|k| Self::key(place, first + k, Fidelity::Fine))
+                .collect();
+            return self.evaluate_batch(&keys, points, space, experiments, seed);
+        }
+        let keys: Vec<Key> = (0..points.len())
+            .map(|k| Self::key(place, first + k, Fidelity::Coarse))
+            .collect();
+        let mut evaluations = self.evaluate_batch(&keys, points, space, experiments, seed)?;
+        let every = self.campaign.file.optimiser.fine_every.max(1);
+        let checked: Vec<usize> = (0..points.len())
+            .filter(|&k| (first + k).is_multiple_of(every) && evaluations[k].status == Status::Ok)
+            .collect();
+        let fine_keys: Vec<Key> = checked
+            .iter()
+            .map(|&k| Self::key(place, first + k, Fidelity::Fine))
+            .collect();
+        let fine_points: Vec<Vec<f64>> = checked.iter().map(|&k| points[k].clone()).collect();
+        let fine = if checked.is_empty() {
+            Vec::new()
+        } else {
+            self.evaluate_batch(&fine_keys, &fine_points, space, &coarse, seed)?
+        };
+        let summary = tally.fidelity.get_or_insert_with(FidelitySummary::default);
+        summary.coarse += points.len();
+        summary.fine_checks += checked.len();
+        // The checks learn in the candidates' order, then the rest is corrected with all of
+        // them: the same correction whatever order the simulations ended in.
+        for (&k, fine) in checked.iter().zip(&fine) {
+            let unit = self.unit_of(space, &points[k]);
+            self.learn_from(&space.name, &evaluations[k], fine, &coarse, &unit, tally);
+            evaluations[k] = merge_fine(&evaluations[k], fine, &coarse);
+        }
+        for (k, evaluation) in evaluations.iter_mut().enumerate() {
+            if !checked.contains(&k) && evaluation.status == Status::Ok {
+                let unit = self.unit_of(space, &points[k]);
+                *evaluation = self.corrected(evaluation, &coarse, &unit, space);
+            }
+        }
+        Ok(evaluations)
+    }
+
+    /// `values` in the unit cube of `space`'s bounds.
+    fn unit_of(&self, space: &ModelSpace, values: &[f64]) -> Vec<f64> {
+        values
+            .iter()
+            .zip(space.lower.iter().zip(&space.upper))
+            .map(|(x, (l, u))| unit_cube::to_unit(*x, *l, *u))
+            .collect()
+    }
+
+    /// Record how well the model's correction predicts the fine simulation `fine` of the
+    /// coarse one `coarse` (experiments `experiments`, candidate at `unit`), then learn it.
+    fn learn_from(
+        &mut self,
+        model: &str,
+        coarse: &Evaluation,
+        fine: &Evaluation,
+        experiments: &[usize],
+        unit: &[f64],
+        tally: &mut Tally,
+    ) {
+        if fine.status != Status::Ok {
+            return;
+        }
+        let campaign = self.campaign;
+        let correction = self
+            .corrections
+            .entry(model.to_string())
+            .or_insert_with(|| Correction::new(campaign.experiments.len()));
+        let summary = tally.fidelity.get_or_insert_with(FidelitySummary::default);
+        for &i in experiments {
+            let (Some(Some(c)), Some(Some(f))) =
+                (coarse.predictions.get(i), fine.predictions.get(i))
+            else {
+                continue;
+            };
+            let name = &campaign.file.experiments[i].file;
+            let recording = &campaign.experiments[i].recording;
+            summary
+                .checks
+                .push(correction.check(i, name, recording, unit, c, f));
+            correction.learn(i, unit, c, f);
+        }
+    }
+
+    /// The coarse evaluation `coarse` with the predictions of `experiments` corrected by the
+    /// model's correction and re-scored.
+    fn corrected(
+        &self,
+        coarse: &Evaluation,
+        experiments: &[usize],
+        unit: &[f64],
+        space: &ModelSpace,
+    ) -> Evaluation {
+        let mut corrected = coarse.clone();
+        corrected.corrected = true;
+        let Some(correction) = self.corrections.get(&space.name) else {
+            return corrected;
+        };
+        for &i in experiments {
+            let Some(Some(c)) = coarse.predictions.get(i) else {
+                continue;
+            };
+            let predicted = correction.correct(i, unit, c);
+            if let Some(slot) = corrected.scores.get_mut(i) {
+                *slot = score(&self.campaign.experiments[i].recording, &predicted);
+            }
+            corrected.predictions[i] = Some(predicted);
+        }
+        if corrected
+            .scores
+            .iter()
+            .zip(&coarse.scores)
+            .any(|(a, b)| a.is_none() && b.is_some())
+        {
+            corrected.status = Status::Failed("non-finite corrected prediction".into());
+        }
+        corrected
+    }
+
+    /// Multi-fidelity, at the end of the search: if the best corrected candidate beats every
+    /// simulated one, simulate it on the fine meshes (a fine check: it is learned from), so
+    /// that the instance's best, the polish's start and its result are simulations.
+    fn settle_best(&mut self, place: &Place<'_>, tally: &mut Tally) -> Result<(), CalibrateError> {
+        let Some((candidate, value, index)) = tally.best_corrected.clone() else {
+            return Ok(());
+        };
+        if tally.best.as_ref().is_some_and(|(_, b)| *b <= value) || index == usize::MAX {
+            return Ok(());
+        }
+        let coarse = self.coarse_experiments(place);
+        let key = Self::key(place, index, Fidelity::Fine);
+        let fine = self
+            .evaluate_batch(
+                &[key],
+                std::slice::from_ref(&candidate.values),
+                place.space,
+                &coarse,
+                place.seed,
+            )?
+            .remove(0);
+        // The coarse predictions the correction started from: the logged coarse simulation.
+        let key = Self::key(place, index, Fidelity::Coarse);
+        let raw = self
+            .evaluate_batch(
+                &[key],
+                std::slice::from_ref(&candidate.values),
+                place.space,
+                place.experiments,
+                place.seed,
+            )?
+            .remove(0);
+        let unit = self.unit_of(place.space, &candidate.values);
+        self.learn_from(&place.space.name, &raw, &fine, &coarse, &unit, tally);
+        if let Some(summary) = tally.fidelity.as_mut() {
+            summary.fine_checks += 1;
+        }
+        let merged = merge_fine(&raw, &fine, &coarse);
+        let merged_value = value_of(self.campaign, &merged, place.experiments);
+        tally.offer(&merged, merged_value);
         Ok(())
     }
 
@@ -522,6 +749,7 @@ impl Runner<'_> {
             &mut tally,
             seen,
         )?;
+        self.settle_best(&place, &mut tally)?;
         self.polish(&place, polish, &mut index, &mut tally, seen)?;
         // Least-squares finish from the best point: the diagnosis' bounded Levenberg-Marquardt
         // on the whitened residuals (its simulations logged beside the calibration's), its
@@ -543,6 +771,8 @@ impl Runner<'_> {
         }
         let Tally {
             best,
+            best_corrected: _,
+            fidelity,
             history,
             simulated,
             failed,
@@ -567,6 +797,7 @@ impl Runner<'_> {
             failed,
             infeasible,
             first_rejection: first_failure,
+            fidelity,
         })
     }
 }
@@ -620,6 +851,7 @@ pub fn calibrate<'a>(
         stop_at_noise_floor: optimiser.stop_at_noise_floor,
         fold_budget: optimiser.fold_budget,
         output: output.to_path_buf(),
+        corrections: BTreeMap::new(),
     };
     let instances = options.instances.unwrap_or(optimiser.instances);
     let leave_one_out = options.leave_one_out.unwrap_or(optimiser.leave_one_out);
@@ -734,6 +966,7 @@ impl Runner<'_> {
                     fold: Some(format!("final:{}", fold.clone().unwrap_or_default())),
                     instance: winner.instance,
                     index: 0,
+                    fidelity: Default::default(),
                 };
                 let rest = self
                     .evaluate_batch(
@@ -787,6 +1020,7 @@ impl Runner<'_> {
                     fold: Some("baseline".into()),
                     instance: 0,
                     index: 0,
+                    fidelity: Default::default(),
                 };
                 let evaluation = self
                     .evaluate_batch(&[key], std::slice::from_ref(&values), &space, &all, 0)?
@@ -855,6 +1089,22 @@ impl Runner<'_> {
             holdout_error,
         })
     }
+}
+
+/// The coarse evaluation `coarse` with the scores and predictions of `experiments` taken from
+/// their fine simulation `fine`: the candidate simulated on the fine meshes throughout (the
+/// other experiments have one mesh); failed if the fine simulation failed.
+fn merge_fine(coarse: &Evaluation, fine: &Evaluation, experiments: &[usize]) -> Evaluation {
+    let mut merged = merge_scores(coarse, fine, experiments);
+    merged.fidelity = Fidelity::Fine;
+    for &i in experiments {
+        if let (Some(slot), Some(prediction)) =
+            (merged.predictions.get_mut(i), fine.predictions.get(i))
+        {
+            slot.clone_from(prediction);
+        }
+    }
+    merged
 }
 
 /// `base` with the scores of the experiments `missing` taken from `rest` (the same constants

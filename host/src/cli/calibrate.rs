@@ -306,6 +306,9 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         if let Some(rejections) = r.rejection_summary() {
             say!("{rejections}.");
         }
+        if let Some(fidelity) = r.fidelity_summary() {
+            say!("{fidelity}.");
+        }
         if let Some(verdict) = r.baseline_verdict() {
             say!("{verdict}.");
         }

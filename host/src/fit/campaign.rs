@@ -71,7 +71,18 @@ pub struct ExperimentEntry {
     /// Weight of its error in the total.
     #[serde(default = "one")]
     pub weight: f64,
+    /// Multi-fidelity (docs/calibration.md, "Multi-fidelity"): the factor (> 1) on every
+    /// element size of this experiment's mesh at which the search's candidates simulate it
+    /// (`Setup::with_element_scale`); one in [`OptimiserEntry::fine_every`] of them also runs
+    /// it as written, and the difference learned from those pairs corrects the rest. Unset:
+    /// every candidate runs it as written.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coarse: Option<f64>,
 }
+
+/// Largest coarse factor: an eighth of the elements across a length already leaves the
+/// penetration and Taylor meshes at two or three elements across the rod.
+pub const MAXIMUM_COARSE_FACTOR: f64 = 8.0;
 
 /// One model (family) to fit.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -202,6 +213,16 @@ pub struct OptimiserEntry {
     /// `"selected"` (the calibration's selected model, `fit::result::selected_model`) or `"none"`.
     #[serde(default)]
     pub uncertainty: UncertaintyFor,
+    /// Multi-fidelity: one in this many of the search's candidates (the initial design and
+    /// the Bayesian proposals; the first of every run of this many) also simulates the
+    /// experiments that have a `coarse` factor at their own mesh (a fine check). Default 4;
+    /// without a `coarse` experiment it has no effect.
+    #[serde(default = "default_fine_every")]
+    pub fine_every: usize,
+}
+
+fn default_fine_every() -> usize {
+    4
 }
 
 /// Which models get the linearised uncertainty of their constants.
@@ -280,6 +301,7 @@ impl Default for OptimiserEntry {
             design: None,
             fold_budget: None,
             uncertainty: UncertaintyFor::Every,
+            fine_every: default_fine_every(),
         }
     }
 }
@@ -338,6 +360,9 @@ pub struct Campaign {
     pub base: AnyMaterialFile,
     /// The experiments, in the file's order.
     pub experiments: Vec<Experiment>,
+    /// Each experiment's coarse fidelity (its `coarse` factor applied), in the same order;
+    /// `None` where the entry gives no factor.
+    pub coarse: Vec<Option<Experiment>>,
 }
 
 impl Campaign {
@@ -377,11 +402,13 @@ impl Campaign {
             .map(|entry| Experiment::load(&folder.join(&entry.file)))
             .collect::<Result<Vec<_>, _>>()?;
         check_experiments_accept(path, &text, &file, &base, &experiments)?;
+        let coarse = coarse_experiments(path, &text, &file, &experiments)?;
         let campaign = Self {
             path: path.into(),
             file,
             base,
             experiments,
+            coarse,
         };
         for (index, model) in campaign.file.models.iter().enumerate() {
             campaign.check_model(path, &text, index, model)?;
@@ -772,12 +799,66 @@ impl Campaign {
         })
     }
 
+    /// Whether any experiment has a coarse fidelity (a multi-fidelity calibration).
+    pub fn is_multi_fidelity(&self) -> bool {
+        self.coarse.iter().any(Option::is_some)
+    }
+
     /// Indices of the fitted (not held-out) experiments.
     pub fn fitted(&self) -> Vec<usize> {
         (0..self.experiments.len())
             .filter(|&i| !self.file.experiments[i].holdout)
             .collect()
     }
+}
+
+/// Each experiment's coarse fidelity: its set-up with every element size multiplied by its
+/// entry's `coarse` factor, checked by the kind's own rules. Errors name the entry's field.
+fn coarse_experiments(
+    path: &Path,
+    text: &str,
+    file: &CampaignFile,
+    experiments: &[Experiment],
+) -> Result<Vec<Option<Experiment>>, InputError> {
+    file.experiments
+        .iter()
+        .zip(experiments)
+        .enumerate()
+        .map(|(index, (entry, experiment))| {
+            let Some(factor) = entry.coarse else {
+                return Ok(None);
+            };
+            let keys = ["experiments", &index.to_string(), "coarse"];
+            let error = |message: String| InputError::at(path, text, &keys, message);
+            if !(factor > 1.0 && factor <= MAXIMUM_COARSE_FACTOR) {
+                return Err(error(format!(
+                    "{}: {factor} is not a coarse factor: give the factor on the element \
+                     size, above 1 and at most {MAXIMUM_COARSE_FACTOR}",
+                    entry.file
+                )));
+            }
+            let (change, setup) = experiment
+                .file
+                .setup
+                .with_element_scale(factor)
+                .map_err(|message| error(format!("{}: {message}", entry.file)))?;
+            let check = |field: &str, ok: bool, message: &str| {
+                if ok {
+                    Ok(())
+                } else {
+                    Err(error(format!(
+                        "{}: at the coarse factor {factor} ({change}) the set-up is invalid: \
+                         {field}: {message}",
+                        entry.file
+                    )))
+                }
+            };
+            setup.validate(&check)?;
+            let mut coarse = experiment.clone();
+            coarse.file.setup = setup;
+            Ok(Some(coarse))
+        })
+        .collect()
 }
 
 /// Fitted constants up to which every corner of a model's box is checked at load (2^10
@@ -891,6 +972,11 @@ fn check_experiments_and_optimiser(
             "give at least 4 simulations per instance (the initial design)",
         ),
         ("instances", o.instances >= 1, "give at least 1"),
+        (
+            "fine_every",
+            o.fine_every >= 1,
+            "give at least 1 (one in this many search candidates is checked at the fine mesh)",
+        ),
         (
             "parallel",
             o.parallel >= 1,

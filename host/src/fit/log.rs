@@ -4,6 +4,7 @@
 //! and with bit-identical constants is taken from the log instead of being simulated again.
 
 use super::executor::Origin;
+use super::fidelity::Fidelity;
 use super::objective::Evaluation;
 use crate::journal::Journal;
 use serde::{Deserialize, Serialize};
@@ -22,6 +23,10 @@ pub struct Key {
     pub instance: usize,
     /// Index of the candidate in its instance's sequence.
     pub index: usize,
+    /// The mesh it was simulated on (multi-fidelity: a coarse candidate and its fine check
+    /// share the rest of the key); absent for the fine one, as in logs written before.
+    #[serde(default, skip_serializing_if = "Fidelity::is_fine")]
+    pub fidelity: Fidelity,
 }
 
 /// One log line.

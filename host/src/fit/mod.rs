@@ -11,6 +11,7 @@
 //! - [`linear`]: the small dense least-squares algebra it needs;
 //! - [`campaign`]: the campaign file (models, experiments, optimiser, executor settings);
 //! - [`objective`]: the error measure of a candidate over a campaign's recordings;
+//! - [`fidelity`]: multi-fidelity: the coarse meshes' predictions corrected towards the fine;
 //! - [`executor`]: where candidates are simulated (this machine's pool, a Slurm cluster);
 //! - [`log`]: the simulation log that makes a calibration resumable;
 //! - [`result`]: what a calibration returns per model (`result.json`), read back by the
@@ -25,6 +26,7 @@
 pub mod campaign;
 pub mod engine;
 pub mod executor;
+pub mod fidelity;
 pub mod hypothesis;
 pub mod interrupt;
 pub mod least_squares;
@@ -39,8 +41,8 @@ pub mod unit_cube;
 
 pub use campaign::Campaign;
 pub use objective::{
-    describe_scales, error_scales, evaluate, score, Evaluation, QuantityScale, ScaleKind, Score,
-    Status,
+    describe_scales, error_scales, evaluate, evaluate_at, score, Evaluation, QuantityScale,
+    ScaleKind, Score, Status,
 };
 
 pub use engine::{Engine, Progress};

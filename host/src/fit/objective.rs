@@ -15,6 +15,7 @@
 //! `sqrt(mean(((predicted - recorded) / uncertainty)^2))` (1 = at the noise floor).
 
 use super::campaign::{Campaign, Constraints};
+use super::fidelity::Fidelity;
 use crate::fit::ModelSpace;
 use crate::input::recording::RecordedPoint;
 use crate::solver::SolverSettings;
@@ -255,6 +256,14 @@ pub struct Evaluation {
     /// The experiments of `scores` (their campaign file entries); empty if read from a
     /// positional file.
     pub experiments: Vec<String>,
+    /// The mesh its simulations ran on (multi-fidelity; [`Fidelity::Fine`] otherwise).
+    pub fidelity: Fidelity,
+    /// Its coarse scores were corrected towards the fine mesh's
+    /// ([`crate::fit::fidelity::Correction`]): a prediction of the fine simulation, not one.
+    pub corrected: bool,
+    /// The predictions of the experiments that have a coarse fidelity (multi-fidelity), per
+    /// campaign experiment; empty otherwise.
+    pub predictions: Vec<Option<Vec<f64>>>,
 }
 
 impl Evaluation {
@@ -280,6 +289,9 @@ impl Evaluation {
                 .iter()
                 .map(|e| e.file.clone())
                 .collect(),
+            fidelity: Fidelity::Fine,
+            corrected: false,
+            predictions: Vec::new(),
         }
     }
 
@@ -341,15 +353,45 @@ pub fn evaluate(
     experiments: &[usize],
     settings: &SolverSettings,
 ) -> Evaluation {
+    evaluate_at(
+        campaign,
+        space,
+        values,
+        experiments,
+        settings,
+        Fidelity::Fine,
+    )
+}
+
+/// [`evaluate`] at a fidelity: [`Fidelity::Coarse`] simulates the experiments that have a
+/// coarse fidelity on their coarse mesh. In a multi-fidelity campaign the predictions of
+/// those experiments are kept (at either fidelity), for the correction.
+pub fn evaluate_at(
+    campaign: &Campaign,
+    space: &ModelSpace,
+    values: &[f64],
+    experiments: &[usize],
+    settings: &SolverSettings,
+    fidelity: Fidelity,
+) -> Evaluation {
     let started = std::time::Instant::now();
     let mut scores = vec![None; campaign.experiments.len()];
-    let finish = |scores, status| {
+    let mut predictions: Vec<Option<Vec<f64>>> = if campaign.is_multi_fidelity() {
+        vec![None; campaign.experiments.len()]
+    } else {
+        Vec::new()
+    };
+    let finish = |scores, predictions, status| {
         let wall_time = started.elapsed().as_secs_f64();
-        Evaluation::labelled(campaign, space, values, scores, status, wall_time)
+        let mut evaluation =
+            Evaluation::labelled(campaign, space, values, scores, status, wall_time);
+        evaluation.fidelity = fidelity;
+        evaluation.predictions = predictions;
+        evaluation
     };
     let material = match space.material(&campaign.base, values) {
         Ok((_, material)) => material,
-        Err(message) => return finish(scores, Status::Infeasible(message)),
+        Err(message) => return finish(scores, predictions, Status::Infeasible(message)),
     };
     let reference_temperature = 298.0;
     // The flow-stress realism constraints are for J2 metals.
@@ -361,25 +403,30 @@ pub fn evaluate(
             floor,
             reference_temperature,
         ) {
-            return finish(scores, Status::Infeasible(message));
+            return finish(scores, predictions, Status::Infeasible(message));
         }
     }
     // The set-up parameters (nuisance) written into the experiments they name.
     let setup = space.setup_values(values);
     let run = |&index: &usize| {
-        let experiment = super::space::with_setup(&campaign.experiments[index], &setup)
-            .map_err(Status::Failed)?;
+        let file = match (fidelity, &campaign.coarse.get(index)) {
+            (Fidelity::Coarse, Some(Some(coarse))) => coarse,
+            _ => &campaign.experiments[index],
+        };
+        let experiment = super::space::with_setup(file, &setup).map_err(Status::Failed)?;
         match experiment.simulate(&material, settings) {
-            Ok(outcome) => score(&experiment.recording, &outcome.predicted).ok_or_else(|| {
-                Status::Failed(format!("{}: non-finite prediction", experiment.file.name))
-            }),
+            Ok(outcome) => score(&experiment.recording, &outcome.predicted)
+                .map(|s| (s, outcome.predicted))
+                .ok_or_else(|| {
+                    Status::Failed(format!("{}: non-finite prediction", experiment.file.name))
+                }),
             Err(error) => Err(Status::Failed(format!("{}: {error}", experiment.file.name))),
         }
     };
     // One solver thread per simulation: the experiments of a candidate run side by side on
     // the calling pool's threads (so a lone candidate, as in the polish, still fills the
     // cores). With more solver threads they run one after another, each using them all.
-    let outcomes: Vec<Result<Score, Status>> = if settings.threads == Some(1) {
+    let outcomes: Vec<Result<(Score, Vec<f64>), Status>> = if settings.threads == Some(1) {
         use rayon::prelude::*;
         experiments.par_iter().map(run).collect()
     } else {
@@ -388,11 +435,16 @@ pub fn evaluate(
     // The first failure in the campaign's order decides, as if they had run in turn.
     for (&index, outcome) in experiments.iter().zip(outcomes) {
         match outcome {
-            Ok(s) => scores[index] = Some(s),
-            Err(status) => return finish(scores, status),
+            Ok((s, predicted)) => {
+                scores[index] = Some(s);
+                if campaign.coarse.get(index).is_some_and(Option::is_some) {
+                    predictions[index] = Some(predicted);
+                }
+            }
+            Err(status) => return finish(scores, predictions, status),
         }
     }
-    finish(scores, Status::Ok)
+    finish(scores, predictions, Status::Ok)
 }
 
 #[cfg(test)]
@@ -430,8 +482,34 @@ mod tests {
             wall_time: 1.5,
             names: vec!["yield_stress".into(), "rate_sensitivity".into()],
             experiments: vec!["tension.toml".into(), "taylor.toml".into()],
+            fidelity: Fidelity::Fine,
+            corrected: false,
+            predictions: Vec::new(),
         };
         let text = serde_json::to_string(&evaluation).unwrap();
+        // A fine evaluation writes no fidelity, correction or predictions.
+        assert!(
+            !text.contains("fidelity") && !text.contains("predictions"),
+            "{text}"
+        );
+        // A corrected coarse one writes them, its predictions by experiment, and reads back.
+        let coarse = Evaluation {
+            fidelity: Fidelity::Coarse,
+            corrected: true,
+            predictions: vec![None, Some(vec![0.0221, 0.0105])],
+            ..evaluation.clone()
+        };
+        let coarse_text = serde_json::to_string(&coarse).unwrap();
+        assert!(
+            coarse_text.contains(
+                r#""fidelity":"coarse","corrected":true,"predictions":{"taylor.toml":[0.0221,0.0105]}"#
+            ),
+            "{coarse_text}"
+        );
+        assert_eq!(
+            serde_json::from_str::<Evaluation>(&coarse_text).unwrap(),
+            coarse
+        );
         assert!(
             text.starts_with(
                 r#"{"constants":{"yield_stress":790000000.0,"rate_sensitivity":0.014},"scores":{"tension.toml":{"error":0.1,"chi":2.0},"taylor.toml":null}"#
@@ -525,7 +603,7 @@ mod tests {
 
 /// The file form of an [`Evaluation`]: by name, or positional as written before.
 mod record {
-    use super::{Evaluation, Score, Status};
+    use super::{Evaluation, Fidelity, Score, Status};
     use crate::fit::space::SETUP_PREFIX;
     use serde::de::{MapAccess, Visitor};
     use serde::ser::SerializeMap;
@@ -588,6 +666,15 @@ mod record {
         scores: Scores,
         status: Status,
         wall_time: f64,
+        /// The mesh (multi-fidelity); absent for the fine one.
+        #[serde(default, skip_serializing_if = "Fidelity::is_fine")]
+        fidelity: Fidelity,
+        /// The scores are of corrected coarse predictions; absent when not.
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        corrected: bool,
+        /// The predictions of the experiments with a coarse fidelity, by experiment.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        predictions: Option<Ordered<Vec<f64>>>,
     }
 
     impl From<Evaluation> for EvaluationRecord {
@@ -604,6 +691,12 @@ mod record {
                     .into_iter()
                     .map(|(name, value)| (name[SETUP_PREFIX.len()..].to_string(), value))
                     .collect();
+                let predictions: Vec<(String, Vec<f64>)> = e
+                    .experiments
+                    .iter()
+                    .zip(&e.predictions)
+                    .filter_map(|(name, p)| p.clone().map(|p| (name.clone(), p)))
+                    .collect();
                 EvaluationRecord {
                     constants: Some(Ordered(constants)),
                     setup: (!setup.is_empty()).then_some(Ordered(setup)),
@@ -613,6 +706,9 @@ mod record {
                     )),
                     status: e.status,
                     wall_time: e.wall_time,
+                    fidelity: e.fidelity,
+                    corrected: e.corrected,
+                    predictions: (!predictions.is_empty()).then_some(Ordered(predictions)),
                 }
             } else {
                 EvaluationRecord {
@@ -622,6 +718,9 @@ mod record {
                     scores: Scores::Positional(e.scores),
                     status: e.status,
                     wall_time: e.wall_time,
+                    fidelity: e.fidelity,
+                    corrected: e.corrected,
+                    predictions: None,
                 }
             }
         }
@@ -641,9 +740,22 @@ mod record {
                     .unzip(),
                 (None, values) => (Vec::new(), values.unwrap_or_default()),
             };
-            let (experiments, scores) = match r.scores {
+            let (experiments, scores): (Vec<String>, _) = match r.scores {
                 Scores::Named(Ordered(pairs)) => pairs.into_iter().unzip(),
                 Scores::Positional(scores) => (Vec::new(), scores),
+            };
+            // Predictions by experiment name, placed at the experiments' positions.
+            let predictions = match r.predictions {
+                Some(Ordered(pairs)) => experiments
+                    .iter()
+                    .map(|name| {
+                        pairs
+                            .iter()
+                            .find(|(n, _)| n == name)
+                            .map(|(_, p)| p.clone())
+                    })
+                    .collect(),
+                None => Vec::new(),
             };
             Evaluation {
                 values,
@@ -652,6 +764,9 @@ mod record {
                 wall_time: r.wall_time,
                 names,
                 experiments,
+                fidelity: r.fidelity,
+                corrected: r.corrected,
+                predictions,
             }
         }
     }

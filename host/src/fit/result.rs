@@ -34,6 +34,10 @@ pub struct InstanceResult {
     /// Why the first failed or infeasible candidate was rejected.
     #[serde(default)]
     pub first_rejection: Option<String>,
+    /// Multi-fidelity: the search's coarse candidates, fine checks and how well the
+    /// correction predicted them; absent in a single-fidelity calibration.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fidelity: Option<crate::fit::fidelity::FidelitySummary>,
 }
 
 /// The result of a model.
@@ -111,6 +115,52 @@ impl ModelResult {
         Some(format!(
             "{}: {infeasible} of {total} candidates infeasible (rejected before simulation) and \
              {failed} failed in simulation; the first: {first}",
+            self.model
+        ))
+    }
+
+    /// Multi-fidelity, as a sentence (console and report): how many of the search's
+    /// candidates ran on the coarse meshes and how many were checked on the fine ones, and
+    /// how far the coarse and the corrected predictions lay from the fine simulations of the
+    /// checks made after the correction had learned from at least one (each check measured
+    /// before it is learned from); `None` for a single-fidelity calibration.
+    pub fn fidelity_summary(&self) -> Option<String> {
+        let summaries: Vec<&crate::fit::fidelity::FidelitySummary> = self
+            .instances
+            .iter()
+            .filter_map(|i| i.fidelity.as_ref())
+            .collect();
+        if summaries.is_empty() {
+            return None;
+        }
+        let coarse: usize = summaries.iter().map(|s| s.coarse).sum();
+        let fine: usize = summaries.iter().map(|s| s.fine_checks).sum();
+        let later: usize = self
+            .instances
+            .iter()
+            .map(|i| i.simulated + i.infeasible)
+            .sum::<usize>()
+            .saturating_sub(coarse);
+        let all = crate::fit::fidelity::FidelitySummary {
+            coarse,
+            fine_checks: fine,
+            checks: summaries
+                .iter()
+                .flat_map(|s| s.checks.iter().cloned())
+                .collect(),
+        };
+        let accuracy = match all.accuracy() {
+            Some((raw, corrected, checks)) => format!(
+                "; over {checks} checks made after the correction had learned, the corrected \
+                 coarse predictions lay {corrected:.4} from the fine simulations (scaled RMS, \
+                 as the error), the uncorrected {raw:.4}"
+            ),
+            None => "; no check came after the correction had learned from one".into(),
+        };
+        Some(format!(
+            "{}: multi-fidelity search: {coarse} candidates on the coarse meshes, {fine} of \
+             them also on the fine meshes, and {later} more (polish, finish) on the fine \
+             meshes only{accuracy}",
             self.model
         ))
     }
@@ -659,6 +709,9 @@ mod tests {
                 wall_time: 0.0,
                 names: Vec::new(),
                 experiments: Vec::new(),
+                fidelity: Default::default(),
+                corrected: false,
+                predictions: Vec::new(),
             },
             fit_error: 1.0,
             holdout_error: None,

@@ -397,6 +397,9 @@ impl<'a> Report<'a> {
                     campaign.flow_stress_floor()
                 );
             }
+            if let Some(fidelity) = r.fidelity_summary() {
+                let _ = writeln!(md, "- {fidelity}.");
+            }
             if let Some(verdict) = r.baseline_verdict() {
                 let _ = writeln!(md, "- {verdict}.");
             }

@@ -23,10 +23,11 @@ pub use settings::{ExecutorEntry, ExecutorKind, SlurmMode};
 pub use task::Origin;
 
 use super::campaign::Campaign;
+use super::fidelity::Fidelity;
 use super::hypothesis::Realisation;
 use super::log::Key;
 use super::log::LogError;
-use super::objective::{evaluate, Evaluation};
+use super::objective::{evaluate_at, Evaluation};
 use crate::fit::ModelSpace;
 use crate::solver::SolverSettings;
 use rayon::prelude::*;
@@ -66,6 +67,8 @@ pub struct Batch<'a> {
     pub seed: u64,
     /// The candidates.
     pub candidates: Vec<Candidate<'a>>,
+    /// The mesh to simulate them on (each candidate's key carries it too).
+    pub fidelity: Fidelity,
 }
 
 /// Called once per candidate as its evaluation ends, in any order: `(index in the batch,
@@ -167,12 +170,13 @@ impl Executor for Local {
                 .par_iter()
                 .enumerate()
                 .map(|(index, candidate)| {
-                    let evaluation = evaluate(
+                    let evaluation = evaluate_at(
                         batch.campaign,
                         batch.space,
                         candidate.values,
                         batch.experiments,
                         settings,
+                        batch.fidelity,
                     );
                     record(index, &evaluation, origin)?;
                     Ok(evaluation)

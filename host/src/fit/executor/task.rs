@@ -11,7 +11,7 @@
 use super::super::campaign::Campaign;
 use super::super::hypothesis::Realisation;
 use super::super::log::Key;
-use super::super::objective::{evaluate, Evaluation};
+use super::super::objective::{evaluate_at, Evaluation};
 use crate::fit::ModelSpace;
 use crate::solver::SolverSettings;
 use serde::{Deserialize, Serialize};
@@ -375,7 +375,14 @@ pub fn run_task(task_path: &Path, threads: usize) -> Result<PathBuf, String> {
             campaign.experiments.len()
         ));
     }
-    let evaluation = evaluate(&campaign, &space, &values, &task.experiments, &settings);
+    let evaluation = evaluate_at(
+        &campaign,
+        &space,
+        &values,
+        &task.experiments,
+        &settings,
+        task.key.fidelity,
+    );
     let mut origin = Origin::this_process(&task.executor);
     origin.slurm_job = slurm_job_of_environment();
     let result = ResultFile {
@@ -482,6 +489,7 @@ mod tests {
             fold: fold.map(str::to_string),
             instance,
             index,
+            fidelity: Default::default(),
         };
         let a = task_name(&key(None, 0, 3));
         assert_eq!(a, task_name(&key(None, 0, 3)));
@@ -527,6 +535,7 @@ mod tests {
                 fold: None,
                 instance: 0,
                 index: 0,
+                fidelity: Default::default(),
             },
             seed: 1,
             experiments: vec![0],
