@@ -582,7 +582,9 @@ impl Runner<'_> {
             if let Some(slot) = corrected.scores.get_mut(i) {
                 *slot = score(&self.campaign.experiments[i].recording, &predicted);
             }
-            corrected.predictions[i] = Some(predicted);
+            if let Some(slot) = corrected.predictions.get_mut(i) {
+                *slot = Some(predicted);
+            }
         }
         if corrected
             .scores
