@@ -151,9 +151,10 @@ impl ModelResult {
         };
         let accuracy = match all.accuracy() {
             Some((raw, corrected, checks)) => format!(
-                "; over {checks} checks made after the correction had learned, the corrected \
-                 coarse predictions lay {corrected:.4} from the fine simulations (scaled RMS, \
-                 as the error), the uncorrected {raw:.4}"
+                "; over {checks} checks (an experiment at a checked candidate) made after the \
+                 correction had learned from one, the corrected coarse predictions lay \
+                 {corrected:.4} from the fine simulations (scaled RMS, as the error), the \
+                 uncorrected {raw:.4}"
             ),
             None => "; no check came after the correction had learned from one".into(),
         };
