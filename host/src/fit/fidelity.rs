@@ -13,7 +13,7 @@
 //! `delta` (the correction is a regression, not an interpolant of the pairs).
 
 use super::linear::{gram, solve_damped, transpose_times};
-use super::objective::error_scales;
+use super::objective::point_scales;
 use crate::input::recording::RecordedPoint;
 use serde::{Deserialize, Serialize};
 
@@ -164,19 +164,14 @@ impl Correction {
         fine: &[f64],
     ) -> CheckRecord {
         let corrected = self.correct(experiment, unit, coarse);
-        let scales = error_scales(recording);
-        let scale_of = |quantity: &str| {
-            scales
-                .iter()
-                .find(|s| s.quantity == quantity)
-                .map_or(f64::MIN_POSITIVE, |s| s.value)
-        };
+        let scales = point_scales(recording);
         let rms = |predicted: &[f64]| {
             let n = recording.len().max(1) as f64;
-            let sum: f64 = recording
+            let sum: f64 = predicted
                 .iter()
-                .zip(predicted.iter().zip(fine))
-                .map(|(r, (p, f))| ((p - f) / scale_of(&r.quantity)).powi(2))
+                .zip(fine)
+                .zip(&scales)
+                .map(|((p, f), scale)| ((p - f) / scale).powi(2))
                 .sum();
             libm::sqrt(sum / n)
         };

@@ -147,24 +147,33 @@ pub fn describe_scales(scales: &[QuantityScale]) -> String {
     }
 }
 
+/// The error scale of each recorded point: its quantity's ([`error_scales`]).
+pub fn point_scales(recording: &[RecordedPoint]) -> Vec<f64> {
+    let scales = error_scales(recording);
+    recording
+        .iter()
+        .map(|point| {
+            scales
+                .iter()
+                .find(|s| s.quantity == point.quantity)
+                .map_or(f64::MIN_POSITIVE, |s| s.value)
+        })
+        .collect()
+}
+
 /// The scaled RMSE (seed 000's measure with [`error_scales`]) and the uncertainty-weighted
 /// RMS.
 pub fn score(recording: &[RecordedPoint], predicted: &[f64]) -> Option<Score> {
     if recording.len() != predicted.len() || predicted.iter().any(|p| !p.is_finite()) {
         return None;
     }
-    let scales = error_scales(recording);
-    let scale_of = |quantity: &str| {
-        scales
-            .iter()
-            .find(|s| s.quantity == quantity)
-            .map_or(f64::MIN_POSITIVE, |s| s.value)
-    };
+    let scales = point_scales(recording);
     let n = recording.len() as f64;
     let error = (recording
         .iter()
         .zip(predicted)
-        .map(|(r, p)| ((p - r.value) / scale_of(&r.quantity)).powi(2))
+        .zip(&scales)
+        .map(|((r, p), scale)| ((p - r.value) / scale).powi(2))
         .sum::<f64>()
         / n)
         .sqrt();
