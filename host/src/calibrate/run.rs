@@ -560,8 +560,9 @@ impl Runner<'_> {
         }
     }
 
-    /// The coarse evaluation `coarse` with the predictions of `experiments` corrected by the
-    /// model's correction and re-scored.
+    /// The coarse evaluation `coarse` with the scores of `experiments` taken from their
+    /// predictions corrected by the model's correction; the predictions stay the coarse
+    /// simulation's (a later fine check of the candidate learns from them).
     fn corrected(
         &self,
         coarse: &Evaluation,
@@ -581,9 +582,6 @@ impl Runner<'_> {
             let predicted = correction.correct(i, unit, c);
             if let Some(slot) = corrected.scores.get_mut(i) {
                 *slot = score(&self.campaign.experiments[i].recording, &predicted);
-            }
-            if let Some(slot) = corrected.predictions.get_mut(i) {
-                *slot = Some(predicted);
             }
         }
         if corrected
@@ -618,23 +616,13 @@ impl Runner<'_> {
                 place.seed,
             )?
             .remove(0);
-        // The coarse predictions the correction started from: the logged coarse simulation.
-        let key = Self::key(place, index, Fidelity::Coarse);
-        let raw = self
-            .evaluate_batch(
-                &[key],
-                std::slice::from_ref(&candidate.values),
-                place.space,
-                place.experiments,
-                place.seed,
-            )?
-            .remove(0);
+        // A corrected evaluation keeps its coarse simulation's predictions.
         let unit = self.unit_of(place.space, &candidate.values);
-        self.learn_from(&place.space.name, &raw, &fine, &coarse, &unit, tally);
+        self.learn_from(&place.space.name, &candidate, &fine, &coarse, &unit, tally);
         if let Some(summary) = tally.fidelity.as_mut() {
             summary.fine_checks += 1;
         }
-        let merged = merge_fine(&raw, &fine, &coarse);
+        let merged = merge_fine(&candidate, &fine, &coarse);
         let merged_value = value_of(self.campaign, &merged, place.experiments);
         tally.offer(&merged, merged_value);
         Ok(())
@@ -1099,6 +1087,7 @@ impl Runner<'_> {
 fn merge_fine(coarse: &Evaluation, fine: &Evaluation, experiments: &[usize]) -> Evaluation {
     let mut merged = merge_scores(coarse, fine, experiments);
     merged.fidelity = Fidelity::Fine;
+    merged.corrected = false;
     for &i in experiments {
         if let (Some(slot), Some(prediction)) =
             (merged.predictions.get_mut(i), fine.predictions.get(i))

@@ -271,7 +271,8 @@ pub struct Evaluation {
     /// ([`crate::fit::fidelity::Correction`]): a prediction of the fine simulation, not one.
     pub corrected: bool,
     /// The predictions of the experiments that have a coarse fidelity (multi-fidelity), per
-    /// campaign experiment; empty otherwise.
+    /// campaign experiment, as simulated (a corrected evaluation keeps its coarse ones);
+    /// empty otherwise.
     pub predictions: Vec<Option<Vec<f64>>>,
 }
 
