@@ -287,76 +287,102 @@ fn residual(
     }
 }
 
-/// Solve `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n) = 0` for `dl` (seed 001 eq. 3.8)
-/// with the flow stress `flow` at the step's temperature `T_n`. Requires `g(0) > 0`.
-///
-/// `start` is the first iterate and, if the caller has evaluated it, its residual (see
-/// `compute`: the previous step's multiplier, or the perfectly plastic estimate `g(0)/3G`).
-/// Returns `(dl, flow stress along the path at dl, iterations)`.
-#[inline(always)]
-fn implicit_return(
-    flow: &FlowAtTemperature<'_>,
-    shear_modulus: f64,
-    trial_equivalent: f64,
-    plastic_strain: f64,
-    start: (f64, Option<Residual>),
+/// One point's safeguarded Newton return between flow-stress evaluations (rtsafe): the
+/// bracket, the iterate and the previous step. [`implicit_return`] drives one point through
+/// it; [`implicit_return_block`] drives `L` points in lockstep, each through the same
+/// [`ReturnIteration::advance`], so every point's bits are those of the one-point return.
+#[derive(Clone, Copy)]
+struct ReturnIteration {
+    three_g: f64,
     dt: f64,
-    inverse_dt: f64,
-) -> Result<(f64, PathFlow, u32), UpdateError> {
-    let three_g = 3.0 * shear_modulus;
-    let residual = |dl: f64| {
-        residual(
-            flow,
+    tolerance: f64,
+    lower: f64,
+    upper: f64,
+    /// The iterate: where the next residual is evaluated.
+    dl: f64,
+    upper_flow: Option<PathFlow>,
+    previous_step: f64,
+    iteration: u32,
+}
+
+/// What a [`ReturnIteration`] needs after an evaluation.
+enum Advance {
+    /// The residual at the new iterate `dl`.
+    Evaluate,
+    /// The bracket is exhausted at double precision with no flow stress evaluated at its upper
+    /// end: the flow stress at `upper` ends the return there.
+    EvaluateUpper,
+    /// The return ended.
+    Done(Result<(f64, PathFlow, u32), UpdateError>),
+}
+
+impl ReturnIteration {
+    /// The return of `g(dl) = 0` (requires `g(0) > 0`) from `start`, with the start's residual
+    /// if the caller evaluated it; that residual is dropped if the start lies beyond the
+    /// perfectly plastic bound `q_trial / 3G`, where the iterate is moved.
+    #[inline(always)]
+    fn new(
+        shear_modulus: f64,
+        trial_equivalent: f64,
+        start: (f64, Option<Residual>),
+        dt: f64,
+    ) -> (Self, Option<Residual>) {
+        let three_g = 3.0 * shear_modulus;
+        let upper = trial_equivalent / three_g;
+        let (mut dl, mut pending) = start;
+        if dl > upper {
+            dl = upper;
+            pending = None;
+        }
+        let iteration = ReturnIteration {
             three_g,
-            trial_equivalent,
-            plastic_strain,
+            dt,
+            tolerance: RETURN_TOLERANCE * trial_equivalent,
+            lower: 0.0,
+            upper,
             dl,
-            inverse_dt,
-        )
-    };
-    let tolerance = RETURN_TOLERANCE * trial_equivalent;
-    let mut lower = 0.0_f64;
-    let mut upper = trial_equivalent / three_g;
-    let (mut dl, mut pending) = start;
-    if dl > upper {
-        dl = upper;
-        pending = None;
+            upper_flow: None,
+            previous_step: upper,
+            iteration: 0,
+        };
+        (iteration, pending)
     }
-    // Safeguarded Newton (rtsafe): a Newton step is taken only if it stays inside the bracket
-    // and at least halves the previous step; otherwise the bracket is bisected, geometrically
-    // when it spans orders of magnitude (roots near 0 for tiny hardening exponents, steep rate
-    // laws), so that ~60 bisections reach any positive double.
-    let mut upper_flow: Option<PathFlow> = None;
-    let mut previous_step = upper;
-    for iteration in 1..=MAX_RETURN_ITERATIONS {
+
+    /// One iteration with the residual `evaluated` at the iterate: accept it, or move the
+    /// bracket and choose the next iterate. A Newton step is taken only if it stays inside the
+    /// bracket and at least halves the previous step; otherwise the bracket is bisected,
+    /// geometrically when it spans orders of magnitude (roots near 0 for tiny hardening
+    /// exponents, steep rate laws), so that ~60 bisections reach any positive double.
+    #[inline(always)]
+    fn advance(&mut self, evaluated: Residual) -> Advance {
+        self.iteration += 1;
+        let iteration = self.iteration;
+        let dl = self.dl;
         let Residual {
             value: g,
             slope: dg,
             flow,
-        } = match pending.take() {
-            Some(evaluated) => evaluated,
-            None => residual(dl),
-        };
+        } = evaluated;
         if !g.is_finite() {
-            return Err(UpdateError::NonFiniteResult);
+            return Advance::Done(Err(UpdateError::NonFiniteResult));
         }
-        if g.abs() <= tolerance {
-            return Ok((dl, flow, iteration));
+        if g.abs() <= self.tolerance {
+            return Advance::Done(Ok((dl, flow, iteration)));
         }
         if g > 0.0 {
-            lower = dl;
+            self.lower = dl;
         } else {
-            upper = dl;
-            upper_flow = Some(flow);
+            self.upper = dl;
+            self.upper_flow = Some(flow);
         }
+        let (lower, upper) = (self.lower, self.upper);
         if upper - lower <= f64::EPSILON * upper || upper <= 4.0 * f64::MIN_POSITIVE {
             // Bracket exhausted at double precision. Return its upper end, where
             // g <= 0: the stress is on (to round-off) or inside the yield surface.
-            let flow = match upper_flow {
-                Some(flow) => flow,
-                None => residual(upper).flow,
+            return match self.upper_flow {
+                Some(flow) => Advance::Done(Ok((upper, flow, iteration))),
+                None => Advance::EvaluateUpper,
             };
-            return Ok((upper, flow, iteration));
         }
         let inverse_slope = 1.0 / dg;
         let newton = dl - g * inverse_slope;
@@ -364,7 +390,7 @@ fn implicit_return(
             && dg < 0.0
             && newton > lower
             && newton < upper
-            && (newton - dl).abs() <= 0.5 * previous_step;
+            && (newton - dl).abs() <= 0.5 * self.previous_step;
         if newton_ok {
             let end = final_step(
                 &flow,
@@ -372,11 +398,11 @@ fn implicit_return(
                 dl,
                 newton,
                 (lower, upper),
-                dt,
-                tolerance,
+                self.dt,
+                self.tolerance,
             );
             if let Some((accepted, value)) = end {
-                return Ok((accepted, PathFlow { value, ..flow }, iteration));
+                return Advance::Done(Ok((accepted, PathFlow { value, ..flow }, iteration)));
             }
         }
         let next = if newton_ok {
@@ -394,10 +420,63 @@ fn implicit_return(
         } else {
             0.5 * (lower + upper)
         };
-        previous_step = (next - dl).abs();
-        dl = next;
+        if iteration >= MAX_RETURN_ITERATIONS {
+            return Advance::Done(Err(UpdateError::ReturnMappingDiverged));
+        }
+        self.previous_step = (next - dl).abs();
+        self.dl = next;
+        Advance::Evaluate
     }
-    Err(UpdateError::ReturnMappingDiverged)
+
+    /// The end of an [`Advance::EvaluateUpper`]: the bracket's upper end with its flow stress.
+    #[inline(always)]
+    fn finish_at_upper(&self, flow: PathFlow) -> (f64, PathFlow, u32) {
+        (self.upper, flow, self.iteration)
+    }
+}
+
+/// Solve `q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n) = 0` for `dl` (seed 001 eq. 3.8)
+/// with the flow stress `flow` at the step's temperature `T_n`. Requires `g(0) > 0`.
+///
+/// `start` is the first iterate and, if the caller has evaluated it, its residual (see
+/// `compute`: the previous step's multiplier, or the perfectly plastic estimate `g(0)/3G`).
+/// Returns `(dl, flow stress along the path at dl, iterations)`.
+#[inline(always)]
+fn implicit_return(
+    flow: &FlowAtTemperature<'_>,
+    shear_modulus: f64,
+    trial_equivalent: f64,
+    plastic_strain: f64,
+    start: (f64, Option<Residual>),
+    dt: f64,
+    inverse_dt: f64,
+) -> Result<(f64, PathFlow, u32), UpdateError> {
+    let (mut iteration, mut pending) =
+        ReturnIteration::new(shear_modulus, trial_equivalent, start, dt);
+    let three_g = iteration.three_g;
+    let residual = |dl: f64| {
+        residual(
+            flow,
+            three_g,
+            trial_equivalent,
+            plastic_strain,
+            dl,
+            inverse_dt,
+        )
+    };
+    loop {
+        let evaluated = match pending.take() {
+            Some(evaluated) => evaluated,
+            None => residual(iteration.dl),
+        };
+        match iteration.advance(evaluated) {
+            Advance::Evaluate => {}
+            Advance::EvaluateUpper => {
+                return Ok(iteration.finish_at_upper(residual(iteration.upper).flow))
+            }
+            Advance::Done(result) => return result,
+        }
+    }
 }
 
 /// Steps 1-2's outcome: the flow stress of a plastic step (or the yield check of an elastic
