@@ -16,6 +16,8 @@ use crate::experiment::{Experiment, Setup};
 use crate::input::material;
 use crate::solver::SolverSettings;
 use std::path::Path;
+use stoss_kernel::strength::{Hardening, Strength};
+use stoss_kernel::PartMaterial;
 
 /// The core `stoss calibrate fixtures/campaigns/ballistic-geometry.toml` identified from table
 /// 3.4 (2026-11-28; docs/solver.md): length, diameter and ogive nose length (m).
@@ -138,4 +140,87 @@ pub fn predict(
             .map(|s| (s.impact_velocity, s.residual_velocity))
             .collect(),
     })
+}
+
+/// The plate and core meshes of one shot of [`mesh_shot`] (m), and whether the core is kept
+/// elastic.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShotMesh {
+    /// The plate's element size (m).
+    pub plate: f64,
+    /// The core's element size (m).
+    pub core: f64,
+    /// The core's yield stress raised tenfold (50 GPa for table 3.3's core): it stays elastic.
+    pub elastic_core: bool,
+}
+
+/// Impact velocity of the mesh study's shot (m/s): well above every table's limit, so that the
+/// exit velocity is settled and not a flip between stopped and perforated.
+pub const MESH_SHOT_VELOCITY: f64 = 800.0;
+
+/// The exit velocity of one shot at [`MESH_SHOT_VELOCITY`] with `core` on table 3.4's set-up
+/// (`experiment`, a `ballistic-foi-t34.toml` under `fixtures`), the plate and core meshed as
+/// `mesh` (the gap 0.019 mm with a 0.1 mm plate, seed 001's refined model; the file's
+/// otherwise): 0 for a stopped core (docs/solver.md, "Why: the core's nose yields").
+pub fn mesh_shot(
+    fixtures: &Path,
+    experiment: &str,
+    core: Core,
+    mesh: ShotMesh,
+    threads: Option<usize>,
+) -> Result<f64, String> {
+    let path = fixtures.join(experiment);
+    let loaded = Experiment::load(&path).map_err(|e| e.to_string())?;
+    let Setup::BallisticLimit(base) = &loaded.file.setup else {
+        return Err(format!(
+            "{}: not a ballistic-limit experiment",
+            path.display()
+        ));
+    };
+    let mut spec = base.clone();
+    spec.projectile_length = core.length;
+    spec.projectile_diameter = core.diameter;
+    spec.nose_length = Some(core.nose_length);
+    spec.element_size = mesh.plate;
+    spec.projectile_element_size = mesh.core;
+    if mesh.plate <= 0.1e-3 {
+        spec.gap = 0.019e-3;
+    }
+    if mesh.elastic_core {
+        let Some(PartMaterial::J2(material)) = spec.projectile.as_deref_mut() else {
+            return Err(format!("{}: the core is not a J2 material", path.display()));
+        };
+        let Strength::Composed(model) = &mut material.strength else {
+            return Err(format!(
+                "{}: the core has no composed strength",
+                path.display()
+            ));
+        };
+        let Hardening::Power { yield_stress, .. } = &mut model.hardening else {
+            return Err(format!(
+                "{}: the core's hardening is not a power law",
+                path.display()
+            ));
+        };
+        *yield_stress *= 10.0;
+    }
+    let material_path = loaded
+        .default_material_path()
+        .ok_or_else(|| format!("{}: no material", path.display()))?;
+    let (_, plate) = material::load_part(&material_path).map_err(|e| e.to_string())?;
+    let settings = SolverSettings {
+        threads,
+        ..SolverSettings::default()
+    };
+    let shot = spec
+        .fire(&plate, MESH_SHOT_VELOCITY, &settings)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    match shot.outcome {
+        ShotOutcome::Perforated => Ok(shot.residual_velocity),
+        ShotOutcome::Stopped => Ok(0.0),
+        ShotOutcome::Undetermined => Err(format!(
+            "{}: the shot is still in the plate at the end",
+            path.display()
+        )),
+    }
 }

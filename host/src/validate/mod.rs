@@ -152,6 +152,13 @@ pub enum Measure {
         /// The limit (else the RMS exit difference).
         limit: bool,
     },
+    /// One shot at 800 m/s with the core identified from table 3.4, the plate and core meshed
+    /// as given, the core elastic-plastic or kept elastic ([`foi_tables::mesh_shot`]): its
+    /// exit velocity, m/s (0 when stopped).
+    FoiCoreMesh {
+        /// The plate and core meshes and the core's strength.
+        mesh: foi_tables::ShotMesh,
+    },
     /// The Eulerian shot's crater radius over the rod radius, 10-30 us
     /// ([`semi_infinite::euler_crater`]): one to three rod radii above the nose, or within one
     /// (`at_head`); one run per velocity, cell size and heating in a process.
@@ -298,6 +305,33 @@ const fn foi_core(
         scale: 1.0,
         speed: Speed::Slow,
         measure: Measure::FoiCore { experiment, limit },
+    }
+}
+
+/// A row of the ballistic mesh study (docs/solver.md): the exit velocity at 800 m/s with the
+/// identified core, plate and core meshed `(plate, core)` (m), the core elastic or not.
+const fn foi_core_mesh(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    (plate, core, elastic_core): (f64, f64, bool),
+) -> Row {
+    Row {
+        name,
+        figure,
+        quoted_in: "docs/solver.md, Ballistic limit, The core from FOI's own tables",
+        stated,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::FoiCoreMesh {
+            mesh: foi_tables::ShotMesh {
+                plate,
+                core,
+                elastic_core,
+            },
+        },
     }
 }
 
@@ -1114,6 +1148,48 @@ pub const ROWS: &[Row] = &[
         765.0,
         ("experiments/ballistic-foi-t37.toml", true),
     ),
+    foi_core_mesh(
+        "foi-core-mesh-0.2-0.4",
+        "exit velocity at 800 m/s, the core identified from table 3.4, plate 0.2 mm, core 0.4 mm (FOI table 3.4: 243)",
+        244.0,
+        (0.2e-3, 0.4e-3, false),
+    ),
+    foi_core_mesh(
+        "foi-core-mesh-0.1-0.4",
+        "exit velocity at 800 m/s, the core identified from table 3.4, plate 0.1 mm, core 0.4 mm",
+        337.1,
+        (0.1e-3, 0.4e-3, false),
+    ),
+    foi_core_mesh(
+        "foi-core-mesh-0.2-0.1",
+        "exit velocity at 800 m/s, the core identified from table 3.4, plate 0.2 mm, core 0.1 mm (0: stopped, its nose blunted)",
+        0.0,
+        (0.2e-3, 0.1e-3, false),
+    ),
+    foi_core_mesh(
+        "foi-core-mesh-0.1-0.1",
+        "exit velocity at 800 m/s, the core identified from table 3.4, plate and core 0.1 mm (FOI table 3.7: 289)",
+        209.2,
+        (0.1e-3, 0.1e-3, false),
+    ),
+    foi_core_mesh(
+        "foi-core-mesh-0.2-0.4-elastic",
+        "exit velocity at 800 m/s, the core identified from table 3.4 kept elastic, plate 0.2 mm, core 0.4 mm",
+        327.4,
+        (0.2e-3, 0.4e-3, true),
+    ),
+    foi_core_mesh(
+        "foi-core-mesh-0.2-0.1-elastic",
+        "exit velocity at 800 m/s, the core identified from table 3.4 kept elastic, plate 0.2 mm, core 0.1 mm",
+        328.6,
+        (0.2e-3, 0.1e-3, true),
+    ),
+    foi_core_mesh(
+        "foi-core-mesh-0.1-0.1-elastic",
+        "exit velocity at 800 m/s, the core identified from table 3.4 kept elastic, plate and core 0.1 mm",
+        342.0,
+        (0.1e-3, 0.1e-3, true),
+    ),
     foi_core(
         "foi-core-t38-rms",
         "RMS exit difference from FOI's Autodyn table 3.8 (Autodyn 4.2.02, 0.2 / 0.4 mm; stoss: the 3.4 model), the core identified from table 3.4",
@@ -1592,6 +1668,13 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
                 prediction.rms
             })
         }
+        Measure::FoiCoreMesh { mesh } => foi_tables::mesh_shot(
+            fixtures,
+            "experiments/ballistic-foi-t34.toml",
+            foi_tables::IDENTIFIED_CORE,
+            mesh,
+            threads,
+        ),
         Measure::EulerCrater {
             velocity,
             element,
