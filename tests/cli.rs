@@ -327,6 +327,7 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
             | stoss::validate::Measure::Predicted { experiment, .. }
             | stoss::validate::Measure::LambertJonas { experiment }
             | stoss::validate::Measure::FoiCore { experiment, .. }
+            | stoss::validate::Measure::FoiCoreMesh { experiment, .. }
             | stoss::validate::Measure::BlastLoad { experiment, .. } => {
                 stoss::experiment::Experiment::load(&fixtures.join(experiment))
                     .unwrap_or_else(|e| panic!("{}: {e}", row.name));

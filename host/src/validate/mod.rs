@@ -156,6 +156,8 @@ pub enum Measure {
     /// as given, the core elastic-plastic or kept elastic ([`foi_tables::mesh_shot`]): its
     /// exit velocity, m/s (0 when stopped).
     FoiCoreMesh {
+        /// Table 3.4's experiment file, relative to the fixtures folder.
+        experiment: &'static str,
         /// The plate and core meshes and the core's strength.
         mesh: foi_tables::ShotMesh,
     },
@@ -326,6 +328,7 @@ const fn foi_core_mesh(
         scale: 1.0,
         speed: Speed::Slow,
         measure: Measure::FoiCoreMesh {
+            experiment: "experiments/ballistic-foi-t34.toml",
             mesh: foi_tables::ShotMesh {
                 plate,
                 core,
@@ -1668,9 +1671,9 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
                 prediction.rms
             })
         }
-        Measure::FoiCoreMesh { mesh } => foi_tables::mesh_shot(
+        Measure::FoiCoreMesh { experiment, mesh } => foi_tables::mesh_shot(
             fixtures,
-            "experiments/ballistic-foi-t34.toml",
+            experiment,
             foi_tables::IDENTIFIED_CORE,
             mesh,
             threads,
