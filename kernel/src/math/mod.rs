@@ -10,7 +10,6 @@
 //! Preston-Tonks-Wallace model uses) go to the `libm` crate.
 
 mod exp;
-pub mod lanes;
 mod log;
 mod pow;
 mod tables;
