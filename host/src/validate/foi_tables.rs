@@ -58,14 +58,17 @@ pub struct Prediction {
     pub shots: Vec<(f64, f64)>,
 }
 
-/// Predict the table of `experiment` (a `ballistic-foi-t3*.toml` under `fixtures`) with `core`,
-/// on `threads` threads.
-pub fn predict(
-    fixtures: &Path,
-    experiment: &str,
-    core: Core,
-    threads: Option<usize>,
-) -> Result<Prediction, String> {
+/// A FOI table's experiment loaded with `core` in place of its file's: the loaded file, its
+/// ballistic set-up with the core's geometry, and the plate's material.
+struct WithCore {
+    path: std::path::PathBuf,
+    loaded: Experiment,
+    spec: crate::experiment::ballistic::BallisticLimitSpec,
+    plate: PartMaterial,
+}
+
+/// Load `experiment` (a `ballistic-foi-t3*.toml` under `fixtures`) and put `core` in it.
+fn with_core(fixtures: &Path, experiment: &str, core: Core) -> Result<WithCore, String> {
     let path = fixtures.join(experiment);
     let loaded = Experiment::load(&path).map_err(|e| e.to_string())?;
     let Setup::BallisticLimit(base) = &loaded.file.setup else {
@@ -74,6 +77,36 @@ pub fn predict(
             path.display()
         ));
     };
+    let mut spec = base.clone();
+    spec.projectile_length = core.length;
+    spec.projectile_diameter = core.diameter;
+    spec.nose_length = Some(core.nose_length);
+    let material_path = loaded
+        .default_material_path()
+        .ok_or_else(|| format!("{}: no material", path.display()))?;
+    let (_, plate) = material::load_part(&material_path).map_err(|e| e.to_string())?;
+    Ok(WithCore {
+        path,
+        loaded,
+        spec,
+        plate,
+    })
+}
+
+/// Predict the table of `experiment` (a `ballistic-foi-t3*.toml` under `fixtures`) with `core`,
+/// on `threads` threads.
+pub fn predict(
+    fixtures: &Path,
+    experiment: &str,
+    core: Core,
+    threads: Option<usize>,
+) -> Result<Prediction, String> {
+    let WithCore {
+        path,
+        loaded,
+        mut spec,
+        plate,
+    } = with_core(fixtures, experiment, core)?;
     let foi = recorded_shots(&loaded.recording);
     let lowest = foi
         .first()
@@ -83,17 +116,9 @@ pub fn predict(
         .map_err(|e| format!("{}: FOI's rows: {e}", path.display()))?
         .ballistic_limit;
 
-    let mut spec = base.clone();
-    spec.projectile_length = core.length;
-    spec.projectile_diameter = core.diameter;
-    spec.nose_length = Some(core.nose_length);
     spec.impact_velocities = std::iter::once(lowest - BRACKET_BELOW)
         .chain(foi.iter().map(|s| s.impact_velocity))
         .collect();
-    let material_path = loaded
-        .default_material_path()
-        .ok_or_else(|| format!("{}: no material", path.display()))?;
-    let (_, plate) = material::load_part(&material_path).map_err(|e| e.to_string())?;
     let settings = SolverSettings {
         threads,
         ..SolverSettings::default()
@@ -169,18 +194,12 @@ pub fn mesh_shot(
     mesh: ShotMesh,
     threads: Option<usize>,
 ) -> Result<f64, String> {
-    let path = fixtures.join(experiment);
-    let loaded = Experiment::load(&path).map_err(|e| e.to_string())?;
-    let Setup::BallisticLimit(base) = &loaded.file.setup else {
-        return Err(format!(
-            "{}: not a ballistic-limit experiment",
-            path.display()
-        ));
-    };
-    let mut spec = base.clone();
-    spec.projectile_length = core.length;
-    spec.projectile_diameter = core.diameter;
-    spec.nose_length = Some(core.nose_length);
+    let WithCore {
+        path,
+        mut spec,
+        plate,
+        ..
+    } = with_core(fixtures, experiment, core)?;
     spec.element_size = mesh.plate;
     spec.projectile_element_size = mesh.core;
     if mesh.plate <= 0.1e-3 {
@@ -204,10 +223,6 @@ pub fn mesh_shot(
         };
         *yield_stress *= 10.0;
     }
-    let material_path = loaded
-        .default_material_path()
-        .ok_or_else(|| format!("{}: no material", path.display()))?;
-    let (_, plate) = material::load_part(&material_path).map_err(|e| e.to_string())?;
     let settings = SolverSettings {
         threads,
         ..SolverSettings::default()
