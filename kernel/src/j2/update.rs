@@ -289,8 +289,9 @@ fn residual(
 
 /// One point's safeguarded Newton return between flow-stress evaluations (rtsafe): the
 /// bracket, the iterate and the previous step. [`implicit_return`] drives one point through
-/// it; [`implicit_return_block`] drives `L` points in lockstep, each through the same
-/// [`ReturnIteration::advance`], so every point's bits are those of the one-point return.
+/// it, evaluating the residual wherever [`ReturnIteration::advance`] asks; a driver of several
+/// points in lockstep can advance each through the same function, so every point keeps the
+/// bits of its own return.
 #[derive(Clone, Copy)]
 struct ReturnIteration {
     three_g: f64,
