@@ -27,6 +27,14 @@ pub const IDENTIFIED_CORE: Core = Core {
     nose_length: 0.008_688_88,
 };
 
+/// The core the same campaign identified from table 3.4 with the core meshed at 0.1 mm (plate
+/// 0.2 mm; 2026-11-29, docs/solver.md, "The core identified on a resolved core mesh").
+pub const FINE_MESH_CORE: Core = Core {
+    length: 0.012,
+    diameter: 0.004_575_555_555_555_556,
+    nose_length: 0.008_444_444_444_437_295,
+};
+
 /// How far below FOI's lowest impact velocity the extra bracketing shot is fired (m/s).
 pub const BRACKET_BELOW: f64 = 100.0;
 

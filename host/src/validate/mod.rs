@@ -158,6 +158,8 @@ pub enum Measure {
     FoiCoreMesh {
         /// Table 3.4's experiment file, relative to the fixtures folder.
         experiment: &'static str,
+        /// The core.
+        core: foi_tables::Core,
         /// The plate and core meshes and the core's strength.
         mesh: foi_tables::ShotMesh,
     },
@@ -316,7 +318,24 @@ const fn foi_core_mesh(
     name: &'static str,
     figure: &'static str,
     stated: f64,
-    (plate, core, elastic_core): (f64, f64, bool),
+    (plate, core_mesh, elastic_core): (f64, f64, bool),
+) -> Row {
+    foi_core_mesh_with(
+        name,
+        figure,
+        stated,
+        foi_tables::IDENTIFIED_CORE,
+        (plate, core_mesh, elastic_core),
+    )
+}
+
+/// [`foi_core_mesh`] with another core.
+const fn foi_core_mesh_with(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    core: foi_tables::Core,
+    (plate, core_mesh, elastic_core): (f64, f64, bool),
 ) -> Row {
     Row {
         name,
@@ -329,9 +348,10 @@ const fn foi_core_mesh(
         speed: Speed::Slow,
         measure: Measure::FoiCoreMesh {
             experiment: "experiments/ballistic-foi-t34.toml",
+            core,
             mesh: foi_tables::ShotMesh {
                 plate,
-                core,
+                core: core_mesh,
                 elastic_core,
             },
         },
@@ -1193,6 +1213,20 @@ pub const ROWS: &[Row] = &[
         342.0,
         (0.1e-3, 0.1e-3, true),
     ),
+    foi_core_mesh_with(
+        "foi-fine-core-mesh-0.2-0.1",
+        "exit velocity at 800 m/s, the core identified from table 3.4 on a 0.1 mm core mesh, plate 0.2 mm, core 0.1 mm (FOI table 3.4: 243)",
+        234.9,
+        foi_tables::FINE_MESH_CORE,
+        (0.2e-3, 0.1e-3, false),
+    ),
+    foi_core_mesh_with(
+        "foi-fine-core-mesh-0.1-0.1",
+        "exit velocity at 800 m/s, the core identified from table 3.4 on a 0.1 mm core mesh, plate and core 0.1 mm (FOI table 3.7: 289)",
+        297.7,
+        foi_tables::FINE_MESH_CORE,
+        (0.1e-3, 0.1e-3, false),
+    ),
     foi_core(
         "foi-core-t38-rms",
         "RMS exit difference from FOI's Autodyn table 3.8 (Autodyn 4.2.02, 0.2 / 0.4 mm; stoss: the 3.4 model), the core identified from table 3.4",
@@ -1671,13 +1705,11 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
                 prediction.rms
             })
         }
-        Measure::FoiCoreMesh { experiment, mesh } => foi_tables::mesh_shot(
-            fixtures,
+        Measure::FoiCoreMesh {
             experiment,
-            foi_tables::IDENTIFIED_CORE,
+            core,
             mesh,
-            threads,
-        ),
+        } => foi_tables::mesh_shot(fixtures, experiment, core, mesh, threads),
         Measure::EulerCrater {
             velocity,
             element,
