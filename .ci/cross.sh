@@ -2,8 +2,9 @@
 # Cross-target bit-exactness for stoss-kernel.
 #
 # 1. The golden histories (tests/golden.rs, fixtures/golden/*.golden, stored as exact f64 bit
-#    patterns written on x86_64) are recomputed on aarch64-unknown-linux-gnu, debug and
-#    release, and compared bit for bit. The test binaries run under qemu user-mode emulation
+#    patterns written on x86_64) are recomputed on aarch64-unknown-linux-gnu in release and
+#    compared bit for bit (debug against release is compared on x86_64 in .ci/run).
+#    The test binaries run under qemu user-mode emulation
 #    (qemu-aarch64-static or qemu-aarch64, with the Debian arm64 cross libc as sysroot).
 # 2. aarch64 has fused multiply-add instructions; rustc never contracts a*b+c into them unless
 #    the source asks (f64::mul_add), and neither crate does. As evidence beside the passing
@@ -103,9 +104,9 @@ export CC_aarch64_unknown_linux_gnu=aarch64-linux-gnu-gcc
 aarch64-linux-gnu-gcc --version | head -n 1
 
 # --- Golden histories on aarch64 ---------------------------------------------------------
-step "golden histories on $aarch64 under qemu (debug)"
-cargo test -p stoss --test golden --target "$aarch64"
-
+# Release only: the debug profile (opt-level 1) is compared with release (opt-level 3) on
+# x86_64 in .ci/run, and rustc's float semantics do not depend on the optimisation level; the
+# aarch64 debug build of the whole host cost about four minutes of CI for no further evidence.
 step "golden histories on $aarch64 under qemu (release)"
 cargo test -p stoss --test golden --target "$aarch64" --release
 
@@ -160,5 +161,5 @@ step "stoss-kernel for $embedded (debug, release)"
 cargo build -p stoss-kernel --target "$embedded"
 cargo build -p stoss-kernel --target "$embedded" --release
 
-printf '\ncross: OK (golden histories bit-identical on %s in debug and release; kernel builds for %s) in %ds\n' \
+printf '\ncross: OK (golden histories bit-identical on %s in release; kernel builds for %s) in %ds\n' \
     "$aarch64" "$embedded" "$((SECONDS - started))"

@@ -7,7 +7,8 @@
 #    Stable Rust first; if stable refuses, RUSTC_BOOTSTRAP=1.
 # 3. Replays the committed reproducers of kernel defects the fuzzers found
 #    (fuzz/regressions/<target>/), which also live as tests in kernel/tests/fuzz_regressions.rs.
-# 4. Fuzzes every target for FUZZ_SECONDS (default 60) from its committed seed corpus
+# 4. Fuzzes every target for FUZZ_SECONDS (default 60), FUZZ_JOBS (default: the cores, at most
+#    4) at once, from its committed seed corpus
 #    (fuzz/corpus/<target>/), writing new inputs to a scratch directory so the committed
 #    corpus stays small. Prints executions per second and total executions per target.
 #
@@ -55,12 +56,43 @@ fi
 
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
-failed=()
-summary=()
-
 # libFuzzer options: a hang is a failure (10 s for an input that takes microseconds), no
 # leak detection (no sanitizer), final statistics for the exec/s line.
 options=(-timeout=10 -print_final_stats=1)
+
+# Each libFuzzer process is single-threaded, so FUZZ_JOBS targets (default: the number of
+# cores, at most 4) fuzz at once; every target still gets its full FUZZ_SECONDS. Each
+# target's outcome goes to $scratch/<target>.line (and .failed), read back in target order.
+jobs="${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 1)}"
+if ! [[ "$jobs" =~ ^[1-9][0-9]*$ ]]; then
+    echo "fuzz: FUZZ_JOBS must be a positive integer, got '$jobs'" >&2
+    exit 2
+fi
+if ((jobs > 4)); then
+    jobs=4
+fi
+
+fuzz_target() {
+    local target="$1" log status=0 runs rate line artifact
+    mkdir -p "$scratch/$target" "corpus/$target"
+    log="$scratch/$target.log"
+    cargo fuzz run -s none "$target" "$scratch/$target" "corpus/$target" -- \
+        -max_total_time="$seconds" "${options[@]}" >"$log" 2>&1 || status=$?
+    runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)"
+    rate="$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -n 1)"
+    line="$target: ${runs:-?} executions, ${rate:-?} exec/s, $(find "$scratch/$target" -type f | wc -l) new corpus entries"
+    if [[ $status -ne 0 ]]; then
+        grep -E -A3 "panicked at|ERROR: libFuzzer|SUMMARY" "$log" | head -n 12 >&2 || true
+        artifact="$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | tail -n 1)"
+        echo "fuzz: $target crashed (exit $status); artifact: ${artifact:-see log}" >&2
+        line="$line, CRASH ${artifact:-}"
+        touch "$scratch/$target.failed"
+    fi
+    echo "$line" >"$scratch/$target.line"
+}
+
+failed=()
+summary=()
 
 for target in "${targets[@]}"; do
     if [[ -d "regressions/$target" ]] && compgen -G "regressions/$target/*" >/dev/null; then
@@ -76,22 +108,28 @@ for target in "${targets[@]}"; do
             echo "ok: every reproducer passes"
         fi
     fi
+done
 
-    step "$target: ${seconds}s"
-    mkdir -p "$scratch/$target" "corpus/$target"
-    log="$scratch/$target.log"
-    status=0
-    cargo fuzz run -s none "$target" "$scratch/$target" "corpus/$target" -- \
-        -max_total_time="$seconds" "${options[@]}" >"$log" 2>&1 || status=$?
-    runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)"
-    rate="$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -n 1)"
-    line="$target: ${runs:-?} executions, ${rate:-?} exec/s, $(find "$scratch/$target" -type f | wc -l) new corpus entries"
-    if [[ $status -ne 0 ]]; then
-        grep -E -A3 "panicked at|ERROR: libFuzzer|SUMMARY" "$log" | head -n 12 >&2 || true
-        artifact="$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | tail -n 1)"
-        echo "fuzz: $target crashed (exit $status); artifact: ${artifact:-see log}" >&2
+step "fuzzing ${#targets[@]} targets, ${seconds}s each, $jobs at a time"
+running=0
+for target in "${targets[@]}"; do
+    fuzz_target "$target" &
+    running=$((running + 1))
+    if ((running >= jobs)); then
+        wait -n || true
+        running=$((running - 1))
+    fi
+done
+wait || true
+
+for target in "${targets[@]}"; do
+    if [[ -f "$scratch/$target.line" ]]; then
+        line="$(cat "$scratch/$target.line")"
+    else
+        line="$target: no result (the fuzzing job died)"
+    fi
+    if [[ -f "$scratch/$target.failed" || ! -f "$scratch/$target.line" ]]; then
         failed+=("$target")
-        line="$line, CRASH ${artifact:-}"
     fi
     echo "$line"
     summary+=("$line")
