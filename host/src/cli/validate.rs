@@ -123,6 +123,22 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         results.push(result);
     }
     let failed = results.iter().filter(|r| !r.passed()).count();
+    let foi_tables = validate::predicted_foi_tables();
+    for (experiment, core, core_mesh, prediction) in &foi_tables {
+        say!(
+            "\n{experiment}, core {:.3} x {:.3} mm, nose {:.3} mm, core mesh {}: shots (impact, exit m/s) {}",
+            core.length * 1e3,
+            core.diameter * 1e3,
+            core.nose_length * 1e3,
+            core_mesh.map_or("as the file".to_string(), |size| format!("{:.2} mm", size * 1e3)),
+            prediction
+                .shots
+                .iter()
+                .map(|(impact, exit)| format!("{impact:.1} {exit:.1}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     super::output::json(&serde_json::json!({
         "command": "validate",
         "rows": results
@@ -141,6 +157,17 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
             .collect::<Vec<_>>(),
         "passed": results.len() - failed,
         "failed": failed,
+        "foi_tables": foi_tables
+            .iter()
+            .map(|(experiment, core, core_mesh, prediction)| serde_json::json!({
+                "experiment": experiment,
+                "core_length": core.length,
+                "core_diameter": core.diameter,
+                "nose_length": core.nose_length,
+                "core_element_size": core_mesh,
+                "shots": prediction.shots,
+            }))
+            .collect::<Vec<_>>(),
     }));
     say!(
         "\n{} row(s): {} pass, {failed} fail",

@@ -102,11 +102,12 @@ fn with_core(fixtures: &Path, experiment: &str, core: Core) -> Result<WithCore, 
 }
 
 /// Predict the table of `experiment` (a `ballistic-foi-t3*.toml` under `fixtures`) with `core`,
-/// on `threads` threads.
+/// the core meshed at `core_element_size` (m; the file's when `None`), on `threads` threads.
 pub fn predict(
     fixtures: &Path,
     experiment: &str,
     core: Core,
+    core_element_size: Option<f64>,
     threads: Option<usize>,
 ) -> Result<Prediction, String> {
     let WithCore {
@@ -115,6 +116,9 @@ pub fn predict(
         mut spec,
         plate,
     } = with_core(fixtures, experiment, core)?;
+    if let Some(size) = core_element_size {
+        spec.projectile_element_size = size;
+    }
     let foi = recorded_shots(&loaded.recording);
     let lowest = foi
         .first()

@@ -143,12 +143,17 @@ pub enum Measure {
         /// The target's yield stress (Pa).
         target_yield: f64,
     },
-    /// One of FOI's ballistic tables predicted with the core identified from table 3.4
+    /// One of FOI's ballistic tables predicted with a core identified from table 3.4
     /// ([`foi_tables::predict`]): the RMS exit difference from FOI's (`limit: false`) or
-    /// stoss' Lambert–Jonas limit (`true`), m/s (one run per table in a process).
+    /// stoss' Lambert–Jonas limit (`true`), m/s (one run per table, core and mesh in a
+    /// process).
     FoiCore {
         /// The table's experiment file, relative to the fixtures folder.
         experiment: &'static str,
+        /// The core.
+        core: foi_tables::Core,
+        /// The core's element size (m; the file's when `None`).
+        core_mesh: Option<f64>,
         /// The limit (else the RMS exit difference).
         limit: bool,
     },
@@ -291,12 +296,29 @@ const fn foi_perforation(
     }
 }
 
-/// A row of FOI's table `experiment` predicted with the identified core (docs/solver.md): the
-/// RMS exit difference (`limit: false`) or stoss' limit, m/s.
+/// A row of FOI's table `experiment` predicted with the core identified on table 3.4's meshes
+/// (docs/solver.md): the RMS exit difference (`limit: false`) or stoss' limit, m/s.
 const fn foi_core(
     name: &'static str,
     figure: &'static str,
     stated: f64,
+    (experiment, limit): (&'static str, bool),
+) -> Row {
+    foi_core_with(
+        name,
+        figure,
+        stated,
+        (foi_tables::IDENTIFIED_CORE, None),
+        (experiment, limit),
+    )
+}
+
+/// [`foi_core`] with another core, meshed at `core_mesh` (m; the file's when `None`).
+const fn foi_core_with(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    (core, core_mesh): (foi_tables::Core, Option<f64>),
     (experiment, limit): (&'static str, bool),
 ) -> Row {
     Row {
@@ -308,7 +330,12 @@ const fn foi_core(
         unit: "m/s",
         scale: 1.0,
         speed: Speed::Slow,
-        measure: Measure::FoiCore { experiment, limit },
+        measure: Measure::FoiCore {
+            experiment,
+            core,
+            core_mesh,
+            limit,
+        },
     }
 }
 
@@ -1251,6 +1278,20 @@ pub const ROWS: &[Row] = &[
         760.6,
         ("experiments/ballistic-foi-t39.toml", true),
     ),
+    foi_core_with(
+        "foi-fine-core-t37-rms",
+        "RMS exit difference from FOI's Autodyn table 3.7 (implicit rate, 0.1 / 0.1 mm), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
+        33.4,
+        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
+        ("experiments/ballistic-foi-t37.toml", false),
+    ),
+    foi_core_with(
+        "foi-fine-core-t37-limit",
+        "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.7 (implicit rate, 0.1 / 0.1 mm), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
+        737.0,
+        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
+        ("experiments/ballistic-foi-t37.toml", true),
+    ),
     euler_crater_row(
         "euler-crater-behind",
         "Eulerian 1250 m/s shot's crater radius 1-3 rod radii above the nose, 10-30 us, HzB-W target, 0.4 mm (Walker-Anderson 1.59 a)",
@@ -1697,8 +1738,13 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
         Measure::EulerStrength { target_yield } => {
             semi_infinite::strength_ratio(fixtures, target_yield, threads)
         }
-        Measure::FoiCore { experiment, limit } => {
-            let prediction = foi_core_prediction(fixtures, experiment, threads)?;
+        Measure::FoiCore {
+            experiment,
+            core,
+            core_mesh,
+            limit,
+        } => {
+            let prediction = foi_core_prediction(fixtures, experiment, core, core_mesh, threads)?;
             Ok(if limit {
                 prediction.limit
             } else {
@@ -1821,25 +1867,52 @@ fn identified(
     Ok(tally)
 }
 
-/// The FOI tables predicted in this process, by experiment file.
-static FOI_PREDICTED: std::sync::Mutex<Vec<(&str, foi_tables::Prediction)>> =
+/// A FOI table's prediction key: the experiment file, the core and the core's element size.
+type FoiKey = (&'static str, foi_tables::Core, Option<f64>);
+
+/// The FOI tables predicted in this process.
+static FOI_PREDICTED: std::sync::Mutex<Vec<(FoiKey, foi_tables::Prediction)>> =
     std::sync::Mutex::new(Vec::new());
 
-/// FOI's table `experiment` predicted with [`foi_tables::IDENTIFIED_CORE`], once per process.
+/// Every FOI table predicted so far in this process: the experiment file, the core, the core's
+/// element size (m; the file's when `None`) and the prediction with every shot, in the order
+/// they ran (what `stoss validate` lists under its table).
+pub fn predicted_foi_tables() -> Vec<(
+    &'static str,
+    foi_tables::Core,
+    Option<f64>,
+    foi_tables::Prediction,
+)> {
+    FOI_PREDICTED.lock().map_or_else(
+        |_| Vec::new(),
+        |predicted| {
+            predicted
+                .iter()
+                .map(|((experiment, core, mesh), prediction)| {
+                    (*experiment, *core, *mesh, prediction.clone())
+                })
+                .collect()
+        },
+    )
+}
+
+/// FOI's table `experiment` predicted with `core` meshed at `core_mesh`, once per process.
 fn foi_core_prediction(
     fixtures: &Path,
     experiment: &'static str,
+    core: foi_tables::Core,
+    core_mesh: Option<f64>,
     threads: Option<usize>,
 ) -> Result<foi_tables::Prediction, String> {
     let mut predicted = FOI_PREDICTED
         .lock()
         .map_err(|_| "a FOI table row panicked")?;
-    if let Some((_, found)) = predicted.iter().find(|(key, _)| *key == experiment) {
+    let key = (experiment, core, core_mesh);
+    if let Some((_, found)) = predicted.iter().find(|(found, _)| *found == key) {
         return Ok(found.clone());
     }
-    let prediction =
-        foi_tables::predict(fixtures, experiment, foi_tables::IDENTIFIED_CORE, threads)?;
-    predicted.push((experiment, prediction.clone()));
+    let prediction = foi_tables::predict(fixtures, experiment, core, core_mesh, threads)?;
+    predicted.push((key, prediction.clone()));
     Ok(prediction)
 }
 
