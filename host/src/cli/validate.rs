@@ -124,7 +124,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
     }
     let failed = results.iter().filter(|r| !r.passed()).count();
     let foi_tables = validate::predicted_foi_tables();
-    for (experiment, core, core_mesh, prediction) in &foi_tables {
+    for ((experiment, core, core_mesh), prediction) in &foi_tables {
         say!(
             "\n{experiment}, core {:.3} x {:.3} mm, nose {:.3} mm, core mesh {}: shots (impact, exit m/s) {}",
             core.length * 1e3,
@@ -159,7 +159,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         "failed": failed,
         "foi_tables": foi_tables
             .iter()
-            .map(|(experiment, core, core_mesh, prediction)| serde_json::json!({
+            .map(|((experiment, core, core_mesh), prediction)| serde_json::json!({
                 "experiment": experiment,
                 "core_length": core.length,
                 "core_diameter": core.diameter,

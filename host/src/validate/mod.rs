@@ -313,6 +313,24 @@ const fn foi_core(
     )
 }
 
+/// [`foi_core`] with [`foi_tables::FINE_MESH_CORE`], meshed at 0.1 mm in every table, the core
+/// mesh it was identified on (docs/solver.md, "Every table predicted with the core identified
+/// on the resolved core mesh").
+const fn foi_fine_core(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    (experiment, limit): (&'static str, bool),
+) -> Row {
+    foi_core_with(
+        name,
+        figure,
+        stated,
+        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
+        (experiment, limit),
+    )
+}
+
 /// [`foi_core`] with another core, meshed at `core_mesh` (m; the file's when `None`).
 const fn foi_core_with(
     name: &'static str,
@@ -1278,88 +1296,76 @@ pub const ROWS: &[Row] = &[
         760.6,
         ("experiments/ballistic-foi-t39.toml", true),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t34-rms",
         "RMS exit difference from FOI's Autodyn table 3.4 (fitted: implicit rate, 0.2 mm plate), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         16.9,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t34.toml", false),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t34-limit",
         "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.4 (fitted: implicit rate, 0.2 mm plate), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         756.7,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t34.toml", true),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t35-rms",
         "RMS exit difference from FOI's Autodyn table 3.5 (original JC, lagged rate), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         60.8,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t35.toml", false),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t35-limit",
         "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.5 (original JC, lagged rate), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         673.9,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t35.toml", true),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t36-rms",
         "RMS exit difference from FOI's Autodyn table 3.6 (lagged rate, rate term off), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         59.6,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t36.toml", false),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t36-limit",
         "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.6 (lagged rate, rate term off), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         667.6,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t36.toml", true),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t37-rms",
         "RMS exit difference from FOI's Autodyn table 3.7 (implicit rate, 0.1 / 0.1 mm), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         33.4,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t37.toml", false),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t37-limit",
         "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.7 (implicit rate, 0.1 / 0.1 mm), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         737.0,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t37.toml", true),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t38-rms",
         "RMS exit difference from FOI's Autodyn table 3.8 (Autodyn 4.2.02, 0.2 mm plate; stoss: the 3.4 model), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         53.0,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t38.toml", false),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t38-limit",
         "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.8 (Autodyn 4.2.02, 0.2 mm plate; stoss: the 3.4 model), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         757.6,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t38.toml", true),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t39-rms",
         "RMS exit difference from FOI's Autodyn table 3.9 (Autodyn 4.2.02, 0.1 / 0.1 mm), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         100.4,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t39.toml", false),
     ),
-    foi_core_with(
+    foi_fine_core(
         "foi-fine-core-t39-limit",
         "Lambert-Jonas V_bl of stoss' shots on FOI's table 3.9 (Autodyn 4.2.02, 0.1 / 0.1 mm), the core identified from table 3.4 on a 0.1 mm core mesh, core meshed at 0.1 mm",
         735.2,
-        (foi_tables::FINE_MESH_CORE, Some(0.1e-3)),
         ("experiments/ballistic-foi-t39.toml", true),
     ),
     euler_crater_row(
@@ -1937,33 +1943,20 @@ fn identified(
     Ok(tally)
 }
 
-/// A FOI table's prediction key: the experiment file, the core and the core's element size.
-type FoiKey = (&'static str, foi_tables::Core, Option<f64>);
+/// A FOI table's prediction key: the experiment file, the core and the core's element size
+/// (m; the file's when `None`).
+pub type FoiKey = (&'static str, foi_tables::Core, Option<f64>);
 
 /// The FOI tables predicted in this process.
 static FOI_PREDICTED: std::sync::Mutex<Vec<(FoiKey, foi_tables::Prediction)>> =
     std::sync::Mutex::new(Vec::new());
 
-/// Every FOI table predicted so far in this process: the experiment file, the core, the core's
-/// element size (m; the file's when `None`) and the prediction with every shot, in the order
-/// they ran (what `stoss validate` lists under its table).
-pub fn predicted_foi_tables() -> Vec<(
-    &'static str,
-    foi_tables::Core,
-    Option<f64>,
-    foi_tables::Prediction,
-)> {
-    FOI_PREDICTED.lock().map_or_else(
-        |_| Vec::new(),
-        |predicted| {
-            predicted
-                .iter()
-                .map(|((experiment, core, mesh), prediction)| {
-                    (*experiment, *core, *mesh, prediction.clone())
-                })
-                .collect()
-        },
-    )
+/// Every FOI table predicted so far in this process, with every shot, in the order they ran
+/// (what `stoss validate` lists under its table).
+pub fn predicted_foi_tables() -> Vec<(FoiKey, foi_tables::Prediction)> {
+    FOI_PREDICTED
+        .lock()
+        .map_or_else(|_| Vec::new(), |predicted| predicted.clone())
 }
 
 /// FOI's table `experiment` predicted with `core` meshed at `core_mesh`, once per process.
