@@ -29,8 +29,9 @@
 //! of the plate's main body (the live plate elements connected to the rim: a plug or debris does
 //! not hold the projectile); behind the shoulder a frictionless shank meets no resistance but
 //! the hole's elastic grip, which the table shows as the velocity change over the last 5 us. It is
-//! **stopped** when it has not, and the projectile's velocity along the flight is below 10 %
-//! of the impact velocity (rebounding or embedded). A shot in neither state at `end_time`
+//! **stopped** when it has not, and the projectile's velocity along the flight is below 1 %
+//! of the impact velocity (rebounding or embedded; a forward-moving core can leave the plate
+//! no faster than it moves, so this misreads an exit by less than 1 % of the impact velocity). A shot in neither state at `end_time`
 //! (still ploughing through the plate) is fired once more for three times as long; if it is
 //! still undetermined it is reported as such ("in plate", residual velocity NaN) and enters
 //! neither the bracket nor the fits.
@@ -61,11 +62,12 @@ use stoss_kernel::PartMaterial;
 pub const QUANTITIES: &[&str] = &["residual_velocity", "residual_mass", "ballistic_limit"];
 
 /// A projectile slower than this fraction of its impact velocity, still in the plate at the
-/// end, is at rest (stopped). It was 0.1 until 2026-11-30, which counted cores still leaving
-/// the plate as stopped and hid every exit below about 75 m/s: table 3.4's 755 m/s shot moves
-/// at 36.5 m/s at 100 us and leaves at 27.7 m/s when run to 300 us (docs/solver.md). A
-/// hundredth is below the tables' 20 m/s exit uncertainty; a faster shot in the plate is
-/// undetermined and retried for longer (`fire_all`).
+/// end, is at rest (stopped). A core moving forward leaves the plate no faster than it moves,
+/// so the classification misreads an exit by less than this fraction of the impact velocity
+/// (7.5 m/s at 750 m/s, against the 20 m/s resolution of FOI's tables); a faster core still in
+/// the plate is undetermined and retried for longer (`fire_all`). It was 0.1 until
+/// 2026-11-30, which hid every exit below about 75 m/s: table 3.4's 755 m/s shot moves at
+/// 36.5 m/s at 100 us and leaves at 27.7 m/s when run to 300 us (docs/solver.md).
 const STOPPED_FRACTION: f64 = 0.01;
 
 /// Simulated time after the shoulder clears the plate, for the residual velocity to settle
