@@ -352,6 +352,14 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
             stoss::validate::Measure::TntImpulse { height } => {
                 assert!(height > 0.0, "{}", row.name);
             }
+            stoss::validate::Measure::RecordingsRms {
+                experiments: (first, second),
+            } => {
+                for experiment in [first, second] {
+                    stoss::experiment::Experiment::load(&fixtures.join(experiment))
+                        .unwrap_or_else(|e| panic!("{}: {e}", row.name));
+                }
+            }
             stoss::validate::Measure::EulerStrength { .. }
             | stoss::validate::Measure::EulerCrater { .. }
             | stoss::validate::Measure::LagrangeStrength { .. } => {

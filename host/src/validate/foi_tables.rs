@@ -1,8 +1,9 @@
-//! FOI's Autodyn ballistic tables (seed 001 tables 3.4-3.9, code to code) predicted with the
+//! FOI's Autodyn ballistic tables (seed 001 tables 3.4-3.9, code to code) predicted with a
 //! core identified from table 3.4 (docs/solver.md, "The core from FOI's own tables"): each
-//! table's exit velocities simulated at FOI's impact velocities with [`IDENTIFIED_CORE`] and no
-//! further fitting, their RMS difference from FOI's, and both codes' Lambert–Jonas limits. Used
-//! by the `foi-core-*` rows of `stoss validate`.
+//! table's exit velocities simulated at FOI's impact velocities with the core and no further
+//! fitting, their RMS difference from FOI's, and both codes' Lambert–Jonas limits (the
+//! `foi-fine-core-*` rows of `stoss validate`, with [`FINE_MESH_CORE`]); single shots of the
+//! mesh study (the `foi-core-mesh-*` rows); and the spread between two of FOI's tables.
 //!
 //! The shots: FOI's impact velocities, one more [`BRACKET_BELOW`] under the lowest of them
 //! (a stop for every table, so that a limit below FOI's lowest shot is bracketed), then the
@@ -250,4 +251,29 @@ pub fn mesh_shot(
             path.display()
         )),
     }
+}
+
+/// The RMS difference of two recordings' exit velocities over the impact velocities both hold
+/// (m/s): for two of FOI's tables of one model in two Autodyn versions (3.4 and 3.8, 3.7 and
+/// 3.9), the code's own spread, against which a prediction's RMS can be read.
+pub fn recordings_rms(first: &Experiment, second: &Experiment) -> Result<f64, String> {
+    let second_shots = recorded_shots(&second.recording);
+    let differences: Vec<f64> = recorded_shots(&first.recording)
+        .iter()
+        .filter_map(|a| {
+            second_shots
+                .iter()
+                .find(|b| b.impact_velocity == a.impact_velocity)
+                .map(|b| a.residual_velocity - b.residual_velocity)
+        })
+        .collect();
+    if differences.is_empty() {
+        return Err(format!(
+            "{} and {}: no impact velocity in common",
+            first.path.display(),
+            second.path.display()
+        ));
+    }
+    let sum: f64 = differences.iter().map(|d| d * d).sum();
+    Ok((sum / differences.len() as f64).sqrt())
 }
