@@ -191,6 +191,21 @@ pub enum ShotOutcome {
     Undetermined,
 }
 
+impl ShotOutcome {
+    /// A shot's outcome at the end of its run from whether the projectile's shoulder has
+    /// passed the plate (`perforated`) and its velocity along the flight then (m/s): stopped
+    /// below [`STOPPED_FRACTION`] of `impact_velocity`, else still ploughing through.
+    pub fn classify(perforated: bool, final_velocity: f64, impact_velocity: f64) -> Self {
+        if perforated {
+            Self::Perforated
+        } else if final_velocity < STOPPED_FRACTION * impact_velocity {
+            Self::Stopped
+        } else {
+            Self::Undetermined
+        }
+    }
+}
+
 /// One simulated shot.
 #[derive(Clone, Debug)]
 pub struct ShotResult {
@@ -404,13 +419,7 @@ impl BallisticLimitSpec {
             .rev()
             .find(|(t, _)| *t <= final_time - 5.0e-6)
             .map_or(f64::NAN, |p| p.1);
-        let outcome = if perforated {
-            ShotOutcome::Perforated
-        } else if final_velocity < STOPPED_FRACTION * velocity {
-            ShotOutcome::Stopped
-        } else {
-            ShotOutcome::Undetermined
-        };
+        let outcome = ShotOutcome::classify(perforated, final_velocity, velocity);
         Ok(ShotResult {
             impact_velocity: velocity,
             residual_velocity: match outcome {
