@@ -303,6 +303,27 @@ const fn foi_perforation(
     }
 }
 
+/// A fast row: the RMS exit difference between two of FOI's tables of one model
+/// ([`Measure::RecordingsRms`]), m/s.
+const fn foi_tables_rms(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    experiments: (&'static str, &'static str),
+) -> Row {
+    Row {
+        name,
+        figure,
+        quoted_in: "docs/solver.md, Ballistic limit, The core from FOI's own tables",
+        stated,
+        tolerance: 0.1,
+        unit: "m/s",
+        scale: 1.0,
+        speed: Speed::Fast,
+        measure: Measure::RecordingsRms { experiments },
+    }
+}
+
 /// A row of FOI's table `experiment` predicted with [`foi_tables::FINE_MESH_CORE`], the core
 /// identified from table 3.4 on a 0.1 mm core mesh, meshed at 0.1 mm in every table
 /// (docs/solver.md, "Every table predicted with the core identified on the resolved core
@@ -499,38 +520,18 @@ pub const ROWS: &[Row] = &[
             experiment: "experiments/ballistic-foi-t35.toml",
         },
     },
-    Row {
-        name: "foi-t34-t38-rms",
-        figure: "RMS exit difference between FOI's Autodyn tables 3.4 (4.1.13c) and 3.8 (4.2.02), one model at 0.2 / 0.4 mm, over their common impact velocities",
-        quoted_in: "docs/solver.md, Ballistic limit, The core from FOI's own tables",
-        stated: 48.4,
-        tolerance: 0.1,
-        unit: "m/s",
-        scale: 1.0,
-        speed: Speed::Fast,
-        measure: Measure::RecordingsRms {
-            experiments: (
-                "experiments/ballistic-foi-t34.toml",
-                "experiments/ballistic-foi-t38.toml",
-            ),
-        },
-    },
-    Row {
-        name: "foi-t37-t39-rms",
-        figure: "RMS exit difference between FOI's Autodyn tables 3.7 (4.1.13c) and 3.9 (4.2.02), one model at 0.1 / 0.1 mm, over their common impact velocities",
-        quoted_in: "docs/solver.md, Ballistic limit, The core from FOI's own tables",
-        stated: 76.7,
-        tolerance: 0.1,
-        unit: "m/s",
-        scale: 1.0,
-        speed: Speed::Fast,
-        measure: Measure::RecordingsRms {
-            experiments: (
-                "experiments/ballistic-foi-t37.toml",
-                "experiments/ballistic-foi-t39.toml",
-            ),
-        },
-    },
+    foi_tables_rms(
+        "foi-t34-t38-rms",
+        "RMS exit difference between FOI's Autodyn tables 3.4 (4.1.13c) and 3.8 (4.2.02), one model at 0.2 / 0.4 mm, over their common impact velocities",
+        48.4,
+        ("experiments/ballistic-foi-t34.toml", "experiments/ballistic-foi-t38.toml"),
+    ),
+    foi_tables_rms(
+        "foi-t37-t39-rms",
+        "RMS exit difference between FOI's Autodyn tables 3.7 (4.1.13c) and 3.9 (4.2.02), one model at 0.1 / 0.1 mm, over their common impact velocities",
+        76.7,
+        ("experiments/ballistic-foi-t37.toml", "experiments/ballistic-foi-t39.toml"),
+    ),
     Row {
         name: "taylor-208",
         figure: "final length, 4340 Taylor rod at 208 m/s, published JC",
