@@ -254,6 +254,15 @@ fn element_size_0_2_mm(setup: &mut Setup) {
     }
 }
 
+/// The penetration plate made twice as thick: over the recorded run the rear face is then
+/// further ahead of the nose than the target's plastic zone reaches, so the shot is the
+/// semi-infinite one Walker–Anderson models.
+fn target_twice_as_thick(setup: &mut Setup) {
+    if let Setup::Penetration(spec) = setup {
+        spec.target_thickness *= 2.0;
+    }
+}
+
 fn element_size_0_1_mm(setup: &mut Setup) {
     if let Setup::Penetration(spec) = setup {
         spec.element_size = 0.1e-3;
@@ -1345,6 +1354,38 @@ pub const ROWS: &[Row] = &[
         (1700.0, 0.2e-3, false),
         Speed::Slow,
     ),
+    Row {
+        name: "euler-1250-thick",
+        figure: "nose depth at 55 us, 1250 m/s shot, Eulerian, 0.4 mm, the plate twice as thick \
+                 (58 mm: no rear-face phase)",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 22.73,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1250-euler.toml",
+            key: "final_nose_depth",
+            adjust: Some(target_twice_as_thick),
+        },
+    },
+    Row {
+        name: "euler-1700-thick",
+        figure: "nose depth at 60.3 us, 1700 m/s shot, Eulerian, 0.4 mm, the plate twice as \
+                 thick (99 mm: no rear-face phase)",
+        quoted_in: "docs/euler.md, Validation",
+        stated: 41.31,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment: "experiments/penetration-hzb-1700-euler.toml",
+            key: "final_nose_depth",
+            adjust: Some(target_twice_as_thick),
+        },
+    },
     Row {
         name: "euler-1250-finest",
         figure: "nose depth at 55 us, 1250 m/s shot, Eulerian, 0.1 mm (half an hour)",
