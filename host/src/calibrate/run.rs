@@ -1032,12 +1032,24 @@ impl Runner<'_> {
         // The linearised intervals and the sampled posterior with its prediction bands, on
         // every experiment (held-out ones too: their bands), else on the fitted ones.
         let (uncertainty, posterior) = if intervals {
-            use crate::fit::uncertainty::{from_linearisation, linearise};
+            use crate::fit::uncertainty::{against_search, from_linearisation, linearise};
             let linearisation = linearise(campaign, &space, &selected.values, &all)
                 .or_else(|_| linearise(campaign, &space, &selected.values, fitted));
             match linearisation {
                 Ok(linearisation) => (
-                    from_linearisation(campaign, &linearisation, fitted).ok(),
+                    from_linearisation(campaign, &linearisation, fitted)
+                        .ok()
+                        .map(|mut uncertainty| {
+                            uncertainty.search_check = against_search(
+                                campaign,
+                                &linearisation,
+                                &uncertainty,
+                                &selected,
+                                &run.seen,
+                                fitted,
+                            );
+                            uncertainty
+                        }),
                     crate::fit::posterior::sample(
                         campaign,
                         &space,

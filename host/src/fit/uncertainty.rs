@@ -33,6 +33,14 @@ pub const COLLINEAR_VIF: f64 = 10.0;
 /// Forward-difference step, as a fraction of each constant's search range.
 const STEP: f64 = 1.0e-3;
 
+/// The linearisation is contradicted where it predicts at least this many times the misfit
+/// increase a logged candidate scored: its intervals are then too narrow by about the square
+/// root (a factor 2 or more) in that direction.
+pub const CONTRADICTED_RATIO: f64 = 4.0;
+
+/// The chi-square increase of a two-sided 95 % likelihood-ratio interval of one constant.
+const CHI_SQUARE_95: f64 = 3.84;
+
 /// The linearised uncertainty of a model's calibrated constants.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Uncertainty {
@@ -50,6 +58,116 @@ pub struct Uncertainty {
     /// Variance inflation factor of each constant (`None` where undetermined).
     #[serde(default)]
     pub inflation: Vec<Option<f64>>,
+    /// Whether the search's own candidates bear the linearisation out ([`search_check`]);
+    /// `None` if no logged candidate could be compared.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search_check: Option<SearchCheck>,
+}
+
+/// The linearisation held against the candidates the search logged: the misfit it predicts
+/// at the nearest of them against the misfit that candidate scored. The intervals assume a
+/// misfit quadratic from the forward-difference step (1e-3 of each range) out to their own
+/// width; an objective that is kinked or noisy on that scale (a ballistic limit's exits,
+/// where a shot near the limit changes from stop to perforation) breaks it, and the search's
+/// candidates show it for free.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SearchCheck {
+    /// Logged candidates compared (simulated on every fitted experiment, on the files'
+    /// meshes).
+    pub compared: usize,
+    /// The nearest of them in the linearisation's metric `dtheta^T J^T J dtheta` (SI, the
+    /// model space's order).
+    pub nearest: Vec<f64>,
+    /// The chi-square increase over the selected constants the linearisation predicts there,
+    /// `|r_0 + J dtheta|^2 - |r_0|^2`.
+    pub predicted: f64,
+    /// The chi-square increase it scored.
+    pub scored: f64,
+    /// The increase within which a candidate is as good as the selected one at 95 %:
+    /// `3.84 max(s^2, 1)` (the recorded uncertainties, or wider if the fit misses them).
+    pub threshold: f64,
+    /// Logged candidates within `threshold` of the selected one (itself included).
+    pub within: usize,
+    /// The smallest and largest value of each constant among those (SI).
+    pub span: Vec<(f64, f64)>,
+    /// The nearest candidate scored under `1 / CONTRADICTED_RATIO` of the predicted increase
+    /// and within `threshold`: a candidate as good as the selected one lies outside the
+    /// intervals, which are too narrow.
+    pub too_narrow: bool,
+}
+
+/// Hold the linearisation (weighted residuals `residuals` at the selected constants
+/// `selected`, Jacobian `jacobian`, reduced chi-square `reduced_chi_square`) against the
+/// logged candidates `logged` (`(constants, chi-square)`, the chi-square weighted as the
+/// residuals are; `selected_chi_square` the selected constants' own); `None` if none differs
+/// from the selected constants.
+pub fn search_check(
+    residuals: &[f64],
+    jacobian: &[Vec<f64>],
+    reduced_chi_square: f64,
+    selected: &[f64],
+    selected_chi_square: f64,
+    logged: &[(Vec<f64>, f64)],
+) -> Option<SearchCheck> {
+    let base: f64 = residuals.iter().map(|r| r * r).sum();
+    let step =
+        |values: &[f64]| -> Vec<f64> { values.iter().zip(selected).map(|(v, s)| v - s).collect() };
+    // J dtheta at every recorded point.
+    let moved = |delta: &[f64]| -> Vec<f64> {
+        jacobian
+            .iter()
+            .map(|row| row.iter().zip(delta).map(|(j, d)| j * d).sum())
+            .collect()
+    };
+    let compared: Vec<&(Vec<f64>, f64)> = logged
+        .iter()
+        .filter(|(values, chi)| {
+            chi.is_finite() && values.len() == selected.len() && values.as_slice() != selected
+        })
+        .collect();
+    let nearest = compared
+        .iter()
+        .map(|candidate| {
+            let jd = moved(&step(&candidate.0));
+            (candidate, jd.iter().map(|x| x * x).sum::<f64>())
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))?
+        .0;
+    let jd = moved(&step(&nearest.0));
+    let predicted = residuals
+        .iter()
+        .zip(&jd)
+        .map(|(r, d)| (r + d) * (r + d))
+        .sum::<f64>()
+        - base;
+    let scored = nearest.1 - selected_chi_square;
+    let threshold = CHI_SQUARE_95 * reduced_chi_square.max(1.0);
+    let good: Vec<&[f64]> = std::iter::once(selected)
+        .chain(
+            compared
+                .iter()
+                .filter(|(_, chi)| chi - selected_chi_square <= threshold)
+                .map(|(values, _)| values.as_slice()),
+        )
+        .collect();
+    let span = (0..selected.len())
+        .map(|i| {
+            good.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v[i]), hi.max(v[i]))
+                })
+        })
+        .collect();
+    Some(SearchCheck {
+        compared: compared.len(),
+        nearest: nearest.0.clone(),
+        predicted,
+        scored,
+        threshold,
+        within: good.len(),
+        span,
+        too_narrow: scored <= threshold && scored * CONTRADICTED_RATIO < predicted,
+    })
 }
 
 /// The predictions at every recorded point of each experiment of `experiments` at `values`
@@ -261,6 +379,7 @@ pub fn from_linearisation(
         }
     }
     Ok(Uncertainty {
+        search_check: None,
         inflation,
         half_width_95,
         correlation,
@@ -268,6 +387,54 @@ pub fn from_linearisation(
         reduced_chi_square,
         correlated_pairs,
     })
+}
+
+/// The chi-square of `evaluation` over `experiments`, each experiment's points weighted as
+/// [`Linearisation::residuals`] weights them (`sum w_e n_e chi_e^2`); `None` if a score is
+/// missing.
+fn weighted_chi_square(
+    campaign: &Campaign,
+    evaluation: &super::Evaluation,
+    experiments: &[usize],
+) -> Option<f64> {
+    experiments.iter().try_fold(0.0, |sum, &e| {
+        let score = evaluation.scores.get(e).copied().flatten()?;
+        let n = campaign.experiments.get(e)?.recording.len() as f64;
+        Some(sum + campaign.file.experiments[e].weight * n * score.chi * score.chi)
+    })
+}
+
+/// [`search_check`] of `uncertainty` (from `linearisation` of the `selected` evaluation on
+/// `experiments`) against the model's logged candidates `seen` that were simulated on every
+/// one of `experiments` on the files' meshes.
+pub fn against_search(
+    campaign: &Campaign,
+    linearisation: &Linearisation,
+    uncertainty: &Uncertainty,
+    selected: &super::Evaluation,
+    seen: &[super::Evaluation],
+    experiments: &[usize],
+) -> Option<SearchCheck> {
+    let (residuals, jacobian) = linearisation.residuals(campaign, experiments).ok()?;
+    let selected_chi_square = weighted_chi_square(campaign, selected, experiments)?;
+    let logged: Vec<(Vec<f64>, f64)> = seen
+        .iter()
+        .filter(|e| matches!(e.status, super::Status::Ok) && e.fidelity.is_fine() && !e.corrected)
+        .filter_map(|e| {
+            Some((
+                e.values.clone(),
+                weighted_chi_square(campaign, e, experiments)?,
+            ))
+        })
+        .collect();
+    search_check(
+        &residuals,
+        &jacobian,
+        uncertainty.reduced_chi_square,
+        &linearisation.values,
+        selected_chi_square,
+        &logged,
+    )
 }
 
 /// Inverse of a symmetric positive semi-definite matrix by Gauss-Jordan elimination with
@@ -323,5 +490,63 @@ mod tests {
             }
         }
         assert!(invert(&[vec![1.0, 1.0], vec![1.0, 1.0]]).is_none());
+    }
+
+    /// Weighted residuals `r_k = (y_k - m_k(theta)) / sigma` of a model `m_k = theta x_k`
+    /// against data `y_k = 2 x_k + e_k`, and their chi-square.
+    fn line(theta: f64) -> (Vec<f64>, f64) {
+        let (x, noise) = ([1.0, 2.0, 3.0, 4.0], [0.3, -0.2, 0.1, -0.15]);
+        let r: Vec<f64> = x
+            .iter()
+            .zip(noise)
+            .map(|(x, e)| (2.0 * x + e - theta * x) / 0.5)
+            .collect();
+        let chi = r.iter().map(|r| r * r).sum();
+        (r, chi)
+    }
+
+    #[test]
+    fn the_search_bears_out_a_quadratic_misfit_and_contradicts_a_kinked_one() {
+        // GOAL: the check leaves intervals alone where the misfit is quadratic, and flags
+        // them as too narrow where the slope over the forward-difference step overstates
+        // the misfit a nearby, equally good candidate scored.
+        // SETUP: a straight-line model (its misfit is exactly quadratic in theta), selected
+        // at theta 2, Jacobian -x/sigma; logged candidates at 1.95, 2.2 and 3 scored exactly.
+        // Then the same residuals with the Jacobian a jump would give over a 1e-3 step
+        // (slope 50 times the true one), the candidates scored as before.
+        // REFERENCE: exact quadratic: predicted = scored at every candidate; kinked: at the
+        // nearest (1.95) predicted 2500 times the true increase.
+        let (r0, chi0) = line(2.0);
+        let jacobian: Vec<Vec<f64>> = [1.0, 2.0, 3.0, 4.0]
+            .iter()
+            .map(|x| vec![-x / 0.5])
+            .collect();
+        let logged: Vec<(Vec<f64>, f64)> = [1.95, 2.2, 3.0]
+            .iter()
+            .map(|&t| (vec![t], line(t).1))
+            .collect();
+        let check = search_check(&r0, &jacobian, 1.0, &[2.0], chi0, &logged).unwrap();
+        assert_eq!(check.compared, 3);
+        assert_eq!(check.nearest, vec![1.95]);
+        assert!((check.predicted - check.scored).abs() < 1e-9 * check.scored.abs().max(1.0));
+        assert!(!check.too_narrow);
+        let kinked: Vec<Vec<f64>> = jacobian.iter().map(|row| vec![50.0 * row[0]]).collect();
+        let check = search_check(&r0, &kinked, 1.0, &[2.0], chi0, &logged).unwrap();
+        assert_eq!(check.nearest, vec![1.95]);
+        assert!(check.scored <= check.threshold, "{check:?}");
+        assert!(check.predicted > 100.0 * check.scored, "{check:?}");
+        assert!(check.too_narrow);
+        // The span covers the selected constant and the good candidates, not the poor one.
+        assert!(
+            check.span[0].0 <= 1.95 && check.span[0].1 < 3.0,
+            "{check:?}"
+        );
+        // A candidate far worse than the threshold is no evidence, however far off the
+        // prediction: only the poor candidate logged.
+        let poor = [(vec![3.0], line(3.0).1)];
+        let check = search_check(&r0, &kinked, 1.0, &[2.0], chi0, &poor).unwrap();
+        assert!(check.scored > check.threshold && !check.too_narrow);
+        // Nothing to compare: no check.
+        assert!(search_check(&r0, &kinked, 1.0, &[2.0], chi0, &[(vec![2.0], chi0)]).is_none());
     }
 }
