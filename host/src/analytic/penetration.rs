@@ -723,6 +723,28 @@ pub fn walker_anderson_plastic_zone_extent(
         })
 }
 
+/// Where a Walker–Anderson history stops describing a plate of `thickness`: the first sample
+/// at which the target's plastic zone ahead of the nose, α(u) crater radii
+/// ([`walker_anderson_plastic_zone_extent`], the crater radius by [`default_crater_radius`]),
+/// reaches the plate's rear face, `P + α R >= thickness`. From then on the model's
+/// semi-infinite target resists more than the plate does. Returns that sample's time, α and
+/// the plastic zone's extent `α R` (m); `None` if the rear face stays outside it throughout.
+pub fn rear_face_in_plastic_zone(
+    case: &RodTarget,
+    history: &[PenetrationSample],
+    thickness: f64,
+) -> Result<Option<(f64, f64, f64)>, AnalyticError> {
+    let thickness = positive("target thickness", thickness)?;
+    let radius = default_crater_radius(case.rod_diameter, case.striking_velocity)?;
+    for sample in history {
+        let alpha = walker_anderson_plastic_zone_extent(case, sample.penetration_velocity)?;
+        if sample.nose_depth + alpha * radius >= thickness {
+            return Ok(Some((sample.time, alpha, alpha * radius)));
+        }
+    }
+    Ok(None)
+}
+
 /// History of the Walker–Anderson model (Int. J. Impact Eng. 16 (1995) 19–48):
 ///
 /// v̇ = −σp/[ρp (L−s)] (1 + (v−u)/c + ṡ/c),
@@ -822,6 +844,40 @@ mod tests {
             target_hugoniot: STEEL_HUGONIOT,
             striking_velocity,
         }
+    }
+
+    #[test]
+    fn the_rear_face_enters_the_plastic_zone_when_the_nose_is_one_zone_from_it() {
+        // GOAL: the semi-infinite model's limit for a plate is found where its plastic zone
+        // reaches the rear face, and not for a plate thicker than the zone ever reaches.
+        // SETUP: seed 000's rod at 1700 m/s, Walker–Anderson to 60 us; plates of 49.5 mm
+        // (the experiment), 5 m and 1 mm.
+        // REFERENCE: the condition P + alpha R >= thickness itself, checked on the samples
+        // either side of the reported time; alpha from the dynamic cavity expansion (>= 1).
+        let case = wha_into_steel(1700.0, 1.5e9);
+        let history = walker_anderson_history(&case, None, 60.0e-6, 0.5e-6).unwrap();
+        let radius = default_crater_radius(case.rod_diameter, case.striking_velocity).unwrap();
+        let (time, alpha, extent) = rear_face_in_plastic_zone(&case, &history, 0.0495)
+            .unwrap()
+            .expect("the zone reaches a 49.5 mm plate's rear face");
+        assert!(alpha >= 1.0 && (extent - alpha * radius).abs() < 1e-15);
+        let k = history.iter().position(|s| s.time == time).unwrap();
+        assert!(k > 0, "not at impact");
+        let reach = |s: &PenetrationSample| {
+            s.nose_depth
+                + walker_anderson_plastic_zone_extent(&case, s.penetration_velocity).unwrap()
+                    * radius
+        };
+        assert!(reach(&history[k]) >= 0.0495 && reach(&history[k - 1]) < 0.0495);
+        assert_eq!(
+            rear_face_in_plastic_zone(&case, &history, 5.0).unwrap(),
+            None
+        );
+        let thin = rear_face_in_plastic_zone(&case, &history, 1.0e-3)
+            .unwrap()
+            .unwrap();
+        assert_eq!(thin.0, history[0].time);
+        assert!(rear_face_in_plastic_zone(&case, &history, 0.0).is_err());
     }
 
     fn tate_case(striking_velocity: f64, rod_strength: f64, target_resistance: f64) -> RodTarget {

@@ -8,7 +8,7 @@
 
 use super::output::{say, say_inline};
 use super::output_folder::{write_folder, Leftovers};
-use crate::analytic::penetration::depth_at;
+use crate::analytic::penetration::{depth_at, rear_face_in_plastic_zone};
 use crate::experiment::{Experiment, Outcome, PenetrationSpec, Setup};
 use crate::input::{material, InputError};
 use crate::report::{plots, vtk};
@@ -461,6 +461,20 @@ fn print_cross_check(
             fe * 1e3,
             depth_at(&check.walker_anderson, time) * 1e3,
             depth_at(&check.tate, time) * 1e3
+        );
+    }
+    if let Ok(Some((time, alpha, extent))) =
+        rear_face_in_plastic_zone(case, &check.walker_anderson, spec.target_thickness)
+    {
+        say!(
+            "note: from {:.1} us the {:.1} mm plate's rear face lies inside Walker-Anderson's \
+             plastic zone ({alpha:.1} crater radii, {:.1} mm ahead of the nose): from then on \
+             the semi-infinite models resist more than this plate, and the FE depth, which has \
+             the rear face, may exceed them (docs/euler.md, \"Where in the shot the excess \
+             builds\")",
+            time * 1e6,
+            spec.target_thickness * 1e3,
+            extent * 1e3
         );
     }
 }
