@@ -191,7 +191,8 @@ fn synthetic_flow_campaign_recovers_the_truth_stress_strain_response() {
         );
     }
     let lines = result.uncertainty_lines(&space.names).join("\n");
-    // The search's own candidates bear the linearisation out on this smooth misfit: at the
+    // The search's own candidates bear the linearisation out on this smooth misfit: no
+    // candidate as good as the selected constants lies outside its 95 % region, and at the
     // nearest logged candidate it predicts the chi-square increase that candidate scored
     // (1.77 against 1.82 when written), so the intervals are not flagged as too narrow.
     let check = uncertainty

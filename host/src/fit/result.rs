@@ -266,9 +266,9 @@ impl ModelResult {
             ));
         }
         if let Some(check) = u.search_check.as_ref().filter(|c| c.too_narrow) {
-            let nearest: Vec<String> = names
+            let candidate: Vec<String> = names
                 .iter()
-                .zip(&check.nearest)
+                .zip(&check.candidate)
                 .map(|(name, value)| format!("{name} {value:.4e}"))
                 .collect();
             let span: Vec<String> = names
@@ -277,13 +277,13 @@ impl ModelResult {
                 .map(|(name, (lo, hi))| format!("{name} {lo:.4e} to {hi:.4e}"))
                 .collect();
             lines.push(format!(
-                "{}: the search contradicts these intervals: its nearest candidate ({}) scores \
-                 chi-square {:+.2} over the selected constants where the linearisation predicts \
-                 {:+.2}; the misfit is not quadratic between the forward-difference step and \
+                "{}: the search contradicts these intervals: a logged candidate ({}) scored \
+                 chi-square {:+.2} over the selected constants, as good at 95 %, where the \
+                 linearisation predicts {:+.2}, outside its region; the misfit is not quadratic between the forward-difference step and \
                  the intervals' width (a kinked or noisy objective), so the intervals are too \
                  narrow. The {} logged candidates within chi-square +{:.2} of the selected span: {}",
                 self.model,
-                nearest.join(", "),
+                candidate.join(", "),
                 check.scored,
                 check.predicted,
                 check.within,

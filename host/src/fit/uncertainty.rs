@@ -64,24 +64,25 @@ pub struct Uncertainty {
     pub search_check: Option<SearchCheck>,
 }
 
-/// The linearisation held against the candidates the search logged: the misfit it predicts
-/// at the nearest of them against the misfit that candidate scored. The intervals assume a
+/// The linearisation held against the candidates the search logged. The intervals assume a
 /// misfit quadratic from the forward-difference step (1e-3 of each range) out to their own
 /// width; an objective that is kinked or noisy on that scale (a ballistic limit's exits,
 /// where a shot near the limit changes from stop to perforation) breaks it, and the search's
-/// candidates show it for free.
+/// candidates show it for free: a candidate that scored as well as the selected constants,
+/// but that the linearisation places outside its 95 % region, proves the region too small.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SearchCheck {
     /// Logged candidates compared (simulated on every fitted experiment, on the files'
     /// meshes).
     pub compared: usize,
-    /// The nearest of them in the linearisation's metric `dtheta^T J^T J dtheta` (SI, the
-    /// model space's order).
-    pub nearest: Vec<f64>,
-    /// The chi-square increase over the selected constants the linearisation predicts there,
-    /// `|r_0 + J dtheta|^2 - |r_0|^2`.
+    /// The candidate reported (SI, the model space's order): of the good candidates (within
+    /// `threshold`) that contradict the linearisation, the one it places furthest out;
+    /// without a contradiction, the nearest in its metric `dtheta^T J^T J dtheta`.
+    pub candidate: Vec<f64>,
+    /// The chi-square increase over the selected constants the linearisation predicts at
+    /// `candidate`, `|r_0 + J dtheta|^2 - |r_0|^2`.
     pub predicted: f64,
-    /// The chi-square increase it scored.
+    /// The chi-square increase `candidate` scored.
     pub scored: f64,
     /// The increase within which a candidate is as good as the selected one at 95 %:
     /// `3.84 max(s^2, 1)` (the recorded uncertainties, or wider if the fit misses them).
@@ -90,9 +91,9 @@ pub struct SearchCheck {
     pub within: usize,
     /// The smallest and largest value of each constant among those (SI).
     pub span: Vec<(f64, f64)>,
-    /// The nearest candidate scored under `1 / CONTRADICTED_RATIO` of the predicted increase
-    /// and within `threshold`: a candidate as good as the selected one lies outside the
-    /// intervals, which are too narrow.
+    /// A good candidate lies outside the linearisation's 95 % region (predicted above
+    /// `threshold`) and scored under `1 / CONTRADICTED_RATIO` of its prediction: the
+    /// intervals are too narrow.
     pub too_narrow: bool,
 }
 
@@ -110,45 +111,48 @@ pub fn search_check(
     logged: &[(Vec<f64>, f64)],
 ) -> Option<SearchCheck> {
     let base: f64 = residuals.iter().map(|r| r * r).sum();
-    let step =
-        |values: &[f64]| -> Vec<f64> { values.iter().zip(selected).map(|(v, s)| v - s).collect() };
-    // J dtheta at every recorded point.
-    let moved = |delta: &[f64]| -> Vec<f64> {
-        jacobian
-            .iter()
-            .map(|row| row.iter().zip(delta).map(|(j, d)| j * d).sum())
-            .collect()
-    };
-    let compared: Vec<&(Vec<f64>, f64)> = logged
+    let threshold = CHI_SQUARE_95 * reduced_chi_square.max(1.0);
+    // (candidate, J dtheta . J dtheta, predicted increase, scored increase)
+    let compared: Vec<(&[f64], f64, f64, f64)> = logged
         .iter()
         .filter(|(values, chi)| {
             chi.is_finite() && values.len() == selected.len() && values.as_slice() != selected
         })
-        .collect();
-    let nearest = compared
-        .iter()
-        .map(|candidate| {
-            let jd = moved(&step(&candidate.0));
-            (candidate, jd.iter().map(|x| x * x).sum::<f64>())
-        })
-        .min_by(|a, b| a.1.total_cmp(&b.1))?
-        .0;
-    let jd = moved(&step(&nearest.0));
-    let predicted = residuals
-        .iter()
-        .zip(&jd)
-        .map(|(r, d)| (r + d) * (r + d))
-        .sum::<f64>()
-        - base;
-    let scored = nearest.1 - selected_chi_square;
-    let threshold = CHI_SQUARE_95 * reduced_chi_square.max(1.0);
-    let good: Vec<&[f64]> = std::iter::once(selected)
-        .chain(
-            compared
+        .map(|(values, chi)| {
+            let delta: Vec<f64> = values.iter().zip(selected).map(|(v, s)| v - s).collect();
+            let moved: Vec<f64> = jacobian
                 .iter()
-                .filter(|(_, chi)| chi - selected_chi_square <= threshold)
-                .map(|(values, _)| values.as_slice()),
-        )
+                .map(|row| row.iter().zip(&delta).map(|(j, d)| j * d).sum())
+                .collect();
+            let metric = moved.iter().map(|x| x * x).sum();
+            let predicted = residuals
+                .iter()
+                .zip(&moved)
+                .map(|(r, d)| (r + d) * (r + d))
+                .sum::<f64>()
+                - base;
+            (
+                values.as_slice(),
+                metric,
+                predicted,
+                chi - selected_chi_square,
+            )
+        })
+        .collect();
+    let good = |c: &&(&[f64], f64, f64, f64)| c.3 <= threshold;
+    let contradicts = |c: &&(&[f64], f64, f64, f64)| {
+        good(c) && c.2 > threshold && c.2 > CONTRADICTED_RATIO * c.3.max(0.0)
+    };
+    let contradicting = compared
+        .iter()
+        .filter(contradicts)
+        .max_by(|a, b| a.2.total_cmp(&b.2));
+    let reported = match contradicting {
+        Some(candidate) => candidate,
+        None => compared.iter().min_by(|a, b| a.1.total_cmp(&b.1))?,
+    };
+    let good: Vec<&[f64]> = std::iter::once(selected)
+        .chain(compared.iter().filter(good).map(|c| c.0))
         .collect();
     let span = (0..selected.len())
         .map(|i| {
@@ -160,13 +164,13 @@ pub fn search_check(
         .collect();
     Some(SearchCheck {
         compared: compared.len(),
-        nearest: nearest.0.clone(),
-        predicted,
-        scored,
+        candidate: reported.0.to_vec(),
+        predicted: reported.2,
+        scored: reported.3,
         threshold,
         within: good.len(),
         span,
-        too_narrow: scored <= threshold && scored * CONTRADICTED_RATIO < predicted,
+        too_narrow: contradicting.is_some(),
     })
 }
 
@@ -527,12 +531,12 @@ mod tests {
             .collect();
         let check = search_check(&r0, &jacobian, 1.0, &[2.0], chi0, &logged).unwrap();
         assert_eq!(check.compared, 3);
-        assert_eq!(check.nearest, vec![1.95]);
+        assert_eq!(check.candidate, vec![1.95]);
         assert!((check.predicted - check.scored).abs() < 1e-9 * check.scored.abs().max(1.0));
         assert!(!check.too_narrow);
         let kinked: Vec<Vec<f64>> = jacobian.iter().map(|row| vec![50.0 * row[0]]).collect();
         let check = search_check(&r0, &kinked, 1.0, &[2.0], chi0, &logged).unwrap();
-        assert_eq!(check.nearest, vec![1.95]);
+        assert_eq!(check.candidate, vec![1.95]);
         assert!(check.scored <= check.threshold, "{check:?}");
         assert!(check.predicted > 100.0 * check.scored, "{check:?}");
         assert!(check.too_narrow);
