@@ -405,7 +405,7 @@ impl PenetrationSpec {
             energy: Some(run.energy()),
             states: run.tracked.clone(),
             element_cycles: s.material_updates,
-            report: None,
+            report: Some(result.report(self, material, recording)),
             field: Some(field(&run.solver)),
         })
     }

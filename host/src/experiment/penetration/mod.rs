@@ -259,6 +259,92 @@ pub struct PenetrationResult {
 }
 
 impl PenetrationResult {
+    /// The run against time as `stoss simulate` writes it (`penetration.svg` and its numbers,
+    /// `penetration.csv`): the nose depth and the rod's length, Walker–Anderson's and Tate's
+    /// semi-infinite nose depths beside them (when `target` is a J2 metal and the cross-check
+    /// applies; [`PenetrationSpec::cross_check`]), and the recorded points with their
+    /// uncertainty.
+    pub fn report(
+        &self,
+        spec: &PenetrationSpec,
+        target: &PartMaterial,
+        recording: &[RecordedPoint],
+    ) -> crate::figure::ExperimentReport {
+        use crate::figure::{Chart, ExperimentReport, Series, Style};
+        let in_units = |history: &[(f64, f64)]| -> Vec<(f64, f64)> {
+            history.iter().map(|&(t, x)| (t * 1e6, x * 1e3)).collect()
+        };
+        let line = |label: &str, points, style, colour| Series {
+            label: label.into(),
+            points,
+            style,
+            colour,
+            errors: Vec::new(),
+        };
+        let mut series = vec![
+            line("FE nose depth", in_units(&self.nose_depth), Style::Line, 0),
+            line("FE rod length", in_units(&self.rod_length), Style::Line, 2),
+        ];
+        if let Some(check) = target.j2().and_then(|m| spec.cross_check(m).ok()) {
+            let depth = |history: &[crate::analytic::penetration::PenetrationSample]| {
+                history
+                    .iter()
+                    .map(|s| (s.time * 1e6, s.nose_depth * 1e3))
+                    .collect()
+            };
+            series.push(line(
+                "Walker-Anderson nose depth (semi-infinite)",
+                depth(&check.walker_anderson),
+                Style::Dashed,
+                3,
+            ));
+            series.push(line(
+                "Tate nose depth (semi-infinite)",
+                depth(&check.tate),
+                Style::Dashed,
+                4,
+            ));
+        }
+        for (quantity, label, colour) in [
+            ("nose_depth", "recorded nose depth", 1),
+            ("rod_length", "recorded rod length", 5),
+        ] {
+            let points: Vec<&RecordedPoint> = recording
+                .iter()
+                .filter(|p| p.quantity == quantity)
+                .collect();
+            if !points.is_empty() {
+                series.push(Series {
+                    label: label.into(),
+                    points: points
+                        .iter()
+                        .map(|p| (p.position * 1e6, p.value * 1e3))
+                        .collect(),
+                    style: Style::Markers,
+                    colour,
+                    errors: points.iter().map(|p| p.uncertainty * 1e3).collect(),
+                });
+            }
+        }
+        ExperimentReport {
+            text: "penetration against time: penetration.svg (numbers: penetration.csv)\n".into(),
+            charts: vec![Chart {
+                file: "penetration.svg".into(),
+                title: format!(
+                    "Rod into a {:.1} mm plate at {:.0} m/s",
+                    spec.target_thickness * 1e3,
+                    spec.velocity
+                ),
+                x_label: "time after impact (us)".into(),
+                y_label: "nose depth and rod length (mm)".into(),
+                series,
+            }],
+            snapshots: Vec::new(),
+            maps: Vec::new(),
+            shot_fields: Vec::new(),
+        }
+    }
+
     /// The prediction of each recorded point, in the recording's order.
     pub fn predictions(&self, recording: &[RecordedPoint]) -> Vec<f64> {
         recording
@@ -901,7 +987,7 @@ impl PenetrationSpec {
             energy: Some(run.energy()),
             states,
             element_cycles: run.element_cycles,
-            report: None,
+            report: Some(result.report(self, material, recording)),
             field: Some(FieldOutput {
                 time: run.final_time(),
                 mesh: built.model.mesh,
