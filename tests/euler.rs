@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use stoss::analytic::penetration::spherical_cavity_pressure;
 use stoss::blast::euler::{Geometry, Grid};
 use stoss::euler::{
-    CavityDrive, EulerMaterial, EulerSettings, EulerSolver, Region, Wall, Walls, MAX_MATERIALS,
-    MAX_PHASES,
+    CavityDrive, EulerError, EulerMaterial, EulerSettings, EulerSolver, Region, Wall, Walls,
+    MAX_MATERIALS, MAX_PHASES,
 };
 use stoss::input::material;
 use stoss_kernel::Material;
@@ -117,6 +117,86 @@ fn a_closed_grid_conserves_mass_and_axial_momentum_to_round_off_and_books_its_en
 }
 
 /// The fraction of material 0 in each cell of a 64 x 64 planar unit grid.
+#[test]
+fn a_time_step_below_its_floor_ends_the_run_with_a_typed_error_naming_both_steps() {
+    // GOAL: a run whose stable step falls below its floor (a fraction of the first cycle's)
+    // stops with `TimeStepCollapse` instead of running on; a run that stays above it is not
+    // stopped.
+    // SETUP: two blocks colliding at 400 m/s in a closed grid, stepped by hand with the floor
+    // off to find the smallest step relative to the first; then the same run with the floor
+    // just above that ratio, and with it just below.
+    // REFERENCE: the collapse is reported at the first cycle whose step is under the floor,
+    // with that step and the first cycle's.
+    let grid = Grid {
+        cells_r: 20,
+        cells_z: 30,
+        spacing_r: 1e-3,
+        spacing_z: 1e-3,
+        geometry: Geometry::Axisymmetric,
+    };
+    let below = |p: [f64; 2]| p[0] < 12e-3 && (4e-3..14e-3).contains(&p[1]);
+    let above = |p: [f64; 2]| p[0] < 6e-3 && (14e-3..24e-3).contains(&p[1]);
+    let build = |fraction: f64| {
+        let regions = [
+            Region {
+                material: 0,
+                inside: &below,
+                velocity: [0.0, 0.0],
+                temperature: 293.0,
+            },
+            Region {
+                material: 1,
+                inside: &above,
+                velocity: [0.0, -400.0],
+                temperature: 293.0,
+            },
+        ];
+        EulerSolver::new(
+            grid,
+            0.0,
+            SLIP,
+            vec![
+                named("steel", perfectly_plastic(7850.0, 80e9, 160e9, 1e9)),
+                named("heavy", perfectly_plastic(17600.0, 145e9, 285e9, 1.5e9)),
+            ],
+            &regions,
+            EulerSettings {
+                threads: Some(1),
+                minimum_time_step_fraction: fraction,
+                ..EulerSettings::default()
+            },
+        )
+        .unwrap()
+    };
+    let mut free = build(0.0);
+    let steps: Vec<f64> = (0..60).map(|_| free.step().unwrap()).collect();
+    let ratio = steps
+        .iter()
+        .fold(f64::INFINITY, |m, &dt| m.min(dt / steps[0]));
+    assert!(ratio < 1.0, "the step never fell below the first: {ratio}");
+    let collapse = steps.iter().position(|&dt| dt < (ratio + 1e-9) * steps[0]);
+    let mut held = build(0.999_999 * ratio);
+    for _ in 0..60 {
+        held.step().expect("a floor below every step stops nothing");
+    }
+    let mut stopped = build(ratio + 1e-9);
+    let error = (0..60)
+        .find_map(|_| stopped.step().err())
+        .expect("a floor above the smallest step stops the run");
+    match error {
+        EulerError::TimeStepCollapse {
+            time_step,
+            first_time_step,
+            ..
+        } => {
+            assert_eq!(first_time_step, steps[0]);
+            assert_eq!(time_step, steps[collapse.unwrap()]);
+            assert_eq!(stopped.cycles as usize, collapse.unwrap());
+        }
+        other => panic!("expected a time-step collapse, got {other}"),
+    }
+}
+
 fn fractions(solver: &EulerSolver<Material>) -> Vec<f64> {
     (0..solver.grid.cell_count())
         .map(|c| solver.fraction(c, 0))
