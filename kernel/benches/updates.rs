@@ -50,7 +50,10 @@ use stoss_kernel::strength::{
     JohnsonCook, KhanHuangLiang, MechanicalThresholdStress, ModifiedJohnsonCook,
     PrestonTonksWallace, Strength, TwoRateJohnsonCook, VoceKocks, ZerilliArmstrong,
 };
-use stoss_kernel::{update, Material, MaterialState, RateTreatment, StateFlags, StepInput};
+use stoss_kernel::{
+    update, update_block, Material, MaterialState, RateTreatment, StateFlags, StepInput,
+    UpdateError,
+};
 
 /// Consecutive updates per benchmark iteration.
 const BLOCK: u32 = 1000;
@@ -322,6 +325,15 @@ fn block_axial(point: usize) -> f64 {
 }
 
 fn bench_block(bencher: Bencher, material: Material, treatment: RateTreatment) {
+    bench_points(bencher, material, treatment, false);
+}
+
+/// The [`block`] case through [`update_block`]: the points advanced [`stoss_kernel::LANES`] at a time.
+fn bench_grouped(bencher: Bencher, material: Material, treatment: RateTreatment) {
+    bench_points(bencher, material, treatment, true);
+}
+
+fn bench_points(bencher: Bencher, material: Material, treatment: RateTreatment, grouped: bool) {
     let material = with_treatment(material, treatment);
     let start: Vec<MaterialState> = (0..POINTS)
         .map(|point| {
@@ -338,9 +350,22 @@ fn bench_block(bencher: Bencher, material: Material, treatment: RateTreatment) {
     let loadings: Vec<Loading> = (0..POINTS)
         .map(|point| Loading::new(block_axial(point), PLASTIC_DT))
         .collect();
-    let advance = |states: &mut [MaterialState]| -> u32 {
+    let mut inputs = vec![uniaxial_step(0.0, PLASTIC_DT, 1.0); POINTS];
+    let mut results = vec![Err(UpdateError::NonFiniteInput); POINTS];
+    let mut advance = |states: &mut [MaterialState]| -> u32 {
         let mut plastic = 0;
         for _ in 0..BLOCK_STEPS {
+            if grouped {
+                for ((input, state), loading) in inputs.iter_mut().zip(&*states).zip(&loadings) {
+                    *input = loading.step(state.relative_volume);
+                }
+                update_block(black_box(&material), states, &inputs, &mut results);
+                for result in &results {
+                    let output = result.as_ref().expect("update failed");
+                    plastic += u32::from(output.plastic_increment > 0.0);
+                }
+                continue;
+            }
             for (state, loading) in states.iter_mut().zip(&loadings) {
                 let input = loading.step(state.relative_volume);
                 let output =
@@ -366,6 +391,32 @@ fn bench_block(bencher: Bencher, material: Material, treatment: RateTreatment) {
 
 /// [`POINTS`] independent points advanced together along uniaxial strain, [`BLOCK_STEPS`]
 /// steps per iteration, from developed plastic flow: the throughput of a host's block.
+
+/// The [`block`] cases through [`update_block`] ([`stoss_kernel::LANES`] points at a time).
+mod grouped {
+    use super::*;
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn jc_4340(bencher: Bencher, treatment: RateTreatment) {
+        bench_grouped(bencher, jc(), treatment);
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn za_bcc(bencher: Bencher, treatment: RateTreatment) {
+        bench_grouped(bencher, super::za_bcc(), treatment);
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn mjc(bencher: Bencher, treatment: RateTreatment) {
+        bench_grouped(bencher, super::mjc(), treatment);
+    }
+
+    #[divan::bench(args = [RateTreatment::Implicit])]
+    fn tjc(bencher: Bencher, treatment: RateTreatment) {
+        bench_grouped(bencher, super::tjc(), treatment);
+    }
+}
+
 mod block {
     use super::*;
 

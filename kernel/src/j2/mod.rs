@@ -3,9 +3,11 @@
 //! EoS, elastic predictor, implicit or lagged radial return, heating, damage, the consistent
 //! tangent and the wave speed) and its [`PointModel`] implementation.
 
+pub mod lanes;
 pub mod material;
 pub mod update;
 
+pub use lanes::{update_block, update_lanes, LANES};
 pub use material::{Heating, Material, RateTreatment};
 pub use update::{update, update_with_tangent};
 

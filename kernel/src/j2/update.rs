@@ -141,9 +141,9 @@ pub fn update_with_tangent(
 }
 
 /// Everything one step computed, before it is committed.
-struct Step {
-    state: MaterialState,
-    output: StepOutput,
+pub(super) struct Step {
+    pub state: MaterialState,
+    pub output: StepOutput,
     /// Bulk tangent `-dp / d tr(deps)`.
     bulk_tangent: f64,
     /// Trial deviator `s_trial` (its unit normal enters the tangent).
@@ -218,7 +218,7 @@ fn checked_compute(
 /// reaches the step's result through the deviatoric work, the energy or the copied state, so
 /// the result's finiteness test refuses that step and [`checked_compute`] names the input.
 #[inline(always)]
-fn admissible(state: &MaterialState, input: &StepInput) -> bool {
+pub(super) fn admissible(state: &MaterialState, input: &StepInput) -> bool {
     (input.dt > 0.0)
         & (input.dt < f64::INFINITY)
         & (input.relative_volume > 0.0)
@@ -263,7 +263,7 @@ fn input_error(state: &MaterialState, input: &StepInput) -> Result<(), UpdateErr
 /// The residual `g(dl) = q_trial - 3G dl - sigma_y(eps_p + dl, dl/dt, T_n)`, its slope and
 /// the flow stress along the path it used.
 #[derive(Clone, Copy)]
-struct Residual {
+pub(super) struct Residual {
     value: f64,
     slope: f64,
     flow: PathFlow,
@@ -271,7 +271,7 @@ struct Residual {
 
 /// [`Residual`] at `dl`.
 #[inline(always)]
-fn residual(
+pub(super) fn residual(
     flow: &FlowAtTemperature<'_>,
     three_g: f64,
     trial_equivalent: f64,
@@ -482,7 +482,7 @@ fn implicit_return(
 
 /// Steps 1-2's outcome: the flow stress of a plastic step (or the yield check of an elastic
 /// one), the returned deviator, the multiplier and what the tangent needs.
-struct Return {
+pub(super) struct Return {
     yield_stress: f64,
     new_deviator: Sym,
     plastic_increment: f64,
@@ -494,9 +494,60 @@ struct Return {
     static_check: Option<f64>,
 }
 
+impl Return {
+    /// A failed point's step: no check, no return, a zero deviator.
+    const FAILED: Return = Return {
+        yield_stress: 0.0,
+        new_deviator: tensor::ZERO,
+        plastic_increment: 0.0,
+        iterations: 0,
+        plastic_modulus: 0.0,
+        return_fraction: 0.0,
+        plastic: false,
+        static_check: None,
+    };
+}
+
 /// A plastic step's flow stress with its multiplier, iterations and slope; or an elastic
 /// step's yield check and whether it is the static one.
-type Flow = Result<(f64, f64, u32, f64), (f64, bool)>;
+pub(super) type Flow = Result<(f64, f64, u32, f64), (f64, bool)>;
+
+/// How an implicit step starts, decided from the state without evaluating the strength model.
+#[derive(Clone, Copy)]
+pub(super) enum Entry {
+    /// The previous step's multiplier `dl_warm` is inside `(0, q_trial / 3G)`: the return's
+    /// first iterate, whose residual decides the step.
+    Warm(f64),
+    /// A stored yield check proves the step elastic (the check's value).
+    Elastic(f64),
+    /// Neither: the yield check (stored, if it is) decides.
+    Cold(Option<f64>),
+}
+
+/// The start of an implicit step (eq. 3.8). Every strength model's sigma_y is non-decreasing
+/// in eps_p and in the rate (their validation rules), so g(dl) is strictly decreasing: a
+/// positive g at the previous step's multiplier proves g(0) > 0, and that evaluation is the
+/// return's first iterate. Without a warm start, a stored check (`sigma_y(eps_n, 0, T_n)` for
+/// exactly this state) decides an elastic step without evaluating the strength model.
+#[inline(always)]
+pub(super) fn implicit_entry(
+    state: &MaterialState,
+    trial_equivalent: f64,
+    dt: f64,
+    three_g: f64,
+) -> Entry {
+    let warm_dl = state.plastic_strain_rate * dt;
+    if warm_dl > 0.0 && warm_dl < trial_equivalent / three_g {
+        return Entry::Warm(warm_dl);
+    }
+    let stored = state
+        .yield_check
+        .at(state.plastic_strain, state.temperature);
+    match stored {
+        Some(check) if trial_equivalent <= check => Entry::Elastic(check),
+        _ => Entry::Cold(stored),
+    }
+}
 
 /// The implicit rate treatment's yield check and return (eq. 3.8, the rate at the step's end).
 #[inline(always)]
@@ -509,28 +560,13 @@ fn implicit_flow(
 ) -> Result<Flow, UpdateError> {
     let shear = material.shear_modulus;
     let three_g = 3.0 * shear;
-    // sigma_y(eps_n, 0, T_n) if a previous step stored it for exactly this state.
-    let stored_check = || {
-        state
-            .yield_check
-            .at(state.plastic_strain, state.temperature)
+    let (warm, stored) = match implicit_entry(state, trial_equivalent, dt, three_g) {
+        Entry::Elastic(check) => return Ok(Err((check, true))),
+        Entry::Warm(warm_dl) => (Some(warm_dl), None),
+        Entry::Cold(stored) => (None, stored),
     };
-    // Every strength model's sigma_y is non-decreasing in eps_p and in the rate (their
-    // validation rules), so g(dl) is strictly decreasing: g(warm) > 0 at the previous step's
-    // multiplier proves g(0) > 0, and that evaluation is the return's first iterate. Only
-    // otherwise is the yield check evaluated.
-    let warm_dl = state.plastic_strain_rate * dt;
-    let warm_applies = warm_dl > 0.0 && warm_dl < trial_equivalent / three_g;
-    // Without a warm start, a stored check decides an elastic step without evaluating the
-    // strength model.
-    let stored = if warm_applies { None } else { stored_check() };
-    if let Some(check) = stored {
-        if trial_equivalent <= check {
-            return Ok(Err((check, true)));
-        }
-    }
     let at_temperature = material.strength.at_temperature(state.temperature);
-    let warm = warm_applies.then(|| {
+    let warm = warm.map(|warm_dl| {
         let evaluated = residual(
             &at_temperature,
             three_g,
@@ -575,6 +611,32 @@ fn implicit_flow(
     Ok(Ok((flow.value, dl, count, flow.slope)))
 }
 
+/// A warm-started return that one evaluation ends (developed flow): `g(dl_warm) > 0`, given as
+/// `evaluated`, and the return's first iteration accepts its Newton step (or the warm start
+/// itself). `None` if the return needs more: the caller then runs [`implicit_flow`].
+#[inline(always)]
+pub(super) fn one_evaluation_return(
+    shear_modulus: f64,
+    trial_equivalent: f64,
+    warm_dl: f64,
+    evaluated: Residual,
+    dt: f64,
+) -> Option<Flow> {
+    if evaluated.value <= 0.0 {
+        return None;
+    }
+    let (mut iteration, _) = ReturnIteration::new(
+        shear_modulus,
+        trial_equivalent,
+        (warm_dl, Some(evaluated)),
+        dt,
+    );
+    match iteration.advance(evaluated) {
+        Advance::Done(Ok((dl, flow, count))) => Some(Ok((flow.value, dl, count, flow.slope))),
+        _ => None,
+    }
+}
+
 /// The lagged rate treatment's check and radial return (eq. 3.7, the previous step's rate).
 #[inline(always)]
 fn lagged_flow(material: &Material, state: &MaterialState, trial_equivalent: f64) -> Flow {
@@ -612,18 +674,8 @@ fn deviatoric_return(
     dt: f64,
     inverse_dt: f64,
 ) -> Result<Return, UpdateError> {
-    let mut out = Return {
-        yield_stress: 0.0,
-        new_deviator: tensor::ZERO,
-        plastic_increment: 0.0,
-        iterations: 0,
-        plastic_modulus: 0.0,
-        return_fraction: 0.0,
-        plastic: false,
-        static_check: None,
-    };
     if state.flags.contains(StateFlags::FAILED) {
-        return Ok(out);
+        return Ok(Return::FAILED);
     }
     // The temperature is T_n throughout the check and the return.
     let flow = match material.rate_treatment {
@@ -632,6 +684,19 @@ fn deviatoric_return(
         }
         RateTreatment::Lagged => lagged_flow(material, state, trial_equivalent),
     };
+    Ok(returned(material, trial, trial_equivalent, flow))
+}
+
+/// Step 2's outcome from the check or return `flow`: the returned deviator and what the
+/// later steps and the tangent read.
+#[inline(always)]
+pub(super) fn returned(
+    material: &Material,
+    trial: &Sym,
+    trial_equivalent: f64,
+    flow: Flow,
+) -> Return {
+    let mut out = Return::FAILED;
     match flow {
         Err((check, is_static)) => {
             out.yield_stress = check;
@@ -650,7 +715,7 @@ fn deviatoric_return(
             out.new_deviator = tensor::scale(trial, 1.0 - out.return_fraction);
         }
     }
-    Ok(out)
+    out
 }
 
 /// Step 5's result: the deviator and pressure after failure and the cut-off, with the
@@ -761,6 +826,44 @@ fn finite_result(
     ])
 }
 
+/// Step 1: the elastic predictor, and what the later steps read from the step's input.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Predictor {
+    /// `1/dt`: rates are multipliers times this reciprocal, one division per step.
+    pub inverse_dt: f64,
+    /// `dev(deps)`.
+    pub deviatoric_increment: Sym,
+    /// `dev(sigma_n)`.
+    pub old_deviator: Sym,
+    /// `tr(sigma_n)/3`.
+    pub old_mean_stress: f64,
+    /// `s_trial = dev(sigma_n) + 2G dev(deps)`.
+    pub trial: Sym,
+    /// `q_trial`, its von Mises equivalent.
+    pub trial_equivalent: f64,
+}
+
+/// Step 1 for an admissible state and input.
+#[inline(always)]
+pub(super) fn predict(material: &Material, state: &MaterialState, input: &StepInput) -> Predictor {
+    let inverse_dt = 1.0 / input.dt;
+    let deviatoric_increment = tensor::deviator(&input.strain_increment);
+    let (old_deviator, old_mean_stress) = tensor::deviator_and_mean(&state.stress);
+    let trial = tensor::add(
+        &old_deviator,
+        &tensor::scale(&deviatoric_increment, 2.0 * material.shear_modulus),
+    );
+    let trial_equivalent = tensor::von_mises(&trial);
+    Predictor {
+        inverse_dt,
+        deviatoric_increment,
+        old_deviator,
+        old_mean_stress,
+        trial,
+        trial_equivalent,
+    }
+}
+
 #[inline(always)]
 fn compute(
     material: &Material,
@@ -771,23 +874,40 @@ fn compute(
         // Named by `checked_compute`.
         return Err(UpdateError::NonFiniteInput);
     }
+    let predicted = predict(material, state, input);
+    let returned = deviatoric_return(
+        material,
+        state,
+        &predicted.trial,
+        predicted.trial_equivalent,
+        input.dt,
+        predicted.inverse_dt,
+    )?;
+    finish(material, state, input, &predicted, &returned)
+}
+
+/// Steps 3-6 after the return: heating, EoS and energy, damage and cut-offs, wave speed, and
+/// the result's finiteness test.
+#[inline(always)]
+pub(super) fn finish(
+    material: &Material,
+    state: &MaterialState,
+    input: &StepInput,
+    predicted: &Predictor,
+    returned: &Return,
+) -> Result<Step, UpdateError> {
     let shear = material.shear_modulus;
-    let dt = input.dt;
-    // Rates are multipliers times this reciprocal: one division per step.
-    let inverse_dt = 1.0 / dt;
+    let Predictor {
+        inverse_dt,
+        deviatoric_increment,
+        old_deviator,
+        old_mean_stress,
+        trial,
+        ..
+    } = *predicted;
     let mut next = *state;
     next.flags
         .remove(StateFlags::PLASTIC | StateFlags::PRESSURE_CUTOFF);
-
-    // 1-2. Deviatoric predictor and return.
-    let deviatoric_increment = tensor::deviator(&input.strain_increment);
-    let (old_deviator, old_mean_stress) = tensor::deviator_and_mean(&state.stress);
-    let trial = tensor::add(
-        &old_deviator,
-        &tensor::scale(&deviatoric_increment, 2.0 * shear),
-    );
-    let trial_equivalent = tensor::von_mises(&trial);
-    let returned = deviatoric_return(material, state, &trial, trial_equivalent, dt, inverse_dt)?;
     if let Some(check) = returned.static_check {
         next.yield_check = YieldCheck {
             flow_stress: check,

@@ -1,0 +1,152 @@
+//! The stress update of a group of independent points, advanced stage by stage.
+//!
+//! One point's update is a chain of dependent operations (divisions, square roots, the `pow`
+//! and `ln` of the flow stress), each waiting on the one before. A host updates many points
+//! that do not depend on one another (a VUMAT's block, a solver's element loop), so the
+//! group's points go through each stage of [`update`](super::update::update) together: the
+//! predictor of every point, then every point's thermal factor, then every point's flow
+//! stress at its warm start, and so on. Each stage's per-point work is short, so the
+//! processor runs the points' chains side by side instead of one after the other.
+//!
+//! Every stage is the one-point update's own function ([`super::update`]), called with the
+//! same arguments, so each point's result has the bits of `update`'s. The stages cover the
+//! two steps a developed computation is made of: a plastic step whose return one flow-stress
+//! evaluation ends (the warm start of the implicit treatment, eq. 3.8), and an elastic step
+//! decided by the stored yield check. Any other point (a failed point, a return that needs
+//! more evaluations, a step the result test refuses, the lagged treatment, an inadmissible
+//! input) is updated by `update` itself, from its unchanged state.
+
+use super::material::{Material, RateTreatment};
+use super::update::{
+    admissible, finish, implicit_entry, one_evaluation_return, predict, residual, returned, update,
+    Entry, Flow, Predictor, Residual,
+};
+use crate::error::UpdateError;
+use crate::point_model::{StepInput, StepOutput};
+use crate::state::{MaterialState, StateFlags};
+use crate::strength::FlowAtTemperature;
+
+/// Points a block advances together ([`update_block`]).
+pub const LANES: usize = 8;
+
+/// A point's way through the stages.
+#[derive(Clone, Copy)]
+enum Route {
+    /// Updated by [`update`] after the stages.
+    Alone,
+    /// A warm start at this multiplier.
+    Warm(f64),
+    /// An elastic step proved by the stored check (its value).
+    Elastic(f64),
+}
+
+/// [`update`] of `L` independent points: `states[i]` over the step `inputs[i]`. Each point's
+/// result and new state are bit for bit those of `update`; a point whose step fails keeps its
+/// state, as with `update`.
+#[inline]
+pub fn update_lanes<const L: usize>(
+    material: &Material,
+    states: &mut [MaterialState; L],
+    inputs: &[StepInput; L],
+) -> [Result<StepOutput, UpdateError>; L] {
+    let shear = material.shear_modulus;
+    let three_g = 3.0 * shear;
+    let mut route = [Route::Alone; L];
+    let mut predicted = [Predictor::default(); L];
+    // Stage 1: the predictor and the step's entry (eq. 3.8's warm start or a stored check).
+    if material.rate_treatment == RateTreatment::Implicit {
+        for l in 0..L {
+            let (state, input) = (&states[l], &inputs[l]);
+            if admissible(state, input) && !state.flags.contains(StateFlags::FAILED) {
+                predicted[l] = predict(material, state, input);
+                route[l] =
+                    match implicit_entry(state, predicted[l].trial_equivalent, input.dt, three_g) {
+                        Entry::Warm(warm_dl) => Route::Warm(warm_dl),
+                        Entry::Elastic(check) => Route::Elastic(check),
+                        Entry::Cold(_) => Route::Alone,
+                    };
+            }
+        }
+    }
+    // Stage 2: the temperature-only factor of the warm points' strength.
+    let mut at_temperature: [Option<FlowAtTemperature<'_>>; L] = [None; L];
+    for l in 0..L {
+        if let Route::Warm(_) = route[l] {
+            at_temperature[l] = Some(material.strength.at_temperature(states[l].temperature));
+        }
+    }
+    // Stage 3: the residual at the warm start.
+    let mut evaluated: [Option<Residual>; L] = [None; L];
+    for l in 0..L {
+        if let (Route::Warm(warm_dl), Some(flow)) = (route[l], &at_temperature[l]) {
+            evaluated[l] = Some(residual(
+                flow,
+                three_g,
+                predicted[l].trial_equivalent,
+                states[l].plastic_strain,
+                warm_dl,
+                predicted[l].inverse_dt,
+            ));
+        }
+    }
+    // Stage 4: the return's first iteration, or the elastic check.
+    let mut flows: [Option<Flow>; L] = [None; L];
+    for l in 0..L {
+        flows[l] = match (route[l], evaluated[l]) {
+            (Route::Warm(warm_dl), Some(evaluated)) => one_evaluation_return(
+                shear,
+                predicted[l].trial_equivalent,
+                warm_dl,
+                evaluated,
+                inputs[l].dt,
+            ),
+            (Route::Elastic(check), _) => Some(Err((check, true))),
+            _ => None,
+        };
+    }
+    // Stage 5: heating, EoS, damage, wave speed; then the points the stages did not finish.
+    let mut results: [Option<Result<StepOutput, UpdateError>>; L] = [None; L];
+    for l in 0..L {
+        if let Some(flow) = flows[l] {
+            let p = &predicted[l];
+            let back = returned(material, &p.trial, p.trial_equivalent, flow);
+            if let Ok(step) = finish(material, &states[l], &inputs[l], p, &back) {
+                states[l] = step.state;
+                results[l] = Some(Ok(step.output));
+            }
+        }
+    }
+    core::array::from_fn(|l| match results[l] {
+        Some(result) => result,
+        None => update(material, &mut states[l], &inputs[l]),
+    })
+}
+
+/// [`update`] of every point of a block, [`LANES`] at a time ([`update_lanes`]): `states[i]`
+/// over `inputs[i]`, its result in `results[i]`, for the first `n` points, `n` the shortest of
+/// the three slices' lengths (returned). Bit for bit the results of `update` point by point.
+pub fn update_block(
+    material: &Material,
+    states: &mut [MaterialState],
+    inputs: &[StepInput],
+    results: &mut [Result<StepOutput, UpdateError>],
+) -> usize {
+    let n = states.len().min(inputs.len()).min(results.len());
+    let whole = n - n % LANES;
+    let groups = states[..whole]
+        .chunks_exact_mut(LANES)
+        .zip(inputs[..whole].chunks_exact(LANES))
+        .zip(results[..whole].chunks_exact_mut(LANES));
+    for ((states, inputs), results) in groups {
+        if let (Ok(states), Ok(inputs)) = (
+            <&mut [MaterialState; LANES]>::try_from(states),
+            <&[StepInput; LANES]>::try_from(inputs),
+        ) {
+            results.copy_from_slice(&update_lanes(material, states, inputs));
+        }
+    }
+    for i in whole..n {
+        results[i] = update(material, &mut states[i], &inputs[i]);
+    }
+    n
+}
