@@ -389,9 +389,6 @@ fn bench_points(bencher: Bencher, material: Material, treatment: RateTreatment, 
         .bench_local_refs(|states| advance(states));
 }
 
-/// [`POINTS`] independent points advanced together along uniaxial strain, [`BLOCK_STEPS`]
-/// steps per iteration, from developed plastic flow: the throughput of a host's block.
-
 /// The [`block`] cases through [`update_block`] ([`stoss_kernel::LANES`] points at a time).
 mod grouped {
     use super::*;
@@ -417,6 +414,8 @@ mod grouped {
     }
 }
 
+/// [`POINTS`] independent points advanced together along uniaxial strain, [`BLOCK_STEPS`]
+/// steps per iteration, from developed plastic flow: the throughput of a host's block.
 mod block {
     use super::*;
 
