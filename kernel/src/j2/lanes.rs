@@ -18,10 +18,11 @@
 
 use super::material::{Material, RateTreatment};
 use super::update::{
-    admissible, finish, implicit_entry, one_evaluation_return, predict, residual, returned, update,
-    Entry, Flow, Predictor, Residual,
+    admissible, finish, implicit_entry, one_evaluation_return, predict, residual_with, returned,
+    update, Entry, Flow, Predictor, Residual,
 };
 use crate::error::UpdateError;
+use crate::math::lanes::{self, Calls, Given};
 use crate::point_model::{StepInput, StepOutput};
 use crate::state::{MaterialState, StateFlags};
 use crate::strength::FlowAtTemperature;
@@ -68,24 +69,47 @@ pub fn update_lanes<const L: usize>(
             }
         }
     }
-    // Stage 2: the temperature-only factor of the warm points' strength.
+    // Stage 2: the temperature-only factor of the warm points' strength, its `pow` in lanes.
+    let mut calls = [Calls::default(); L];
+    for l in 0..L {
+        if let Route::Warm(_) = route[l] {
+            (material.strength).announce_temperature(states[l].temperature, &mut calls[l]);
+        }
+    }
+    let values = lanes::evaluate(&calls);
     let mut at_temperature: [Option<FlowAtTemperature<'_>>; L] = [None; L];
     for l in 0..L {
         if let Route::Warm(_) = route[l] {
-            at_temperature[l] = Some(material.strength.at_temperature(states[l].temperature));
+            let mut given = Given::new(&calls[l], &values[l]);
+            at_temperature[l] =
+                Some((material.strength).at_temperature_with(states[l].temperature, &mut given));
         }
     }
-    // Stage 3: the residual at the warm start.
+    // Stage 3: the residual at the warm start, the flow stress's `pow`, `ln` and `exp` in
+    // lanes.
+    let mut calls = [Calls::default(); L];
+    for l in 0..L {
+        if let (Route::Warm(warm_dl), Some(flow)) = (route[l], &at_temperature[l]) {
+            flow.announce_path(
+                states[l].plastic_strain,
+                warm_dl,
+                predicted[l].inverse_dt,
+                &mut calls[l],
+            );
+        }
+    }
+    let values = lanes::evaluate(&calls);
     let mut evaluated: [Option<Residual>; L] = [None; L];
     for l in 0..L {
         if let (Route::Warm(warm_dl), Some(flow)) = (route[l], &at_temperature[l]) {
-            evaluated[l] = Some(residual(
+            evaluated[l] = Some(residual_with(
                 flow,
                 three_g,
                 predicted[l].trial_equivalent,
                 states[l].plastic_strain,
                 warm_dl,
                 predicted[l].inverse_dt,
+                &mut Given::new(&calls[l], &values[l]),
             ));
         }
     }

@@ -20,6 +20,7 @@
 
 use super::material::{Material, RateTreatment};
 use crate::error::UpdateError;
+use crate::math::lanes::{Direct, Transcendentals};
 use crate::math::sqrt;
 use crate::point_model::{StepInput, StepOutput};
 use crate::state::{MaterialState, StateFlags, YieldCheck};
@@ -279,7 +280,29 @@ pub(super) fn residual(
     dl: f64,
     inverse_dt: f64,
 ) -> Residual {
-    let flow = flow.along_path(plastic_strain, dl, inverse_dt);
+    residual_with(
+        flow,
+        three_g,
+        trial_equivalent,
+        plastic_strain,
+        dl,
+        inverse_dt,
+        &mut Direct,
+    )
+}
+
+/// [`residual`] with the flow stress's transcendental functions from `math`.
+#[inline(always)]
+pub(super) fn residual_with(
+    flow: &FlowAtTemperature<'_>,
+    three_g: f64,
+    trial_equivalent: f64,
+    plastic_strain: f64,
+    dl: f64,
+    inverse_dt: f64,
+    math: &mut impl Transcendentals,
+) -> Residual {
+    let flow = flow.along_path_with(plastic_strain, dl, inverse_dt, math);
     Residual {
         value: trial_equivalent - three_g * dl - flow.value,
         slope: -three_g - flow.slope,

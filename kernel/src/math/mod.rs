@@ -10,6 +10,7 @@
 //! Preston-Tonks-Wallace model uses) go to the `libm` crate.
 
 mod exp;
+pub mod lanes;
 mod log;
 mod pow;
 mod tables;

@@ -2,6 +2,7 @@
 
 use super::{FlowStress, Hardening, PathFlow, RateTerm, ThermalTerm};
 use crate::error::ParameterError;
+use crate::math::lanes::{Calls, Direct, Transcendentals};
 use crate::parameters::{Constants, Parameter};
 
 /// `sigma_y = hardening(eps_p) * rate(deps_p) * thermal(T)`. JC, MJC and TJC are instances;
@@ -66,12 +67,40 @@ impl ComposedStrength {
         temperature: f64,
         theta: f64,
     ) -> PathFlow {
-        let h = self.hardening.evaluate(plastic_strain + dl);
+        self.along_path_with(
+            plastic_strain,
+            dl,
+            inverse_dt,
+            temperature,
+            theta,
+            &mut Direct,
+        )
+    }
+
+    /// [`Self::along_path_with_thermal`] with its transcendental functions from `math`.
+    #[inline(always)]
+    pub fn along_path_with(
+        &self,
+        plastic_strain: f64,
+        dl: f64,
+        inverse_dt: f64,
+        temperature: f64,
+        theta: f64,
+        math: &mut impl Transcendentals,
+    ) -> PathFlow {
+        let h = self.hardening.evaluate_with(plastic_strain + dl, math);
         let r = self
             .rate
-            .evaluate(dl * inverse_dt, temperature)
+            .evaluate_with(dl * inverse_dt, temperature, math)
             .along_rate(inverse_dt);
         h.product(&r).scaled(theta).path_flow(self.rate.kink_rate())
+    }
+
+    /// Announce the calls [`Self::along_path_with`] makes (see [`Calls`]).
+    #[inline(always)]
+    pub fn announce_path(&self, plastic_strain: f64, dl: f64, inverse_dt: f64, calls: &mut Calls) {
+        self.hardening.announce(plastic_strain + dl, calls);
+        self.rate.announce(dl * inverse_dt, calls);
     }
 
     /// The names of the three terms, as they prefix their constants' paths.

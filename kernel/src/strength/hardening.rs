@@ -1,7 +1,7 @@
 //! Strain-hardening terms `h(eps_p)`.
 
 use crate::error::{check, ParameterError};
-use crate::math::{exp, pow};
+use crate::math::lanes::{Calls, Direct, Function, Transcendentals};
 use crate::parameters;
 
 use super::TermValue;
@@ -59,6 +59,17 @@ pub enum Hardening {
 /// the higher derivatives at `eps = 0` as `+inf` unless the term is linear or constant.
 #[inline]
 pub(crate) fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> TermValue {
+    power_term_with(modulus, exponent, plastic_strain, &mut Direct)
+}
+
+/// [`power_term`] with its `pow` from `math`.
+#[inline(always)]
+fn power_term_with(
+    modulus: f64,
+    exponent: f64,
+    plastic_strain: f64,
+    math: &mut impl Transcendentals,
+) -> TermValue {
     if modulus == 0.0 {
         return TermValue::CONSTANT_ZERO;
     }
@@ -85,7 +96,7 @@ pub(crate) fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> Te
             third: higher,
         };
     }
-    let powered = pow(plastic_strain, exponent);
+    let powered = math.pow(plastic_strain, exponent);
     let inverse = 1.0 / plastic_strain;
     let slope = modulus * exponent * powered * inverse;
     // B n (n - 1) eps^(n - 2) and B n (n - 1)(n - 2) eps^(n - 3).
@@ -100,11 +111,16 @@ pub(crate) fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> Te
 
 /// `Q (1 - exp(-c eps))` and its first three derivatives.
 #[inline]
-fn voce_term(saturation: f64, rate: f64, plastic_strain: f64) -> TermValue {
+fn voce_term(
+    saturation: f64,
+    rate: f64,
+    plastic_strain: f64,
+    math: &mut impl Transcendentals,
+) -> TermValue {
     if saturation == 0.0 {
         return TermValue::CONSTANT_ZERO;
     }
-    let decay = exp(-rate * plastic_strain);
+    let decay = math.exp(-rate * plastic_strain);
     let slope = saturation * rate * decay;
     let curvature = -rate * slope;
     TermValue {
@@ -119,12 +135,19 @@ impl Hardening {
     /// `h(eps_p)` and its first three derivatives.
     #[inline]
     pub fn evaluate(&self, plastic_strain: f64) -> TermValue {
+        self.evaluate_with(plastic_strain, &mut Direct)
+    }
+
+    /// [`Hardening::evaluate`] with its `pow` and `exp` from `math`.
+    #[inline(always)]
+    pub fn evaluate_with(&self, plastic_strain: f64, math: &mut impl Transcendentals) -> TermValue {
         match *self {
             Hardening::Power {
                 yield_stress,
                 hardening_modulus,
                 exponent,
-            } => power_term(hardening_modulus, exponent, plastic_strain).plus(yield_stress),
+            } => power_term_with(hardening_modulus, exponent, plastic_strain, math)
+                .plus(yield_stress),
             Hardening::Voce2 {
                 yield_stress,
                 saturation_stress_1,
@@ -132,8 +155,9 @@ impl Hardening {
                 saturation_stress_2,
                 saturation_rate_2,
             } => {
-                let first = voce_term(saturation_stress_1, saturation_rate_1, plastic_strain);
-                let second = voce_term(saturation_stress_2, saturation_rate_2, plastic_strain);
+                let first = voce_term(saturation_stress_1, saturation_rate_1, plastic_strain, math);
+                let second =
+                    voce_term(saturation_stress_2, saturation_rate_2, plastic_strain, math);
                 first.plus(yield_stress).sum(&second)
             }
             Hardening::PowerVoce2 {
@@ -145,10 +169,46 @@ impl Hardening {
                 saturation_stress_2,
                 saturation_rate_2,
             } => {
-                let power = power_term(hardening_modulus, exponent, plastic_strain);
-                let first = voce_term(saturation_stress_1, saturation_rate_1, plastic_strain);
-                let second = voce_term(saturation_stress_2, saturation_rate_2, plastic_strain);
+                let power = power_term_with(hardening_modulus, exponent, plastic_strain, math);
+                let first = voce_term(saturation_stress_1, saturation_rate_1, plastic_strain, math);
+                let second =
+                    voce_term(saturation_stress_2, saturation_rate_2, plastic_strain, math);
                 power.plus(yield_stress).sum(&first).sum(&second)
+            }
+        }
+    }
+
+    /// Announce the calls [`Hardening::evaluate_with`] makes at `plastic_strain` (see
+    /// [`Calls`]): `pow(eps, n)` of a power term, `exp(-c eps)` of each Voce term.
+    #[inline(always)]
+    pub fn announce(&self, plastic_strain: f64, calls: &mut Calls) {
+        let power = |calls: &mut Calls, exponent: f64| {
+            let x = if plastic_strain > 0.0 {
+                plastic_strain
+            } else {
+                1.0
+            };
+            calls.push(Function::Pow, x, exponent);
+        };
+        match *self {
+            Hardening::Power { exponent, .. } => power(calls, exponent),
+            Hardening::Voce2 {
+                saturation_rate_1,
+                saturation_rate_2,
+                ..
+            } => {
+                calls.push(Function::Exp, -saturation_rate_1 * plastic_strain, 1.0);
+                calls.push(Function::Exp, -saturation_rate_2 * plastic_strain, 1.0);
+            }
+            Hardening::PowerVoce2 {
+                exponent,
+                saturation_rate_1,
+                saturation_rate_2,
+                ..
+            } => {
+                power(calls, exponent);
+                calls.push(Function::Exp, -saturation_rate_1 * plastic_strain, 1.0);
+                calls.push(Function::Exp, -saturation_rate_2 * plastic_strain, 1.0);
             }
         }
     }

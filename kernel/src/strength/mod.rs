@@ -37,6 +37,7 @@ pub use voce_kocks::VoceKocks;
 pub use zerilli_armstrong::{CrystalStructure, ZerilliArmstrong};
 
 use crate::error::ParameterError;
+use crate::math::lanes::{Calls, Direct, Transcendentals};
 
 /// A flow stress and its partial derivatives at fixed temperature.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -254,8 +255,28 @@ impl Strength {
     /// return mapping holds `T_n` fixed while it iterates on the plastic multiplier.
     #[inline]
     pub fn at_temperature(&self, temperature: f64) -> FlowAtTemperature<'_> {
+        self.at_temperature_with(temperature, &mut Direct)
+    }
+
+    /// Announce the calls [`Strength::at_temperature_with`] makes (see [`Calls`]; a composed
+    /// model's thermal factor).
+    #[inline(always)]
+    pub fn announce_temperature(&self, temperature: f64, calls: &mut Calls) {
+        if let Strength::Composed(model) = self {
+            model.thermal.announce(temperature, calls);
+        }
+    }
+
+    /// [`Strength::at_temperature`] with a composed model's transcendental functions from
+    /// `math`.
+    #[inline(always)]
+    pub fn at_temperature_with(
+        &self,
+        temperature: f64,
+        math: &mut impl Transcendentals,
+    ) -> FlowAtTemperature<'_> {
         let factor = match self {
-            Strength::Composed(model) => model.thermal.evaluate(temperature),
+            Strength::Composed(model) => model.thermal.evaluate_with(temperature, math),
             Strength::KhanHuangLiang(model) => model.thermal_factor(temperature),
             Strength::PrestonTonksWallace(model) => model.rate_scale(temperature),
             Strength::MechanicalThresholdStress(model) => model.modulus_ratio(temperature),
@@ -338,13 +359,35 @@ impl FlowAtTemperature<'_> {
     /// is computed once.
     #[inline]
     pub fn along_path(&self, plastic_strain: f64, dl: f64, inverse_dt: f64) -> PathFlow {
+        self.along_path_with(plastic_strain, dl, inverse_dt, &mut Direct)
+    }
+
+    /// Announce the calls [`Self::along_path_with`] makes (see [`Calls`]; a composed model's
+    /// terms).
+    #[inline(always)]
+    pub fn announce_path(&self, plastic_strain: f64, dl: f64, inverse_dt: f64, calls: &mut Calls) {
+        if let Strength::Composed(model) = self.strength {
+            model.announce_path(plastic_strain, dl, inverse_dt, calls);
+        }
+    }
+
+    /// [`Self::along_path`] with a composed model's transcendental functions from `math`.
+    #[inline(always)]
+    pub fn along_path_with(
+        &self,
+        plastic_strain: f64,
+        dl: f64,
+        inverse_dt: f64,
+        math: &mut impl Transcendentals,
+    ) -> PathFlow {
         match self.strength {
-            Strength::Composed(model) => model.along_path_with_thermal(
+            Strength::Composed(model) => model.along_path_with(
                 plastic_strain,
                 dl,
                 inverse_dt,
                 self.temperature,
                 self.factor,
+                math,
             ),
             Strength::ZerilliArmstrong(model) => {
                 model.along_path(plastic_strain, dl, inverse_dt, self.temperature)

@@ -1,7 +1,7 @@
 //! Strain-rate terms `r(deps_p)`, each equal to 1 at zero rate (quasi-static).
 
 use crate::error::{check, ParameterError};
-use crate::math::{ln, pow};
+use crate::math::lanes::{Calls, Direct, Function, Transcendentals};
 use crate::parameters;
 
 use super::TermValue;
@@ -79,12 +79,17 @@ pub enum RateTerm {
 
 /// `(1 + rate/e0)^beta` and its first three derivatives with respect to `rate`.
 #[inline]
-fn power_factor(exponent: f64, reference_rate: f64, plastic_strain_rate: f64) -> TermValue {
+fn power_factor(
+    exponent: f64,
+    reference_rate: f64,
+    plastic_strain_rate: f64,
+    math: &mut impl Transcendentals,
+) -> TermValue {
     if exponent == 0.0 {
         return TermValue::CONSTANT_ONE;
     }
     let base = 1.0 + plastic_strain_rate / reference_rate;
-    let value = pow(base, exponent);
+    let value = math.pow(base, exponent);
     let inverse = 1.0 / (base * reference_rate);
     let slope = exponent * value * inverse;
     let curvature = slope * (exponent - 1.0) * inverse;
@@ -99,7 +104,12 @@ fn power_factor(exponent: f64, reference_rate: f64, plastic_strain_rate: f64) ->
 /// `1 + C ln(rate/e0)` above `e0` (1 below) and its first three derivatives; `sensitivity` is
 /// `C`.
 #[inline]
-fn log_factor(sensitivity: f64, reference_rate: f64, rate: f64) -> TermValue {
+fn log_factor(
+    sensitivity: f64,
+    reference_rate: f64,
+    rate: f64,
+    math: &mut impl Transcendentals,
+) -> TermValue {
     let ratio = rate / reference_rate;
     if ratio <= 1.0 {
         TermValue::CONSTANT_ONE
@@ -108,7 +118,7 @@ fn log_factor(sensitivity: f64, reference_rate: f64, rate: f64) -> TermValue {
         let slope = sensitivity * inverse;
         let curvature = -slope * inverse;
         TermValue {
-            value: 1.0 + sensitivity * ln(ratio),
+            value: 1.0 + sensitivity * math.ln(ratio),
             slope,
             curvature,
             third: -2.0 * curvature * inverse,
@@ -121,40 +131,105 @@ impl RateTerm {
     /// strain rate (only [`RateTerm::LogThermal`] depends on the temperature).
     #[inline]
     pub fn evaluate(&self, plastic_strain_rate: f64, temperature: f64) -> TermValue {
-        let rate = if plastic_strain_rate > 0.0 {
-            plastic_strain_rate
-        } else {
-            0.0
+        self.evaluate_with(plastic_strain_rate, temperature, &mut Direct)
+    }
+
+    /// Announce the calls [`RateTerm::evaluate_with`] makes at `plastic_strain_rate` (see
+    /// [`Calls`]): `ln(rate/e0)` of a logarithmic factor, `pow(1 + rate/e0, beta)` of a power
+    /// factor, `pow(rate/D, 1/q)` of Cowper-Symonds.
+    #[inline(always)]
+    pub fn announce(&self, plastic_strain_rate: f64, calls: &mut Calls) {
+        let rate = Self::floored(plastic_strain_rate);
+        let log = |calls: &mut Calls, reference_rate: f64| {
+            let ratio = rate / reference_rate;
+            calls.push(Function::Ln, if ratio > 1.0 { ratio } else { 1.0 }, 1.0);
+        };
+        let power = |calls: &mut Calls, exponent: f64, reference_rate: f64| {
+            calls.push(Function::Pow, 1.0 + rate / reference_rate, exponent);
         };
         match *self {
-            RateTerm::None => TermValue::CONSTANT_ONE,
-            RateTerm::JohnsonCookLog {
-                rate_sensitivity,
-                reference_rate,
-            } => log_factor(rate_sensitivity, reference_rate, rate),
+            RateTerm::None => {}
+            RateTerm::JohnsonCookLog { reference_rate, .. }
+            | RateTerm::LogThermal { reference_rate, .. } => log(calls, reference_rate),
             RateTerm::Power {
                 exponent,
                 reference_rate,
-            } => power_factor(exponent, reference_rate, rate),
+            } => power(calls, exponent, reference_rate),
             RateTerm::TwoPart {
                 exponent_1,
                 reference_rate_1,
                 exponent_2,
                 reference_rate_2,
-            } => power_factor(exponent_1, reference_rate_1, rate).product(&power_factor(
+            } => {
+                power(calls, exponent_1, reference_rate_1);
+                power(calls, exponent_2, reference_rate_2);
+            }
+            RateTerm::LogUpturn {
+                reference_rate,
+                upturn_exponent,
+                upturn_rate,
+                ..
+            } => {
+                log(calls, reference_rate);
+                power(calls, upturn_exponent, upturn_rate);
+            }
+            RateTerm::CowperSymonds {
+                rate_constant,
+                exponent,
+            } => calls.push(Function::Pow, rate / rate_constant, 1.0 / exponent),
+        }
+    }
+
+    /// A plastic strain rate held at 0 from below.
+    #[inline(always)]
+    fn floored(plastic_strain_rate: f64) -> f64 {
+        if plastic_strain_rate > 0.0 {
+            plastic_strain_rate
+        } else {
+            0.0
+        }
+    }
+
+    /// [`RateTerm::evaluate`] with its `ln` and `pow` from `math`.
+    #[inline(always)]
+    pub fn evaluate_with(
+        &self,
+        plastic_strain_rate: f64,
+        temperature: f64,
+        math: &mut impl Transcendentals,
+    ) -> TermValue {
+        let rate = Self::floored(plastic_strain_rate);
+        match *self {
+            RateTerm::None => TermValue::CONSTANT_ONE,
+            RateTerm::JohnsonCookLog {
+                rate_sensitivity,
+                reference_rate,
+            } => log_factor(rate_sensitivity, reference_rate, rate, math),
+            RateTerm::Power {
+                exponent,
+                reference_rate,
+            } => power_factor(exponent, reference_rate, rate, math),
+            RateTerm::TwoPart {
+                exponent_1,
+                reference_rate_1,
+                exponent_2,
+                reference_rate_2,
+            } => power_factor(exponent_1, reference_rate_1, rate, math).product(&power_factor(
                 exponent_2,
                 reference_rate_2,
                 rate,
+                math,
             )),
             RateTerm::LogUpturn {
                 rate_sensitivity,
                 reference_rate,
                 upturn_exponent,
                 upturn_rate,
-            } => log_factor(rate_sensitivity, reference_rate, rate).product(&power_factor(
+            } => log_factor(rate_sensitivity, reference_rate, rate, math).product(&power_factor(
                 upturn_exponent,
                 upturn_rate,
                 rate,
+                math,
             )),
             RateTerm::LogThermal {
                 rate_sensitivity,
@@ -172,7 +247,7 @@ impl RateTerm {
                         melting_temperature,
                     );
                     let sensitivity = rate_sensitivity * (1.0 + coupling * t_star);
-                    log_factor(sensitivity, reference_rate, rate)
+                    log_factor(sensitivity, reference_rate, rate, math)
                 }
             }
             RateTerm::CowperSymonds {
@@ -195,7 +270,7 @@ impl RateTerm {
                         third: higher,
                     };
                 }
-                let powered = pow(rate / rate_constant, 1.0 / exponent);
+                let powered = math.pow(rate / rate_constant, 1.0 / exponent);
                 let slope = powered / (exponent * rate);
                 let curvature = slope * (1.0 / exponent - 1.0) / rate;
                 TermValue {

@@ -1,7 +1,7 @@
 //! Thermal-softening terms `theta(T)`.
 
 use crate::error::{check, ParameterError};
-use crate::math::pow;
+use crate::math::lanes::{Calls, Direct, Function, Transcendentals};
 use crate::parameters;
 
 /// Homologous temperature `T* = (T - Tr)/(Tm - Tr)` clamped to `[0, 1]`.
@@ -23,12 +23,13 @@ fn homologous_power(
     exponent: f64,
     reference_temperature: f64,
     melting_temperature: f64,
+    math: &mut impl Transcendentals,
 ) -> f64 {
     let t_star = homologous_temperature(temperature, reference_temperature, melting_temperature);
     if t_star == 0.0 {
         1.0
     } else {
-        1.0 - pow(t_star, exponent)
+        1.0 - math.pow(t_star, exponent)
     }
 }
 
@@ -80,6 +81,38 @@ impl ThermalTerm {
     /// `theta(T)`.
     #[inline]
     pub fn evaluate(&self, temperature: f64) -> f64 {
+        self.evaluate_with(temperature, &mut Direct)
+    }
+
+    /// Announce the call [`ThermalTerm::evaluate_with`] makes at `temperature` (see
+    /// [`Calls`]): `pow(T*, m)` of the homologous power forms.
+    #[inline(always)]
+    pub fn announce(&self, temperature: f64, calls: &mut Calls) {
+        if let ThermalTerm::HomologousPower {
+            exponent,
+            reference_temperature,
+            melting_temperature,
+        }
+        | ThermalTerm::HomologousPowerDrop {
+            exponent,
+            reference_temperature,
+            melting_temperature,
+            ..
+        } = *self
+        {
+            let t_star =
+                homologous_temperature(temperature, reference_temperature, melting_temperature);
+            calls.push(
+                Function::Pow,
+                if t_star == 0.0 { 1.0 } else { t_star },
+                exponent,
+            );
+        }
+    }
+
+    /// [`ThermalTerm::evaluate`] with its `pow` from `math`.
+    #[inline(always)]
+    pub fn evaluate_with(&self, temperature: f64, math: &mut impl Transcendentals) -> f64 {
         match *self {
             ThermalTerm::None => 1.0,
             ThermalTerm::HomologousPower {
@@ -91,6 +124,7 @@ impl ThermalTerm {
                 exponent,
                 reference_temperature,
                 melting_temperature,
+                math,
             ),
             ThermalTerm::HomologousPowerDrop {
                 exponent,
@@ -105,6 +139,7 @@ impl ThermalTerm {
                     exponent,
                     reference_temperature,
                     melting_temperature,
+                    math,
                 );
                 let x = crate::math::clamp(
                     (temperature - drop_start_temperature)
