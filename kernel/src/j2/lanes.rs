@@ -41,15 +41,16 @@ enum Route {
     Elastic(f64),
 }
 
-/// [`update`] of `L` independent points: `states[i]` over the step `inputs[i]`. Each point's
-/// result and new state are bit for bit those of `update`; a point whose step fails keeps its
-/// state, as with `update`.
+/// [`update`] of `L` independent points: `states[i]` over the step `inputs[i]`, its result in
+/// `results[i]`. Each point's result and new state are bit for bit those of `update`; a point
+/// whose step fails keeps its state, as with `update`.
 #[inline]
 pub fn update_lanes<const L: usize>(
     material: &Material,
     states: &mut [MaterialState; L],
     inputs: &[StepInput; L],
-) -> [Result<StepOutput, UpdateError>; L] {
+    results: &mut [Result<StepOutput, UpdateError>; L],
+) {
     let shear = material.shear_modulus;
     let three_g = 3.0 * shear;
     let mut route = [Route::Alone; L];
@@ -129,21 +130,23 @@ pub fn update_lanes<const L: usize>(
         };
     }
     // Stage 5: heating, EoS, damage, wave speed; then the points the stages did not finish.
-    let mut results: [Option<Result<StepOutput, UpdateError>>; L] = [None; L];
+    let mut done = [false; L];
     for l in 0..L {
         if let Some(flow) = flows[l] {
             let p = &predicted[l];
             let back = returned(material, &p.trial, p.trial_equivalent, flow);
             if let Ok(step) = finish(material, &states[l], &inputs[l], p, &back) {
                 states[l] = step.state;
-                results[l] = Some(Ok(step.output));
+                results[l] = Ok(step.output);
+                done[l] = true;
             }
         }
     }
-    core::array::from_fn(|l| match results[l] {
-        Some(result) => result,
-        None => update(material, &mut states[l], &inputs[l]),
-    })
+    for l in 0..L {
+        if !done[l] {
+            results[l] = update(material, &mut states[l], &inputs[l]);
+        }
+    }
 }
 
 /// [`update`] of every point of a block, [`LANES`] at a time ([`update_lanes`]): `states[i]`
@@ -162,11 +165,12 @@ pub fn update_block(
         .zip(inputs[..whole].chunks_exact(LANES))
         .zip(results[..whole].chunks_exact_mut(LANES));
     for ((states, inputs), results) in groups {
-        if let (Ok(states), Ok(inputs)) = (
+        if let (Ok(states), Ok(inputs), Ok(results)) = (
             <&mut [MaterialState; LANES]>::try_from(states),
             <&[StepInput; LANES]>::try_from(inputs),
+            <&mut [Result<StepOutput, UpdateError>; LANES]>::try_from(results),
         ) {
-            results.copy_from_slice(&update_lanes(material, states, inputs));
+            update_lanes(material, states, inputs, results);
         }
     }
     for i in whole..n {
