@@ -51,8 +51,7 @@ pub mod tensor;
 pub use error::{ParameterError, UpdateError};
 pub use j2::{
     update, update_block, update_lanes, update_with_tangent, Heating, Material, RateTreatment,
-    LANES,
 };
 pub use part_material::PartMaterial;
-pub use point_model::{PointModel, StepInput, StepOutput};
+pub use point_model::{PointModel, StepInput, StepOutput, LANES};
 pub use state::{MaterialState, StateFlags, YieldCheck};

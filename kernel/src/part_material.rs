@@ -6,7 +6,7 @@ use crate::error::{ParameterError, UpdateError};
 use crate::j2::Material;
 use crate::kc::KcMaterial;
 use crate::point_model::PointModel;
-use crate::point_model::{StepInput, StepOutput};
+use crate::point_model::{StepInput, StepOutput, LANES};
 use crate::rht::RhtMaterial;
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;
@@ -151,6 +151,18 @@ impl PointModel for PartMaterial {
             PartMaterial::J2(m) => PointModel::update_with_tangent(m, state, input, tangent),
             PartMaterial::Rht(m) => PointModel::update_with_tangent(m, state, input, tangent),
             PartMaterial::Kc(m) => PointModel::update_with_tangent(m, state, input, tangent),
+        }
+    }
+    fn update_lanes(
+        &self,
+        states: &mut [MaterialState; LANES],
+        inputs: &[StepInput; LANES],
+        results: &mut [Result<StepOutput, UpdateError>; LANES],
+    ) {
+        match self {
+            PartMaterial::J2(m) => PointModel::update_lanes(m, states, inputs, results),
+            PartMaterial::Rht(m) => PointModel::update_lanes(m, states, inputs, results),
+            PartMaterial::Kc(m) => PointModel::update_lanes(m, states, inputs, results),
         }
     }
 }

@@ -7,6 +7,9 @@ use crate::error::{ParameterError, UpdateError};
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::{Matrix6, Sym};
 
+/// Points a group update advances together ([`PointModel::update_lanes`]).
+pub const LANES: usize = 8;
+
 /// A material model at one integration point, one step at a time: what the drivers and a
 /// host FE code (stoss's own explicit solver among them) need of it. Implemented by
 /// [`crate::Material`] (the J2 metal update, [`crate::update()`]), by
@@ -47,6 +50,20 @@ pub trait PointModel {
         input: &StepInput,
         tangent: &mut Matrix6,
     ) -> Result<StepOutput, UpdateError>;
+    /// [`PointModel::update`] of [`LANES`] independent points, `states[i]` over `inputs[i]`
+    /// into `results[i]`, bit for bit as one at a time (which is what this default does; the
+    /// J2 metals advance the group stage by stage, `crate::j2::lanes`).
+    #[inline]
+    fn update_lanes(
+        &self,
+        states: &mut [MaterialState; LANES],
+        inputs: &[StepInput; LANES],
+        results: &mut [Result<StepOutput, UpdateError>; LANES],
+    ) {
+        for ((state, input), result) in states.iter_mut().zip(inputs).zip(results.iter_mut()) {
+            *result = self.update(state, input);
+        }
+    }
 }
 
 impl<T: PointModel + ?Sized> PointModel for &T {
@@ -89,6 +106,16 @@ impl<T: PointModel + ?Sized> PointModel for &T {
         tangent: &mut Matrix6,
     ) -> Result<StepOutput, UpdateError> {
         (**self).update_with_tangent(state, input, tangent)
+    }
+
+    #[inline]
+    fn update_lanes(
+        &self,
+        states: &mut [MaterialState; LANES],
+        inputs: &[StepInput; LANES],
+        results: &mut [Result<StepOutput, UpdateError>; LANES],
+    ) {
+        (**self).update_lanes(states, inputs, results)
     }
 }
 

@@ -12,7 +12,8 @@ use stoss_kernel::rht::RhtMaterial;
 use stoss_kernel::tensor::{self, Matrix6, Sym};
 use stoss_kernel::PartMaterial;
 use stoss_kernel::{
-    Material, MaterialState, PointModel, StateFlags, StepInput, StepOutput, UpdateError, YieldCheck,
+    Material, MaterialState, PointModel, StateFlags, StepInput, StepOutput, UpdateError,
+    YieldCheck, LANES,
 };
 
 use crate::boundary::{ArrayIn, ArrayOut};
@@ -150,18 +151,30 @@ pub fn step_point<M: PointModel>(
     relative_volume: Option<f64>,
     tangent: Option<&mut Matrix6>,
 ) -> Result<StepOutput, UpdateError> {
+    let input = step_input(state, strain_increment, dt, relative_volume);
+    match tangent {
+        Some(tangent) => material.update_with_tangent(state, &input, tangent),
+        None => material.update(state, &input),
+    }
+}
+
+/// One point's step input, the relative volume either given or integrated as
+/// `V1 = V0 exp(tr deps)` (bit-identical to the kernel's drivers).
+#[inline]
+fn step_input(
+    state: &MaterialState,
+    strain_increment: &Sym,
+    dt: f64,
+    relative_volume: Option<f64>,
+) -> StepInput {
     let relative_volume = match relative_volume {
         Some(volume) => volume,
         None => state.relative_volume * exp(tensor::trace(strain_increment)),
     };
-    let input = StepInput {
+    StepInput {
         strain_increment: *strain_increment,
         dt,
         relative_volume,
-    };
-    match tangent {
-        Some(tangent) => material.update_with_tangent(state, &input, tangent),
-        None => material.update(state, &input),
     }
 }
 
@@ -390,17 +403,42 @@ pub(crate) fn run_batch<M: PointModel>(
             .as_ref()
             .is_none_or(|a| n.checked_mul(36).is_some_and(|len| a.covers(len)));
     assert!(covered, "a batch view holds fewer than {n} points");
-    for i in 0..n {
-        // Every unchecked access below is at point `i < n` of an array asserted above to
-        // cover `n` points (`36 n` tangent entries).
-        let increment: Sym = core::array::from_fn(|k| {
-            // SAFETY: `i < n`, covered (above).
-            unsafe { input.strain_increment[k].get_unchecked(i) }
-        });
-        let volume = input.relative_volume.as_ref().map(|v| {
-            // SAFETY: `i < n`, covered (above).
-            unsafe { v.get_unchecked(i) }
-        });
+    // Without a tangent the points go through the model's group update, LANES at a time
+    // (bit for bit the one-point update); the rest, and every point when the host asks for
+    // the tangent, one at a time.
+    let grouped = if want_tangent { 0 } else { n - n % LANES };
+    for first in (0..grouped).step_by(LANES) {
+        let mut points = [MaterialState::initial(0.0); LANES];
+        let mut inputs = [StepInput {
+            strain_increment: [0.0; 6],
+            dt,
+            relative_volume: 1.0,
+        }; LANES];
+        for (lane, (point, step)) in points.iter_mut().zip(inputs.iter_mut()).enumerate() {
+            let i = first + lane;
+            // SAFETY: `i < grouped <= n`, covered (above).
+            *point = unsafe { state.read_unchecked(i) };
+            let increment = read_increment(input, i);
+            let volume = read_volume(input, i);
+            *step = step_input(point, &increment, dt, volume);
+        }
+        let mut results = [Err(UpdateError::NonFiniteInput); LANES];
+        material.update_lanes(&mut points, &inputs, &mut results);
+        for (lane, (point, result)) in points.iter().zip(results).enumerate() {
+            store(
+                first + lane,
+                result,
+                point,
+                None,
+                state,
+                output,
+                &mut first_failure,
+            );
+        }
+    }
+    for i in grouped..n {
+        let increment = read_increment(input, i);
+        let volume = read_volume(input, i);
         // SAFETY: `i < n`, covered (above).
         let mut point = unsafe { state.read_unchecked(i) };
         // The tangent is formed (and its 36 entries zeroed) only when the host asks for it.
@@ -413,39 +451,81 @@ pub(crate) fn run_batch<M: PointModel>(
             volume,
             matrix.as_mut(),
         );
-        let status = match result {
-            Ok(step) => {
-                // SAFETY: `i < n`, covered (above).
-                unsafe { state.write_unchecked(i, &point) };
-                if let Some(array) = &mut output.wave_speed {
-                    // SAFETY: `i < n`, covered (above).
-                    unsafe { array.set_unchecked(i, step.wave_speed) };
-                }
-                if let Some(array) = &mut output.failed {
-                    // SAFETY: `i < n`, covered (above).
-                    unsafe { array.set_unchecked(i, failure_code(&point)) };
-                }
-                if let (Some(tangent), Some(matrix)) = (&mut output.tangent, &matrix) {
-                    for (r, row) in matrix.iter().enumerate() {
-                        for (c, value) in row.iter().enumerate() {
-                            // SAFETY: `36 i + 6 r + c < 36 n`, covered (above).
-                            unsafe { tangent.set_unchecked(36 * i + 6 * r + c, *value) };
-                        }
-                    }
-                }
-                StossStatus::Ok
-            }
-            Err(error) => {
-                if first_failure.is_none() {
-                    first_failure = Some((i, error));
-                }
-                StossStatus::from(error)
-            }
-        };
-        if let Some(array) = &mut output.status {
-            // SAFETY: `i < n`, covered (above).
-            unsafe { array.set_unchecked(i, status as i32) };
-        }
+        store(
+            i,
+            result,
+            &point,
+            matrix.as_ref(),
+            state,
+            output,
+            &mut first_failure,
+        );
     }
     first_failure
+}
+
+/// Point `i`'s strain increment. Requires `i` below the count the views were checked to cover
+/// (`run_batch`).
+#[inline(always)]
+fn read_increment(input: &InputViews<'_>, i: usize) -> Sym {
+    core::array::from_fn(|k| {
+        // SAFETY: `i < n`, and `run_batch` checked every input array to cover `n` points.
+        unsafe { input.strain_increment[k].get_unchecked(i) }
+    })
+}
+
+/// Point `i`'s relative volume, if the host gives it. Requires `i` as [`read_increment`].
+#[inline(always)]
+fn read_volume(input: &InputViews<'_>, i: usize) -> Option<f64> {
+    input.relative_volume.as_ref().map(|v| {
+        // SAFETY: `i < n`, and `run_batch` checked the volume array to cover `n` points.
+        unsafe { v.get_unchecked(i) }
+    })
+}
+
+/// Writes point `i`'s step: its new state, wave speed, failure code and tangent (if given) on
+/// success, its status always; the first failure is kept. Requires `i` as [`read_increment`].
+#[inline(always)]
+fn store(
+    i: usize,
+    result: Result<StepOutput, UpdateError>,
+    point: &MaterialState,
+    matrix: Option<&Matrix6>,
+    state: &mut StateViews<'_>,
+    output: &mut OutputViews<'_>,
+    first_failure: &mut Option<(usize, UpdateError)>,
+) {
+    let status = match result {
+        Ok(step) => {
+            // SAFETY: `i < n`, and `run_batch` checked every view to cover `n` points.
+            unsafe { state.write_unchecked(i, point) };
+            if let Some(array) = &mut output.wave_speed {
+                // SAFETY: as above.
+                unsafe { array.set_unchecked(i, step.wave_speed) };
+            }
+            if let Some(array) = &mut output.failed {
+                // SAFETY: as above.
+                unsafe { array.set_unchecked(i, failure_code(point)) };
+            }
+            if let (Some(tangent), Some(matrix)) = (&mut output.tangent, matrix) {
+                for (r, row) in matrix.iter().enumerate() {
+                    for (c, value) in row.iter().enumerate() {
+                        // SAFETY: `36 i + 6 r + c < 36 n`, covered (`run_batch`).
+                        unsafe { tangent.set_unchecked(36 * i + 6 * r + c, *value) };
+                    }
+                }
+            }
+            StossStatus::Ok
+        }
+        Err(error) => {
+            if first_failure.is_none() {
+                *first_failure = Some((i, error));
+            }
+            StossStatus::from(error)
+        }
+    };
+    if let Some(array) = &mut output.status {
+        // SAFETY: as above.
+        unsafe { array.set_unchecked(i, status as i32) };
+    }
 }

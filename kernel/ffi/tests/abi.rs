@@ -7,7 +7,7 @@ use std::ptr::{null, null_mut};
 
 use stoss_kernel::damage::JohnsonCookFailure;
 use stoss_kernel::drivers::{uniaxial_strain, LastRecord, UniaxialStrainLoading};
-use stoss_kernel::{Material, MaterialState};
+use stoss_kernel::{Material, MaterialState, StepInput};
 use stoss_kernel_ffi::block::{
     StossEosModel, StossJohnsonCook, StossKhanHuangLiang, StossMechanicalThresholdStress,
     StossMieGruneisen, StossModifiedJohnsonCook, StossPrestonTonksWallace, StossRht,
@@ -29,6 +29,8 @@ struct Points {
     failed: Vec<i32>,
     status: Vec<i32>,
     tangent: Vec<f64>,
+    /// Whether the batch asks for the tangent (it does unless a test turns it off).
+    with_tangent: bool,
 }
 
 impl Points {
@@ -44,6 +46,7 @@ impl Points {
             failed: vec![-1; n],
             status: vec![-1; n],
             tangent: vec![0.0; 36 * n],
+            with_tangent: true,
         }
     }
 
@@ -84,7 +87,11 @@ impl Points {
             wave_speed: self.wave_speed.as_mut_ptr(),
             failed: self.failed.as_mut_ptr(),
             status: self.status.as_mut_ptr(),
-            tangent: self.tangent.as_mut_ptr(),
+            tangent: if self.with_tangent {
+                self.tangent.as_mut_ptr()
+            } else {
+                null_mut()
+            },
         }
     }
 
@@ -482,6 +489,77 @@ fn batch_reproduces_the_driver_bit_for_bit_for_every_point() {
     // Failed: no shear stiffness left in the tangent.
     assert_eq!(points.tangent[3 * 6 + 3], 0.0);
     assert!(points.tangent[36 + 3 * 6 + 3] > 0.0);
+}
+
+#[test]
+fn a_batch_without_the_tangent_goes_through_the_group_update_bit_for_bit() {
+    // GOAL: without a tangent the batch advances its points LANES at a time through the
+    //       kernel's group update (`PointModel::update_lanes`); every point's state, wave
+    //       speed, failure code and status are those of the one-point update.
+    // SETUP: JC 4340 with JC damage; 21 points (two groups of 8, then 5 one at a time):
+    //        compression and tension at 1e2-1e5 /s, point 4 held elastic, a NaN strain on
+    //        point 9 at step 40; 200 steps, the volume integrated by the ABI.
+    // REFERENCE: `stoss_kernel::update` on each point alone, with the ABI's volume rule
+    //            `V1 = V0 exp(tr deps)` and no stored yield check (the ABI's state has none).
+    let mut block = defaults();
+    block.failure.johnson_cook_enabled = 1;
+    let mut material = Material::STEEL_4340;
+    material.failure.johnson_cook = Some(JohnsonCookFailure::STEEL_4340);
+    let n = 21;
+    let mut points = Points::new(n);
+    points.with_tangent = false;
+    points.init(&block);
+    let mut reference: Vec<MaterialState> = (0..n).map(|i| points.point(i)).collect();
+    let dt = 1.0e-8;
+    let axial = |i: usize| -> f64 {
+        if i == 4 {
+            1.0e-9
+        } else {
+            let sign = if i % 3 == 0 { 1.0 } else { -1.0 };
+            sign * 1.0e-6 * (1.0 + 999.0 * (i as f64 / n as f64).powi(2))
+        }
+    };
+    let mut failed = 0;
+    for step in 0..200 {
+        for i in 0..n {
+            points.strain[0][i] = if i == 9 && step == 40 {
+                f64::NAN
+            } else {
+                axial(i)
+            };
+            points.strain[1][i] = -0.3 * axial(i);
+        }
+        points.update(&block, dt, false);
+        for i in 0..n {
+            let strain_increment = std::array::from_fn(|k| points.strain[k][i]);
+            let volumetric: f64 = (0..3).map(|k| points.strain[k][i]).sum();
+            let input = StepInput {
+                strain_increment,
+                dt,
+                relative_volume: reference[i].relative_volume * stoss_kernel::math::exp(volumetric),
+            };
+            reference[i].yield_check = stoss_kernel::YieldCheck::NONE;
+            let expected = stoss_kernel::update(&material, &mut reference[i], &input);
+            reference[i].yield_check = stoss_kernel::YieldCheck::NONE;
+            assert_eq!(points.point(i), reference[i], "step {step}, point {i}");
+            match expected {
+                Ok(output) => {
+                    assert_eq!(points.status[i], 0, "step {step}, point {i}");
+                    assert_eq!(
+                        points.wave_speed[i].to_bits(),
+                        output.wave_speed.to_bits(),
+                        "step {step}, point {i}"
+                    );
+                }
+                Err(error) => {
+                    assert_eq!(points.status[i], StossStatus::from(error) as i32);
+                    failed += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(failed, 1, "the NaN step alone is refused");
+    assert!(points.failed.iter().any(|&f| f == STOSS_FAILED_DAMAGE));
 }
 
 #[test]

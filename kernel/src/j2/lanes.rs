@@ -23,12 +23,9 @@ use super::update::{
 };
 use crate::error::UpdateError;
 use crate::math::lanes::{self, Calls, Given};
-use crate::point_model::{StepInput, StepOutput};
+use crate::point_model::{StepInput, StepOutput, LANES};
 use crate::state::{MaterialState, StateFlags};
 use crate::strength::FlowAtTemperature;
-
-/// Points a block advances together ([`update_block`]).
-pub const LANES: usize = 8;
 
 /// A point's way through the stages.
 #[derive(Clone, Copy)]

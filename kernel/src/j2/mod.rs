@@ -7,12 +7,12 @@ pub mod lanes;
 pub mod material;
 pub mod update;
 
-pub use lanes::{update_block, update_lanes, LANES};
+pub use lanes::{update_block, update_lanes};
 pub use material::{Heating, Material, RateTreatment};
 pub use update::{update, update_with_tangent};
 
 use crate::error::{ParameterError, UpdateError};
-use crate::point_model::{PointModel, StepInput, StepOutput};
+use crate::point_model::{PointModel, StepInput, StepOutput, LANES};
 use crate::state::{MaterialState, StateFlags};
 use crate::tensor::Matrix6;
 
@@ -59,5 +59,15 @@ impl PointModel for Material {
         tangent: &mut Matrix6,
     ) -> Result<StepOutput, UpdateError> {
         update_with_tangent(self, state, input, tangent)
+    }
+
+    #[inline]
+    fn update_lanes(
+        &self,
+        states: &mut [MaterialState; LANES],
+        inputs: &[StepInput; LANES],
+        results: &mut [Result<StepOutput, UpdateError>; LANES],
+    ) {
+        update_lanes(self, states, inputs, results)
     }
 }
