@@ -561,7 +561,7 @@ fn a_batch_without_the_tangent_goes_through_the_group_update_bit_for_bit() {
         }
     }
     assert_eq!(failed, 1, "the NaN step alone is refused");
-    assert!(points.failed.iter().any(|&f| f == STOSS_FAILED_DAMAGE));
+    assert!(points.failed.contains(&STOSS_FAILED_DAMAGE));
 }
 
 #[test]
