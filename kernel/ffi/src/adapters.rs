@@ -25,9 +25,11 @@
 //! logarithmic strain, so this is the host's volume to the accuracy of its integration).
 
 use stoss_kernel::tensor::{self, Sym};
-use stoss_kernel::{MaterialState, StateFlags, StepOutput, UpdateError, YieldCheck};
+use stoss_kernel::{
+    MaterialState, StateFlags, StepInput, StepOutput, UpdateError, YieldCheck, LANES,
+};
 
-use crate::batch::{failure_code, step_point, AbiModel};
+use crate::batch::{failure_code, step_input, step_point, AbiModel};
 use crate::block::initial_bulk_modulus;
 use crate::boundary::{ArrayIn, ArrayOut};
 use crate::status::StossStatus;
@@ -223,13 +225,19 @@ fn vumat_step<M: AbiModel>(
 ) -> Result<VumatPoint, UpdateError> {
     let mut state = state_from_history(stress_old, state_old, initial)?;
     let output = step_point(material, &mut state, strain_increment, dt, None, None)?;
-    Ok(VumatPoint {
+    Ok(vumat_result(material, state, output))
+}
+
+/// A VUMAT step's outputs from the kernel's new state and output.
+#[inline(always)]
+fn vumat_result<M: AbiModel>(material: &M, state: MaterialState, output: StepOutput) -> VumatPoint {
+    VumatPoint {
         stress: state.stress,
         history: history_from_state(&state),
         internal_energy_per_mass: state.internal_energy / material.density(),
         output: Some(output),
         state,
-    })
+    }
 }
 
 /// Column-major (Fortran) arrays of an LS-DYNA style call: `eps(nlq, 6)`, `sig(nlq, 6)`,
@@ -367,27 +375,77 @@ pub(crate) fn run_vumat<M: AbiModel>(
         "VUMAT arrays shorter than their nblock x components / nstatev"
     );
     let mut first_failure = None;
-    for i in 0..nblock {
-        // SAFETY (every unchecked access in this loop): `i < nblock`, `k < components` and
-        // `j < nstatev`, so `i + nblock k < values` and `i + nblock j < states`, which the
-        // arrays cover (asserted above).
-        let read = |array: &ArrayIn<'_, f64>| -> Sym {
-            core::array::from_fn(|k| {
-                if k < components {
-                    // SAFETY: see the loop's comment.
-                    unsafe { array.get_unchecked(i + nblock * k) }
-                } else {
-                    0.0
-                }
-            })
-        };
-        let strain = read(&arrays.strain_inc);
-        let stress_old = read(&arrays.stress_old);
-        // SAFETY: see the loop's comment.
+    // One point's old stress and history and internal energy per unit mass.
+    // SAFETY (every unchecked access in the closures and loops below): `i < nblock`,
+    // `k < components` and `j < nstatev`, so `i + nblock k < values` and `i + nblock j <
+    // states`, which the arrays cover (asserted above).
+    let read = |array: &ArrayIn<'_, f64>, i: usize| -> Sym {
+        core::array::from_fn(|k| {
+            if k < components {
+                // SAFETY: see above.
+                unsafe { array.get_unchecked(i + nblock * k) }
+            } else {
+                0.0
+            }
+        })
+    };
+    let old = |arrays: &VumatArrays<'_>, i: usize| -> (Sym, Sym, History, f64) {
+        let strain = read(&arrays.strain_inc, i);
+        let stress_old = read(&arrays.stress_old, i);
+        // SAFETY: see above.
         let state_old: History =
             core::array::from_fn(|j| unsafe { arrays.state_old.get_unchecked(i + nblock * j) });
-        // SAFETY: see the loop's comment.
+        // SAFETY: see above.
         let energy_old = unsafe { arrays.ener_intern_old.get_unchecked(i) };
+        (strain, stress_old, state_old, energy_old)
+    };
+    // A step (not the data check) advances its points LANES at a time through the model's
+    // group update, bit for bit the one-point update; the rest one at a time.
+    let grouped = if data_check {
+        0
+    } else {
+        nblock - nblock % LANES
+    };
+    for first in (0..grouped).step_by(LANES) {
+        let mut points = [*initial; LANES];
+        let mut inputs = [StepInput {
+            strain_increment: [0.0; 6],
+            dt,
+            relative_volume: 1.0,
+        }; LANES];
+        let mut converted = [Ok(()); LANES];
+        let mut olds = [([0.0; 6], [0.0; 6], [0.0; STOSS_HISTORY_COUNT], 0.0); LANES];
+        for lane in 0..LANES {
+            let (strain, stress_old, state_old, energy_old) = old(arrays, first + lane);
+            olds[lane] = (strain, stress_old, state_old, energy_old);
+            match state_from_history(&stress_old, &state_old, initial) {
+                Ok(state) => {
+                    points[lane] = state;
+                    inputs[lane] = step_input(&state, &strain, dt, None);
+                }
+                // The point is not updated; its lane runs a zero step from the initial state.
+                Err(error) => converted[lane] = Err(error),
+            }
+        }
+        let mut results = [Err(UpdateError::NonFiniteInput); LANES];
+        material.update_lanes(&mut points, &inputs, &mut results);
+        for lane in 0..LANES {
+            let (_, stress_old, state_old, energy_old) = olds[lane];
+            let result = converted[lane]
+                .and(results[lane])
+                .map(|output| vumat_result(material, points[lane], output));
+            store_vumat(
+                material,
+                arrays,
+                first + lane,
+                result,
+                (stress_old, state_old, energy_old),
+                &mut first_failure,
+            );
+        }
+    }
+    for i in grouped..nblock {
+        let (strain, stress_old, state_old, energy_old) = old(arrays, i);
         let result = if data_check {
             let input = VumatInput {
                 dt,
@@ -401,60 +459,86 @@ pub(crate) fn run_vumat<M: AbiModel>(
         } else {
             vumat_step(material, initial, dt, &strain, &stress_old, &state_old)
         };
-        // Extra state variables (the host's own) are carried over unchanged.
-        for j in STOSS_HISTORY_COUNT..nstatev {
-            // SAFETY: see the loop's comment.
-            unsafe {
-                let value = arrays.state_old.get_unchecked(i + nblock * j);
-                arrays.state_new.set_unchecked(i + nblock * j, value);
-            }
-        }
-        let (stress, history, energy, wave_speed, status) = match result {
-            Ok(point) => {
-                let wave_speed = match point.output {
-                    Some(output) => output.wave_speed,
-                    None => elastic_wave_speed(material),
-                };
-                (
-                    point.stress,
-                    point.history,
-                    point.internal_energy_per_mass,
-                    wave_speed,
-                    StossStatus::Ok,
-                )
-            }
-            Err(error) => {
-                // The point keeps its old state: new = old.
-                first_failure.get_or_insert((i, error));
-                (
-                    stress_old,
-                    state_old,
-                    energy_old,
-                    0.0,
-                    StossStatus::from(error),
-                )
-            }
-        };
-        // SAFETY: see the loop's comment.
-        unsafe {
-            for (k, value) in stress.iter().enumerate().take(components) {
-                arrays.stress_new.set_unchecked(i + nblock * k, *value);
-            }
-            for (j, value) in history.iter().enumerate() {
-                arrays.state_new.set_unchecked(i + nblock * j, *value);
-            }
-            arrays.ener_intern_new.set_unchecked(i, energy);
-            if status == StossStatus::Ok {
-                if let Some(array) = &mut arrays.wave_speed {
-                    array.set_unchecked(i, wave_speed);
-                }
-            }
-            if let Some(array) = &mut arrays.status {
-                array.set_unchecked(i, status as i32);
-            }
-        }
+        store_vumat(
+            material,
+            arrays,
+            i,
+            result,
+            (stress_old, state_old, energy_old),
+            &mut first_failure,
+        );
     }
     first_failure
+}
+
+/// Writes VUMAT point `i`'s step: its new stress, history (the host's extra state variables
+/// carried over) and energy, its wave speed and status; a failed point keeps its old values
+/// (`old`: stress, history, energy per unit mass), and the first failure is kept. Requires
+/// `i < nblock` of arrays `run_vumat` checked.
+#[inline(always)]
+fn store_vumat<M: AbiModel>(
+    material: &M,
+    arrays: &mut VumatArrays<'_>,
+    i: usize,
+    result: Result<VumatPoint, UpdateError>,
+    old: (Sym, History, f64),
+    first_failure: &mut Option<(usize, UpdateError)>,
+) {
+    let (nblock, components, nstatev) = (arrays.nblock, 3 + arrays.nshr, arrays.nstatev);
+    let (stress_old, state_old, energy_old) = old;
+    // Extra state variables (the host's own) are carried over unchanged.
+    for j in STOSS_HISTORY_COUNT..nstatev {
+        // SAFETY: `i < nblock`, `j < nstatev`: covered (`run_vumat`).
+        unsafe {
+            let value = arrays.state_old.get_unchecked(i + nblock * j);
+            arrays.state_new.set_unchecked(i + nblock * j, value);
+        }
+    }
+    let (stress, history, energy, wave_speed, status) = match result {
+        Ok(point) => {
+            let wave_speed = match point.output {
+                Some(output) => output.wave_speed,
+                None => elastic_wave_speed(material),
+            };
+            (
+                point.stress,
+                point.history,
+                point.internal_energy_per_mass,
+                wave_speed,
+                StossStatus::Ok,
+            )
+        }
+        Err(error) => {
+            // The point keeps its old state: new = old.
+            first_failure.get_or_insert((i, error));
+            (
+                stress_old,
+                state_old,
+                energy_old,
+                0.0,
+                StossStatus::from(error),
+            )
+        }
+    };
+    // SAFETY: `i < nblock`, `k < components`, `j < STOSS_HISTORY_COUNT <= nstatev`: covered
+    // (`run_vumat`).
+    unsafe {
+        for (k, value) in stress.iter().enumerate().take(components) {
+            arrays.stress_new.set_unchecked(i + nblock * k, *value);
+        }
+        for (j, value) in history.iter().enumerate() {
+            arrays.state_new.set_unchecked(i + nblock * j, *value);
+        }
+        arrays.ener_intern_new.set_unchecked(i, energy);
+        if status == StossStatus::Ok {
+            if let Some(array) = &mut arrays.wave_speed {
+                array.set_unchecked(i, wave_speed);
+            }
+        }
+        if let Some(array) = &mut arrays.status {
+            array.set_unchecked(i, status as i32);
+        }
+    }
 }
 
 /// Elastic longitudinal wave speed at the reference state, `sqrt((K + 4G/3)/rho0)`.

@@ -161,7 +161,7 @@ pub fn step_point<M: PointModel>(
 /// One point's step input, the relative volume either given or integrated as
 /// `V1 = V0 exp(tr deps)` (bit-identical to the kernel's drivers).
 #[inline]
-fn step_input(
+pub(crate) fn step_input(
     state: &MaterialState,
     strain_increment: &Sym,
     dt: f64,

@@ -782,6 +782,168 @@ fn vumat_plane_strain_equals_3d_without_out_of_plane_shear() {
     assert!(plane_state[0] > 0.0, "the path is plastic");
 }
 
+/// One `stoss_abaqus_vumat` call on a 3D block of `nblock` points, `nstatev` state variables
+/// (column-major, as Abaqus passes them); returns the new stress, states, energies, wave
+/// speeds and statuses.
+#[allow(clippy::type_complexity)]
+fn vumat_block(
+    card: &[f64],
+    nblock: usize,
+    nstatev: usize,
+    time: f64,
+    dt: f64,
+    strain: &[f64],
+    old: (&[f64], &[f64], &[f64]),
+) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<i32>) {
+    let (stress, state, energy) = old;
+    let mut stress_new = vec![0.0; 6 * nblock];
+    let mut state_new = vec![0.0; nstatev * nblock];
+    let mut energy_new = vec![0.0; nblock];
+    let mut wave_speed = vec![0.0; nblock];
+    let mut status = vec![-1; nblock];
+    // SAFETY: arrays sized for `nblock` points, 6 components and `nstatev` states.
+    unsafe {
+        stoss_abaqus_vumat(
+            card.as_ptr(),
+            card.len(),
+            nblock,
+            3,
+            3,
+            nstatev,
+            time,
+            time,
+            dt,
+            strain.as_ptr(),
+            stress.as_ptr(),
+            state.as_ptr(),
+            energy.as_ptr(),
+            stress_new.as_mut_ptr(),
+            state_new.as_mut_ptr(),
+            energy_new.as_mut_ptr(),
+            wave_speed.as_mut_ptr(),
+            status.as_mut_ptr(),
+            null_mut(),
+            null_mut(),
+            0,
+        )
+    };
+    (stress_new, state_new, energy_new, wave_speed, status)
+}
+
+#[test]
+fn a_vumat_block_equals_its_points_called_one_at_a_time() {
+    // GOAL: a VUMAT block advances its points LANES at a time through the kernel's group
+    //       update, and every point's outputs are those of a call with that point alone (one
+    //       point always takes the one-point path); a point whose step fails keeps its old
+    //       values beside lane-mates that proceed; the host's extra state variables are
+    //       carried.
+    // SETUP: 4340 JC card; 19 points (two groups of 8 and 3 one at a time), 10 state
+    //        variables (2 the host's); 120 steps of 1e-8 s, compression and tension at
+    //        5e3-5e4 /s with shear, point 5 nearly elastic, a NaN strain on point 10 at step 30.
+    // REFERENCE: 19 single-point calls on the same inputs, bit for bit.
+    let block = defaults();
+    let mut card = [0.0; STOSS_CARD_MAX_LENGTH];
+    let mut length = 0;
+    // SAFETY: `card` holds STOSS_CARD_MAX_LENGTH doubles.
+    unsafe {
+        stoss_material_to_card(
+            &block,
+            card.as_mut_ptr(),
+            card.len(),
+            &mut length,
+            null_mut(),
+            0,
+        )
+    };
+    let card = &card[..length];
+    let (n, nstatev, dt) = (19, 10, 1.0e-8);
+    let mut stress = vec![0.0; 6 * n];
+    let mut state: Vec<f64> = (0..nstatev * n)
+        .map(|v| if v >= 8 * n { v as f64 } else { 0.0 })
+        .collect();
+    let mut energy = vec![0.0; n];
+    let mut singles: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..n)
+        .map(|i| {
+            let state = (0..nstatev).map(|j| state[i + n * j]).collect();
+            (vec![0.0; 6], state, vec![0.0])
+        })
+        .collect();
+    let mut refused = 0;
+    for step in 1..=120 {
+        let time = f64::from(step) * dt;
+        let mut strain = vec![0.0; 6 * n];
+        for i in 0..n {
+            let x = i as f64 / n as f64;
+            let sign = if i % 3 == 0 { 1.0 } else { -1.0 };
+            let rate = if i == 5 {
+                1.0e-9
+            } else {
+                5.0e-5 * (1.0 + 9.0 * x * x)
+            };
+            strain[i] = sign * rate;
+            strain[i + n] = -0.4 * sign * rate;
+            strain[i + 3 * n] = 0.3 * rate;
+            if i == 10 && step == 30 {
+                strain[i] = f64::NAN;
+            }
+        }
+        let (stress_new, state_new, energy_new, wave, status) = vumat_block(
+            card,
+            n,
+            nstatev,
+            time,
+            dt,
+            &strain,
+            (&stress, &state, &energy),
+        );
+        for (i, single) in singles.iter_mut().enumerate() {
+            let point_strain: Vec<f64> = (0..6).map(|k| strain[i + n * k]).collect();
+            let (s1, st1, e1, w1, status1) = vumat_block(
+                card,
+                1,
+                nstatev,
+                time,
+                dt,
+                &point_strain,
+                (&single.0, &single.1, &single.2),
+            );
+            assert_eq!(status[i], status1[0], "step {step}, point {i}");
+            for k in 0..6 {
+                assert_eq!(
+                    stress_new[i + n * k].to_bits(),
+                    s1[k].to_bits(),
+                    "step {step}, point {i}"
+                );
+            }
+            for j in 0..nstatev {
+                assert_eq!(
+                    state_new[i + n * j].to_bits(),
+                    st1[j].to_bits(),
+                    "step {step}, point {i}"
+                );
+            }
+            assert_eq!(energy_new[i].to_bits(), e1[0].to_bits());
+            if status1[0] == 0 {
+                assert_eq!(wave[i].to_bits(), w1[0].to_bits());
+            } else {
+                refused += 1;
+            }
+            *single = (s1, st1, e1);
+        }
+        (stress, state, energy) = (stress_new, state_new, energy_new);
+    }
+    assert_eq!(refused, 1, "the NaN step alone is refused");
+    assert!(
+        (0..n).filter(|&i| state[i] > 0.0).count() >= n - 2,
+        "the paths are plastic"
+    );
+    assert_eq!(
+        state[8 * n + 3],
+        (8 * n + 3) as f64,
+        "the host's variables are carried"
+    );
+}
+
 fn concrete() -> StossMaterialBlock {
     let mut block = StossMaterialBlock::default();
     // SAFETY: `block` is a valid, writable block.
