@@ -25,7 +25,6 @@ use crate::error::UpdateError;
 use crate::math::lanes::{self, Calls, Given};
 use crate::point_model::{StepInput, StepOutput, LANES};
 use crate::state::{MaterialState, StateFlags};
-use crate::strength::FlowAtTemperature;
 
 /// A point's way through the stages.
 #[derive(Clone, Copy)]
@@ -67,51 +66,40 @@ pub fn update_lanes<const L: usize>(
             }
         }
     }
-    // Stage 2: the temperature-only factor of the warm points' strength, its `pow` in lanes.
+    // Stage 2: the warm points' flow stress at the warm start and its residual; the
+    // temperature factor's and the flow stress's `pow`, `ln` and `exp` in lanes.
     let mut calls = [Calls::default(); L];
     for l in 0..L {
-        if let Route::Warm(_) = route[l] {
-            (material.strength).announce_temperature(states[l].temperature, &mut calls[l]);
-        }
-    }
-    let values = lanes::evaluate(&calls);
-    let mut at_temperature: [Option<FlowAtTemperature<'_>>; L] = [None; L];
-    for l in 0..L {
-        if let Route::Warm(_) = route[l] {
-            let mut given = Given::new(&calls[l], &values[l]);
-            at_temperature[l] =
-                Some((material.strength).at_temperature_with(states[l].temperature, &mut given));
-        }
-    }
-    // Stage 3: the residual at the warm start, the flow stress's `pow`, `ln` and `exp` in
-    // lanes.
-    let mut calls = [Calls::default(); L];
-    for l in 0..L {
-        if let (Route::Warm(warm_dl), Some(flow)) = (route[l], &at_temperature[l]) {
-            flow.announce_path(
-                states[l].plastic_strain,
+        if let Route::Warm(warm_dl) = route[l] {
+            let (state, calls) = (&states[l], &mut calls[l]);
+            (material.strength).announce_temperature(state.temperature, calls);
+            (material.strength).announce_path(
+                state.plastic_strain,
                 warm_dl,
                 predicted[l].inverse_dt,
-                &mut calls[l],
+                calls,
             );
         }
     }
     let values = lanes::evaluate(&calls);
     let mut evaluated: [Option<Residual>; L] = [None; L];
     for l in 0..L {
-        if let (Route::Warm(warm_dl), Some(flow)) = (route[l], &at_temperature[l]) {
+        if let Route::Warm(warm_dl) = route[l] {
+            let state = &states[l];
+            let mut given = Given::new(&calls[l], &values[l]);
+            let flow = (material.strength).at_temperature_with(state.temperature, &mut given);
             evaluated[l] = Some(residual_with(
-                flow,
+                &flow,
                 three_g,
                 predicted[l].trial_equivalent,
-                states[l].plastic_strain,
+                state.plastic_strain,
                 warm_dl,
                 predicted[l].inverse_dt,
-                &mut Given::new(&calls[l], &values[l]),
+                &mut given,
             ));
         }
     }
-    // Stage 4: the return's first iteration, or the elastic check.
+    // Stage 3: the return's first iteration, or the elastic check.
     let mut flows: [Option<Flow>; L] = [None; L];
     for l in 0..L {
         flows[l] = match (route[l], evaluated[l]) {
@@ -126,7 +114,7 @@ pub fn update_lanes<const L: usize>(
             _ => None,
         };
     }
-    // Stage 5: heating, EoS, damage, wave speed; then the points the stages did not finish.
+    // Stage 4: heating, EoS, damage, wave speed; then the points the stages did not finish.
     let mut done = [false; L];
     for l in 0..L {
         if let Some(flow) = flows[l] {

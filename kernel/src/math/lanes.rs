@@ -273,24 +273,40 @@ pub fn evaluate<const L: usize>(calls: &[Calls; L]) -> [[f64; MAXIMUM_CALLS]; L]
 pub struct Given<'a> {
     calls: &'a Calls,
     values: &'a [f64; MAXIMUM_CALLS],
+    /// The slot the next call is expected in (formulas call in the order they announce).
+    next: usize,
 }
 
 impl<'a> Given<'a> {
     /// Lane values `values` of the calls `calls`.
     #[inline(always)]
     pub fn new(calls: &'a Calls, values: &'a [f64; MAXIMUM_CALLS]) -> Self {
-        Given { calls, values }
+        Given {
+            calls,
+            values,
+            next: 0,
+        }
     }
 
+    /// Whether slot `k` holds the call `function(x, y)`.
     #[inline(always)]
-    fn find(&self, function: Function, x: f64, y: f64) -> Option<f64> {
-        (0..self.calls.len)
-            .find(|&k| {
-                self.calls.function[k] == function
-                    && self.calls.x[k].to_bits() == x.to_bits()
-                    && self.calls.y[k].to_bits() == y.to_bits()
-            })
-            .map(|k| self.values[k])
+    fn holds(&self, k: usize, function: Function, x: f64, y: f64) -> bool {
+        self.calls.function[k] == function
+            && self.calls.x[k].to_bits() == x.to_bits()
+            && self.calls.y[k].to_bits() == y.to_bits()
+    }
+
+    /// The value of the call `function(x, y)` if it was announced: the expected slot first,
+    /// then any.
+    #[inline(always)]
+    fn find(&mut self, function: Function, x: f64, y: f64) -> Option<f64> {
+        let k = if self.next < self.calls.len && self.holds(self.next, function, x, y) {
+            self.next
+        } else {
+            (0..self.calls.len).find(|&k| self.holds(k, function, x, y))?
+        };
+        self.next = k + 1;
+        Some(self.values[k])
     }
 }
 

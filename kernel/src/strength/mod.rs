@@ -267,6 +267,15 @@ impl Strength {
         }
     }
 
+    /// Announce the calls [`FlowAtTemperature::along_path_with`] makes for this model at any
+    /// temperature (see [`Calls`]; a composed model's terms).
+    #[inline(always)]
+    pub fn announce_path(&self, plastic_strain: f64, dl: f64, inverse_dt: f64, calls: &mut Calls) {
+        if let Strength::Composed(model) = self {
+            model.announce_path(plastic_strain, dl, inverse_dt, calls);
+        }
+    }
+
     /// [`Strength::at_temperature`] with a composed model's transcendental functions from
     /// `math`.
     #[inline(always)]
@@ -360,15 +369,6 @@ impl FlowAtTemperature<'_> {
     #[inline]
     pub fn along_path(&self, plastic_strain: f64, dl: f64, inverse_dt: f64) -> PathFlow {
         self.along_path_with(plastic_strain, dl, inverse_dt, &mut Direct)
-    }
-
-    /// Announce the calls [`Self::along_path_with`] makes (see [`Calls`]; a composed model's
-    /// terms).
-    #[inline(always)]
-    pub fn announce_path(&self, plastic_strain: f64, dl: f64, inverse_dt: f64, calls: &mut Calls) {
-        if let Strength::Composed(model) = self.strength {
-            model.announce_path(plastic_strain, dl, inverse_dt, calls);
-        }
     }
 
     /// [`Self::along_path`] with a composed model's transcendental functions from `math`.
