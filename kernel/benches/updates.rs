@@ -38,6 +38,10 @@
 //! slice: on a loaded machine, samples of several milliseconds are nearly all preempted and
 //! their median measures the load, not the code.
 //!
+//! `grouped`: the `block` case through `update_block`, the points advanced `LANES` at a time
+//! (`stoss_kernel::j2::lanes`). `-- --alternate` times the `block` case both ways alternately
+//! in one process (below).
+//!
 //! Run with `cargo bench -p stoss-kernel --bench updates`; results are in
 //! `docs/benchmarks.md`.
 
@@ -324,6 +328,23 @@ fn block_axial(point: usize) -> f64 {
     PLASTIC_AXIAL * (1.0 + 0.5 * point as f64 / POINTS as f64)
 }
 
+/// The [`block`] case's points, each from first yield plus [`BLOCK_PRELOAD_PLASTIC_STEPS`]
+/// plastic steps at its own rate.
+fn block_start(material: &Material) -> Vec<MaterialState> {
+    (0..POINTS)
+        .map(|point| {
+            let mut state = MaterialState::initial(ROOM_TEMPERATURE);
+            let mut plastic = 0;
+            while plastic < BLOCK_PRELOAD_PLASTIC_STEPS {
+                let input = uniaxial_step(block_axial(point), PLASTIC_DT, state.relative_volume);
+                let output = update(material, &mut state, &input).expect("update failed");
+                plastic += u32::from(output.plastic_increment > 0.0);
+            }
+            state
+        })
+        .collect()
+}
+
 fn bench_block(bencher: Bencher, material: Material, treatment: RateTreatment) {
     bench_points(bencher, material, treatment, false);
 }
@@ -335,18 +356,7 @@ fn bench_grouped(bencher: Bencher, material: Material, treatment: RateTreatment)
 
 fn bench_points(bencher: Bencher, material: Material, treatment: RateTreatment, grouped: bool) {
     let material = with_treatment(material, treatment);
-    let start: Vec<MaterialState> = (0..POINTS)
-        .map(|point| {
-            let mut state = MaterialState::initial(ROOM_TEMPERATURE);
-            let mut plastic = 0;
-            while plastic < BLOCK_PRELOAD_PLASTIC_STEPS {
-                let input = uniaxial_step(block_axial(point), PLASTIC_DT, state.relative_volume);
-                let output = update(&material, &mut state, &input).expect("update failed");
-                plastic += u32::from(output.plastic_increment > 0.0);
-            }
-            state
-        })
-        .collect();
+    let start = block_start(&material);
     let loadings: Vec<Loading> = (0..POINTS)
         .map(|point| Loading::new(block_axial(point), PLASTIC_DT))
         .collect();
@@ -974,5 +984,70 @@ mod math {
 }
 
 fn main() {
+    if std::env::args().any(|a| a == "--alternate") {
+        alternate();
+        return;
+    }
     divan::main();
 }
+
+/// `--alternate`: the [`block`] case one point at a time and through [`update_block`],
+/// alternated sample by sample in one process, so that both see the same machine (on a
+/// shared core the speed of either changes by a third from one second to the next); prints
+/// the 10th and 50th percentiles of ns per update over [`ALTERNATE_SAMPLES`] samples each.
+fn alternate() {
+    let models: [(&str, Material); 4] = [
+        ("jc_4340", jc()),
+        ("za_bcc", za_bcc()),
+        ("mjc", mjc()),
+        ("tjc", tjc()),
+    ];
+    println!("model     one point at a time (p10 / p50)   grouped (p10 / p50)   ns per update");
+    for (name, material) in models {
+        let start = block_start(&material);
+        let loadings: Vec<Loading> = (0..POINTS)
+            .map(|point| Loading::new(block_axial(point), PLASTIC_DT))
+            .collect();
+        let mut inputs = vec![uniaxial_step(0.0, PLASTIC_DT, 1.0); POINTS];
+        let mut results = vec![Err(UpdateError::NonFiniteInput); POINTS];
+        let mut times = [Vec::new(), Vec::new()];
+        for sample in 0..2 * ALTERNATE_SAMPLES {
+            let grouped = sample % 2 == 1;
+            let mut states = start.clone();
+            let clock = std::time::Instant::now();
+            for _ in 0..BLOCK_STEPS {
+                for ((input, state), loading) in inputs.iter_mut().zip(&states).zip(&loadings) {
+                    *input = loading.step(state.relative_volume);
+                }
+                if grouped {
+                    update_block(black_box(&material), &mut states, &inputs, &mut results);
+                } else {
+                    for ((state, input), result) in
+                        states.iter_mut().zip(&inputs).zip(results.iter_mut())
+                    {
+                        *result = update(black_box(&material), state, input);
+                    }
+                }
+            }
+            let per_update =
+                clock.elapsed().as_secs_f64() * 1e9 / (BLOCK_STEPS as usize * POINTS) as f64;
+            times[usize::from(grouped)].push(per_update);
+            black_box(&states);
+        }
+        let [mut one, mut group] = times;
+        let percentile = |v: &mut Vec<f64>, q: f64| {
+            v.sort_by(f64::total_cmp);
+            v[(q * (v.len() - 1) as f64) as usize]
+        };
+        println!(
+            "{name:9} {:8.1} / {:8.1}                {:8.1} / {:8.1}",
+            percentile(&mut one, 0.1),
+            percentile(&mut one, 0.5),
+            percentile(&mut group, 0.1),
+            percentile(&mut group, 0.5)
+        );
+    }
+}
+
+/// Samples of each way in `--alternate`.
+const ALTERNATE_SAMPLES: usize = 1500;

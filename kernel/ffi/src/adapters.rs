@@ -414,10 +414,8 @@ pub(crate) fn run_vumat<M: AbiModel>(
             relative_volume: 1.0,
         }; LANES];
         let mut converted = [Ok(()); LANES];
-        let mut olds = [([0.0; 6], [0.0; 6], [0.0; STOSS_HISTORY_COUNT], 0.0); LANES];
         for lane in 0..LANES {
-            let (strain, stress_old, state_old, energy_old) = old(arrays, first + lane);
-            olds[lane] = (strain, stress_old, state_old, energy_old);
+            let (strain, stress_old, state_old, _) = old(arrays, first + lane);
             match state_from_history(&stress_old, &state_old, initial) {
                 Ok(state) => {
                     points[lane] = state;
@@ -430,18 +428,10 @@ pub(crate) fn run_vumat<M: AbiModel>(
         let mut results = [Err(UpdateError::NonFiniteInput); LANES];
         material.update_lanes(&mut points, &inputs, &mut results);
         for lane in 0..LANES {
-            let (_, stress_old, state_old, energy_old) = olds[lane];
             let result = converted[lane]
                 .and(results[lane])
                 .map(|output| vumat_result(material, points[lane], output));
-            store_vumat(
-                material,
-                arrays,
-                first + lane,
-                result,
-                (stress_old, state_old, energy_old),
-                &mut first_failure,
-            );
+            store_vumat(material, arrays, first + lane, result, &mut first_failure);
         }
     }
     for i in grouped..nblock {
@@ -459,33 +449,23 @@ pub(crate) fn run_vumat<M: AbiModel>(
         } else {
             vumat_step(material, initial, dt, &strain, &stress_old, &state_old)
         };
-        store_vumat(
-            material,
-            arrays,
-            i,
-            result,
-            (stress_old, state_old, energy_old),
-            &mut first_failure,
-        );
+        store_vumat(material, arrays, i, result, &mut first_failure);
     }
     first_failure
 }
 
 /// Writes VUMAT point `i`'s step: its new stress, history (the host's extra state variables
-/// carried over) and energy, its wave speed and status; a failed point keeps its old values
-/// (`old`: stress, history, energy per unit mass), and the first failure is kept. Requires
-/// `i < nblock` of arrays `run_vumat` checked.
+/// carried over) and energy, its wave speed and status; a failed point keeps its old values,
+/// and the first failure is kept. Requires `i < nblock` of arrays `run_vumat` checked.
 #[inline(always)]
 fn store_vumat<M: AbiModel>(
     material: &M,
     arrays: &mut VumatArrays<'_>,
     i: usize,
     result: Result<VumatPoint, UpdateError>,
-    old: (Sym, History, f64),
     first_failure: &mut Option<(usize, UpdateError)>,
 ) {
     let (nblock, components, nstatev) = (arrays.nblock, 3 + arrays.nshr, arrays.nstatev);
-    let (stress_old, state_old, energy_old) = old;
     // Extra state variables (the host's own) are carried over unchanged.
     for j in STOSS_HISTORY_COUNT..nstatev {
         // SAFETY: `i < nblock`, `j < nstatev`: covered (`run_vumat`).
@@ -511,6 +491,21 @@ fn store_vumat<M: AbiModel>(
         Err(error) => {
             // The point keeps its old state: new = old.
             first_failure.get_or_insert((i, error));
+            // SAFETY: `i < nblock`, `k < components`, `j < STOSS_HISTORY_COUNT <= nstatev`:
+            // covered (`run_vumat`).
+            let (stress_old, state_old, energy_old) = unsafe {
+                (
+                    core::array::from_fn(|k| {
+                        if k < components {
+                            arrays.stress_old.get_unchecked(i + nblock * k)
+                        } else {
+                            0.0
+                        }
+                    }),
+                    core::array::from_fn(|j| arrays.state_old.get_unchecked(i + nblock * j)),
+                    arrays.ener_intern_old.get_unchecked(i),
+                )
+            };
             (
                 stress_old,
                 state_old,

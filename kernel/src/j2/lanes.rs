@@ -18,13 +18,14 @@
 
 use super::material::{Material, RateTreatment};
 use super::update::{
-    admissible, finish, implicit_entry, one_evaluation_return, predict, residual_with, returned,
-    update, Entry, Flow, Predictor, Residual,
+    admissible, finish, implicit_entry, plastic_return, predict, residual_with, returned, update,
+    Entry, Flow, Predictor, Residual,
 };
 use crate::error::UpdateError;
 use crate::math::lanes::{self, Calls, Given};
 use crate::point_model::{StepInput, StepOutput, LANES};
 use crate::state::{MaterialState, StateFlags};
+use crate::strength::FlowAtTemperature;
 
 /// A point's way through the stages.
 #[derive(Clone, Copy)]
@@ -82,6 +83,7 @@ pub fn update_lanes<const L: usize>(
         }
     }
     let values = lanes::evaluate(&calls);
+    let mut at_temperature: [Option<FlowAtTemperature<'_>>; L] = [None; L];
     let mut evaluated: [Option<Residual>; L] = [None; L];
     for l in 0..L {
         if let Route::Warm(warm_dl) = route[l] {
@@ -97,20 +99,27 @@ pub fn update_lanes<const L: usize>(
                 predicted[l].inverse_dt,
                 &mut given,
             ));
+            at_temperature[l] = Some(flow);
         }
     }
-    // Stage 3: the return's first iteration, or the elastic check.
+    // Stage 3: the return from the warm start (g > 0 there proves the step plastic), its
+    // further evaluations, if any, one point at a time; or the elastic check.
     let mut flows: [Option<Flow>; L] = [None; L];
     for l in 0..L {
-        flows[l] = match (route[l], evaluated[l]) {
-            (Route::Warm(warm_dl), Some(evaluated)) => one_evaluation_return(
-                shear,
-                predicted[l].trial_equivalent,
-                warm_dl,
-                evaluated,
-                inputs[l].dt,
-            ),
-            (Route::Elastic(check), _) => Some(Err((check, true))),
+        flows[l] = match (route[l], evaluated[l], &at_temperature[l]) {
+            (Route::Warm(warm_dl), Some(evaluated), Some(flow)) if evaluated.value > 0.0 => {
+                plastic_return(
+                    flow,
+                    shear,
+                    predicted[l].trial_equivalent,
+                    states[l].plastic_strain,
+                    (warm_dl, Some(evaluated)),
+                    inputs[l].dt,
+                    predicted[l].inverse_dt,
+                )
+                .ok()
+            }
+            (Route::Elastic(check), _, _) => Some(Err((check, true))),
             _ => None,
         };
     }

@@ -265,7 +265,7 @@ fn input_error(state: &MaterialState, input: &StepInput) -> Result<(), UpdateErr
 /// the flow stress along the path it used.
 #[derive(Clone, Copy)]
 pub(super) struct Residual {
-    value: f64,
+    pub value: f64,
     slope: f64,
     flow: PathFlow,
 }
@@ -622,7 +622,7 @@ fn implicit_flow(
             return Ok(Err((check, true)));
         }
     }
-    let (dl, flow, count) = implicit_return(
+    plastic_return(
         &at_temperature,
         shear,
         trial_equivalent,
@@ -630,34 +630,30 @@ fn implicit_flow(
         start,
         dt,
         inverse_dt,
-    )?;
-    Ok(Ok((flow.value, dl, count, flow.slope)))
+    )
 }
 
-/// A warm-started return that one evaluation ends (developed flow): `g(dl_warm) > 0`, given as
-/// `evaluated`, and the return's first iteration accepts its Newton step (or the warm start
-/// itself). `None` if the return needs more: the caller then runs [`implicit_flow`].
+/// The return from `start` (its residual given, if evaluated) as a plastic step's [`Flow`].
 #[inline(always)]
-pub(super) fn one_evaluation_return(
+pub(super) fn plastic_return(
+    flow: &FlowAtTemperature<'_>,
     shear_modulus: f64,
     trial_equivalent: f64,
-    warm_dl: f64,
-    evaluated: Residual,
+    plastic_strain: f64,
+    start: (f64, Option<Residual>),
     dt: f64,
-) -> Option<Flow> {
-    if evaluated.value <= 0.0 {
-        return None;
-    }
-    let (mut iteration, _) = ReturnIteration::new(
+    inverse_dt: f64,
+) -> Result<Flow, UpdateError> {
+    let (dl, flow, count) = implicit_return(
+        flow,
         shear_modulus,
         trial_equivalent,
-        (warm_dl, Some(evaluated)),
+        plastic_strain,
+        start,
         dt,
-    );
-    match iteration.advance(evaluated) {
-        Advance::Done(Ok((dl, flow, count))) => Some(Ok((flow.value, dl, count, flow.slope))),
-        _ => None,
-    }
+        inverse_dt,
+    )?;
+    Ok(Ok((flow.value, dl, count, flow.slope)))
 }
 
 /// The lagged rate treatment's check and radial return (eq. 3.7, the previous step's rate).
