@@ -3,18 +3,21 @@
 //! One point's update is a chain of dependent operations (divisions, square roots, the `pow`
 //! and `ln` of the flow stress), each waiting on the one before. A host updates many points
 //! that do not depend on one another (a VUMAT's block, a solver's element loop), so the
-//! group's points go through each stage of [`update`](super::update::update) together: the
-//! predictor of every point, then every point's thermal factor, then every point's flow
-//! stress at its warm start, and so on. Each stage's per-point work is short, so the
-//! processor runs the points' chains side by side instead of one after the other.
+//! group's points go through each stage of [`update`](super::update::update) together: every
+//! point's predictor, then every point's flow stress at its warm start (the thermal factor's
+//! and the flow stress's `pow`, `ln` and `exp` evaluated in lanes, `crate::math::lanes`), then
+//! every point's return, then every point's heating, EoS, damage and wave speed. Each stage's
+//! per-point work is short, so the processor runs the points' chains side by side instead of
+//! one after the other.
 //!
 //! Every stage is the one-point update's own function ([`super::update`]), called with the
-//! same arguments, so each point's result has the bits of `update`'s. The stages cover the
-//! two steps a developed computation is made of: a plastic step whose return one flow-stress
-//! evaluation ends (the warm start of the implicit treatment, eq. 3.8), and an elastic step
-//! decided by the stored yield check. Any other point (a failed point, a return that needs
-//! more evaluations, a step the result test refuses, the lagged treatment, an inadmissible
-//! input) is updated by `update` itself, from its unchanged state.
+//! same arguments, and the lane functions have the scalar ones' bits, so each point's result
+//! has the bits of `update`'s. The stages cover the steps a developed computation is made of:
+//! a plastic step from the implicit treatment's warm start (eq. 3.8; a return that needs more
+//! evaluations continues from the lanes' one, one point at a time) and an elastic step decided
+//! by the stored yield check. Any other point (a failed point, a cold start, a step the result
+//! test refuses, an inadmissible input), and every point of a material the stages do not pay
+//! for ([`staged`]), is updated by `update` itself, from its unchanged state.
 
 use super::material::{Material, RateTreatment};
 use super::update::{
@@ -25,7 +28,19 @@ use crate::error::UpdateError;
 use crate::math::lanes::{self, Calls, Given};
 use crate::point_model::{StepInput, StepOutput, LANES};
 use crate::state::{MaterialState, StateFlags};
-use crate::strength::FlowAtTemperature;
+use crate::strength::{FlowAtTemperature, Strength};
+
+/// Whether a material's points go through the stages: the implicit treatment of a composed
+/// strength (JC, MJC, TJC and the diagnosis's variants), whose `pow`, `ln` and `exp` the group
+/// evaluates in lanes. The other models' flow stresses have no lane evaluation, and without it
+/// the stages' bookkeeping costs more than the overlap of the points' chains gains on a shared
+/// core (Zerilli-Armstrong: 5 % faster on a free core, 19 % slower on a shared one,
+/// docs/benchmarks.md); their points are updated one at a time.
+#[inline(always)]
+fn staged(material: &Material) -> bool {
+    material.rate_treatment == RateTreatment::Implicit
+        && matches!(material.strength, Strength::Composed(_))
+}
 
 /// A point's way through the stages.
 #[derive(Clone, Copy)]
@@ -53,7 +68,7 @@ pub fn update_lanes<const L: usize>(
     let mut route = [Route::Alone; L];
     let mut predicted = [Predictor::default(); L];
     // Stage 1: the predictor and the step's entry (eq. 3.8's warm start or a stored check).
-    if material.rate_treatment == RateTreatment::Implicit {
+    if staged(material) {
         for l in 0..L {
             let (state, input) = (&states[l], &inputs[l]);
             if admissible(state, input) && !state.flags.contains(StateFlags::FAILED) {
