@@ -2,7 +2,7 @@
 //! produce the same bits (no FMA contraction, libm everywhere).
 
 use std::path::PathBuf;
-use stoss::verify::golden::{cases, compare, parse, render};
+use stoss::verify::golden::{cases, compare, compare_grouped, parse, render};
 
 fn golden_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/golden")
@@ -22,6 +22,23 @@ fn every_golden_history_is_bit_identical() {
         }
     }
     assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+#[test]
+fn every_golden_history_is_bit_identical_through_the_group_update() {
+    // GOAL: the group update (`PointModel::update_lanes`, the VUMAT's and the C ABI batch's
+    //       path) gives every golden history's bits, whatever its lane-mates do.
+    // SETUP: every golden case, each step taken in the first lane of a group whose lane-mates
+    //        start from the same state with other increments: half, reversed, doubled, nearly
+    //        equal, a hold, a NaN, a negative time step (`verify::golden::Grouped`).
+    // REFERENCE: fixtures/golden/*.golden, the files the one-point update is checked against.
+    let mut failures = Vec::new();
+    for case in cases() {
+        if let Err(error) = compare_grouped(&golden_dir(), &case) {
+            failures.push(error.to_string());
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

@@ -24,8 +24,9 @@ use stoss_kernel::drivers::{
 use stoss_kernel::eos::{Eos, MieGruneisen, TabulatedCompaction};
 use stoss_kernel::kc::{KcMaterial, KcParameters};
 use stoss_kernel::rht::RhtMaterial;
-use stoss_kernel::PointModel;
-use stoss_kernel::{Material, MaterialState};
+use stoss_kernel::{
+    Material, MaterialState, PointModel, StepInput, StepOutput, UpdateError, LANES,
+};
 
 /// A material point model of a golden case: a J2 metal, RHT or K&C concrete.
 #[derive(Clone, Copy, Debug)]
@@ -49,6 +50,67 @@ impl GoldenModel {
             GoldenModel::Concrete(material) => material.initial_state(293.0),
             GoldenModel::KcConcrete(material) => material.initial_state(293.0),
         }
+    }
+}
+
+/// A model whose every step goes through its group update ([`PointModel::update_lanes`]):
+/// the driver's point in the first lane, and lane-mates that take other ways through the
+/// group from the same state (half, reversed, doubled and nearly equal increments, a hold, a
+/// NaN increment, a negative time step). The first lane's result is the step's.
+pub struct Grouped<'a, M>(pub &'a M);
+
+impl<M: PointModel> Grouped<'_, M> {
+    /// Lane `lane`'s input beside the driver's `input`.
+    fn lane_mate(input: &StepInput, lane: usize) -> StepInput {
+        let scale = [1.0, 0.5, -1.0, 2.0, 0.0, f64::NAN, 1.0, 1.0001][lane % 8];
+        StepInput {
+            strain_increment: input.strain_increment.map(|e| scale * e),
+            dt: if lane % 8 == 6 { -input.dt } else { input.dt },
+            relative_volume: input.relative_volume,
+        }
+    }
+}
+
+impl<M: PointModel> PointModel for Grouped<'_, M> {
+    fn validate(&self) -> Result<(), stoss_kernel::ParameterError> {
+        self.0.validate()
+    }
+    fn shear_modulus(&self) -> f64 {
+        self.0.shear_modulus()
+    }
+    fn density(&self) -> f64 {
+        self.0.density()
+    }
+    fn initial_state(&self, temperature: f64) -> MaterialState {
+        self.0.initial_state(temperature)
+    }
+    fn kinematic_strain_bound(&self) -> Option<f64> {
+        self.0.kinematic_strain_bound()
+    }
+    fn kinematic_flags(&self, principal_strains: [f64; 3]) -> stoss_kernel::StateFlags {
+        self.0.kinematic_flags(principal_strains)
+    }
+    fn update(
+        &self,
+        state: &mut MaterialState,
+        input: &StepInput,
+    ) -> Result<StepOutput, UpdateError> {
+        let mut states = [*state; LANES];
+        let inputs = core::array::from_fn(|lane| Self::lane_mate(input, lane));
+        let mut results = [Err(UpdateError::NonFiniteInput); LANES];
+        self.0.update_lanes(&mut states, &inputs, &mut results);
+        if results[0].is_ok() {
+            *state = states[0];
+        }
+        results[0]
+    }
+    fn update_with_tangent(
+        &self,
+        state: &mut MaterialState,
+        input: &StepInput,
+        tangent: &mut stoss_kernel::tensor::Matrix6,
+    ) -> Result<StepOutput, UpdateError> {
+        self.0.update_with_tangent(state, input, tangent)
     }
 }
 
@@ -100,6 +162,17 @@ impl GoldenDriver {
             GoldenModel::Metal(material) => self.run_with(material, model.initial_state()),
             GoldenModel::Concrete(material) => self.run_with(material, model.initial_state()),
             GoldenModel::KcConcrete(material) => self.run_with(material, model.initial_state()),
+        }
+    }
+
+    /// [`GoldenDriver::run`] with every step taken through the model's group update
+    /// ([`Grouped`]).
+    pub fn run_grouped(self, model: &GoldenModel) -> Result<Vec<Record>, DriverError> {
+        let state = model.initial_state();
+        match model {
+            GoldenModel::Metal(material) => self.run_with(&Grouped(material), state),
+            GoldenModel::Concrete(material) => self.run_with(&Grouped(material), state),
+            GoldenModel::KcConcrete(material) => self.run_with(&Grouped(material), state),
         }
     }
 
@@ -450,13 +523,33 @@ fn run_case(case: &GoldenCase) -> Result<Vec<Record>, GoldenError> {
 
 /// Compare one case with its stored file, bit for bit.
 pub fn compare(directory: &Path, case: &GoldenCase) -> Result<usize, GoldenError> {
+    compare_records(directory, case, run_case(case)?)
+}
+
+/// [`compare`] with the case run through the group update ([`GoldenDriver::run_grouped`]).
+pub fn compare_grouped(directory: &Path, case: &GoldenCase) -> Result<usize, GoldenError> {
+    let computed = case
+        .driver
+        .run_grouped(&case.model)
+        .map_err(|error| GoldenError::Driver {
+            case: case.file_name(),
+            error,
+        })?;
+    compare_records(directory, case, computed)
+}
+
+/// `computed` against the case's stored file, bit for bit.
+fn compare_records(
+    directory: &Path,
+    case: &GoldenCase,
+    computed: Vec<Record>,
+) -> Result<usize, GoldenError> {
     let path = directory.join(case.file_name());
     let text = std::fs::read_to_string(&path).map_err(|error| GoldenError::Io {
         path: path.clone(),
         error,
     })?;
     let stored = parse(&path, &text)?;
-    let computed = run_case(case)?;
     if stored.len() != computed.len() {
         return Err(GoldenError::Length {
             path,
