@@ -10,6 +10,7 @@ input that runs out reads as zeros. So:
   chaos        a regime byte of 0xf0 (values may leave their domain), then pseudo-random bytes.
 abi_batch reads a mode byte after the regime byte (3 mod 4: stoss_lsdyna_umat, else
 stoss_update_batch); its umat-* seeds are the same five kinds with that byte set to 3.
+update_lanes: a family byte, then eight random in-domain cases of equal length.
 Usage: python3 fuzz/make_seeds.py (rewrites fuzz/corpus/<target>/seed-*).
 """
 import os
@@ -41,3 +42,15 @@ for index, target in enumerate(TARGETS):
     for name, data in seeds.items():
         with open(os.path.join(directory, f"seed-{name}"), "wb") as f:
             f.write(data)
+
+# update_lanes: a family byte (0 JC, 1 MJC, 2 TJC, 3 ZA), then eight equal parts, each a
+# strength case (lane states and steps differ; the first part's material is every lane's).
+rng = random.Random(20299)
+directory = os.path.join(here, "corpus", "update_lanes")
+os.makedirs(directory, exist_ok=True)
+for family in range(4):
+    for n in range(2):
+        parts = [bytes([rng.randrange(0, 192)]) + bytes(rng.getrandbits(8) for _ in range(399))
+                 for _ in range(8)]
+        with open(os.path.join(directory, f"seed-family{family}-{n}"), "wb") as f:
+            f.write(bytes([family]) + b"".join(parts))

@@ -404,7 +404,9 @@ fn bits(values: &[f64]) -> Vec<u64> {
 // stoss_update_batch
 
 fn batch(src: &mut Source, block: StossMaterialBlock) {
-    let len = usize::from(src.count(1, 8));
+    // Up to 20 points: two groups of `LANES` (8) through the kernel's group update, and the
+    // rest one at a time, when no tangent is asked for.
+    let len = usize::from(src.count(1, 20));
     let n = match src.byte() % 8 {
         6 => usize::from(src.byte()) % (len + 1),
         7 => 0,

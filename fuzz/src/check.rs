@@ -1,8 +1,8 @@
 //! Properties shared by the targets: bitwise state comparison, the state domain, and the
 //! checks made on every update.
 
-use stoss_kernel::tensor;
 use stoss_kernel::j2::update::{MAX_RETURN_ITERATIONS, RETURN_TOLERANCE};
+use stoss_kernel::tensor;
 use stoss_kernel::{
     update, update_with_tangent, Heating, Material, MaterialState, RateTreatment, StateFlags,
     StepInput, StepOutput, UpdateError,

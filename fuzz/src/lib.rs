@@ -5,7 +5,8 @@
 //! - [`strength`]: the `strength_update_<model>` targets;
 //! - [`eos`]: the `eos` target;
 //! - [`rht`]: the `rht_update` target (RHT concrete);
-//! - [`kc`]: the `kc_update` target (K&C concrete).
+//! - [`kc`]: the `kc_update` target (K&C concrete);
+//! - [`lanes`]: the `update_lanes` target (the group update against the one-point update).
 //!
 //! Every target is a function of the input bytes only (no clock, no randomness, no I/O), so a
 //! crash reproduces from its artifact file.
@@ -16,6 +17,7 @@
 pub mod check;
 pub mod eos;
 pub mod kc;
+pub mod lanes;
 pub mod rht;
 pub mod source;
 pub mod strength;
