@@ -12,13 +12,13 @@
 //! Kernel Voigt mapping: `[rr, zz, tt, rz, 0, 0]` (x = r, y = z, z = theta).
 
 use super::explicit::{
-    Discretisation, ElementStep, ExplicitModel, ExplicitRun, HourglassStress, StretchWindow,
-    Vector, MAX_NODES,
+    Discretisation, ElementKinematics, ElementStep, ExplicitModel, ExplicitRun, HourglassStress,
+    StretchWindow, Vector, MAX_NODES,
 };
 use super::{HourglassControl, SolverError, SolverSettings};
 use crate::mesh::QuadMesh;
 use std::f64::consts::PI;
-use stoss_kernel::{MaterialState, PointModel, StepInput};
+use stoss_kernel::{MaterialState, PointModel, StepInput, StepOutput};
 
 /// An axisymmetric model.
 pub type AxisymmetricModel = ExplicitModel<QuadMesh>;
@@ -27,7 +27,8 @@ pub type AxisymmetricModel = ExplicitModel<QuadMesh>;
 pub type AxisymmetricRun = ExplicitRun;
 
 /// Geometry of a quad: area, mean radius, gradient operators.
-struct Geometry {
+#[derive(Clone, Copy)]
+pub struct Geometry {
     area: f64,
     mean_radius: f64,
     b_r: [f64; 4],
@@ -200,21 +201,19 @@ impl Discretisation for QuadMesh {
         length / wave_speed
     }
 
-    fn element_step<P: PointModel>(
+    type Kinematics = QuadKinematics;
+
+    fn element_kinematics(
         &self,
         e: usize,
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
-        hourglass: &HourglassStress,
-        material: &P,
         reference_volume: f64,
         dt: f64,
-        settings: &SolverSettings,
         time: f64,
-        forces: &mut [Vector; MAX_NODES],
-    ) -> Result<ElementStep, SolverError> {
+    ) -> Result<ElementKinematics<QuadKinematics>, SolverError> {
         let element = self.elements[e];
         let nodes_new = self.corners(e, x_new);
         let nodes_mid: [Vector; 4] = element.map(|n| {
@@ -259,15 +258,40 @@ impl Discretisation for QuadMesh {
             dt,
             relative_volume: new.area * new.mean_radius / reference_volume,
         };
-        let output = material
-            .update(&mut next, &input)
-            .map_err(|error| SolverError::Update {
-                element: e,
-                part: self.parts[self.element_part[e]].name.clone(),
-                time,
-                relative_volume: input.relative_volume,
-                error,
-            })?;
+        Ok(ElementKinematics {
+            rotated: next,
+            input,
+            geometry: QuadKinematics {
+                nodes_new,
+                vel,
+                new,
+                volumetric_rate,
+                spin,
+            },
+        })
+    }
+
+    fn element_forces<P: PointModel>(
+        &self,
+        kinematics: &ElementKinematics<QuadKinematics>,
+        state: &MaterialState,
+        next: MaterialState,
+        output: &StepOutput,
+        hourglass: &HourglassStress,
+        material: &P,
+        reference_volume: f64,
+        dt: f64,
+        settings: &SolverSettings,
+        forces: &mut [Vector; MAX_NODES],
+    ) -> ElementStep {
+        let input = &kinematics.input;
+        let QuadKinematics {
+            nodes_new,
+            vel,
+            new,
+            volumetric_rate,
+            spin,
+        } = kinematics.geometry;
         // Bulk viscosity (compression only), as a pressure added to the forces.
         let density = material.density() / input.relative_volume;
         let viscous_pressure = settings.bulk_viscosity.pressure(
@@ -313,7 +337,7 @@ impl Discretisation for QuadMesh {
             force[0] -= hourglass_r * gamma[k];
             force[1] -= hourglass_z * gamma[k];
         }
-        Ok(ElementStep {
+        ElementStep {
             state: next,
             hourglass: carried,
             hourglass_power,
@@ -323,8 +347,23 @@ impl Discretisation for QuadMesh {
                 output.wave_speed,
                 volumetric_rate,
             ),
-        })
+        }
     }
+}
+
+/// What a quad's forces read from its kinematics over a step.
+#[derive(Clone, Copy)]
+pub struct QuadKinematics {
+    /// Corner positions at the step's end.
+    nodes_new: [Vector; 4],
+    /// Corner velocities.
+    vel: [Vector; 4],
+    /// Geometry at the step's end.
+    new: Geometry,
+    /// `tr D` at mid-step, with the hoop rate.
+    volumetric_rate: f64,
+    /// In-plane spin `W_rz` at mid-step.
+    spin: f64,
 }
 
 /// Flanagan-Belytschko hourglass control of one element over a step: the generalised forces
