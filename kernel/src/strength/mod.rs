@@ -145,7 +145,7 @@ impl TermValue {
     };
 
     /// `offset + self`.
-    #[inline]
+    #[inline(always)]
     pub fn plus(self, offset: f64) -> TermValue {
         TermValue {
             value: offset + self.value,
@@ -154,7 +154,7 @@ impl TermValue {
     }
 
     /// `self + other`.
-    #[inline]
+    #[inline(always)]
     pub fn sum(self, other: &TermValue) -> TermValue {
         TermValue {
             value: self.value + other.value,
@@ -165,7 +165,7 @@ impl TermValue {
     }
 
     /// `self * other` (Leibniz's rule to the third derivative).
-    #[inline]
+    #[inline(always)]
     pub fn product(self, other: &TermValue) -> TermValue {
         TermValue {
             value: self.value * other.value,
@@ -180,7 +180,7 @@ impl TermValue {
     }
 
     /// `self * factor` (a constant factor).
-    #[inline]
+    #[inline(always)]
     pub fn scaled(self, factor: f64) -> TermValue {
         TermValue {
             value: self.value * factor,
@@ -192,7 +192,7 @@ impl TermValue {
 
     /// A factor of the rate `deps_p = dl/dt` seen as a function of `dl`: its derivatives
     /// times `1/dt`, `1/dt^2`, `1/dt^3`.
-    #[inline]
+    #[inline(always)]
     pub fn along_rate(self, inverse_dt: f64) -> TermValue {
         TermValue {
             value: self.value,
@@ -203,7 +203,7 @@ impl TermValue {
     }
 
     /// This factor as a [`PathFlow`] with the given kink rate.
-    #[inline]
+    #[inline(always)]
     pub fn path_flow(self, kink_rate: f64) -> PathFlow {
         PathFlow {
             value: self.value,
