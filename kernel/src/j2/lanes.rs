@@ -67,8 +67,14 @@ pub fn update_lanes<const L: usize>(
     let three_g = 3.0 * shear;
     let mut route = [Route::Alone; L];
     let mut predicted = [Predictor::default(); L];
+    if !staged(material) {
+        for ((state, input), result) in states.iter_mut().zip(inputs).zip(results.iter_mut()) {
+            *result = update(material, state, input);
+        }
+        return;
+    }
     // Stage 1: the predictor and the step's entry (eq. 3.8's warm start or a stored check).
-    if staged(material) {
+    {
         for l in 0..L {
             let (state, input) = (&states[l], &inputs[l]);
             if admissible(state, input) && !state.flags.contains(StateFlags::FAILED) {
