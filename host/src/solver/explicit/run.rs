@@ -5,8 +5,8 @@
 
 use super::{
     add_pressure_forces, dot, gathered_force, kinetic, move_rigidly, ChunkSummary, Discretisation,
-    ElementKinematics, ElementSlot, ElementTask, ExplicitModel, ExplicitRun, NodeStep, NodeTask,
-    NodeWork, Snapshot, StretchWindow, Vector, ELEMENT_CHUNK, NODE_CHUNK,
+    ElementSlot, ElementTask, ExplicitModel, ExplicitRun, NodeStep, NodeTask, NodeWork, Snapshot,
+    StretchWindow, Vector, ELEMENT_CHUNK, NODE_CHUNK,
 };
 use crate::measure::{StateHistory, StateSample};
 use crate::solver::contact::{absorbed_work, ErodingSurfaces, PenaltyContact};
@@ -17,9 +17,7 @@ use crate::solver::truss::Trusses;
 use crate::solver::{HourglassControl, SolverError};
 use rayon::prelude::*;
 use std::ops::ControlFlow;
-use stoss_kernel::{
-    MaterialState, PointModel, StateFlags, StepInput, StepOutput, UpdateError, LANES,
-};
+use stoss_kernel::{MaterialState, PointModel, StateFlags, StepInput};
 
 /// The observer of a run's output times.
 pub(super) type Observer<'o> = dyn FnMut(&Snapshot) -> ControlFlow<()> + Send + 'o;
@@ -629,9 +627,7 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
 
     /// Elements and materials: every element's kinematics, material update, kinematic
     /// criteria and nodal forces, in parallel (or serially on one thread) over chunks of a
-    /// fixed size. Each element writes its own state and slot, each chunk its summary. Within
-    /// a chunk, consecutive elements of one material have their points updated together,
-    /// [`LANES`] at a time (`PointModel::update_lanes`, bit for bit the one-point update).
+    /// fixed size. Each element writes its own state and slot, each chunk its summary.
     fn update_elements(&mut self) {
         let (model, time, dt) = (self.model, self.time, self.dt);
         let (mesh, settings) = (&model.mesh, &model.settings);
@@ -642,37 +638,33 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
         let (x, x_new, v) = (&self.x, &self.x_new, &self.v);
         let step_chunk = |((c, (chunk_states, chunk_slots)), summary): ElementTask<'_>| {
             *summary = ChunkSummary::default();
-            // The element's forces, kinematic criteria and bookkeeping after its update;
-            // `false` (with the summary's error set) if the update failed.
-            let finish = |i: usize,
-                          kinematics: &ElementKinematics<M::Kinematics>,
-                          next: MaterialState,
-                          result: Result<StepOutput, UpdateError>,
-                          state: &mut MaterialState,
-                          slot: &mut ElementSlot,
-                          summary: &mut ChunkSummary|
-             -> bool {
+            for (i, (state, slot)) in chunk_states.iter_mut().zip(chunk_slots).enumerate() {
                 let e = c * ELEMENT_CHUNK + i;
+                slot.assembles = false;
+                if eroded[e] || rigid.element[e] {
+                    continue;
+                }
                 let material = &model.materials[material_of[e]];
-                let output = match result {
-                    Ok(output) => output,
-                    Err(error) => {
-                        summary.error = Some(mesh.update_error(e, time, &kinematics.input, error));
-                        return false;
-                    }
-                };
-                let mut step = mesh.element_forces(
-                    kinematics,
+                let mut step = match mesh.element_step(
+                    e,
+                    x,
+                    x_new,
+                    v,
                     state,
-                    next,
-                    &output,
                     &slot.hourglass,
                     material,
                     reference_volume[e],
                     dt,
                     settings,
+                    time,
                     &mut slot.forces,
-                );
+                ) {
+                    Ok(step) => step,
+                    Err(error) => {
+                        summary.error = Some(error);
+                        return;
+                    }
+                };
                 if let Some(window) = &stretch_windows[material_of[e]] {
                     if !mesh.element_stretches_within(e, reference, x_new, window) {
                         if let Some(strains) = mesh.element_principal_strains(e, reference, x_new) {
@@ -687,149 +679,11 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
                 slot.hourglass = step.hourglass;
                 if step.state.flags.contains(StateFlags::ERODE) {
                     summary.eroding = true;
-                    return true;
+                    continue;
                 }
                 slot.assembles = true;
                 summary.stable_dt = summary.stable_dt.min(step.stable_dt);
-                true
-            };
-            // A group: up to LANES consecutive stepped elements of one material, their chunk
-            // indices and kinematics. Its points are updated together when it is full, one at
-            // a time otherwise, and the elements finished in element order.
-            let mut members = [0_usize; LANES];
-            let mut kinematics: [Option<ElementKinematics<M::Kinematics>>; LANES] = [None; LANES];
-            let mut count = 0;
-            let flush = |members: &[usize; LANES],
-                         kinematics: &[Option<ElementKinematics<M::Kinematics>>; LANES],
-                         count: usize,
-                         chunk_states: &mut [MaterialState],
-                         chunk_slots: &mut [ElementSlot],
-                         summary: &mut ChunkSummary|
-             -> bool {
-                if count == 0 {
-                    return true;
-                }
-                let material = &model.materials[material_of[c * ELEMENT_CHUNK + members[0]]];
-                let mut next: [MaterialState; LANES] =
-                    core::array::from_fn(|k| match &kinematics[k] {
-                        Some(kinematics) if k < count => kinematics.rotated,
-                        _ => MaterialState::initial(0.0),
-                    });
-                let mut results = [Err(UpdateError::NonFiniteInput); LANES];
-                if count == LANES {
-                    // A full group: every member has its kinematics (the zero step is never
-                    // taken).
-                    let inputs: [StepInput; LANES] = core::array::from_fn(|k| {
-                        kinematics[k].map_or(
-                            StepInput {
-                                strain_increment: [0.0; 6],
-                                dt,
-                                relative_volume: 1.0,
-                            },
-                            |kinematics| kinematics.input,
-                        )
-                    });
-                    material.update_lanes(&mut next, &inputs, &mut results);
-                } else {
-                    for k in 0..count {
-                        if let Some(kinematics) = &kinematics[k] {
-                            results[k] = material.update(&mut next[k], &kinematics.input);
-                        }
-                    }
-                }
-                for k in 0..count {
-                    let Some(kinematics) = &kinematics[k] else {
-                        continue;
-                    };
-                    let i = members[k];
-                    if !finish(
-                        i,
-                        kinematics,
-                        next[k],
-                        results[k],
-                        &mut chunk_states[i],
-                        &mut chunk_slots[i],
-                        summary,
-                    ) {
-                        return false;
-                    }
-                }
-                true
-            };
-            let mut group_material = usize::MAX;
-            for i in 0..chunk_states.len() {
-                let e = c * ELEMENT_CHUNK + i;
-                chunk_slots[i].assembles = false;
-                if eroded[e] || rigid.element[e] {
-                    continue;
-                }
-                if count > 0 && material_of[e] != group_material {
-                    if !flush(
-                        &members,
-                        &kinematics,
-                        count,
-                        chunk_states,
-                        chunk_slots,
-                        summary,
-                    ) {
-                        return;
-                    }
-                    count = 0;
-                }
-                let stepped = mesh.element_kinematics(
-                    e,
-                    x,
-                    x_new,
-                    v,
-                    &chunk_states[i],
-                    reference_volume[e],
-                    dt,
-                    time,
-                );
-                match stepped {
-                    Ok(stepped) => {
-                        group_material = material_of[e];
-                        members[count] = i;
-                        kinematics[count] = Some(stepped);
-                        count += 1;
-                    }
-                    Err(error) => {
-                        // The elements before this one finish first (their errors come first).
-                        if flush(
-                            &members,
-                            &kinematics,
-                            count,
-                            chunk_states,
-                            chunk_slots,
-                            summary,
-                        ) {
-                            summary.error = Some(error);
-                        }
-                        return;
-                    }
-                }
-                if count == LANES {
-                    if !flush(
-                        &members,
-                        &kinematics,
-                        count,
-                        chunk_states,
-                        chunk_slots,
-                        summary,
-                    ) {
-                        return;
-                    }
-                    count = 0;
-                }
             }
-            flush(
-                &members,
-                &kinematics,
-                count,
-                chunk_states,
-                chunk_slots,
-                summary,
-            );
         };
         if self.serial {
             self.states
