@@ -12,13 +12,13 @@
 //! Kernel Voigt mapping: `[rr, zz, tt, rz, 0, 0]` (x = r, y = z, z = theta).
 
 use super::explicit::{
-    Discretisation, ElementKinematics, ElementStep, ExplicitModel, ExplicitRun, HourglassStress,
-    StretchWindow, Vector, MAX_NODES,
+    Discretisation, ElementStep, ExplicitModel, ExplicitRun, HourglassStress, StretchWindow,
+    Vector, MAX_NODES,
 };
 use super::{HourglassControl, SolverError, SolverSettings};
 use crate::mesh::QuadMesh;
 use std::f64::consts::PI;
-use stoss_kernel::{MaterialState, PointModel, StepInput, StepOutput};
+use stoss_kernel::{MaterialState, PointModel, StepInput};
 
 /// An axisymmetric model.
 pub type AxisymmetricModel = ExplicitModel<QuadMesh>;
@@ -27,8 +27,7 @@ pub type AxisymmetricModel = ExplicitModel<QuadMesh>;
 pub type AxisymmetricRun = ExplicitRun;
 
 /// Geometry of a quad: area, mean radius, gradient operators.
-#[derive(Clone, Copy)]
-pub struct Geometry {
+struct Geometry {
     area: f64,
     mean_radius: f64,
     b_r: [f64; 4],
@@ -201,19 +200,21 @@ impl Discretisation for QuadMesh {
         length / wave_speed
     }
 
-    type Kinematics = QuadKinematics;
-
-    fn element_kinematics(
+    fn element_step<P: PointModel>(
         &self,
         e: usize,
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
+        hourglass: &HourglassStress,
+        material: &P,
         reference_volume: f64,
         dt: f64,
+        settings: &SolverSettings,
         time: f64,
-    ) -> Result<ElementKinematics<QuadKinematics>, SolverError> {
+        forces: &mut [Vector; MAX_NODES],
+    ) -> Result<ElementStep, SolverError> {
         let element = self.elements[e];
         let nodes_new = self.corners(e, x_new);
         let nodes_mid: [Vector; 4] = element.map(|n| {
@@ -258,40 +259,15 @@ impl Discretisation for QuadMesh {
             dt,
             relative_volume: new.area * new.mean_radius / reference_volume,
         };
-        Ok(ElementKinematics {
-            rotated: next,
-            input,
-            geometry: QuadKinematics {
-                nodes_new,
-                vel,
-                new,
-                volumetric_rate,
-                spin,
-            },
-        })
-    }
-
-    fn element_forces<P: PointModel>(
-        &self,
-        kinematics: &ElementKinematics<QuadKinematics>,
-        state: &MaterialState,
-        next: MaterialState,
-        output: &StepOutput,
-        hourglass: &HourglassStress,
-        material: &P,
-        reference_volume: f64,
-        dt: f64,
-        settings: &SolverSettings,
-        forces: &mut [Vector; MAX_NODES],
-    ) -> ElementStep {
-        let input = &kinematics.input;
-        let QuadKinematics {
-            nodes_new,
-            vel,
-            new,
-            volumetric_rate,
-            spin,
-        } = kinematics.geometry;
+        let output = material
+            .update(&mut next, &input)
+            .map_err(|error| SolverError::Update {
+                element: e,
+                part: self.parts[self.element_part[e]].name.clone(),
+                time,
+                relative_volume: input.relative_volume,
+                error,
+            })?;
         // Bulk viscosity (compression only), as a pressure added to the forces.
         let density = material.density() / input.relative_volume;
         let viscous_pressure = settings.bulk_viscosity.pressure(
@@ -337,7 +313,7 @@ impl Discretisation for QuadMesh {
             force[0] -= hourglass_r * gamma[k];
             force[1] -= hourglass_z * gamma[k];
         }
-        ElementStep {
+        Ok(ElementStep {
             state: next,
             hourglass: carried,
             hourglass_power,
@@ -347,23 +323,8 @@ impl Discretisation for QuadMesh {
                 output.wave_speed,
                 volumetric_rate,
             ),
-        }
+        })
     }
-}
-
-/// What a quad's forces read from its kinematics over a step.
-#[derive(Clone, Copy)]
-pub struct QuadKinematics {
-    /// Corner positions at the step's end.
-    nodes_new: [Vector; 4],
-    /// Corner velocities.
-    vel: [Vector; 4],
-    /// Geometry at the step's end.
-    new: Geometry,
-    /// `tr D` at mid-step, with the hoop rate.
-    volumetric_rate: f64,
-    /// In-plane spin `W_rz` at mid-step.
-    spin: f64,
 }
 
 /// Flanagan-Belytschko hourglass control of one element over a step: the generalised forces

@@ -13,12 +13,11 @@
 //! (-,-,-) (+,-,-) (+,+,-) (-,+,-)), then the top face in the same order.
 
 use super::explicit::{
-    Discretisation, ElementKinematics, ElementStep, ExplicitModel, ExplicitRun, HourglassStress,
-    Vector, MAX_NODES,
+    Discretisation, ElementStep, ExplicitModel, ExplicitRun, HourglassStress, Vector, MAX_NODES,
 };
 use super::{SolverError, SolverSettings};
 use crate::mesh::HexMesh;
-use stoss_kernel::{MaterialState, PointModel, StepInput, StepOutput};
+use stoss_kernel::{MaterialState, PointModel, StepInput};
 
 /// A 3D model.
 pub type HexModel = ExplicitModel<HexMesh>;
@@ -55,9 +54,7 @@ const FACES: [[usize; 4]; 6] = [
     [3, 0, 4, 7],
 ];
 
-/// Volume and gradient operators of a hexahedron.
-#[derive(Clone, Copy)]
-pub struct Geometry {
+struct Geometry {
     volume: f64,
     /// `b[a][i] = dN_a / dx_i` at the centroid.
     b: [[f64; 3]; 8],
@@ -173,19 +170,21 @@ impl Discretisation for HexMesh {
         geometry(&corners).volume / largest_face_area(&corners) / wave_speed
     }
 
-    type Kinematics = HexKinematics;
-
-    fn element_kinematics(
+    fn element_step<P: PointModel>(
         &self,
         e: usize,
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
         state: &MaterialState,
+        _hourglass: &HourglassStress,
+        material: &P,
         reference_volume: f64,
         dt: f64,
+        settings: &SolverSettings,
         time: f64,
-    ) -> Result<ElementKinematics<HexKinematics>, SolverError> {
+        forces: &mut [Vector; MAX_NODES],
+    ) -> Result<ElementStep, SolverError> {
         let element = self.elements[e];
         let nodes_new = self.corners(e, x_new);
         let nodes_mid: [Vector; 8] =
@@ -244,38 +243,15 @@ impl Discretisation for HexMesh {
             dt,
             relative_volume: new.volume / reference_volume,
         };
-        Ok(ElementKinematics {
-            rotated: next,
-            input,
-            geometry: HexKinematics {
-                nodes_new,
-                vel,
-                new,
-                volumetric_rate,
-            },
-        })
-    }
-
-    fn element_forces<P: PointModel>(
-        &self,
-        kinematics: &ElementKinematics<HexKinematics>,
-        state: &MaterialState,
-        next: MaterialState,
-        output: &StepOutput,
-        _hourglass: &HourglassStress,
-        material: &P,
-        reference_volume: f64,
-        dt: f64,
-        settings: &SolverSettings,
-        forces: &mut [Vector; MAX_NODES],
-    ) -> ElementStep {
-        let input = &kinematics.input;
-        let HexKinematics {
-            nodes_new,
-            vel,
-            new,
-            volumetric_rate,
-        } = kinematics.geometry;
+        let output = material
+            .update(&mut next, &input)
+            .map_err(|error| SolverError::Update {
+                element: e,
+                part: self.parts[self.element_part[e]].name.clone(),
+                time,
+                relative_volume: input.relative_volume,
+                error,
+            })?;
         let density = material.density() / input.relative_volume;
         let viscous_pressure = settings.bulk_viscosity.pressure(
             density,
@@ -315,7 +291,7 @@ impl Discretisation for HexMesh {
             hourglass_power += kappa * (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
         }
         let characteristic = new.volume / largest_face_area(&nodes_new);
-        ElementStep {
+        Ok(ElementStep {
             state: next,
             hourglass: [0.0; 2],
             hourglass_power,
@@ -325,19 +301,6 @@ impl Discretisation for HexMesh {
                 output.wave_speed,
                 volumetric_rate,
             ),
-        }
+        })
     }
-}
-
-/// What a hexahedron's forces read from its kinematics over a step.
-#[derive(Clone, Copy)]
-pub struct HexKinematics {
-    /// Corner positions at the step's end.
-    nodes_new: [Vector; 8],
-    /// Corner velocities.
-    vel: [Vector; 8],
-    /// Geometry at the step's end.
-    new: Geometry,
-    /// `tr D` at mid-step.
-    volumetric_rate: f64,
 }

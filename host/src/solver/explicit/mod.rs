@@ -18,7 +18,7 @@ use super::{SolverError, SolverSettings};
 use crate::measure::StateHistory;
 use run::Run;
 use std::ops::ControlFlow;
-use stoss_kernel::{Material, MaterialState, PointModel, StepInput, StepOutput};
+use stoss_kernel::{Material, MaterialState, PointModel};
 
 /// Nodal vectors are stored with three components; 2D formulations use the first two.
 pub type Vector = [f64; 3];
@@ -254,43 +254,11 @@ pub trait Discretisation: Sync {
     fn element_volume(&self, e: usize, x: &[Vector]) -> f64;
     /// Stable time step of element `e` at positions `x` for a wave speed, at rest.
     fn element_time_step(&self, e: usize, x: &[Vector], wave_speed: f64) -> f64;
-    /// What an element's forces read from its kinematics (geometry, nodal velocities, rates).
-    type Kinematics: Copy;
-    /// The first half of element `e`'s step from `x` to `x_new` with velocities `v`: its
-    /// kinematics, its state with the stress rotated objectively, and the kernel's step input.
-    #[allow(clippy::too_many_arguments)]
-    fn element_kinematics(
-        &self,
-        e: usize,
-        x: &[Vector],
-        x_new: &[Vector],
-        v: &[Vector],
-        state: &MaterialState,
-        reference_volume: f64,
-        dt: f64,
-        time: f64,
-    ) -> Result<ElementKinematics<Self::Kinematics>, SolverError>;
-    /// The second half, after the kernel updated the rotated state to `next` (output
-    /// `output`): bulk viscosity, internal and hourglass forces (from the element's hourglass
-    /// forces of the previous step) and the element's stable step. `state` is the state before
-    /// the step. The nodal forces, in the model's integration measure, are written into the
-    /// first [`Self::NODES`] entries of `forces` (in place: the element's slot, not a copy).
-    #[allow(clippy::too_many_arguments)]
-    fn element_forces<P: PointModel>(
-        &self,
-        kinematics: &ElementKinematics<Self::Kinematics>,
-        state: &MaterialState,
-        next: MaterialState,
-        output: &StepOutput,
-        hourglass: &HourglassStress,
-        material: &P,
-        reference_volume: f64,
-        dt: f64,
-        settings: &SolverSettings,
-        forces: &mut [Vector; MAX_NODES],
-    ) -> ElementStep;
-    /// Element `e`'s whole step: kinematics, the kernel update with the element's own point
-    /// model, forces ([`Self::element_kinematics`], [`Self::element_forces`]).
+    /// Kinematics, the kernel update, bulk viscosity, internal and hourglass forces of element
+    /// `e` over a step from `x` to `x_new` with velocities `v`, with the element's own point
+    /// model and its hourglass forces of the previous step. The nodal forces, in the model's
+    /// integration measure, are written into the first [`Self::NODES`] entries of `forces`
+    /// (in place: the element's slot, not a copy).
     #[allow(clippy::too_many_arguments)]
     fn element_step<P: PointModel>(
         &self,
@@ -306,54 +274,7 @@ pub trait Discretisation: Sync {
         settings: &SolverSettings,
         time: f64,
         forces: &mut [Vector; MAX_NODES],
-    ) -> Result<ElementStep, SolverError> {
-        let kinematics =
-            self.element_kinematics(e, x, x_new, v, state, reference_volume, dt, time)?;
-        let mut next = kinematics.rotated;
-        let output = material
-            .update(&mut next, &kinematics.input)
-            .map_err(|error| self.update_error(e, time, &kinematics.input, error))?;
-        Ok(self.element_forces(
-            &kinematics,
-            state,
-            next,
-            &output,
-            hourglass,
-            material,
-            reference_volume,
-            dt,
-            settings,
-            forces,
-        ))
-    }
-    /// The error of element `e`'s kernel update over the step `input` at `time`.
-    fn update_error(
-        &self,
-        e: usize,
-        time: f64,
-        input: &StepInput,
-        error: stoss_kernel::UpdateError,
-    ) -> SolverError {
-        SolverError::Update {
-            element: e,
-            part: self.element_material(e).1.to_string(),
-            time,
-            relative_volume: input.relative_volume,
-            error,
-        }
-    }
-}
-
-/// An element's kinematics over a step ([`Discretisation::element_kinematics`]).
-#[derive(Clone, Copy)]
-pub struct ElementKinematics<K> {
-    /// The state before the step with its stress rotated objectively (Jaumann): the kernel's
-    /// incoming state.
-    pub rotated: MaterialState,
-    /// The kernel's step input.
-    pub input: StepInput,
-    /// What the element's forces read.
-    pub geometry: K,
+    ) -> Result<ElementStep, SolverError>;
 }
 
 /// The principal stretches `lambda` with `|ln lambda|` below a material's kinematic strain
