@@ -311,7 +311,7 @@ pub(super) fn residual_with(
 }
 
 /// One point's safeguarded Newton return between flow-stress evaluations (rtsafe): the
-/// bracket, the iterate and the previous step. [`implicit_return`] drives one point through
+/// bracket, the iterate and the previous step. [`plastic_return`] drives one point through
 /// it, evaluating the residual wherever [`ReturnIteration::advance`] asks; a driver of several
 /// points in lockstep can advance each through the same function, so every point keeps the
 /// bits of its own return.
@@ -464,9 +464,10 @@ impl ReturnIteration {
 ///
 /// `start` is the first iterate and, if the caller has evaluated it, its residual (see
 /// `compute`: the previous step's multiplier, or the perfectly plastic estimate `g(0)/3G`).
-/// Returns `(dl, flow stress along the path at dl, iterations)`.
+/// Returns the plastic step's [`Flow`]: the flow stress along the path at the accepted `dl`,
+/// `dl`, the iterations and the flow stress's slope.
 #[inline(always)]
-fn implicit_return(
+pub(super) fn plastic_return(
     flow: &FlowAtTemperature<'_>,
     shear_modulus: f64,
     trial_equivalent: f64,
@@ -474,7 +475,7 @@ fn implicit_return(
     start: (f64, Option<Residual>),
     dt: f64,
     inverse_dt: f64,
-) -> Result<(f64, PathFlow, u32), UpdateError> {
+) -> Result<Flow, UpdateError> {
     let (mut iteration, mut pending) =
         ReturnIteration::new(shear_modulus, trial_equivalent, start, dt);
     let three_g = iteration.three_g;
@@ -493,13 +494,12 @@ fn implicit_return(
             Some(evaluated) => evaluated,
             None => residual(iteration.dl),
         };
-        match iteration.advance(evaluated) {
-            Advance::Evaluate => {}
-            Advance::EvaluateUpper => {
-                return Ok(iteration.finish_at_upper(residual(iteration.upper).flow))
-            }
-            Advance::Done(result) => return result,
-        }
+        let (dl, flow, count) = match iteration.advance(evaluated) {
+            Advance::Evaluate => continue,
+            Advance::EvaluateUpper => iteration.finish_at_upper(residual(iteration.upper).flow),
+            Advance::Done(result) => result?,
+        };
+        return Ok(Ok((flow.value, dl, count, flow.slope)));
     }
 }
 
@@ -631,29 +631,6 @@ fn implicit_flow(
         dt,
         inverse_dt,
     )
-}
-
-/// The return from `start` (its residual given, if evaluated) as a plastic step's [`Flow`].
-#[inline(always)]
-pub(super) fn plastic_return(
-    flow: &FlowAtTemperature<'_>,
-    shear_modulus: f64,
-    trial_equivalent: f64,
-    plastic_strain: f64,
-    start: (f64, Option<Residual>),
-    dt: f64,
-    inverse_dt: f64,
-) -> Result<Flow, UpdateError> {
-    let (dl, flow, count) = implicit_return(
-        flow,
-        shear_modulus,
-        trial_equivalent,
-        plastic_strain,
-        start,
-        dt,
-        inverse_dt,
-    )?;
-    Ok(Ok((flow.value, dl, count, flow.slope)))
 }
 
 /// The lagged rate treatment's check and radial return (eq. 3.7, the previous step's rate).
