@@ -841,20 +841,7 @@ fn a_vumat_block_equals_its_points_called_one_at_a_time() {
     //        variables (2 the host's); 120 steps of 1e-8 s, compression and tension at
     //        5e3-5e4 /s with shear, point 5 nearly elastic, a NaN strain on point 10 at step 30.
     // REFERENCE: 19 single-point calls on the same inputs, bit for bit.
-    let block = defaults();
-    let mut card = [0.0; STOSS_CARD_MAX_LENGTH];
-    let mut length = 0;
-    // SAFETY: `card` holds STOSS_CARD_MAX_LENGTH doubles.
-    unsafe {
-        stoss_material_to_card(
-            &block,
-            card.as_mut_ptr(),
-            card.len(),
-            &mut length,
-            null_mut(),
-            0,
-        )
-    };
+    let (card, length) = write_card(&defaults());
     let card = &card[..length];
     let (n, nstatev, dt) = (19, 10, 1.0e-8);
     let mut stress = vec![0.0; 6 * n];
