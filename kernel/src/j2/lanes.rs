@@ -28,7 +28,7 @@ use crate::error::UpdateError;
 use crate::math::lanes::{self, Calls, Given};
 use crate::point_model::{StepInput, StepOutput, LANES};
 use crate::state::{MaterialState, StateFlags};
-use crate::strength::{FlowAtTemperature, Strength};
+use crate::strength::FlowAtTemperature;
 
 /// Whether a material's points go through the stages: the implicit treatment of a composed
 /// strength (JC, MJC, TJC and the diagnosis's variants), whose `pow`, `ln` and `exp` the group
@@ -38,8 +38,7 @@ use crate::strength::{FlowAtTemperature, Strength};
 /// docs/benchmarks.md); their points are updated one at a time.
 #[inline(always)]
 fn staged(material: &Material) -> bool {
-    material.rate_treatment == RateTreatment::Implicit
-        && matches!(material.strength, Strength::Composed(_))
+    material.rate_treatment == RateTreatment::Implicit && material.strength.announces_calls()
 }
 
 /// A point's way through the stages.

@@ -258,6 +258,13 @@ impl Strength {
         self.at_temperature_with(temperature, &mut Direct)
     }
 
+    /// Whether this model announces its transcendental calls ([`Self::announce_temperature`],
+    /// [`Self::announce_path`]) so that a group can evaluate them in lanes: the composed models.
+    #[inline(always)]
+    pub fn announces_calls(&self) -> bool {
+        matches!(self, Strength::Composed(_))
+    }
+
     /// Announce the calls [`Strength::at_temperature_with`] makes (see [`Calls`]; a composed
     /// model's thermal factor).
     #[inline(always)]
