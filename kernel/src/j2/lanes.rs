@@ -5,7 +5,8 @@
 //! that do not depend on one another (a VUMAT's block, a solver's element loop), so the
 //! group's points go through each stage of [`update`](super::update::update) together: every
 //! point's predictor, then every point's flow stress at its warm start (the thermal factor's
-//! and the flow stress's `pow`, `ln` and `exp` evaluated in lanes, `crate::math::lanes`), then
+//! and the flow stress's `pow`, `ln` and `exp` evaluated in lanes, `crate::math::lanes`; an
+//! `exp` whose argument takes an announced `ln`, as Zerilli-Armstrong's, after it), then
 //! every point's return, then every point's heating, EoS, damage and wave speed. Each stage's
 //! per-point work is short, so the processor runs the points' chains side by side instead of
 //! one after the other.
@@ -30,12 +31,12 @@ use crate::point_model::{StepInput, StepOutput, LANES};
 use crate::state::{MaterialState, StateFlags};
 use crate::strength::FlowAtTemperature;
 
-/// Whether a material's points go through the stages: the implicit treatment of a composed
-/// strength (JC, MJC, TJC and the diagnosis's variants), whose `pow`, `ln` and `exp` the group
-/// evaluates in lanes. The other models' flow stresses have no lane evaluation, and without it
+/// Whether a material's points go through the stages: the implicit treatment of a strength
+/// that announces its `pow`, `ln` and `exp` ([`crate::strength::Strength::announces_calls`]:
+/// JC, MJC, TJC and the diagnosis's variants, and Zerilli-Armstrong, whose `exp` takes the
+/// value of its `ln`), so that the group evaluates them in lanes. Without a lane evaluation
 /// the stages' bookkeeping costs more than the overlap of the points' chains gains on a shared
-/// core (Zerilli-Armstrong: 5 % faster on a free core, 19 % slower on a shared one,
-/// docs/benchmarks.md); their points are updated one at a time.
+/// core (docs/benchmarks.md); the other models' points are updated one at a time.
 #[inline(always)]
 fn staged(material: &Material) -> bool {
     material.rate_treatment == RateTreatment::Implicit && material.strength.announces_calls()
@@ -98,11 +99,12 @@ pub fn update_lanes<const L: usize>(
                 state.plastic_strain,
                 warm_dl,
                 predicted[l].inverse_dt,
+                state.temperature,
                 calls,
             );
         }
     }
-    let values = lanes::evaluate(&calls);
+    let values = lanes::evaluate(&mut calls);
     let mut at_temperature: [Option<FlowAtTemperature<'_>>; L] = [None; L];
     let mut evaluated: [Option<Residual>; L] = [None; L];
     for l in 0..L {

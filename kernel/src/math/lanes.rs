@@ -189,6 +189,9 @@ pub enum Function {
     Ln,
     /// [`super::exp`] of `x`.
     Exp,
+    /// [`super::exp`] of `x + y v`, `v` the value of an earlier slot (see
+    /// [`Calls::push_exp_of_affine`]); [`evaluate`] resolves it to an [`Function::Exp`] call.
+    ExpOfAffine,
 }
 
 /// Most calls a formula announces ([`Calls`]).
@@ -203,6 +206,8 @@ pub struct Calls {
     function: [Function; MAXIMUM_CALLS],
     x: [f64; MAXIMUM_CALLS],
     y: [f64; MAXIMUM_CALLS],
+    /// The earlier slot whose value an [`Function::ExpOfAffine`] slot's argument takes.
+    source: [usize; MAXIMUM_CALLS],
     len: usize,
 }
 
@@ -212,6 +217,7 @@ impl Default for Calls {
             function: [Function::Pow; MAXIMUM_CALLS],
             x: [1.0; MAXIMUM_CALLS],
             y: [1.0; MAXIMUM_CALLS],
+            source: [0; MAXIMUM_CALLS],
             len: 0,
         }
     }
@@ -219,23 +225,42 @@ impl Default for Calls {
 
 impl Calls {
     /// Announce a call of `function` at `(x, y)` (`y` unused but by `pow`); past
-    /// [`MAXIMUM_CALLS`] the call is left to be made on the spot.
+    /// [`MAXIMUM_CALLS`] the call is left to be made on the spot. Returns the call's slot
+    /// (`None` when it was left).
     #[inline(always)]
-    pub fn push(&mut self, function: Function, x: f64, y: f64) {
+    pub fn push(&mut self, function: Function, x: f64, y: f64) -> Option<usize> {
         if self.len < MAXIMUM_CALLS {
-            self.function[self.len] = function;
-            self.x[self.len] = x;
-            self.y[self.len] = y;
+            let slot = self.len;
+            self.function[slot] = function;
+            self.x[slot] = x;
+            self.y[slot] = y;
             self.len += 1;
+            Some(slot)
+        } else {
+            None
+        }
+    }
+
+    /// Announce the call `exp(offset + slope v)`, `v` the value of the call announced in
+    /// `source` (a formula's `exp(a + b ln x)` whose logarithm is announced first), so that
+    /// both are evaluated in lanes, one after the other. `offset + slope v` is formed as
+    /// written, the formula's own operations, so that its bits are the formula's argument.
+    #[inline(always)]
+    pub fn push_exp_of_affine(&mut self, source: usize, offset: f64, slope: f64) {
+        if source < self.len {
+            if let Some(slot) = self.push(Function::ExpOfAffine, offset, slope) {
+                self.source[slot] = source;
+            }
         }
     }
 }
 
 /// The announced calls' values, lane `l`'s in `values[l]`: each slot evaluated in lanes when
 /// every lane that announced a call there announced the same function, lane by lane
-/// otherwise.
+/// otherwise, in slot order. An [`Function::ExpOfAffine`] slot takes its argument from the
+/// value computed before it and becomes the [`Function::Exp`] call of that argument.
 #[inline(always)]
-pub fn evaluate<const L: usize>(calls: &[Calls; L]) -> [[f64; MAXIMUM_CALLS]; L] {
+pub fn evaluate<const L: usize>(calls: &mut [Calls; L]) -> [[f64; MAXIMUM_CALLS]; L] {
     let mut values = [[0.0; MAXIMUM_CALLS]; L];
     let len = calls.iter().map(|c| c.len).max().unwrap_or(0);
     for k in 0..len {
@@ -246,19 +271,27 @@ pub fn evaluate<const L: usize>(calls: &[Calls; L]) -> [[f64; MAXIMUM_CALLS]; L]
         let uniform = calls
             .iter()
             .all(|c| c.len <= k || c.function[k] == function);
+        for l in 0..L {
+            let c = &mut calls[l];
+            if c.len > k && c.function[k] == Function::ExpOfAffine {
+                c.x[k] += c.y[k] * values[l][c.source[k]];
+                c.y[k] = 1.0;
+                c.function[k] = Function::Exp;
+            }
+        }
         let x: [f64; L] = core::array::from_fn(|l| calls[l].x[k]);
         let y: [f64; L] = core::array::from_fn(|l| calls[l].y[k]);
         let column = if uniform {
             match function {
                 Function::Pow => pow(x, y),
                 Function::Ln => ln(x),
-                Function::Exp => exp(x),
+                Function::Exp | Function::ExpOfAffine => exp(x),
             }
         } else {
             core::array::from_fn(|l| match calls[l].function[k] {
                 Function::Pow => super::pow(x[l], y[l]),
                 Function::Ln => super::ln(x[l]),
-                Function::Exp => super::exp(x[l]),
+                Function::Exp | Function::ExpOfAffine => super::exp(x[l]),
             })
         };
         for l in 0..L {
@@ -407,5 +440,47 @@ mod tests {
         let x: std::vec::Vec<f64> = x.iter().map(|v| v.abs()).collect();
         check::<4>(&x, &y);
         check::<8>(&x, &y);
+    }
+
+    #[test]
+    fn a_chained_exp_has_the_formula_bits_and_is_matched() {
+        // GOAL: an announced `exp(a + b ln x)` (Zerilli-Armstrong's activation) is evaluated
+        //       after its `ln`, has the bits of the formula computed on the spot, and is the
+        //       value the formula's own `exp` call is handed; lanes that announce other
+        //       functions in the slot, or fewer calls, keep their own values.
+        // SETUP: 8 lanes; lanes 0-5 announce ln(x), exp(a + b ln x); lane 6 announces
+        //        exp(x), ln(x); lane 7 announces nothing. Rates from 1e-6 to 1e7, a and b
+        //        from ZA steel constants at 300-1400 K.
+        // REFERENCE: crate::math::{exp, ln} called as the formula calls them.
+        let x = [1e-6, 3.7e-2, 1.0, 812.5, 1.3e4, 9.9e6, 0.75, 1.0];
+        let temperature = [300.0, 455.0, 612.0, 800.0, 1100.0, 1400.0, 300.0, 300.0];
+        let (c3, c4) = (0.00698, 0.000415);
+        let mut calls = [Calls::default(); 8];
+        for l in 0..6 {
+            let log = calls[l].push(Function::Ln, x[l], 1.0).unwrap();
+            calls[l].push_exp_of_affine(log, -c3 * temperature[l], c4 * temperature[l]);
+        }
+        calls[6].push(Function::Exp, x[6], 1.0);
+        calls[6].push(Function::Ln, x[6], 1.0);
+        let announced = calls;
+        let values = evaluate(&mut calls);
+        for l in 0..6 {
+            let mut given = Given::new(&calls[l], &values[l]);
+            let log = given.ln(x[l]);
+            let argument = -c3 * temperature[l] + c4 * temperature[l] * log;
+            let value = given.exp(argument);
+            assert_eq!(log.to_bits(), super::super::ln(x[l]).to_bits());
+            assert_eq!(value.to_bits(), super::super::exp(argument).to_bits());
+            assert_eq!(
+                value.to_bits(),
+                values[l][1].to_bits(),
+                "lane {l} not matched"
+            );
+            assert_eq!(given.next, 2);
+        }
+        assert_eq!(values[6][0].to_bits(), super::super::exp(x[6]).to_bits());
+        assert_eq!(values[6][1].to_bits(), super::super::ln(x[6]).to_bits());
+        assert_eq!(calls[6].x, announced[6].x);
+        assert_eq!(calls[7].len, 0);
     }
 }

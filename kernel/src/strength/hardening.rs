@@ -64,7 +64,7 @@ pub(crate) fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> Te
 
 /// [`power_term`] with its `pow` from `math`.
 #[inline(always)]
-fn power_term_with(
+pub(crate) fn power_term_with(
     modulus: f64,
     exponent: f64,
     plastic_strain: f64,

@@ -259,10 +259,11 @@ impl Strength {
     }
 
     /// Whether this model announces its transcendental calls ([`Self::announce_temperature`],
-    /// [`Self::announce_path`]) so that a group can evaluate them in lanes: the composed models.
+    /// [`Self::announce_path`]) so that a group can evaluate them in lanes: the composed models
+    /// and Zerilli-Armstrong.
     #[inline(always)]
     pub fn announces_calls(&self) -> bool {
-        matches!(self, Strength::Composed(_))
+        matches!(self, Strength::Composed(_) | Strength::ZerilliArmstrong(_))
     }
 
     /// Announce the calls [`Strength::at_temperature_with`] makes (see [`Calls`]; a composed
@@ -274,12 +275,24 @@ impl Strength {
         }
     }
 
-    /// Announce the calls [`FlowAtTemperature::along_path_with`] makes for this model at any
-    /// temperature (see [`Calls`]; a composed model's terms).
+    /// Announce the calls [`FlowAtTemperature::along_path_with`] makes for this model at
+    /// `temperature` (see [`Calls`]; a composed model's terms, Zerilli-Armstrong's activation
+    /// and strain term).
     #[inline(always)]
-    pub fn announce_path(&self, plastic_strain: f64, dl: f64, inverse_dt: f64, calls: &mut Calls) {
-        if let Strength::Composed(model) = self {
-            model.announce_path(plastic_strain, dl, inverse_dt, calls);
+    pub fn announce_path(
+        &self,
+        plastic_strain: f64,
+        dl: f64,
+        inverse_dt: f64,
+        temperature: f64,
+        calls: &mut Calls,
+    ) {
+        match self {
+            Strength::Composed(model) => model.announce_path(plastic_strain, dl, inverse_dt, calls),
+            Strength::ZerilliArmstrong(model) => {
+                model.announce_path(plastic_strain, dl, inverse_dt, temperature, calls)
+            }
+            _ => {}
         }
     }
 
@@ -378,7 +391,8 @@ impl FlowAtTemperature<'_> {
         self.along_path_with(plastic_strain, dl, inverse_dt, &mut Direct)
     }
 
-    /// [`Self::along_path`] with a composed model's transcendental functions from `math`.
+    /// [`Self::along_path`] with a composed model's and Zerilli-Armstrong's transcendental
+    /// functions from `math`.
     #[inline(always)]
     pub fn along_path_with(
         &self,
@@ -397,7 +411,7 @@ impl FlowAtTemperature<'_> {
                 math,
             ),
             Strength::ZerilliArmstrong(model) => {
-                model.along_path(plastic_strain, dl, inverse_dt, self.temperature)
+                model.along_path_with(plastic_strain, dl, inverse_dt, self.temperature, math)
             }
             Strength::PrestonTonksWallace(_) => self
                 .flow_stress(plastic_strain + dl, dl * inverse_dt)

@@ -176,7 +176,9 @@ impl RateTerm {
             RateTerm::CowperSymonds {
                 rate_constant,
                 exponent,
-            } => calls.push(Function::Pow, rate / rate_constant, 1.0 / exponent),
+            } => {
+                calls.push(Function::Pow, rate / rate_constant, 1.0 / exponent);
+            }
         }
     }
 

@@ -8,10 +8,11 @@
 //! [`ZerilliArmstrong::MINIMUM_RATE_RATIO`] the rate ratio is held at that floor, so the
 //! zero-rate (elastic-check) flow stress is finite and continuous.
 
-use super::hardening::power_term;
+use super::hardening::power_term_with;
 use super::{FlowStress, PathFlow, TermValue};
 use crate::error::{check, ParameterError};
-use crate::math::{exp, ln, sqrt};
+use crate::math::lanes::{Calls, Direct, Function, Transcendentals};
+use crate::math::sqrt;
 use crate::parameters;
 
 /// Lattice structure selecting the ZA form.
@@ -79,14 +80,16 @@ impl ZerilliArmstrong {
     /// and its first three derivatives in the rate (each brings a factor `(k - j)/rate`);
     /// constant below the rate floor.
     #[inline]
-    fn activation(&self, plastic_strain_rate: f64, temperature: f64) -> TermValue {
+    fn activation(
+        &self,
+        plastic_strain_rate: f64,
+        temperature: f64,
+        math: &mut impl Transcendentals,
+    ) -> TermValue {
         let raw_ratio = plastic_strain_rate / self.reference_rate;
-        let ratio = if raw_ratio > Self::MINIMUM_RATE_RATIO {
-            raw_ratio
-        } else {
-            Self::MINIMUM_RATE_RATIO
-        };
-        let value = exp(-self.c3 * temperature + self.c4 * temperature * ln(ratio));
+        let ratio = Self::floored(raw_ratio);
+        let log = math.ln(ratio);
+        let value = math.exp(-self.c3 * temperature + self.c4 * temperature * log);
         if raw_ratio > Self::MINIMUM_RATE_RATIO {
             let k = self.c4 * temperature;
             let slope = value * k / plastic_strain_rate;
@@ -105,17 +108,34 @@ impl ZerilliArmstrong {
         }
     }
 
-    /// The strain term and its first three derivatives: `C5 eps^n` (BCC) or `C2 eps^(1/2)`
-    /// (FCC, with `sqrt`), `eps` clamped at 0.
-    #[inline]
-    fn hardening(&self, plastic_strain: f64) -> TermValue {
-        let eps = if plastic_strain > 0.0 {
+    /// The rate ratio `e*` as `ln` takes it: `raw_ratio`, held at
+    /// [`Self::MINIMUM_RATE_RATIO`] below it.
+    #[inline(always)]
+    fn floored(raw_ratio: f64) -> f64 {
+        if raw_ratio > Self::MINIMUM_RATE_RATIO {
+            raw_ratio
+        } else {
+            Self::MINIMUM_RATE_RATIO
+        }
+    }
+
+    /// The plastic strain as the strain term takes it: clamped at 0.
+    #[inline(always)]
+    fn clamped(plastic_strain: f64) -> f64 {
+        if plastic_strain > 0.0 {
             plastic_strain
         } else {
             0.0
-        };
+        }
+    }
+
+    /// The strain term and its first three derivatives: `C5 eps^n` (BCC) or `C2 eps^(1/2)`
+    /// (FCC, with `sqrt`), `eps` clamped at 0.
+    #[inline]
+    fn hardening(&self, plastic_strain: f64, math: &mut impl Transcendentals) -> TermValue {
+        let eps = Self::clamped(plastic_strain);
         match self.structure {
-            CrystalStructure::Bcc => power_term(self.c5, self.exponent, eps),
+            CrystalStructure::Bcc => power_term_with(self.c5, self.exponent, eps, math),
             CrystalStructure::Fcc => {
                 if self.c2 == 0.0 {
                     TermValue::CONSTANT_ZERO
@@ -162,8 +182,8 @@ impl ZerilliArmstrong {
         plastic_strain_rate: f64,
         temperature: f64,
     ) -> FlowStress {
-        let activation = self.activation(plastic_strain_rate, temperature);
-        let hardening = self.hardening(plastic_strain);
+        let activation = self.activation(plastic_strain_rate, temperature, &mut Direct);
+        let hardening = self.hardening(plastic_strain, &mut Direct);
         let (d_plastic_strain, d_rate) = match self.structure {
             CrystalStructure::Bcc => (hardening.slope, self.c1 * activation.slope),
             CrystalStructure::Fcc => (
@@ -189,11 +209,51 @@ impl ZerilliArmstrong {
         inverse_dt: f64,
         temperature: f64,
     ) -> PathFlow {
+        self.along_path_with(plastic_strain, dl, inverse_dt, temperature, &mut Direct)
+    }
+
+    /// [`Self::along_path`] with its `ln`, `exp` and `pow` from `math`.
+    #[inline(always)]
+    pub fn along_path_with(
+        &self,
+        plastic_strain: f64,
+        dl: f64,
+        inverse_dt: f64,
+        temperature: f64,
+        math: &mut impl Transcendentals,
+    ) -> PathFlow {
         let activation = self
-            .activation(dl * inverse_dt, temperature)
+            .activation(dl * inverse_dt, temperature, math)
             .along_rate(inverse_dt);
-        self.combine(activation, self.hardening(plastic_strain + dl))
+        let hardening = self.hardening(plastic_strain + dl, math);
+        self.combine(activation, hardening)
             .path_flow(Self::MINIMUM_RATE_RATIO * self.reference_rate)
+    }
+
+    /// Announce the calls [`Self::along_path_with`] makes (see [`Calls`]): the activation's
+    /// `ln e*` and the `exp` of `-C3 T + C4 T ln e*` chained to it, then the BCC strain
+    /// term's `pow(eps, n)` (the FCC term takes a square root).
+    #[inline(always)]
+    pub fn announce_path(
+        &self,
+        plastic_strain: f64,
+        dl: f64,
+        inverse_dt: f64,
+        temperature: f64,
+        calls: &mut Calls,
+    ) {
+        let ratio = Self::floored(dl * inverse_dt / self.reference_rate);
+        if let Some(log) = calls.push(Function::Ln, ratio, 1.0) {
+            calls.push_exp_of_affine(log, -self.c3 * temperature, self.c4 * temperature);
+        }
+        if self.structure == CrystalStructure::Bcc {
+            let eps = Self::clamped(plastic_strain + dl);
+            calls.push(
+                Function::Pow,
+                if eps > 0.0 { eps } else { 1.0 },
+                self.exponent,
+            );
+        }
     }
 
     /// Reject non-physical constants: stresses and C3, C4 non-negative, positive yield.
