@@ -6,6 +6,8 @@
 //! states are reset outside the timed region (divan `with_inputs`).
 //!
 //! - `direct`: `stoss_kernel::update` on an array of `MaterialState` (array of structs);
+//! - `direct_grouped`: `stoss_kernel::update_block` on the same array, 8 points at a time (the
+//!   group update the batch uses when no tangent is asked for);
 //! - `batch`: `stoss_update_batch` on structure-of-arrays storage (validates the block,
 //!   converts it to a kernel `Material`, checks every pointer, reads and writes every field
 //!   through the panic boundary);
@@ -19,7 +21,7 @@ use std::ptr::{null, null_mut};
 
 use divan::counter::ItemsCount;
 use divan::{black_box, Bencher};
-use stoss_kernel::{update, Material, MaterialState, StepInput};
+use stoss_kernel::{update, update_block, Material, MaterialState, StepInput, UpdateError};
 use stoss_kernel_ffi::card::STOSS_CARD_MAX_LENGTH;
 use stoss_kernel_ffi::*;
 
@@ -28,7 +30,85 @@ const INCREMENT: f64 = -1e-5;
 const DT: f64 = 1e-8;
 
 fn main() {
+    if std::env::args().any(|a| a == "--alternate") {
+        alternate();
+        return;
+    }
     divan::main();
+}
+
+/// Samples of each way in `--alternate`.
+const ALTERNATE_SAMPLES: usize = 2000;
+
+/// `--alternate`: `stoss_update_batch` against the direct `update_block` call it makes (and
+/// the direct one-point loop), 128 and 1024 points, alternated sample by sample in one process
+/// so that every way sees the same machine (a shared core changes speed by a third from one
+/// second to the next). The batch runs twice: with the end-of-step relative volumes given (the
+/// same input the direct calls get) and integrating them itself (`V0 exp(tr deps)`, one `exp`
+/// per point that the direct calls do not do). Prints the 10th and 50th percentiles of ns per
+/// point and each batch's overhead over the direct group call.
+fn alternate() {
+    let block = StossMaterialBlock::steel_4340();
+    let material = block.to_material().expect("material");
+    let base = plastic_state(&material);
+    let step = StepInput {
+        relative_volume: base.relative_volume * stoss_kernel::math::exp(INCREMENT),
+        ..input()
+    };
+    println!("ns per point, p10 / p50; overhead over the direct group call at p10 and p50");
+    println!("points   direct one point   direct grouped   batch, volumes given     batch, volumes integrated");
+    for n in [128, 1024] {
+        let soas = [
+            Soa::new(&base, n).with_given_volume(&base),
+            Soa::new(&base, n),
+        ];
+        let inputs = vec![step; n];
+        let mut results = vec![Err(UpdateError::NonFiniteInput); n];
+        let mut times = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
+        for sample in 0..4 * ALTERNATE_SAMPLES {
+            let way = sample % 4;
+            let mut states = vec![base; n];
+            let mut batch = soas[way % 2].clone();
+            let clock = std::time::Instant::now();
+            match way {
+                0 => {
+                    for (state, result) in states.iter_mut().zip(results.iter_mut()) {
+                        *result = update(black_box(&material), state, black_box(&step));
+                    }
+                }
+                1 => {
+                    update_block(black_box(&material), &mut states, &inputs, &mut results);
+                }
+                _ => {
+                    assert_eq!(batch.run(black_box(&block)), StossStatus::Ok);
+                }
+            }
+            times[way].push(clock.elapsed().as_secs_f64() * 1e9 / n as f64);
+            black_box((&states, &results, &batch));
+        }
+        let [one, grouped, given, integrated] = times.map(|mut v| {
+            v.sort_by(f64::total_cmp);
+            [v[v.len() / 10], v[v.len() / 2]]
+        });
+        let overhead = |t: [f64; 2]| {
+            format!(
+                "{:6.1} / {:6.1} ({:+.1} %, {:+.1} %)",
+                t[0],
+                t[1],
+                100.0 * (t[0] / grouped[0] - 1.0),
+                100.0 * (t[1] / grouped[1] - 1.0)
+            )
+        };
+        println!(
+            "{n:6}   {:6.1} / {:6.1}    {:6.1} / {:6.1}   {}   {}",
+            one[0],
+            one[1],
+            grouped[0],
+            grouped[1],
+            overhead(given),
+            overhead(integrated),
+        );
+    }
 }
 
 fn input() -> StepInput {
@@ -224,6 +304,28 @@ fn direct(bencher: Bencher, n: usize) {
             for state in states.iter_mut() {
                 let output = update(black_box(&material), state, black_box(&step));
                 assert!(output.expect("plastic step").plastic_increment > 0.0);
+            }
+        });
+}
+
+/// `stoss_kernel::update_block` on an array of `MaterialState`: the direct call of the group
+/// update that `stoss_update_batch` makes (without a tangent), the reference of its overhead.
+#[divan::bench(args = POINTS)]
+fn direct_grouped(bencher: Bencher, n: usize) {
+    let material = Material::STEEL_4340;
+    let base = plastic_state(&material);
+    let step = StepInput {
+        relative_volume: base.relative_volume * stoss_kernel::math::exp(INCREMENT),
+        ..input()
+    };
+    let inputs = vec![step; n];
+    bencher
+        .counter(ItemsCount::new(n))
+        .with_inputs(|| (vec![base; n], vec![Err(UpdateError::NonFiniteInput); n]))
+        .bench_local_refs(|(states, results)| {
+            update_block(black_box(&material), states, black_box(&inputs), results);
+            for output in results.iter() {
+                assert!(output.as_ref().expect("plastic step").plastic_increment > 0.0);
             }
         });
 }

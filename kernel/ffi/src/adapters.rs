@@ -406,26 +406,33 @@ pub(crate) fn run_vumat<M: AbiModel>(
     } else {
         nblock - nblock % LANES
     };
+    // One group's points, steps and results, every entry overwritten for each group.
+    let zero_step = StepInput {
+        strain_increment: [0.0; 6],
+        dt,
+        relative_volume: 1.0,
+    };
+    let mut points = [*initial; LANES];
+    let mut inputs = [zero_step; LANES];
+    let mut converted = [Ok(()); LANES];
+    let mut results = [Err(UpdateError::NonFiniteInput); LANES];
     for first in (0..grouped).step_by(LANES) {
-        let mut points = [*initial; LANES];
-        let mut inputs = [StepInput {
-            strain_increment: [0.0; 6],
-            dt,
-            relative_volume: 1.0,
-        }; LANES];
-        let mut converted = [Ok(()); LANES];
         for lane in 0..LANES {
             let (strain, stress_old, state_old, _) = old(arrays, first + lane);
-            match state_from_history(&stress_old, &state_old, initial) {
+            converted[lane] = match state_from_history(&stress_old, &state_old, initial) {
                 Ok(state) => {
                     points[lane] = state;
                     inputs[lane] = step_input(&state, &strain, dt, None);
+                    Ok(())
                 }
                 // The point is not updated; its lane runs a zero step from the initial state.
-                Err(error) => converted[lane] = Err(error),
-            }
+                Err(error) => {
+                    points[lane] = *initial;
+                    inputs[lane] = zero_step;
+                    Err(error)
+                }
+            };
         }
-        let mut results = [Err(UpdateError::NonFiniteInput); LANES];
         material.update_lanes(&mut points, &inputs, &mut results);
         for lane in 0..LANES {
             let result = converted[lane]

@@ -407,13 +407,15 @@ pub(crate) fn run_batch<M: PointModel>(
     // (bit for bit the one-point update); the rest, and every point when the host asks for
     // the tangent, one at a time.
     let grouped = if want_tangent { 0 } else { n - n % LANES };
+    // One group's points, steps and results, every entry overwritten for each group.
+    let mut points = [MaterialState::initial(0.0); LANES];
+    let mut inputs = [StepInput {
+        strain_increment: [0.0; 6],
+        dt,
+        relative_volume: 1.0,
+    }; LANES];
+    let mut results = [Err(UpdateError::NonFiniteInput); LANES];
     for first in (0..grouped).step_by(LANES) {
-        let mut points = [MaterialState::initial(0.0); LANES];
-        let mut inputs = [StepInput {
-            strain_increment: [0.0; 6],
-            dt,
-            relative_volume: 1.0,
-        }; LANES];
         for (lane, (point, step)) in points.iter_mut().zip(inputs.iter_mut()).enumerate() {
             let i = first + lane;
             // SAFETY: `i < grouped <= n`, covered (above).
@@ -422,9 +424,8 @@ pub(crate) fn run_batch<M: PointModel>(
             let volume = read_volume(input, i);
             *step = step_input(point, &increment, dt, volume);
         }
-        let mut results = [Err(UpdateError::NonFiniteInput); LANES];
         material.update_lanes(&mut points, &inputs, &mut results);
-        for (lane, (point, result)) in points.iter().zip(results).enumerate() {
+        for (lane, (point, result)) in points.iter().zip(&results).enumerate() {
             store(
                 first + lane,
                 result,
@@ -453,7 +454,7 @@ pub(crate) fn run_batch<M: PointModel>(
         );
         store(
             i,
-            result,
+            &result,
             &point,
             matrix.as_ref(),
             state,
@@ -488,7 +489,7 @@ fn read_volume(input: &InputViews<'_>, i: usize) -> Option<f64> {
 #[inline(always)]
 fn store(
     i: usize,
-    result: Result<StepOutput, UpdateError>,
+    result: &Result<StepOutput, UpdateError>,
     point: &MaterialState,
     matrix: Option<&Matrix6>,
     state: &mut StateViews<'_>,
@@ -519,9 +520,9 @@ fn store(
         }
         Err(error) => {
             if first_failure.is_none() {
-                *first_failure = Some((i, error));
+                *first_failure = Some((i, *error));
             }
-            StossStatus::from(error)
+            StossStatus::from(*error)
         }
     };
     if let Some(array) = &mut output.status {
