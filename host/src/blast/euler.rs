@@ -320,28 +320,32 @@ impl EulerSolver {
         let grid = self.grid;
         let width = self.padded_width();
         let time = self.time;
+        // The padded arrays are filled in place, a row per task (taken out of `self` while
+        // the rows read the cells).
+        let mut primitive = std::mem::take(&mut self.primitive);
+        let mut sound = std::mem::take(&mut self.sound);
+        let mut burn = std::mem::take(&mut self.burn);
         let this = &*self;
-        let rows: Vec<Vec<([f64; 5], f64, f64)>> = (0..grid.cells_z)
-            .into_par_iter()
-            .map(|j| {
-                (0..grid.cells_r)
-                    .map(|i| {
-                        let k = grid.index(i, j);
-                        let burn = this.burn_fraction(k, time);
-                        let (w, c) = this.primitive_of(&this.cells[k], burn);
-                        (w, c, burn)
-                    })
-                    .collect()
-            })
-            .collect();
-        for (j, row) in rows.into_iter().enumerate() {
-            for (i, (w, c, burn)) in row.into_iter().enumerate() {
-                let at = (j + GHOSTS) * width + i + GHOSTS;
-                self.primitive[at] = w;
-                self.sound[at] = c;
-                self.burn[at] = burn;
-            }
-        }
+        primitive
+            .par_chunks_mut(width)
+            .zip(sound.par_chunks_mut(width))
+            .zip(burn.par_chunks_mut(width))
+            .skip(GHOSTS)
+            .take(grid.cells_z)
+            .enumerate()
+            .for_each(|(j, ((primitive, sound), burn))| {
+                for i in 0..grid.cells_r {
+                    let k = grid.index(i, j);
+                    let fraction = this.burn_fraction(k, time);
+                    let (w, c) = this.primitive_of(&this.cells[k], fraction);
+                    primitive[i + GHOSTS] = w;
+                    sound[i + GHOSTS] = c;
+                    burn[i + GHOSTS] = fraction;
+                }
+            });
+        self.primitive = primitive;
+        self.sound = sound;
+        self.burn = burn;
         // Ghosts along r for the interior rows, then along z for every padded column.
         let nr = grid.cells_r;
         let nz = grid.cells_z;
@@ -447,8 +451,7 @@ impl EulerSolver {
                 cell_sound,
             ];
         }
-        let e = self.fluids.specific_energy(w[0], w[3], w[4]);
-        let c2 = self.fluids.sound_speed_squared(w[0], e, w[3], w[4]);
+        let (e, c2) = self.fluids.energy_and_sound_speed_squared(w[0], w[3], w[4]);
         [w[0], w[1], w[2], w[3], w[4], w[0] * e + kinetic, c2.sqrt()]
     }
 
@@ -460,12 +463,20 @@ impl EulerSolver {
         let height = grid.cells_z + 2 * GHOSTS;
         let axisymmetric = grid.geometry == Geometry::Axisymmetric;
         let half = 0.5 * dt;
+        // The faces and predicted pressures are filled in place, a row per task (taken out of
+        // `self` while the rows read the primitives).
+        let mut faces = std::mem::take(&mut self.faces);
+        let mut predicted_pressure = std::mem::take(&mut self.predicted_pressure);
         let this = &*self;
-        let rows: Vec<Vec<([Face; 4], f64)>> = (1..height - 1)
-            .into_par_iter()
-            .map(|jp| {
-                (1..width - 1)
-                    .map(|ip| {
+        faces
+            .par_chunks_mut(width)
+            .zip(predicted_pressure.par_chunks_mut(width))
+            .enumerate()
+            .skip(1)
+            .take(height - 2)
+            .for_each(|(jp, (face_row, pressure_row))| {
+                for ip in 1..width - 1 {
+                    let cell = || {
                         let at = jp * width + ip;
                         let w = this.primitive[at];
                         let c = this.sound[at];
@@ -547,17 +558,12 @@ impl EulerSolver {
                             return first_order(w);
                         }
                         (faces, predicted[3])
-                    })
-                    .collect()
-            })
-            .collect();
-        for (row, jp) in rows.into_iter().zip(1..height - 1) {
-            for (value, ip) in row.into_iter().zip(1..width - 1) {
-                let at = jp * width + ip;
-                self.faces[at] = value.0;
-                self.predicted_pressure[at] = value.1;
-            }
-        }
+                    };
+                    (face_row[ip], pressure_row[ip]) = cell();
+                }
+            });
+        self.faces = faces;
+        self.predicted_pressure = predicted_pressure;
     }
 
     /// Fluxes through every face of the interior.

@@ -48,24 +48,41 @@ impl Fluids {
         products_fraction / self.products.omega + (1.0 - products_fraction) / (self.air_gamma - 1.0)
     }
 
+    /// The products' share of the cold term and of its density derivative, `Y f(rho)/w` and
+    /// `Y f'(rho)/w` (0 without products): one JWL evaluation for every formula below.
+    fn cold_terms(&self, density: f64, products_fraction: f64) -> (f64, f64) {
+        if products_fraction > 0.0 {
+            let (f, slope) = self.cold(density);
+            (
+                products_fraction * f / self.products.omega,
+                products_fraction * slope / self.products.omega,
+            )
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
     /// Pressure of the fully burned mixture: `p = (rho e + Y f(rho)/w) / G(Y)`.
     pub fn pressure(&self, density: f64, specific_energy: f64, products_fraction: f64) -> f64 {
-        let cold = if products_fraction > 0.0 {
-            products_fraction * self.cold(density).0 / self.products.omega
-        } else {
-            0.0
-        };
+        let (cold, _) = self.cold_terms(density, products_fraction);
+        self.pressure_with(density, specific_energy, products_fraction, cold)
+    }
+
+    /// [`Fluids::pressure`] with the cold term `Y f/w` given.
+    fn pressure_with(
+        &self,
+        density: f64,
+        specific_energy: f64,
+        products_fraction: f64,
+        cold: f64,
+    ) -> f64 {
         (density * specific_energy + cold) / self.inverse_gruneisen(products_fraction)
     }
 
     /// Specific internal energy of the fully burned mixture at pressure `p`: the inverse of
     /// [`Fluids::pressure`], `e = (p G(Y) - Y f(rho)/w) / rho`.
     pub fn specific_energy(&self, density: f64, pressure: f64, products_fraction: f64) -> f64 {
-        let cold = if products_fraction > 0.0 {
-            products_fraction * self.cold(density).0 / self.products.omega
-        } else {
-            0.0
-        };
+        let (cold, _) = self.cold_terms(density, products_fraction);
         (pressure * self.inverse_gruneisen(products_fraction) - cold) / density
     }
 
@@ -78,17 +95,40 @@ impl Fluids {
         pressure: f64,
         products_fraction: f64,
     ) -> f64 {
-        let slope = if products_fraction > 0.0 {
-            products_fraction * self.cold(density).1 / self.products.omega
-        } else {
-            0.0
-        };
+        let (_, slope) = self.cold_terms(density, products_fraction);
+        self.sound_speed_squared_with(density, specific_energy, pressure, products_fraction, slope)
+    }
+
+    /// [`Fluids::sound_speed_squared`] with the slope term `Y f'/w` given.
+    fn sound_speed_squared_with(
+        &self,
+        density: f64,
+        specific_energy: f64,
+        pressure: f64,
+        products_fraction: f64,
+        slope: f64,
+    ) -> f64 {
         let c2 = (specific_energy + slope + pressure / density)
             / self.inverse_gruneisen(products_fraction);
         c2.max(MINIMUM_SOUND_SPEED_SQUARED)
     }
 
-    /// Pressure and squared sound speed of a cell at burn fraction `burn`.
+    /// [`Fluids::specific_energy`] at pressure `p` and [`Fluids::sound_speed_squared`] there,
+    /// from one JWL evaluation.
+    pub fn energy_and_sound_speed_squared(
+        &self,
+        density: f64,
+        pressure: f64,
+        products_fraction: f64,
+    ) -> (f64, f64) {
+        let (cold, slope) = self.cold_terms(density, products_fraction);
+        let e = (pressure * self.inverse_gruneisen(products_fraction) - cold) / density;
+        let c2 = self.sound_speed_squared_with(density, e, pressure, products_fraction, slope);
+        (e, c2)
+    }
+
+    /// Pressure and squared sound speed of a cell at burn fraction `burn`, from one JWL
+    /// evaluation.
     pub fn state(
         &self,
         density: f64,
@@ -96,8 +136,10 @@ impl Fluids {
         products_fraction: f64,
         burn: f64,
     ) -> (f64, f64) {
-        let p = self.pressure(density, specific_energy, products_fraction);
-        let c2 = self.sound_speed_squared(density, specific_energy, p, products_fraction);
+        let (cold, slope) = self.cold_terms(density, products_fraction);
+        let p = self.pressure_with(density, specific_energy, products_fraction, cold);
+        let c2 =
+            self.sound_speed_squared_with(density, specific_energy, p, products_fraction, slope);
         (burn * p, (burn * c2).max(MINIMUM_SOUND_SPEED_SQUARED))
     }
 }
