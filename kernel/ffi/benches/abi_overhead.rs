@@ -51,10 +51,7 @@ fn alternate() {
     let block = StossMaterialBlock::steel_4340();
     let material = block.to_material().expect("material");
     let base = plastic_state(&material);
-    let step = StepInput {
-        relative_volume: base.relative_volume * stoss_kernel::math::exp(INCREMENT),
-        ..input()
-    };
+    let step = next_step(&base);
     println!("ns per point, p10 / p50; overhead over the direct group call at p10 and p50");
     println!("points   direct one point   direct grouped   batch, volumes given     batch, volumes integrated");
     for n in [128, 1024] {
@@ -116,6 +113,14 @@ fn input() -> StepInput {
         strain_increment: [INCREMENT, 0.0, 0.0, 0.0, 0.0, 0.0],
         dt: DT,
         relative_volume: 1.0,
+    }
+}
+
+/// The step from `state` (a plastic one from [`plastic_state`]), its end volume given.
+fn next_step(state: &MaterialState) -> StepInput {
+    StepInput {
+        relative_volume: state.relative_volume * stoss_kernel::math::exp(INCREMENT),
+        ..input()
     }
 }
 
@@ -293,10 +298,7 @@ fn card(block: &StossMaterialBlock) -> Vec<f64> {
 fn direct(bencher: Bencher, n: usize) {
     let material = Material::STEEL_4340;
     let base = plastic_state(&material);
-    let step = StepInput {
-        relative_volume: base.relative_volume * stoss_kernel::math::exp(INCREMENT),
-        ..input()
-    };
+    let step = next_step(&base);
     bencher
         .counter(ItemsCount::new(n))
         .with_inputs(|| vec![base; n])
@@ -314,10 +316,7 @@ fn direct(bencher: Bencher, n: usize) {
 fn direct_grouped(bencher: Bencher, n: usize) {
     let material = Material::STEEL_4340;
     let base = plastic_state(&material);
-    let step = StepInput {
-        relative_volume: base.relative_volume * stoss_kernel::math::exp(INCREMENT),
-        ..input()
-    };
+    let step = next_step(&base);
     let inputs = vec![step; n];
     bencher
         .counter(ItemsCount::new(n))
