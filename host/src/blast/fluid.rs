@@ -83,6 +83,17 @@ impl Fluids {
     /// [`Fluids::pressure`], `e = (p G(Y) - Y f(rho)/w) / rho`.
     pub fn specific_energy(&self, density: f64, pressure: f64, products_fraction: f64) -> f64 {
         let (cold, _) = self.cold_terms(density, products_fraction);
+        self.specific_energy_with(density, pressure, products_fraction, cold)
+    }
+
+    /// [`Fluids::specific_energy`] with the cold term `Y f/w` given.
+    fn specific_energy_with(
+        &self,
+        density: f64,
+        pressure: f64,
+        products_fraction: f64,
+        cold: f64,
+    ) -> f64 {
         (pressure * self.inverse_gruneisen(products_fraction) - cold) / density
     }
 
@@ -122,7 +133,7 @@ impl Fluids {
         products_fraction: f64,
     ) -> (f64, f64) {
         let (cold, slope) = self.cold_terms(density, products_fraction);
-        let e = (pressure * self.inverse_gruneisen(products_fraction) - cold) / density;
+        let e = self.specific_energy_with(density, pressure, products_fraction, cold);
         let c2 = self.sound_speed_squared_with(density, e, pressure, products_fraction, slope);
         (e, c2)
     }

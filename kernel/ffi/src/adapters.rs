@@ -25,11 +25,9 @@
 //! logarithmic strain, so this is the host's volume to the accuracy of its integration).
 
 use stoss_kernel::tensor::{self, Sym};
-use stoss_kernel::{
-    MaterialState, StateFlags, StepInput, StepOutput, UpdateError, YieldCheck, LANES,
-};
+use stoss_kernel::{MaterialState, StateFlags, StepOutput, UpdateError, YieldCheck, LANES};
 
-use crate::batch::{failure_code, step_input, step_point, AbiModel};
+use crate::batch::{failure_code, step_input, step_point, zero_step, AbiModel};
 use crate::block::initial_bulk_modulus;
 use crate::boundary::{ArrayIn, ArrayOut};
 use crate::status::StossStatus;
@@ -407,11 +405,7 @@ pub(crate) fn run_vumat<M: AbiModel>(
         nblock - nblock % LANES
     };
     // One group's points, steps and results, every entry overwritten for each group.
-    let zero_step = StepInput {
-        strain_increment: [0.0; 6],
-        dt,
-        relative_volume: 1.0,
-    };
+    let zero_step = zero_step(dt);
     let mut points = [*initial; LANES];
     let mut inputs = [zero_step; LANES];
     let mut converted = [Ok(()); LANES];

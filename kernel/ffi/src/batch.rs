@@ -409,11 +409,7 @@ pub(crate) fn run_batch<M: PointModel>(
     let grouped = if want_tangent { 0 } else { n - n % LANES };
     // One group's points, steps and results, every entry overwritten for each group.
     let mut points = [MaterialState::initial(0.0); LANES];
-    let mut inputs = [StepInput {
-        strain_increment: [0.0; 6],
-        dt,
-        relative_volume: 1.0,
-    }; LANES];
+    let mut inputs = [zero_step(dt); LANES];
     let mut results = [Err(UpdateError::NonFiniteInput); LANES];
     for first in (0..grouped).step_by(LANES) {
         for (lane, (point, step)) in points.iter_mut().zip(inputs.iter_mut()).enumerate() {
@@ -463,6 +459,16 @@ pub(crate) fn run_batch<M: PointModel>(
         );
     }
     first_failure
+}
+
+/// A step of length `dt` with no strain: the placeholder of a group's step arrays.
+#[inline(always)]
+pub(crate) fn zero_step(dt: f64) -> StepInput {
+    StepInput {
+        strain_increment: [0.0; 6],
+        dt,
+        relative_volume: 1.0,
+    }
 }
 
 /// Point `i`'s strain increment. Requires `i` below the count the views were checked to cover

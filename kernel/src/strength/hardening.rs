@@ -62,6 +62,18 @@ pub(crate) fn power_term(modulus: f64, exponent: f64, plastic_strain: f64) -> Te
     power_term_with(modulus, exponent, plastic_strain, &mut Direct)
 }
 
+/// Announce the call [`power_term_with`] makes at `plastic_strain` (see [`Calls`]):
+/// `pow(eps, n)`, or the harmless `pow(1, n)` where the term takes no power (`eps <= 0`).
+#[inline(always)]
+pub(crate) fn announce_power_term(exponent: f64, plastic_strain: f64, calls: &mut Calls) {
+    let x = if plastic_strain > 0.0 {
+        plastic_strain
+    } else {
+        1.0
+    };
+    calls.push(Function::Pow, x, exponent);
+}
+
 /// [`power_term`] with its `pow` from `math`.
 #[inline(always)]
 pub(crate) fn power_term_with(
@@ -182,16 +194,10 @@ impl Hardening {
     /// [`Calls`]): `pow(eps, n)` of a power term, `exp(-c eps)` of each Voce term.
     #[inline(always)]
     pub fn announce(&self, plastic_strain: f64, calls: &mut Calls) {
-        let power = |calls: &mut Calls, exponent: f64| {
-            let x = if plastic_strain > 0.0 {
-                plastic_strain
-            } else {
-                1.0
-            };
-            calls.push(Function::Pow, x, exponent);
-        };
         match *self {
-            Hardening::Power { exponent, .. } => power(calls, exponent),
+            Hardening::Power { exponent, .. } => {
+                announce_power_term(exponent, plastic_strain, calls);
+            }
             Hardening::Voce2 {
                 saturation_rate_1,
                 saturation_rate_2,
@@ -206,7 +212,7 @@ impl Hardening {
                 saturation_rate_2,
                 ..
             } => {
-                power(calls, exponent);
+                announce_power_term(exponent, plastic_strain, calls);
                 calls.push(Function::Exp, -saturation_rate_1 * plastic_strain, 1.0);
                 calls.push(Function::Exp, -saturation_rate_2 * plastic_strain, 1.0);
             }

@@ -8,7 +8,7 @@
 //! [`ZerilliArmstrong::MINIMUM_RATE_RATIO`] the rate ratio is held at that floor, so the
 //! zero-rate (elastic-check) flow stress is finite and continuous.
 
-use super::hardening::power_term_with;
+use super::hardening::{announce_power_term, power_term_with};
 use super::{FlowStress, PathFlow, TermValue};
 use crate::error::{check, ParameterError};
 use crate::math::lanes::{Calls, Direct, Function, Transcendentals};
@@ -89,9 +89,9 @@ impl ZerilliArmstrong {
         let raw_ratio = plastic_strain_rate / self.reference_rate;
         let ratio = Self::floored(raw_ratio);
         let log = math.ln(ratio);
-        let value = math.exp(-self.c3 * temperature + self.c4 * temperature * log);
+        let (offset, k) = self.activation_exponent(temperature);
+        let value = math.exp(offset + k * log);
         if raw_ratio > Self::MINIMUM_RATE_RATIO {
-            let k = self.c4 * temperature;
             let slope = value * k / plastic_strain_rate;
             let curvature = slope * (k - 1.0) / plastic_strain_rate;
             TermValue {
@@ -108,6 +108,13 @@ impl ZerilliArmstrong {
         }
     }
 
+    /// The activation's exponent `-C3 T + k ln e*` as its offset `-C3 T` and slope `k = C4 T`
+    /// (the formula and its announcement form the exponent from these, bit for bit alike).
+    #[inline(always)]
+    fn activation_exponent(&self, temperature: f64) -> (f64, f64) {
+        (-self.c3 * temperature, self.c4 * temperature)
+    }
+
     /// The rate ratio `e*` as `ln` takes it: `raw_ratio`, held at
     /// [`Self::MINIMUM_RATE_RATIO`] below it.
     #[inline(always)]
@@ -119,21 +126,15 @@ impl ZerilliArmstrong {
         }
     }
 
-    /// The plastic strain as the strain term takes it: clamped at 0.
-    #[inline(always)]
-    fn clamped(plastic_strain: f64) -> f64 {
-        if plastic_strain > 0.0 {
-            plastic_strain
-        } else {
-            0.0
-        }
-    }
-
     /// The strain term and its first three derivatives: `C5 eps^n` (BCC) or `C2 eps^(1/2)`
     /// (FCC, with `sqrt`), `eps` clamped at 0.
     #[inline]
     fn hardening(&self, plastic_strain: f64, math: &mut impl Transcendentals) -> TermValue {
-        let eps = Self::clamped(plastic_strain);
+        let eps = if plastic_strain > 0.0 {
+            plastic_strain
+        } else {
+            0.0
+        };
         match self.structure {
             CrystalStructure::Bcc => power_term_with(self.c5, self.exponent, eps, math),
             CrystalStructure::Fcc => {
@@ -244,15 +245,11 @@ impl ZerilliArmstrong {
     ) {
         let ratio = Self::floored(dl * inverse_dt / self.reference_rate);
         if let Some(log) = calls.push(Function::Ln, ratio, 1.0) {
-            calls.push_exp_of_affine(log, -self.c3 * temperature, self.c4 * temperature);
+            let (offset, slope) = self.activation_exponent(temperature);
+            calls.push_exp_of_affine(log, offset, slope);
         }
         if self.structure == CrystalStructure::Bcc {
-            let eps = Self::clamped(plastic_strain + dl);
-            calls.push(
-                Function::Pow,
-                if eps > 0.0 { eps } else { 1.0 },
-                self.exponent,
-            );
+            announce_power_term(self.exponent, plastic_strain + dl, calls);
         }
     }
 
