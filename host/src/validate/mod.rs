@@ -995,14 +995,14 @@ pub const ROWS: &[Row] = &[
         "diagnoses naming the Zerilli-Armstrong BCC family (case `za-bcc`), 1 % noise, 10 seeds",
         10.0,
         ("za-bcc", 0, Count::Identified),
-        Speed::Fast,
+        Speed::Slow,
     ),
     identify(
         "identify-thermal-drop",
         "diagnoses naming a thermal drop (case `thermal-drop`), 1 % noise, 10 seeds",
         10.0,
         ("thermal-drop", 0, Count::Identified),
-        Speed::Fast,
+        Speed::Slow,
     ),
     identify(
         "identify-heating-window",
