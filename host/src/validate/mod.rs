@@ -137,9 +137,11 @@ pub enum Measure {
         strength: bool,
     },
     /// The Eulerian penetration rate over 10-30 us against Walker–Anderson's, the rod and a
-    /// semi-infinite target made perfectly plastic, the target at `target_yield` (Pa)
-    /// ([`semi_infinite::strength_ratio`]).
+    /// semi-infinite target made perfectly plastic, the rod at `velocity` (m/s), the target at
+    /// `target_yield` (Pa) ([`semi_infinite::strength_ratio`]).
     EulerStrength {
+        /// The striking velocity (m/s).
+        velocity: f64,
         /// The target's yield stress (Pa).
         target_yield: f64,
     },
@@ -486,7 +488,8 @@ const fn euler_strength(
     name: &'static str,
     figure: &'static str,
     stated: f64,
-    target_yield: f64,
+    (velocity, target_yield): (f64, f64),
+    speed: Speed,
 ) -> Row {
     Row {
         name,
@@ -496,8 +499,11 @@ const fn euler_strength(
         tolerance: 0.005,
         unit: "-",
         scale: 1.0,
-        speed: Speed::Fast,
-        measure: Measure::EulerStrength { target_yield },
+        speed,
+        measure: Measure::EulerStrength {
+            velocity,
+            target_yield,
+        },
     }
 }
 
@@ -1152,37 +1158,85 @@ pub const ROWS: &[Row] = &[
         "euler-strength-0.5",
         "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 0.5 GPa, 0.4 mm",
         0.98,
-        0.5e9,
+        (1250.0, 0.5e9),
+        Speed::Fast,
     ),
     euler_strength(
         "euler-strength-1.0",
         "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 1.0 GPa, 0.4 mm",
         1.01,
-        1.0e9,
+        (1250.0, 1.0e9),
+        Speed::Fast,
     ),
     euler_strength(
         "euler-strength-1.5",
         "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 1.5 GPa, 0.4 mm",
         1.06,
-        1.5e9,
+        (1250.0, 1.5e9),
+        Speed::Fast,
     ),
     euler_strength(
         "euler-strength-2.0",
         "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 2.0 GPa, 0.4 mm",
         1.09,
-        2.0e9,
+        (1250.0, 2.0e9),
+        Speed::Fast,
     ),
     euler_strength(
         "euler-strength-3.0",
         "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 3.0 GPa, 0.4 mm",
         0.98,
-        3.0e9,
+        (1250.0, 3.0e9),
+        Speed::Fast,
     ),
     euler_strength(
         "euler-strength-4.0",
         "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1250 m/s, perfectly plastic rod and target, target A 4.0 GPa, 0.4 mm",
         0.69,
-        4.0e9,
+        (1250.0, 4.0e9),
+        Speed::Fast,
+    ),
+    euler_strength(
+        "euler-strength-0.5-1700",
+        "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1700 m/s, perfectly plastic rod and target, target A 0.5 GPa, 0.4 mm",
+        0.99,
+        (1700.0, 0.5e9),
+        Speed::Slow,
+    ),
+    euler_strength(
+        "euler-strength-1.0-1700",
+        "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1700 m/s, perfectly plastic rod and target, target A 1.0 GPa, 0.4 mm",
+        0.99,
+        (1700.0, 1.0e9),
+        Speed::Slow,
+    ),
+    euler_strength(
+        "euler-strength-1.5-1700",
+        "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1700 m/s, perfectly plastic rod and target, target A 1.5 GPa, 0.4 mm",
+        1.0,
+        (1700.0, 1.5e9),
+        Speed::Slow,
+    ),
+    euler_strength(
+        "euler-strength-2.0-1700",
+        "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1700 m/s, perfectly plastic rod and target, target A 2.0 GPa, 0.4 mm",
+        1.02,
+        (1700.0, 2.0e9),
+        Speed::Slow,
+    ),
+    euler_strength(
+        "euler-strength-3.0-1700",
+        "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1700 m/s, perfectly plastic rod and target, target A 3.0 GPa, 0.4 mm",
+        1.05,
+        (1700.0, 3.0e9),
+        Speed::Slow,
+    ),
+    euler_strength(
+        "euler-strength-4.0-1700",
+        "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1700 m/s, perfectly plastic rod and target, target A 4.0 GPa, 0.4 mm",
+        1.05,
+        (1700.0, 4.0e9),
+        Speed::Fast,
     ),
     foi_core_mesh(
         "foi-core-mesh-0.2-0.4",
@@ -1787,9 +1841,10 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
                 ))
             }
         }
-        Measure::EulerStrength { target_yield } => {
-            semi_infinite::strength_ratio(fixtures, target_yield, threads)
-        }
+        Measure::EulerStrength {
+            velocity,
+            target_yield,
+        } => semi_infinite::strength_ratio(fixtures, velocity, target_yield, threads),
         Measure::FoiCore {
             experiment,
             core,

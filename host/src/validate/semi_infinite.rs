@@ -76,10 +76,12 @@ pub fn perfectly_plastic(
     file.material().map_err(|e| e.to_string())
 }
 
-/// The Eulerian penetration rate over 10-30 us against Walker–Anderson's, the rod perfectly
-/// plastic at its own `A` and the target at `target_yield` (Pa), on 0.4 mm cells.
+/// The Eulerian penetration rate over 10-30 us against Walker–Anderson's, the rod striking at
+/// `velocity` (m/s) and perfectly plastic at its own `A`, the target at `target_yield` (Pa), on
+/// 0.4 mm cells.
 pub fn strength_ratio(
     fixtures: &Path,
+    velocity: f64,
     target_yield: f64,
     threads: Option<usize>,
 ) -> Result<f64, String> {
@@ -91,6 +93,7 @@ pub fn strength_ratio(
         .ok_or("the rod has no yield stress A")?;
     let mut spec = shot.spec;
     spec.solver = PenetrationSolver::Euler;
+    spec.velocity = velocity;
     spec.rod = Some(Box::new(
         perfectly_plastic(shot.rod, rod_yield, None)?.into(),
     ));
