@@ -128,18 +128,11 @@ pub struct Constraints {
     #[serde(default = "yes")]
     pub monotone_rate: bool,
     /// The flow stress must not rise with temperature, from the check temperature to
-    /// [`THERMAL_CHECK_CEILING`], at the checked rates and up to [`THERMAL_CHECK_MAX_RATE`].
+    /// [`THERMAL_CHECK_CEILING`](super::objective::THERMAL_CHECK_CEILING), at the checked rates
+    /// and up to [`THERMAL_CHECK_MAX_RATE`](super::objective::THERMAL_CHECK_MAX_RATE).
     #[serde(default = "yes")]
     pub monotone_temperature: bool,
 }
-
-/// The highest temperature of the thermal-softening check (K): about what the bundled impact
-/// experiments reach (the long-rod shots' target columns, to about 1650 K).
-pub const THERMAL_CHECK_CEILING: f64 = 1700.0;
-/// The highest strain rate of the thermal-softening check (1/s): the penetration's (about
-/// 2.6e6 /s in the target columns), where a Zerilli-Armstrong candidate with
-/// `C3 < C4 ln(rate)` has a flow stress that grows exponentially with temperature.
-pub const THERMAL_CHECK_MAX_RATE: f64 = 1e6;
 
 fn default_max_flow_stress() -> f64 {
     5.0e9
