@@ -9,7 +9,8 @@ use crate::experiment::penetration::PenetrationSolver;
 use crate::experiment::PenetrationSpec;
 use crate::input::material;
 use crate::solver::SolverSettings;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use stoss_kernel::PartMaterial;
 
 /// Final depths against a varied input, and how straight they lie.
@@ -69,17 +70,47 @@ fn final_depth(
         .ok_or_else(|| "the run recorded no depth".to_string())
 }
 
+/// The unvaried shot's final depth, keyed by the fixtures folder: both lines pass through it,
+/// so `stoss validate` running both rows in one process simulates it once.
+static UNVARIED_DEPTH: Mutex<Option<(PathBuf, f64)>> = Mutex::new(None);
+
+/// [`final_depth`] of the fixture's own shot into its own target, computed once per process
+/// and fixtures folder.
+fn unvaried_depth(
+    fixtures: &Path,
+    spec: &PenetrationSpec,
+    target: &PartMaterial,
+    threads: Option<usize>,
+) -> Result<f64, String> {
+    let mut cached = UNVARIED_DEPTH
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    if let Some((folder, depth)) = cached.as_ref() {
+        if folder == fixtures {
+            return Ok(*depth);
+        }
+    }
+    let depth = final_depth(spec, target, threads)?;
+    *cached = Some((fixtures.to_path_buf(), depth));
+    Ok(depth)
+}
+
 /// The final depth at striking velocities 1244, 1250 and 1256 m/s.
 pub fn by_velocity(fixtures: &Path, threads: Option<usize>) -> Result<Line, String> {
     let (base, file) = shot(fixtures)?;
     let target = PartMaterial::J2(file.material().map_err(|e| e.to_string())?);
     let mut points = Vec::new();
     for velocity in [1244.0, 1250.0, 1256.0] {
-        let spec = PenetrationSpec {
-            velocity,
-            ..base.clone()
+        let depth = if velocity == base.velocity {
+            unvaried_depth(fixtures, &base, &target, threads)?
+        } else {
+            let spec = PenetrationSpec {
+                velocity,
+                ..base.clone()
+            };
+            final_depth(&spec, &target, threads)?
         };
-        points.push((velocity, final_depth(&spec, &target, threads)?));
+        points.push((velocity, depth));
     }
     Ok(Line::of(points))
 }
@@ -93,6 +124,11 @@ pub fn by_strength(fixtures: &Path, threads: Option<usize>) -> Result<Line, Stri
         .ok_or("the target has no yield stress A")?;
     let mut points = Vec::new();
     for factor in [0.99, 1.0, 1.01] {
+        if factor == 1.0 {
+            let target = PartMaterial::J2(file.material().map_err(|e| e.to_string())?);
+            points.push((factor, unvaried_depth(fixtures, &base, &target, threads)?));
+            continue;
+        }
         let mut varied = file.clone();
         varied
             .set_constant("strength.yield_stress", yield_stress * factor)
