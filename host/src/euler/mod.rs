@@ -132,6 +132,29 @@ pub enum EulerError {
         /// The first cycle's time step (s).
         first_time_step: f64,
     },
+    /// The run took more cycles than its budget ([`EulerSettings::cycle_budget`]).
+    #[error(
+        "Eulerian solver: {cycles} cycles reached at t = {time:.4e} s of a run to \
+         {end_time:.4e} s, over its budget of {budget} ({multiple} times the cycles at the first \
+         cycle's step of {first_time_step:.3e} s, plus {CYCLE_BUDGET_ALLOWANCE}); the step now \
+         is {time_step:.3e} s"
+    )]
+    CycleBudget {
+        /// Time (s).
+        time: f64,
+        /// The run's end time (s).
+        end_time: f64,
+        /// Cycles the run has taken.
+        cycles: u64,
+        /// Most cycles allowed.
+        budget: u64,
+        /// [`EulerSettings::cycle_budget`].
+        multiple: f64,
+        /// The first cycle's time step (s).
+        first_time_step: f64,
+        /// The last cycle's time step (s).
+        time_step: f64,
+    },
 }
 
 /// What a grid edge does to the material next to it.
@@ -175,7 +198,21 @@ pub struct EulerSettings {
     /// and it stops with a typed error instead of running on for hours (LS-DYNA's `TSMIN`
     /// of `*CONTROL_TERMINATION` is the same kind of floor).
     pub minimum_time_step_fraction: f64,
+    /// Most cycles a [`EulerSolver::run`] may take, as a multiple of the cycles the run
+    /// would take at its first cycle's step (`(end_time - start) / dt_first`, plus
+    /// [`CYCLE_BUDGET_ALLOWANCE`]; default 10). An impact's step stays near its first (the
+    /// seed's 1250 m/s shot at 0.4 mm takes 1 794 cycles, about 1.01 times the 1 779 of its
+    /// first step, set by the rod's wave speed plus its velocity), so a run that needs ten times as
+    /// many cycles has a step hovering just above the floor, and stops with
+    /// [`EulerError::CycleBudget`] after a bounded, deterministic amount of work instead of
+    /// running on: a calibration candidate whose target hardened with temperature once ran
+    /// 43 minutes where the shot takes 17 s. `f64::INFINITY` turns it off.
+    pub cycle_budget: f64,
 }
+
+/// Cycles every run may take beyond its [`EulerSettings::cycle_budget`] multiple, so that a
+/// run of a few cycles is not stopped by the rounding of its estimate.
+pub const CYCLE_BUDGET_ALLOWANCE: u64 = 100;
 
 impl Default for EulerSettings {
     fn default() -> Self {
@@ -186,6 +223,7 @@ impl Default for EulerSettings {
             threads: None,
             minimum_time_step: 1e-14,
             minimum_time_step_fraction: 1e-2,
+            cycle_budget: 10.0,
         }
     }
 }
@@ -673,8 +711,26 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                 return Ok(());
             }
             let mut next_output = interval;
+            let (start_time, start_cycles) = (self.time, self.cycles);
+            let mut budget: Option<u64> = None;
             while self.time < end_time {
-                self.step()?;
+                let time_step = self.step()?;
+                let first = self.first_time_step.unwrap_or(time_step);
+                let budget = *budget.get_or_insert_with(|| {
+                    cycle_budget(self.settings.cycle_budget, end_time - start_time, first)
+                });
+                let cycles = self.cycles - start_cycles;
+                if cycles > budget && self.time < end_time {
+                    return Err(EulerError::CycleBudget {
+                        time: self.time,
+                        end_time,
+                        cycles,
+                        budget,
+                        multiple: self.settings.cycle_budget,
+                        first_time_step: first,
+                        time_step,
+                    });
+                }
                 if self.time >= next_output || self.time >= end_time {
                     while next_output <= self.time {
                         next_output += interval;
@@ -786,6 +842,18 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             },
             time: self.time,
         }
+    }
+}
+
+/// Most cycles of a run over `duration` whose first cycle's step is `first_time_step`:
+/// `multiple` times the cycles at that step, plus [`CYCLE_BUDGET_ALLOWANCE`] (saturating:
+/// an infinite or non-finite multiple gives no limit).
+pub fn cycle_budget(multiple: f64, duration: f64, first_time_step: f64) -> u64 {
+    let estimate = multiple * (duration / first_time_step).ceil();
+    if estimate.is_finite() && estimate >= 0.0 && estimate < u64::MAX as f64 {
+        (estimate.ceil() as u64).saturating_add(CYCLE_BUDGET_ALLOWANCE)
+    } else {
+        u64::MAX
     }
 }
 
@@ -904,5 +972,140 @@ fn check_setup<P: PointModel>(
     if !(settings.hourglass_coefficient >= 0.0 && settings.hourglass_coefficient.is_finite()) {
         return setup("the hourglass coefficient must be finite and non-negative".into());
     }
+    if !(settings.cycle_budget >= 1.0) {
+        return setup(format!(
+            "the cycle budget must be at least 1 (times the cycles at the first step; is {})",
+            settings.cycle_budget
+        ));
+    }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+    use stoss_kernel::Material;
+
+    /// A perfectly plastic material with a linear EoS (as `tests/euler.rs` builds them).
+    fn plastic(density: f64, shear: f64, bulk: f64, yield_stress: f64) -> Material {
+        let text = format!(
+            "name = \"test\"\nsource = \"test\"\ndensity = {density:e}\n\
+             shear_modulus = {shear:e}\nspecific_heat = 477.0\nrate_treatment = \"implicit\"\n\
+             [strength]\nmodel = \"johnson-cook\"\nyield_stress = {yield_stress:e}\n\
+             hardening_modulus = 0.0\nhardening_exponent = 0.5\nrate_sensitivity = 0.0\n\
+             thermal_exponent = 1.0\nreference_rate = 1.0\nreference_temperature = 298.0\n\
+             melting_temperature = 1793.0\n[heating]\nkind = \"isothermal\"\n[eos]\n\
+             kind = \"linear\"\nbulk_modulus = {bulk:e}\n"
+        );
+        crate::input::material::parse(Path::new("test.toml"), &text)
+            .unwrap()
+            .1
+    }
+
+    /// A heavy block at 400 m/s onto a steel block at rest, 20 x 30 cells of 1 mm.
+    fn blocks(cycle_budget: f64) -> Result<EulerSolver<Material>, EulerError> {
+        let below = |p: [f64; 2]| p[0] < 12e-3 && (4e-3..14e-3).contains(&p[1]);
+        let above = |p: [f64; 2]| p[0] < 6e-3 && (14e-3..24e-3).contains(&p[1]);
+        let regions = [
+            Region {
+                material: 0,
+                inside: &below,
+                velocity: [0.0, 0.0],
+                temperature: 293.0,
+            },
+            Region {
+                material: 1,
+                inside: &above,
+                velocity: [0.0, -400.0],
+                temperature: 293.0,
+            },
+        ];
+        let material = |name: &str, model| EulerMaterial {
+            name: name.into(),
+            model,
+            fracture_pressure: None,
+        };
+        EulerSolver::new(
+            Grid {
+                cells_r: 20,
+                cells_z: 30,
+                spacing_r: 1e-3,
+                spacing_z: 1e-3,
+                geometry: Geometry::Axisymmetric,
+            },
+            0.0,
+            Walls {
+                outer: Wall::Slip,
+                bottom: Wall::Slip,
+                top: Wall::Slip,
+            },
+            vec![
+                material("steel", plastic(7850.0, 80e9, 160e9, 1e9)),
+                material("heavy", plastic(17600.0, 145e9, 285e9, 1.5e9)),
+            ],
+            &regions,
+            EulerSettings {
+                threads: Some(1),
+                cycle_budget,
+                ..EulerSettings::default()
+            },
+        )
+    }
+
+    #[test]
+    fn a_run_over_its_cycle_budget_stops_with_a_typed_error_after_a_fixed_count() {
+        // GOAL: a run that needs more cycles than its budget stops with `CycleBudget` at
+        // the first cycle over it (a deterministic amount of work, whatever the machine);
+        // a run within its budget is not stopped.
+        // SETUP: colliding blocks, one cycle stepped by hand; the run then believes its first
+        // step was ten times the present one (as a run whose step has fallen tenfold sees
+        // it), and runs 300 present steps' worth of time.
+        // REFERENCE: budget = multiple x ceil(duration / first step) + 100, counted from
+        // the run's start: 1 x 30 + 100 = 130 cycles, so the 131st stops it; at the
+        // default multiple (10) the budget is 400 and the run of about 300 cycles finishes.
+        let probe = |multiple: f64| {
+            let mut solver = blocks(multiple).unwrap();
+            let dt = solver.step().unwrap();
+            solver.first_time_step = Some(10.0 * dt);
+            let end = solver.time + 300.0 * dt;
+            let result = solver.run(end, end, &mut |_| std::ops::ControlFlow::Continue(()));
+            (solver, result, end)
+        };
+        let (solver, result, end) = probe(1.0);
+        match result {
+            Err(EulerError::CycleBudget {
+                cycles,
+                budget,
+                time,
+                end_time,
+                ..
+            }) => {
+                assert_eq!(budget, 130);
+                assert_eq!(cycles, 131);
+                assert_eq!(solver.cycles, 132, "the hand step and the run's 131");
+                assert!(time < end_time && end_time == end);
+            }
+            other => panic!("expected the cycle budget to stop the run, got {other:?}"),
+        }
+        let (solver, result, end) = probe(10.0);
+        result.expect("within its budget the run finishes");
+        assert!(solver.time >= end);
+        assert!(solver.cycles > 250, "{} cycles", solver.cycles);
+    }
+
+    #[test]
+    fn the_cycle_budget_saturates_and_refuses_a_multiple_below_one() {
+        // GOAL: an infinite multiple means no limit; a multiple below 1 (or NaN) is refused
+        // at set-up, naming the field.
+        assert_eq!(cycle_budget(f64::INFINITY, 1e-3, 1e-9), u64::MAX);
+        assert_eq!(
+            cycle_budget(2.0, 1e-6, 1e-8),
+            2 * 100 + CYCLE_BUDGET_ALLOWANCE
+        );
+        for multiple in [0.5, f64::NAN] {
+            let error = blocks(multiple).err().expect("refused").to_string();
+            assert!(error.contains("cycle budget"), "{error}");
+        }
+    }
 }
