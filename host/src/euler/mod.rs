@@ -972,7 +972,7 @@ fn check_setup<P: PointModel>(
     if !(settings.hourglass_coefficient >= 0.0 && settings.hourglass_coefficient.is_finite()) {
         return setup("the hourglass coefficient must be finite and non-negative".into());
     }
-    if !(settings.cycle_budget >= 1.0) {
+    if settings.cycle_budget.is_nan() || settings.cycle_budget < 1.0 {
         return setup(format!(
             "the cycle budget must be at least 1 (times the cycles at the first step; is {})",
             settings.cycle_budget
@@ -1104,7 +1104,10 @@ mod tests {
             2 * 100 + CYCLE_BUDGET_ALLOWANCE
         );
         for multiple in [0.5, f64::NAN] {
-            let error = blocks(multiple).err().expect("refused").to_string();
+            let Err(error) = blocks(multiple) else {
+                panic!("a cycle budget of {multiple} was accepted");
+            };
+            let error = error.to_string();
             assert!(error.contains("cycle budget"), "{error}");
         }
     }
