@@ -1032,9 +1032,9 @@ mod tests {
         // GOAL: a run that needs more cycles than its budget stops with `CycleBudget` at
         // the first cycle over it (a deterministic amount of work, whatever the machine);
         // a run within its budget is not stopped.
-        // SETUP: a steel block moving in a closed grid, one cycle stepped by hand; the run then believes its first
-        // step was ten times the present one (as a run whose step has fallen tenfold sees
-        // it), and runs 300 present steps' worth of time.
+        // SETUP: a steel block moving in a closed grid, one cycle stepped by hand; the run
+        // then believes its first step was ten times the present one (as a run whose step
+        // has fallen tenfold sees it), and runs 300 present steps' worth of time.
         // REFERENCE: budget = multiple x ceil(duration / first step) + 100, counted from
         // the run's start: 1 x 30 + 100 = 130 cycles, so the 131st stops it; at the
         // default multiple (10) the budget is 400 and the run of about 300 cycles finishes.
