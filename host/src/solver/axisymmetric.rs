@@ -206,8 +206,8 @@ impl Discretisation for QuadMesh {
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
-        state: &MaterialState,
-        hourglass: &HourglassStress,
+        state: &mut MaterialState,
+        hourglass: &mut HourglassStress,
         material: &P,
         reference_volume: f64,
         dt: f64,
@@ -245,8 +245,8 @@ impl Discretisation for QuadMesh {
         let d_rz = 0.5 * (grad[0][1] + grad[1][0]);
         let spin = 0.5 * (grad[0][1] - grad[1][0]);
         let volumetric_rate = grad[0][0] + grad[1][1] + hoop;
-        let mut next = *state;
-        rotate_jaumann(&mut next.stress, spin, dt);
+        let old_relative_volume = state.relative_volume;
+        rotate_jaumann(&mut state.stress, spin, dt);
         let input = StepInput {
             strain_increment: [
                 grad[0][0] * dt,
@@ -260,7 +260,7 @@ impl Discretisation for QuadMesh {
             relative_volume: new.area * new.mean_radius / reference_volume,
         };
         let output = material
-            .update(&mut next, &input)
+            .update(state, &input)
             .map_err(|error| SolverError::Update {
                 element: e,
                 part: self.parts[self.element_part[e]].name.clone(),
@@ -276,9 +276,9 @@ impl Discretisation for QuadMesh {
             volumetric_rate,
             output.wave_speed,
         );
-        let mid_volume = 0.5 * (state.relative_volume + input.relative_volume) * reference_volume;
+        let mid_volume = 0.5 * (old_relative_volume + input.relative_volume) * reference_volume;
         let viscous_work = -viscous_pressure * volumetric_rate * dt * mid_volume;
-        let s = next.stress;
+        let s = state.stress;
         let (s_rr, s_zz, s_tt, s_rz) = (
             s[0] - viscous_pressure,
             s[1] - viscous_pressure,
@@ -297,7 +297,7 @@ impl Discretisation for QuadMesh {
         let gamma: [f64; 4] = core::array::from_fn(|k| h[k] - hr * new.b_r[k] - hz * new.b_z[k]);
         let q_r: f64 = (0..4).map(|k| gamma[k] * vel[k][0]).sum();
         let q_z: f64 = (0..4).map(|k| gamma[k] * vel[k][1]).sum();
-        let hourglass = hourglass_step(
+        let (hourglass_r, hourglass_z, hourglass_power, carried) = hourglass_step(
             settings,
             density,
             output.wave_speed,
@@ -308,14 +308,12 @@ impl Discretisation for QuadMesh {
             hourglass,
             [q_r, q_z],
         );
-        let (hourglass_r, hourglass_z, hourglass_power, carried) = hourglass;
+        *hourglass = carried;
         for (k, force) in forces.iter_mut().take(4).enumerate() {
             force[0] -= hourglass_r * gamma[k];
             force[1] -= hourglass_z * gamma[k];
         }
         Ok(ElementStep {
-            state: next,
-            hourglass: carried,
             hourglass_power,
             viscous_work,
             stable_dt: settings.stable_time_step(

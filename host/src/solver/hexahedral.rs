@@ -176,8 +176,8 @@ impl Discretisation for HexMesh {
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
-        state: &MaterialState,
-        _hourglass: &HourglassStress,
+        state: &mut MaterialState,
+        _hourglass: &mut HourglassStress,
         material: &P,
         reference_volume: f64,
         dt: f64,
@@ -211,9 +211,9 @@ impl Discretisation for HexMesh {
         let d = |i: usize, j: usize| 0.5 * (grad[i][j] + grad[j][i]);
         let w = |i: usize, j: usize| 0.5 * (grad[i][j] - grad[j][i]);
         let volumetric_rate = grad[0][0] + grad[1][1] + grad[2][2];
-        let mut next = *state;
+        let old_relative_volume = state.relative_volume;
         // Jaumann: sigma += (W sigma - sigma W) dt.
-        let sigma = matrix(&next.stress);
+        let sigma = matrix(&state.stress);
         let mut rotated = sigma;
         for (i, row) in rotated.iter_mut().enumerate() {
             for (j, entry) in row.iter_mut().enumerate() {
@@ -223,7 +223,7 @@ impl Discretisation for HexMesh {
                 *entry += spin * dt;
             }
         }
-        next.stress = [
+        state.stress = [
             rotated[0][0],
             rotated[1][1],
             rotated[2][2],
@@ -244,7 +244,7 @@ impl Discretisation for HexMesh {
             relative_volume: new.volume / reference_volume,
         };
         let output = material
-            .update(&mut next, &input)
+            .update(state, &input)
             .map_err(|error| SolverError::Update {
                 element: e,
                 part: self.parts[self.element_part[e]].name.clone(),
@@ -259,9 +259,9 @@ impl Discretisation for HexMesh {
             volumetric_rate,
             output.wave_speed,
         );
-        let mid_volume = 0.5 * (state.relative_volume + input.relative_volume) * reference_volume;
+        let mid_volume = 0.5 * (old_relative_volume + input.relative_volume) * reference_volume;
         let viscous_work = -viscous_pressure * volumetric_rate * dt * mid_volume;
-        let mut stress = matrix(&next.stress);
+        let mut stress = matrix(&state.stress);
         for (i, row) in stress.iter_mut().enumerate() {
             row[i] -= viscous_pressure;
         }
@@ -292,8 +292,6 @@ impl Discretisation for HexMesh {
         }
         let characteristic = new.volume / largest_face_area(&nodes_new);
         Ok(ElementStep {
-            state: next,
-            hourglass: [0.0; 2],
             hourglass_power,
             viscous_work,
             stable_dt: settings.stable_time_step(

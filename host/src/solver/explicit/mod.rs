@@ -34,13 +34,10 @@ pub const MAX_NODES: usize = 8;
 /// form the last step's force, whose mean with the new one books the hourglass work.
 pub type HourglassStress = [f64; 2];
 
-/// Per-element result of one step.
+/// Per-element result of one step besides the state, hourglass forces and nodal forces the
+/// step writes in place.
 #[derive(Clone, Copy, Debug)]
 pub struct ElementStep {
-    /// Updated material state.
-    pub state: MaterialState,
-    /// Updated generalised hourglass forces (2D; zero in 3D).
-    pub hourglass: HourglassStress,
     /// Hourglass dissipation rate.
     pub hourglass_power: f64,
     /// Bulk-viscosity work of the step.
@@ -256,9 +253,11 @@ pub trait Discretisation: Sync {
     fn element_time_step(&self, e: usize, x: &[Vector], wave_speed: f64) -> f64;
     /// Kinematics, the kernel update, bulk viscosity, internal and hourglass forces of element
     /// `e` over a step from `x` to `x_new` with velocities `v`, with the element's own point
-    /// model and its hourglass forces of the previous step. The nodal forces, in the model's
-    /// integration measure, are written into the first [`Self::NODES`] entries of `forces`
-    /// (in place: the element's slot, not a copy).
+    /// model. The element's `state` and its generalised `hourglass` forces (2D; untouched in
+    /// 3D) are advanced in place, and the nodal forces, in the model's integration measure, are
+    /// written into the first [`Self::NODES`] entries of `forces`: the element's own slots, so
+    /// that no state is copied. On an error the run ends, and `state` may hold the stress
+    /// rotated for the step.
     #[allow(clippy::too_many_arguments)]
     fn element_step<P: PointModel>(
         &self,
@@ -266,8 +265,8 @@ pub trait Discretisation: Sync {
         x: &[Vector],
         x_new: &[Vector],
         v: &[Vector],
-        state: &MaterialState,
-        hourglass: &HourglassStress,
+        state: &mut MaterialState,
+        hourglass: &mut HourglassStress,
         material: &P,
         reference_volume: f64,
         dt: f64,

@@ -645,13 +645,13 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
                     continue;
                 }
                 let material = &model.materials[material_of[e]];
-                let mut step = match mesh.element_step(
+                let step = match mesh.element_step(
                     e,
                     x,
                     x_new,
                     v,
                     state,
-                    &slot.hourglass,
+                    &mut slot.hourglass,
                     material,
                     reference_volume[e],
                     dt,
@@ -668,16 +668,14 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
                 if let Some(window) = &stretch_windows[material_of[e]] {
                     if !mesh.element_stretches_within(e, reference, x_new, window) {
                         if let Some(strains) = mesh.element_principal_strains(e, reference, x_new) {
-                            step.state.flags.insert(material.kinematic_flags(strains).0);
+                            state.flags.insert(material.kinematic_flags(strains).0);
                         }
                     }
                 }
                 summary.cycles += 1;
                 slot.hourglass_energy += step.hourglass_power * dt;
                 slot.viscous_energy += step.viscous_work;
-                *state = step.state;
-                slot.hourglass = step.hourglass;
-                if step.state.flags.contains(StateFlags::ERODE) {
+                if state.flags.contains(StateFlags::ERODE) {
                     summary.eroding = true;
                     continue;
                 }
