@@ -20,7 +20,7 @@ use super::CavityDrive;
 use super::{EulerError, EulerSolver, Wall, MAX_MATERIALS, MAX_PHASES};
 use crate::solver::axisymmetric::rotate_jaumann;
 use rayon::prelude::*;
-use stoss_kernel::{MaterialState, PointModel, StepInput};
+use stoss_kernel::{PointModel, StepInput};
 
 /// The volumes swept by the faces in one step (per radian or unit depth), positive along
 /// `+r` or `+z`.
@@ -384,11 +384,12 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
                 let model = &materials[k].model;
                 let new_volume = volumes[k] + shares[k];
                 let relative_volume = model.density() * new_volume / masses[k];
-                let mut next: MaterialState = states[k];
-                rotate_jaumann(&mut next.stress, rate.spin, dt);
+                // Advanced in place (no copy); on an error the run ends.
+                let state = &mut states[k];
+                rotate_jaumann(&mut state.stress, rate.spin, dt);
                 let output = model
                     .update(
-                        &mut next,
+                        state,
                         &StepInput {
                             strain_increment: increment,
                             dt,
@@ -407,7 +408,6 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
                             error,
                         })
                     })?;
-                states[k] = next;
                 waves[k] = output.wave_speed;
                 volumes[k] = new_volume;
                 material_change += shares[k];
