@@ -100,6 +100,23 @@ impl Charge {
         }
     }
 
+    /// The charge's smallest dimension (m): its diameter or its height.
+    pub fn smallest_dimension(&self) -> f64 {
+        let (radius, height) = self.dimensions();
+        (2.0 * radius).min(height)
+    }
+
+    /// The largest grid cell (m) that puts [`MINIMUM_CELLS_ACROSS_CHARGE`] cells across the
+    /// charge's smallest dimension, as the grid check computes it (rounded down until it does).
+    pub fn largest_cell_size(&self) -> f64 {
+        let smallest = self.smallest_dimension();
+        let mut cell = smallest / MINIMUM_CELLS_ACROSS_CHARGE;
+        while cell > 0.0 && smallest / cell < MINIMUM_CELLS_ACROSS_CHARGE {
+            cell = cell.next_down();
+        }
+        cell
+    }
+
     /// Whether the point `(r, z)` (plate at `z = 0`) is inside the charge.
     fn contains(&self, r: f64, z: f64) -> bool {
         let (radius, height) = self.dimensions();
@@ -342,7 +359,7 @@ impl NearFieldBlast {
                 ),
             ));
         }
-        let smallest = (2.0 * radius).min(height);
+        let smallest = c.smallest_dimension();
         let across = smallest / e.cell_size;
         if across < MINIMUM_CELLS_ACROSS_CHARGE {
             return Err(invalid(

@@ -245,7 +245,9 @@ impl Setup {
     /// elements across a length divided by it, rounded, at least one), and what changed in
     /// words: 2 is the coarse fidelity of a multi-fidelity calibration, 0.5 the refinement of
     /// the diagnosis. The blast plate's layers through the thickness scale (its in-plane
-    /// elements follow them through `aspect_ratio`); its Euler load grid does not. An error
+    /// elements follow them through `aspect_ratio`), and so do its Euler load grid's cells,
+    /// up to the largest cell that keeps the grid check's cells across the charge and never
+    /// below the file's cell (a refinement leaves the grid as it is). An error
     /// for the single-element drivers, which have no mesh; the result is not validated (the
     /// caller checks it with the kind's own rules).
     pub fn with_element_scale(&self, factor: f64) -> Result<(String, Setup), String> {
@@ -309,11 +311,19 @@ impl Setup {
                 )
             }
             Setup::BlastPlate(s) => {
+                // The plate's layers and the load grid's cells both coarsen by the factor; the
+                // grid no further than the charge allows (the blast set-up's own check), and
+                // never finer than the file's.
                 let before = s.layers;
                 s.layers = count(before);
+                let cell = s.euler.cell_size;
+                s.euler.cell_size = (cell * factor).min(s.charge.largest_cell_size()).max(cell);
                 format!(
-                    "{} elements through the thickness instead of {before}",
-                    s.layers
+                    "{} elements through the thickness instead of {before}, load cells of {:.3} \
+                     mm instead of {:.3}",
+                    s.layers,
+                    s.euler.cell_size * 1e3,
+                    cell * 1e3
                 )
             }
         };
@@ -1022,6 +1032,56 @@ mod tests {
         let (halving, message) = refusal.expect("a five-fold refinement is refused");
         assert!(halving > 1, "{message}");
         assert!(message.contains("elements"), "{message}");
+    }
+
+    #[test]
+    fn a_coarse_blast_plate_coarsens_its_load_grid_as_far_as_the_charge_allows() {
+        // GOAL: the coarse fidelity of a blast plate coarsens the Euler load grid with the
+        //       plate, without ever producing a grid the blast set-up's own check refuses.
+        // SETUP: seed 000's two plates (1 mm cells; discs 50 mm across, 11.93 and 18.29 mm
+        //        tall), coarse factors 1.1, 1.5 and 2 (4 leaves the plate 2 layers, which its
+        //        own check refuses), and the refinement (0.5).
+        // REFERENCE: cell = min(factor x 1 mm, smallest dimension / 10), never below 1 mm;
+        //            every coarse set-up passes `validate`; the refinement keeps 1 mm.
+        for (file, height) in [
+            ("blast-hha-37g-13mm.toml", 11.929e-3),
+            ("blast-hha-57g-25mm.toml", 18.291e-3),
+        ] {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../fixtures/experiments")
+                .join(file);
+            let experiment = Experiment::load(&path).unwrap();
+            let check = |field: &str, ok: bool, message: &str| {
+                if ok {
+                    Ok(())
+                } else {
+                    Err(InputError::Field {
+                        path: path.clone(),
+                        line: None,
+                        field: field.into(),
+                        message: message.into(),
+                    })
+                }
+            };
+            let cell = |setup: &Setup| match setup {
+                Setup::BlastPlate(spec) => spec.euler.cell_size,
+                _ => unreachable!(),
+            };
+            assert_eq!(cell(&experiment.file.setup), 1.0e-3);
+            for factor in [1.1, 1.5, 2.0] {
+                let (change, coarse) = experiment.file.setup.with_element_scale(factor).unwrap();
+                let expected = (factor * 1.0e-3).min(height / 10.0);
+                assert!(
+                    (cell(&coarse) - expected).abs() < 1e-3 * expected,
+                    "{file} x{factor}: {} against {expected} ({change})",
+                    cell(&coarse)
+                );
+                assert!(change.contains("load cells"), "{change}");
+                coarse.validate(&check).unwrap();
+            }
+            let (_, refined) = experiment.file.setup.with_element_scale(0.5).unwrap();
+            assert_eq!(cell(&refined), 1.0e-3);
+        }
     }
 
     #[test]
