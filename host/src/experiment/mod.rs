@@ -997,6 +997,25 @@ mod tests {
     use std::error::Error as _;
     use stoss_kernel::ParameterError;
 
+    /// A set-up check that reports a failed rule as a field error of the file at `path`.
+    fn field_check(
+        path: &std::path::Path,
+        field: &str,
+        ok: bool,
+        message: &str,
+    ) -> Result<(), InputError> {
+        if ok {
+            Ok(())
+        } else {
+            Err(InputError::Field {
+                path: path.to_path_buf(),
+                line: None,
+                field: field.into(),
+                message: message.into(),
+            })
+        }
+    }
+
     #[test]
     fn a_refined_set_up_passes_the_same_size_checks_as_a_loaded_file() {
         // GOAL: the diagnosis' refined variants (`Setup::refined`) cannot become a runaway:
@@ -1007,18 +1026,7 @@ mod tests {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../fixtures/experiments/penetration-hzb-1250.toml");
         let experiment = Experiment::load(&path).unwrap();
-        let check = |field: &str, ok: bool, message: &str| {
-            if ok {
-                Ok(())
-            } else {
-                Err(InputError::Field {
-                    path: path.clone(),
-                    line: None,
-                    field: field.into(),
-                    message: message.into(),
-                })
-            }
-        };
+        let check = |field: &str, ok: bool, message: &str| field_check(&path, field, ok, message);
         let mut setup = experiment.file.setup.clone();
         let mut refusal = None;
         for halving in 1..=5 {
@@ -1051,18 +1059,8 @@ mod tests {
                 .join("../fixtures/experiments")
                 .join(file);
             let experiment = Experiment::load(&path).unwrap();
-            let check = |field: &str, ok: bool, message: &str| {
-                if ok {
-                    Ok(())
-                } else {
-                    Err(InputError::Field {
-                        path: path.clone(),
-                        line: None,
-                        field: field.into(),
-                        message: message.into(),
-                    })
-                }
-            };
+            let check =
+                |field: &str, ok: bool, message: &str| field_check(&path, field, ok, message);
             let cell = |setup: &Setup| match setup {
                 Setup::BlastPlate(spec) => spec.euler.cell_size,
                 _ => unreachable!(),
