@@ -7,7 +7,7 @@
 use std::ops::ControlFlow;
 use stoss::mesh::HexMesh;
 use stoss::solver::{
-    Amplitude, ExplicitModel, NodalDamping, SolverSettings, Truss, TrussMaterial,
+    Amplitude, DampingStart, ExplicitModel, NodalDamping, SolverSettings, Truss, TrussMaterial,
     VelocityConstraint,
 };
 use stoss_kernel::kc::KcMaterial;
@@ -192,7 +192,7 @@ fn the_concrete_beam_sags_under_its_own_weight_as_beam_theory_says() {
         damping: Some(NodalDamping {
             start_time: 0.0,
             coefficient: 2.0 * euler_bernoulli_frequency(young),
-            start_when_plastic_settled: None,
+            start: DampingStart::Fixed,
         }),
         threads: Some(2),
         ..SolverSettings::default()

@@ -262,6 +262,7 @@ mod plate_support {
             coupling: Coupling::OneWay,
             impulse_scale: 1.0,
             damping_start: 2.0e-4,
+            damping_after_yielding: false,
             damping_coefficient: None,
             end_time: Some(1.5e-3),
             steady_tolerance: Some(1.0e-5),
@@ -428,6 +429,50 @@ mod plate {
             profiles.push(result.profile);
         }
         assert_eq!(profiles[0], profiles[1]);
+        let _ = std::fs::remove_dir_all(&folder);
+    }
+
+    /// GOAL: a damping start that waits for the plate to stop yielding starts only once it has,
+    /// and the run's measure of yielding under damping tells it from a fixed early start.
+    /// SETUP: `small_plate` (flat-plate period about 0.5 ms), to its default latest end; the
+    /// damping at 0.2 ms (while the plate still yields in its rebound) and, second, with
+    /// `damping_after_yielding`.
+    /// REFERENCE: a plate that has shaken down does not yield at all, so after a start that
+    /// waited the summed plastic strain grows by no more than the report's warning level
+    /// (`YIELDING_UNDER_DAMPING`); the early start's growth is above it.
+    #[test]
+    fn damping_after_yielding_waits_for_the_plate_to_stop_yielding() {
+        use stoss::experiment::blast_plate::YIELDING_UNDER_DAMPING;
+        use stoss::experiment::BlastPlateSpec;
+        let folder = scratch("after-yielding");
+        let fixed = BlastPlateSpec {
+            end_time: None,
+            ..small_plate(&folder)
+        };
+        let waiting = BlastPlateSpec {
+            damping_after_yielding: true,
+            ..fixed.clone()
+        };
+        let material = steel();
+        let settings = SolverSettings::default();
+        let (early, _, _) = fixed.run(&material, &settings).unwrap();
+        let (late, _, _) = waiting.run(&material, &settings).unwrap();
+        for (name, result) in [("fixed", &early), ("after yielding", &late)] {
+            println!(
+                "{name}: damping from {:.3} ms, plastic growth after it {:.2e}, peak {:.4} mm, \
+                 settled at {:.3} ms (steady {})",
+                result.damping_from * 1e3,
+                result.plastic_after_damping,
+                result.peak() * 1e3,
+                result.settled_at * 1e3,
+                result.steady
+            );
+            assert!(result.steady, "{name}");
+        }
+        assert!((early.damping_from - fixed.damping_start).abs() < 1.0e-5);
+        assert!(early.plastic_after_damping > YIELDING_UNDER_DAMPING);
+        assert!(late.damping_from > fixed.damping_start + fixed.steady_window(&material));
+        assert!(late.plastic_after_damping <= YIELDING_UNDER_DAMPING);
         let _ = std::fs::remove_dir_all(&folder);
     }
 

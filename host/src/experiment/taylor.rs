@@ -23,8 +23,9 @@ use crate::input::InputError;
 use crate::measure::interpolate;
 use crate::mesh::{Grading, HexMesh, QuadMesh};
 use crate::solver::{
-    Amplitude, AxisymmetricModel, AxisymmetricRun, ExplicitRun, HexModel, NodalDamping,
-    PlasticSettle, RigidWall, Snapshot, SolverError, SolverSettings, VelocityConstraint,
+    Amplitude, AxisymmetricModel, AxisymmetricRun, DampingStart, ExplicitRun, HexModel,
+    NodalDamping, PlasticSettle, RigidWall, Snapshot, SolverError, SolverSettings,
+    VelocityConstraint,
 };
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
@@ -238,10 +239,13 @@ impl TaylorSpec {
         NodalDamping {
             start_time: self.damping_start(),
             coefficient: 2.0 / transit(self.length),
-            start_when_plastic_settled: self.end_time.is_none().then(|| PlasticSettle {
-                window: SETTLE_WINDOW_TRANSITS * transit(self.length),
-                fraction: PLASTIC_SETTLE,
-            }),
+            start: match self.end_time {
+                None => DampingStart::SettledOrAt(PlasticSettle {
+                    window: SETTLE_WINDOW_TRANSITS * transit(self.length),
+                    fraction: PLASTIC_SETTLE,
+                }),
+                Some(_) => DampingStart::Fixed,
+            },
         }
     }
 

@@ -70,17 +70,47 @@ pub struct RigidWall {
 }
 
 /// Mass-proportional nodal damping, used to bring a structure to rest and read its final
-/// shape (LS-DYNA *DAMPING_GLOBAL): `v <- v (1 - coefficient dt)` from `start_time` on, or
-/// from the first output at which the plastic event is over if `start_when_plastic_settled`
-/// says how to tell.
+/// shape (LS-DYNA *DAMPING_GLOBAL): `v <- v (1 - coefficient dt)` from the start that
+/// [`DampingStart`] gives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NodalDamping {
-    /// Time at which damping starts at the latest (s).
+    /// The start time the rule refers to (s).
     pub start_time: f64,
     /// Damping coefficient (1/s).
     pub coefficient: f64,
-    /// Start earlier, once the plastic deformation has ended.
-    pub start_when_plastic_settled: Option<PlasticSettle>,
+    /// How the end of the plastic event moves the start.
+    pub start: DampingStart,
+}
+
+/// When nodal damping starts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DampingStart {
+    /// At `start_time`.
+    Fixed,
+    /// At the first output at which the plastic event is over, or at `start_time` if that
+    /// comes first (the Taylor test: a late fixed start only costs cycles).
+    SettledOrAt(PlasticSettle),
+    /// At the first output at or after `start_time` at which the plastic event is over, and
+    /// at `latest` whatever the plastic strain does (the blast plate: damping that acts
+    /// while the structure still yields changes the permanent deformation it reads).
+    SettledAfter {
+        /// When the plastic event is over.
+        settle: PlasticSettle,
+        /// Start at this time even if it is not (s).
+        latest: f64,
+    },
+}
+
+impl DampingStart {
+    /// The plastic-event criterion, if the start waits for or follows it.
+    pub fn settle(&self) -> Option<PlasticSettle> {
+        match *self {
+            DampingStart::Fixed => None,
+            DampingStart::SettledOrAt(settle) | DampingStart::SettledAfter { settle, .. } => {
+                Some(settle)
+            }
+        }
+    }
 }
 
 /// The plastic event is over at the first output at which the equivalent plastic strain summed

@@ -30,8 +30,8 @@ pub use explicit::HourglassStress;
 pub use explicit::{Discretisation, ExplicitModel, ExplicitRun, Snapshot};
 pub use hexahedral::{HexModel, HexRun};
 pub use loads::{
-    shared, Amplitude, NodalDamping, PlasticSettle, PressureHistory, PressureLoad, RigidWall,
-    SharedPressure, VelocityConstraint,
+    shared, Amplitude, DampingStart, NodalDamping, PlasticSettle, PressureHistory, PressureLoad,
+    RigidWall, SharedPressure, VelocityConstraint,
 };
 pub use moving_wall::{WallMotion, WallState};
 pub use nonlocal::NonlocalAveraging;

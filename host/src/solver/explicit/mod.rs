@@ -416,6 +416,9 @@ pub struct Snapshot<'a> {
     pub energy: &'a EnergyBalance,
     /// Each wall's state, in the order of the model's `walls` (default for a fixed wall).
     pub walls: &'a [WallState],
+    /// Time from which nodal damping applies (s); infinite without damping or while its start
+    /// waits for the end of the plastic event.
+    pub damping_from: f64,
 }
 
 impl<M: Discretisation, P: PointModel + Sync> ExplicitModel<M, P> {

@@ -14,7 +14,7 @@ use crate::solver::energy::EnergyBalance;
 use crate::solver::moving_wall::{self, WallState};
 use crate::solver::nonlocal::NonlocalField;
 use crate::solver::truss::Trusses;
-use crate::solver::{HourglassControl, SolverError};
+use crate::solver::{DampingStart, HourglassControl, SolverError};
 use rayon::prelude::*;
 use std::ops::ControlFlow;
 use stoss_kernel::{MaterialState, PointModel, StateFlags, StepInput};
@@ -118,8 +118,8 @@ pub(super) struct Run<'m, M, P> {
     next_output: f64,
     steps: usize,
     element_cycles: u64,
-    /// Time from which nodal damping applies: its `start_time`, or earlier once the plastic
-    /// event is over ([`super::super::PlasticSettle`]); infinite without damping.
+    /// Time from which nodal damping applies ([`super::super::DampingStart`]): its
+    /// `start_time`, or the end of the plastic event; infinite without damping or until then.
     damping_from: f64,
     /// `(time, summed plastic strain)` at each output while an early damping start is watched.
     plastic_history: Vec<(f64, f64)>,
@@ -253,7 +253,10 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
             next_output: settings.output_interval,
             steps: 0,
             element_cycles: 0,
-            damping_from: settings.damping.map_or(f64::INFINITY, |d| d.start_time),
+            damping_from: settings.damping.map_or(f64::INFINITY, |d| match d.start {
+                DampingStart::Fixed | DampingStart::SettledOrAt(_) => d.start_time,
+                DampingStart::SettledAfter { latest, .. } => latest,
+            }),
             plastic_history: Vec::new(),
             model,
         })
@@ -842,6 +845,7 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
             eroded: &self.eroded,
             energy: &self.energy,
             walls: &self.wall_states,
+            damping_from: self.damping_from,
         });
         if decision.is_break() {
             return ControlFlow::Break(());
@@ -858,15 +862,14 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
         ControlFlow::Continue(())
     }
 
-    /// An early damping start: once the plastic event is over (summed plastic strain positive
-    /// and grown by at most the settle fraction over its window), damping applies from `time`.
+    /// A damping start set by the plastic event ([`super::super::DampingStart`]): once it is
+    /// over (summed plastic strain positive and grown by at most the settle fraction over its
+    /// window), damping applies from `time`, if the rule allows a start then.
     fn watch_plastic_event(&mut self, time: f64) {
-        let Some(settle) = self
-            .model
-            .settings
-            .damping
-            .and_then(|d| d.start_when_plastic_settled)
-        else {
+        let Some(damping) = self.model.settings.damping else {
+            return;
+        };
+        let Some(settle) = damping.start.settle() else {
             return;
         };
         if time >= self.damping_from {
@@ -882,6 +885,9 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
         self.plastic_history.push((time, plastic));
         let start = time - settle.window;
         if start <= 0.0 || plastic <= 0.0 {
+            return;
+        }
+        if matches!(damping.start, DampingStart::SettledAfter { .. }) && time < damping.start_time {
             return;
         }
         let earlier = self
