@@ -339,6 +339,8 @@ pub struct BlastPlateResult {
     pub steady: bool,
     /// Time from which the nodal damping acted (s; infinite if it never started).
     pub damping_from: f64,
+    /// The latest time at which it could start (s).
+    pub latest_damping_start: f64,
     /// Growth of the plate's summed plastic strain after the damping started, over its final
     /// value: above zero, the damping acted on a plate that still yielded, and the permanent
     /// deflection depends on when it started.
@@ -777,6 +779,9 @@ impl BlastPlateSpec {
                 settled_at,
                 steady,
                 damping_from,
+                latest_damping_start: self
+                    .latest_damping_start(Self::plate_speed(material))
+                    .min(self.latest_end(material)),
                 plastic_after_damping,
                 load_time,
                 deflection_at_load_time,
@@ -850,10 +855,10 @@ impl BlastPlateSpec {
         }
         let start = if !self.damping_after_yielding {
             "at damping_start"
-        } else if result.damping_from > self.damping_start {
-            "once the plate had stopped yielding, or at the latest start"
+        } else if result.damping_from >= result.latest_damping_start {
+            "at the latest start: the plate had not stopped yielding by then"
         } else {
-            "at damping_start, the plate no longer yielding"
+            "once the plate had stopped yielding"
         };
         let mut line = format!(
             "nodal damping from {:.3} ms ({start}); the plate's summed plastic strain grew by {:.4} % of its final value after that\n",
