@@ -489,6 +489,32 @@ const fn blast_load(
     }
 }
 
+/// A row of a blast plate's peak permanent deflection (mm), two-way, synthetic HHA, with the
+/// set-up changed by `adjust`.
+const fn blast_peak(
+    name: &'static str,
+    figure: &'static str,
+    quoted_in: &'static str,
+    stated: f64,
+    (experiment, adjust): (&'static str, fn(&mut Setup)),
+) -> Row {
+    Row {
+        name,
+        figure,
+        quoted_in,
+        stated,
+        tolerance: 0.01,
+        unit: "mm",
+        scale: 1e3,
+        speed: Speed::Slow,
+        measure: Measure::Summary {
+            experiment,
+            key: "peak_deflection",
+            adjust: Some(adjust),
+        },
+    }
+}
+
 /// A row of the Eulerian strength sweep (docs/euler.md): the rate over Walker–Anderson's
 /// against a perfectly plastic target at `target_yield` (Pa).
 const fn euler_strength(
@@ -931,66 +957,34 @@ pub const ROWS: &[Row] = &[
             position: 460.0,
         },
     },
-    Row {
-        name: "blast-37g",
-        figure: "peak deflection, 37.5 g PE4 at 13 mm, two-way, synthetic HHA, square elements",
-        quoted_in: "docs/solver.md, Blast load, Results on seed 000's two shots",
-        stated: 27.47,
-        tolerance: 0.01,
-        unit: "mm",
-        scale: 1e3,
-        speed: Speed::Slow,
-        measure: Measure::Summary {
-            experiment: "experiments/blast-hha-37g-13mm.toml",
-            key: "peak_deflection",
-            adjust: Some(square_plate_elements),
-        },
-    },
-    Row {
-        name: "blast-57g",
-        figure: "peak deflection, 57.5 g PE4 at 25 mm, two-way, synthetic HHA, square elements",
-        quoted_in: "docs/solver.md, Blast load, Results on seed 000's two shots",
-        stated: 30.53,
-        tolerance: 0.01,
-        unit: "mm",
-        scale: 1e3,
-        speed: Speed::Slow,
-        measure: Measure::Summary {
-            experiment: "experiments/blast-hha-57g-25mm.toml",
-            key: "peak_deflection",
-            adjust: Some(square_plate_elements),
-        },
-    },
-    Row {
-        name: "blast-37g-after-yielding",
-        figure: "peak deflection, 37.5 g PE4 at 13 mm, two-way, synthetic HHA, damping once the plate has stopped yielding",
-        quoted_in: "docs/solver.md, Blast load, When the damping starts",
-        stated: 25.736,
-        tolerance: 0.01,
-        unit: "mm",
-        scale: 1e3,
-        speed: Speed::Slow,
-        measure: Measure::Summary {
-            experiment: "experiments/blast-hha-37g-13mm.toml",
-            key: "peak_deflection",
-            adjust: Some(damping_after_yielding),
-        },
-    },
-    Row {
-        name: "blast-57g-after-yielding",
-        figure: "peak deflection, 57.5 g PE4 at 25 mm, two-way, synthetic HHA, damping once the plate has stopped yielding",
-        quoted_in: "docs/solver.md, Blast load, When the damping starts",
-        stated: 29.329,
-        tolerance: 0.01,
-        unit: "mm",
-        scale: 1e3,
-        speed: Speed::Slow,
-        measure: Measure::Summary {
-            experiment: "experiments/blast-hha-57g-25mm.toml",
-            key: "peak_deflection",
-            adjust: Some(damping_after_yielding),
-        },
-    },
+    blast_peak(
+        "blast-37g",
+        "peak deflection, 37.5 g PE4 at 13 mm, two-way, synthetic HHA, square elements",
+        "docs/solver.md, Blast load, Results on seed 000's two shots",
+        27.47,
+        ("experiments/blast-hha-37g-13mm.toml", square_plate_elements),
+    ),
+    blast_peak(
+        "blast-57g",
+        "peak deflection, 57.5 g PE4 at 25 mm, two-way, synthetic HHA, square elements",
+        "docs/solver.md, Blast load, Results on seed 000's two shots",
+        30.53,
+        ("experiments/blast-hha-57g-25mm.toml", square_plate_elements),
+    ),
+    blast_peak(
+        "blast-37g-after-yielding",
+        "peak deflection, 37.5 g PE4 at 13 mm, two-way, synthetic HHA, damping once the plate has stopped yielding",
+        "docs/solver.md, Blast load, When the damping starts",
+        25.736,
+        ("experiments/blast-hha-37g-13mm.toml", damping_after_yielding),
+    ),
+    blast_peak(
+        "blast-57g-after-yielding",
+        "peak deflection, 57.5 g PE4 at 25 mm, two-way, synthetic HHA, damping once the plate has stopped yielding",
+        "docs/solver.md, Blast load, When the damping starts",
+        29.329,
+        ("experiments/blast-hha-57g-25mm.toml", damping_after_yielding),
+    ),
     identify(
         "identify-control",
         "false alarms of the diagnosis on the control case, 1 % noise, 10 seeds",
