@@ -505,6 +505,13 @@ impl BlastPlateSpec {
         self.latest_damping_start(plate_speed) + CAP_PERIODS * self.fundamental_period(plate_speed)
     }
 
+    /// The latest damping start of a run with `material`: [`Self::latest_damping_start`], and
+    /// no later than the run's latest end.
+    fn damping_deadline(&self, material: &Material) -> f64 {
+        self.latest_damping_start(Self::plate_speed(material))
+            .min(self.latest_end(material))
+    }
+
     /// The latest damping start at plate wave speed `plate_speed` (m/s): `damping_start`, or
     /// with `damping_after_yielding` [`CAP_PERIODS`] fundamental periods after it.
     fn latest_damping_start(&self, plate_speed: f64) -> f64 {
@@ -538,10 +545,15 @@ impl BlastPlateSpec {
             return Ok(());
         }
         Err(SolverError::Model(format!(
-            "the blast plate would run to {end:.3e} s (damping_start + {CAP_PERIODS} periods of \
-             its fundamental mode at this material's plate wave speed, {:.0} m/s): {:.0} steps \
+            "the blast plate would run to {end:.3e} s (damping_start + {:.0} periods of its \
+             fundamental mode at this material's plate wave speed, {:.0} m/s): {:.0} steps \
              of {elements:.0} elements, beyond the run budget; set `end_time`, check the units \
              of `exposed_radius` and `thickness`, or pass --force to run it anyway",
+            if self.damping_after_yielding {
+                2.0 * CAP_PERIODS
+            } else {
+                CAP_PERIODS
+            },
             Self::plate_speed(material),
             end / step
         )))
@@ -634,9 +646,7 @@ impl BlastPlateSpec {
                                 window: self.steady_window(material),
                                 fraction: SHAKEDOWN_FRACTION,
                             },
-                            latest: self
-                                .latest_damping_start(Self::plate_speed(material))
-                                .min(self.latest_end(material)),
+                            latest: self.damping_deadline(material),
                         }
                     } else {
                         DampingStart::Fixed
@@ -698,8 +708,10 @@ impl BlastPlateSpec {
         let centre = rear.first().copied().unwrap_or(0);
         let z0 = -self.thickness;
         let window = self.steady_window(material);
-        // The summed plastic strain at each observation, and at the damping's start.
-        let mut plastic_now = 0.0;
+        // The summed plastic strain at the damping's start.
+        let plastic_sum = |states: &[stoss_kernel::MaterialState]| -> f64 {
+            states.iter().map(|s| s.plastic_strain).sum()
+        };
         let mut plastic_at_damping: Option<f64> = None;
         let mut damping_from = f64::INFINITY;
         let mut deflections: Vec<(f64, f64)> = Vec::new();
@@ -716,13 +728,8 @@ impl BlastPlateSpec {
             }
             let deflection = z0 - snapshot.positions[centre][1];
             deflections.push((snapshot.time, deflection));
-            plastic_now = snapshot
-                .states
-                .iter()
-                .map(|s| s.plastic_strain)
-                .sum::<f64>();
             if snapshot.time >= snapshot.damping_from && plastic_at_damping.is_none() {
-                plastic_at_damping = Some(plastic_now);
+                plastic_at_damping = Some(plastic_sum(snapshot.states));
                 damping_from = snapshot.damping_from;
             }
             let damping_start = snapshot.damping_from;
@@ -771,6 +778,7 @@ impl BlastPlateSpec {
             .collect();
         profile.sort_by(|a, b| a.0.total_cmp(&b.0));
         let settled_at = run.energy().time;
+        let plastic_now = plastic_sum(&run.states);
         let plastic_after_damping = match plastic_at_damping {
             Some(at_start) if plastic_now > 0.0 => (plastic_now - at_start) / plastic_now,
             _ => 0.0,
@@ -781,9 +789,7 @@ impl BlastPlateSpec {
                 settled_at,
                 steady,
                 damping_from,
-                latest_damping_start: self
-                    .latest_damping_start(Self::plate_speed(material))
-                    .min(self.latest_end(material)),
+                latest_damping_start: self.damping_deadline(material),
                 plastic_after_damping,
                 load_time,
                 deflection_at_load_time,
