@@ -121,6 +121,9 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             .with_max_len(super::CELLS_PER_TASK)
             .map(|c| {
                 let (i, j) = (c % cells_r, c / cells_r);
+                if !super::in_work(&self.active_end, i, j) {
+                    return ([[0.0; 2]; 4], 0.0);
+                }
                 let volume = self.cell_volume(i);
                 let mut stress = [0.0; 4];
                 let mut mass = 0.0;
@@ -322,6 +325,7 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
     let materials = &s.materials;
     let settings = &s.settings;
     let origin_z = s.origin_z;
+    let active_end = &s.active_end;
     let results: Vec<Result<CellWork, Box<EulerError>>> = s
         .state
         .par_chunks_mut(MAX_MATERIALS)
@@ -333,6 +337,9 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
         .with_max_len(super::CELLS_PER_TASK)
         .map(|(c, ((((states, volumes), waves), q), masses))| {
             let (i, j) = (c % cells_r, c / cells_r);
+            if !super::in_work(active_end, i, j) {
+                return Ok(CellWork::default());
+            }
             let change = fluxes.r[j * nodes_r + i + 1] - fluxes.r[j * nodes_r + i]
                 + fluxes.z[(j + 1) * cells_r + i]
                 - fluxes.z[j * cells_r + i];

@@ -58,6 +58,24 @@ pub fn ordered_sum(count: usize, term: impl Fn(usize) -> f64 + Sync) -> f64 {
     partial.iter().sum()
 }
 
+/// Whether cell `(i, j)` is in the cycle's work: `active_end` holds each row's end
+/// ([`EulerSolver::active_columns`]), or nothing outside a cycle (every cell).
+#[inline]
+pub(crate) fn in_work(active_end: &[usize], i: usize, j: usize) -> bool {
+    active_end.get(j).is_none_or(|&end| i < end)
+}
+
+/// Whether node `(i, j)` is in the cycle's work: a corner of a cell in it ([`in_work`]).
+/// The others have no mass and no velocity.
+#[inline]
+pub(crate) fn node_in_work(active_end: &[usize], i: usize, j: usize) -> bool {
+    if active_end.is_empty() {
+        return true;
+    }
+    let end = |row: usize| active_end.get(row).copied().unwrap_or(0);
+    i <= end(j).max(j.checked_sub(1).map_or(0, end))
+}
+
 /// Most materials a model may hold (besides void).
 pub const MAX_MATERIALS: usize = 3;
 
@@ -67,6 +85,13 @@ pub const MAX_PHASES: usize = MAX_MATERIALS + 1;
 /// Volume fraction below which a material does not take part in a cell's Lagrange step (its
 /// state is carried unchanged) and above `1 -` which a cell counts as pure.
 pub const ACTIVE_FRACTION: f64 = 1e-6;
+
+/// Cells of void kept in a cycle's work beyond the last cell holding material in each
+/// direction ([`EulerSolver::active_columns`]). Within one cycle material crosses at most one
+/// cell per sweep (the Courant number is below one), and the widest stencil, the remap's
+/// van Leer slope, reads one cell beyond the donor: three cells keep every cell the cycle can
+/// change or read inside the work.
+const ACTIVE_MARGIN: usize = 3;
 
 /// Fraction of a full control volume's mass below which a node is light: it is carried by
 /// the remap but not accelerated, and sets no time step. A sliver of material stranded in a
@@ -208,6 +233,11 @@ pub struct EulerSettings {
     /// running on: a calibration candidate whose target hardened with temperature once ran
     /// 43 minutes where the shot takes 17 s. `f64::INFINITY` turns it off.
     pub cycle_budget: f64,
+    /// Leave the void farther than [`ACTIVE_MARGIN`] cells from all material out of each
+    /// cycle's cell and node loops ([`EulerSolver::active_columns`]; default `true`). The
+    /// results are the same to the bit either way (`false`: every cell every cycle, the
+    /// reference the skip is tested against, `tests/euler.rs`).
+    pub skip_far_void: bool,
 }
 
 /// Cycles every run may take beyond its [`EulerSettings::cycle_budget`] multiple, so that a
@@ -224,6 +254,7 @@ impl Default for EulerSettings {
             minimum_time_step: 1e-14,
             minimum_time_step_fraction: 1e-2,
             cycle_budget: 10.0,
+            skip_far_void: true,
         }
     }
 }
@@ -352,6 +383,8 @@ pub struct EulerSolver<P> {
     light_mass: Vec<f64>,
     /// The remap's work buffers.
     workspace: remap::Workspace,
+    /// Per row, the end of the columns this cycle works on ([`Self::active_columns`]).
+    active_end: Vec<usize>,
 }
 
 impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
@@ -388,6 +421,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             first_time_step: None,
             light_mass: Vec::new(),
             workspace: remap::Workspace::default(),
+            active_end: Vec::new(),
             materials,
         };
         solver.light_mass = solver.light_node_masses();
@@ -508,12 +542,20 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     /// Lumped nodal masses: a quarter of each adjacent cell's mass.
     pub fn node_masses(&self) -> Vec<f64> {
         use rayon::prelude::*;
+        let cells_r = self.grid.cells_r;
         let cell_mass: Vec<f64> = self
             .mass
             .par_chunks(MAX_MATERIALS)
-            .map(|m| m.iter().sum())
+            .enumerate()
+            .map(|(c, m)| {
+                if in_work(&self.active_end, c % cells_r, c / cells_r) {
+                    m.iter().sum()
+                } else {
+                    0.0
+                }
+            })
             .collect();
-        node_masses_of(&cell_mass, self.grid.cells_r, self.grid.cells_z)
+        node_masses_of(&cell_mass, cells_r, self.grid.cells_z, &self.active_end)
     }
 
     /// The mass below which each node counts as light: [`LIGHT_NODE_FRACTION`] of the mass
@@ -622,8 +664,57 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         Ok(())
     }
 
+    /// Per row `j`, the end of the columns a cycle works on: every cell within
+    /// [`ACTIVE_MARGIN`] cells (along `r` and `z`) of a cell holding material, and every
+    /// column left of such a cell. Beyond it a row is void whose nodes have no mass, so no
+    /// velocity and no swept volume: the cell loops leave those cells as they are, which is
+    /// what their work would give them (pure void stays pure void, and the finishing pass
+    /// still visits them). Every column when a cavity drive moves nodes of its own accord.
+    fn active_columns(&self) -> Vec<usize> {
+        use rayon::prelude::*;
+        let (cells_r, rows) = (self.grid.cells_r, self.grid.cells_z);
+        if self.drive.is_some() {
+            return vec![cells_r; rows];
+        }
+        let last: Vec<usize> = (0..rows)
+            .into_par_iter()
+            .map(|j| {
+                (0..cells_r)
+                    .rev()
+                    .find(|&i| {
+                        let c = j * cells_r + i;
+                        self.mass[c * MAX_MATERIALS..(c + 1) * MAX_MATERIALS]
+                            .iter()
+                            .any(|&m| m > 0.0)
+                    })
+                    .map_or(0, |i| (i + 1 + ACTIVE_MARGIN).min(cells_r))
+            })
+            .collect();
+        (0..rows)
+            .map(|j| {
+                let (low, high) = (
+                    j.saturating_sub(ACTIVE_MARGIN),
+                    (j + ACTIVE_MARGIN).min(rows - 1),
+                );
+                last[low..=high].iter().copied().max().unwrap_or(0)
+            })
+            .collect()
+    }
+
     /// Advance one cycle; returns the time step taken.
     pub fn step(&mut self) -> Result<f64, EulerError> {
+        if self.settings.skip_far_void {
+            self.active_end = self.active_columns();
+        }
+        let taken = self.step_in_work();
+        // The bounds hold for this cycle only (the fields are public, and a caller may change
+        // the state between cycles).
+        self.active_end.clear();
+        taken
+    }
+
+    /// [`Self::step`] within the cycle's [`Self::active_columns`].
+    fn step_in_work(&mut self) -> Result<f64, EulerError> {
         let dt = self.stable_time_step();
         let first = match self.first_time_step {
             Some(first) => first,
@@ -679,7 +770,11 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             }
         }
         let velocity = self.velocity.clone();
+        if self.settings.skip_far_void {
+            self.active_end = self.active_columns();
+        }
         remap::remap(self, &fluxes, dt);
+        self.active_end.clear();
         self.velocity = velocity;
         self.time += dt;
         self.cycles += 1;
@@ -757,6 +852,9 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             .into_par_iter()
             .map(|c| {
                 let (i, j) = (c % cells_r, c / cells_r);
+                if !in_work(&self.active_end, i, j) {
+                    return 0.0;
+                }
                 let mut c_max = 0.0_f64;
                 for k in 0..self.materials.len() {
                     if self.mass[c * MAX_MATERIALS + k] > 0.0
@@ -858,14 +956,23 @@ pub fn cycle_budget(multiple: f64, duration: f64, first_time_step: f64) -> u64 {
 }
 
 /// Lumped nodal masses of a `cells_r x cells_z` grid whose cells hold `cell_mass`: a quarter
-/// of each adjacent cell's.
-pub fn node_masses_of(cell_mass: &[f64], cells_r: usize, cells_z: usize) -> Vec<f64> {
+/// of each adjacent cell's (zero, not summed, at nodes outside the cycle's work,
+/// [`node_in_work`]; `active_end` empty: every node).
+pub fn node_masses_of(
+    cell_mass: &[f64],
+    cells_r: usize,
+    cells_z: usize,
+    active_end: &[usize],
+) -> Vec<f64> {
     use rayon::prelude::*;
     let nodes_r = cells_r + 1;
     (0..nodes_r * (cells_z + 1))
         .into_par_iter()
         .map(|n| {
             let (i, j) = (n % nodes_r, n / nodes_r);
+            if !node_in_work(active_end, i, j) {
+                return 0.0;
+            }
             let mut m = 0.0;
             for (ci, cj) in [
                 (i.wrapping_sub(1), j.wrapping_sub(1)),

@@ -146,9 +146,15 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         let fractions: Vec<[f64; MAX_PHASES]> = self
             .volume
             .par_chunks(MAX_PHASES)
-            .map(|v| {
-                let total: f64 = v.iter().sum();
+            .enumerate()
+            .map(|(c, v)| {
                 let mut f = [0.0; MAX_PHASES];
+                if !super::in_work(&self.active_end, c % cells_r, c / cells_r) {
+                    // Pure void, as `v / total` gives it.
+                    f[MAX_PHASES - 1] = 1.0;
+                    return f;
+                }
+                let total: f64 = v.iter().sum();
                 if total > 0.0 {
                     for p in 0..MAX_PHASES {
                         f[p] = v[p] / total;
@@ -443,7 +449,16 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
         .with_max_len(super::CELLS_PER_TASK)
         .for_each(|(f, (t, out))| match face_cells(f) {
             (Some(low), Some(high), swept) => {
-                solver.transfer(&reconstruction, direction, (low, high, swept), t, out)
+                let in_work =
+                    |c: usize| super::in_work(&solver.active_end, c % cells_r, c / cells_r);
+                if in_work(low) || in_work(high) {
+                    solver.transfer(&reconstruction, direction, (low, high, swept), t, out)
+                } else {
+                    // Void beside void moves no material (what `transfer` gives at rest).
+                    t.donor = if swept > 0.0 { low } else { high };
+                    t.volume = [0.0; MAX_PHASES];
+                    t.mass = [0.0; MAX_MATERIALS];
+                }
             }
             _ => {
                 t.volume = [0.0; MAX_PHASES];
@@ -461,10 +476,18 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
     };
     let material_count = s.materials.len();
     let densities: Vec<f64> = s.materials.iter().map(|m| m.model.density()).collect();
+    let active_end = &s.active_end;
     let old_mass: Vec<f64> = s
         .mass
         .par_chunks(MAX_MATERIALS)
-        .map(|m| m.iter().sum())
+        .enumerate()
+        .map(|(c, m)| {
+            if super::in_work(active_end, c % cells_r, c / cells_r) {
+                m.iter().sum()
+            } else {
+                0.0
+            }
+        })
         .collect();
     // In place: a cell reads only its own state and its faces' moves and carried values.
     s.volume
@@ -475,6 +498,9 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
         .enumerate()
         .with_max_len(super::CELLS_PER_TASK)
         .for_each(|(c, (((volumes, masses), states), waves))| {
+            if !super::in_work(active_end, c % cells_r, c / cells_r) {
+                return;
+            }
             let (below, above) = faces_of(c);
             let faces = [&moves[below], &moves[above]];
             if faces.iter().all(|t| t.volume.iter().all(|&v| v == 0.0)) {
@@ -631,7 +657,9 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
             }
         })
         .collect();
-    let node_mass = super::node_masses_of(old_mass, cells_r, cells_z);
+    let node_mass = super::node_masses_of(old_mass, cells_r, cells_z, &s.active_end);
+    let active_end = &s.active_end;
+    let node_in_work = |n: usize| super::node_in_work(active_end, n % nodes_r, n / nodes_r);
     // Flux from node n to its neighbour along the sweep (n, n + stride): the quarter-sum of
     // the four faces it straddles.
     let (stride, along, count_along) = match direction {
@@ -699,7 +727,7 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
         .into_par_iter()
         .with_max_len(super::CELLS_PER_TASK)
         .map(|n| {
-            if along(n, nodes_r) + 1 < count_along {
+            if along(n, nodes_r) + 1 < count_along && node_in_work(n) {
                 let flux = node_flux(n);
                 if flux != 0.0 {
                     return (flux, upwind(n, n + stride, flux));
@@ -713,6 +741,10 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
         .par_iter_mut()
         .enumerate()
         .map(|(n, v)| {
+            if !node_in_work(n) {
+                // No mass and no flux: the velocity stays at rest.
+                return 0.0;
+            }
             let position = along(n, nodes_r);
             let mut mass = node_mass[n];
             let mut momentum = [mass * velocity[n][0], mass * velocity[n][1]];
