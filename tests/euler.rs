@@ -49,6 +49,17 @@ const SLIP: Walls = Walls {
 /// A steel block at rest and a tungsten-like block at 400 m/s onto it, with void around them,
 /// in a closed axisymmetric `grid` (cells of at most 1 mm: the blocks span r < 12 mm and
 /// 4 mm < z < 24 mm).
+/// The 40 x 60 axisymmetric grid of 0.5 mm cells the colliding blocks are run on.
+fn colliding_grid() -> Grid {
+    Grid {
+        cells_r: 40,
+        cells_z: 60,
+        spacing_r: 0.5e-3,
+        spacing_z: 0.5e-3,
+        geometry: Geometry::Axisymmetric,
+    }
+}
+
 fn colliding_blocks(grid: Grid, settings: EulerSettings) -> EulerSolver<Material> {
     let below = |p: [f64; 2]| p[0] < 12e-3 && (4e-3..14e-3).contains(&p[1]);
     let above = |p: [f64; 2]| p[0] < 6e-3 && (14e-3..24e-3).contains(&p[1]);
@@ -88,13 +99,7 @@ fn leaving_the_far_void_out_of_a_cycle_changes_no_bit() {
     // SETUP: the colliding blocks below on 40 x 60 cells, 10 us: the blocks reach 24 cells
     // from the axis and splash sideways, so the skipped columns move with the material.
     // REFERENCE: the same run with `skip_far_void = false`, at one and two threads.
-    let grid = Grid {
-        cells_r: 40,
-        cells_z: 60,
-        spacing_r: 0.5e-3,
-        spacing_z: 0.5e-3,
-        geometry: Geometry::Axisymmetric,
-    };
+    let grid = colliding_grid();
     let run = |skip_far_void: bool, threads: usize| {
         let mut solver = colliding_blocks(
             grid,
@@ -135,13 +140,7 @@ fn a_closed_grid_conserves_mass_and_axial_momentum_to_round_off_and_books_its_en
     // GOAL: two blocks colliding inside a closed axisymmetric grid, with void around them:
     // mass of each material and axial momentum exact to round-off, energy balanced.
     // SETUP: a steel block at rest, a tungsten-like block at 400 m/s onto it, 40 x 60 cells.
-    let grid = Grid {
-        cells_r: 40,
-        cells_z: 60,
-        spacing_r: 0.5e-3,
-        spacing_z: 0.5e-3,
-        geometry: Geometry::Axisymmetric,
-    };
+    let grid = colliding_grid();
     let mut solver = colliding_blocks(
         grid,
         EulerSettings {
