@@ -46,9 +46,6 @@ const SLIP: Walls = Walls {
     top: Wall::Slip,
 };
 
-/// A steel block at rest and a tungsten-like block at 400 m/s onto it, with void around them,
-/// in a closed axisymmetric `grid` (cells of at most 1 mm: the blocks span r < 12 mm and
-/// 4 mm < z < 24 mm).
 /// The 40 x 60 axisymmetric grid of 0.5 mm cells the colliding blocks are run on.
 fn colliding_grid() -> Grid {
     Grid {
@@ -60,6 +57,9 @@ fn colliding_grid() -> Grid {
     }
 }
 
+/// A steel block at rest and a tungsten-like block at 400 m/s onto it, with void around them,
+/// in a closed axisymmetric `grid` (cells of at most 1 mm: the blocks span r < 12 mm and
+/// 4 mm < z < 24 mm).
 fn colliding_blocks(grid: Grid, settings: EulerSettings) -> EulerSolver<Material> {
     let below = |p: [f64; 2]| p[0] < 12e-3 && (4e-3..14e-3).contains(&p[1]);
     let above = |p: [f64; 2]| p[0] < 6e-3 && (14e-3..24e-3).contains(&p[1]);

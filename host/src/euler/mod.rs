@@ -65,6 +65,12 @@ pub(crate) fn in_work(active_end: &[usize], i: usize, j: usize) -> bool {
     active_end.get(j).is_none_or(|&end| i < end)
 }
 
+/// [`in_work`] of cell `c` of a grid `cells_r` cells wide.
+#[inline]
+pub(crate) fn cell_in_work(active_end: &[usize], cells_r: usize, c: usize) -> bool {
+    in_work(active_end, c % cells_r, c / cells_r)
+}
+
 /// Whether node `(i, j)` is in the cycle's work: a corner of a cell in it ([`in_work`]).
 /// The others have no mass and no velocity.
 #[inline]
@@ -539,23 +545,26 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         }
     }
 
-    /// Lumped nodal masses: a quarter of each adjacent cell's mass.
-    pub fn node_masses(&self) -> Vec<f64> {
+    /// Each cell's total mass (zero, not summed, outside the cycle's work: [`in_work`]).
+    pub fn cell_masses(&self) -> Vec<f64> {
         use rayon::prelude::*;
         let cells_r = self.grid.cells_r;
-        let cell_mass: Vec<f64> = self
-            .mass
+        self.mass
             .par_chunks(MAX_MATERIALS)
             .enumerate()
             .map(|(c, m)| {
-                if in_work(&self.active_end, c % cells_r, c / cells_r) {
+                if cell_in_work(&self.active_end, cells_r, c) {
                     m.iter().sum()
                 } else {
                     0.0
                 }
             })
-            .collect();
-        node_masses_of(&cell_mass, cells_r, self.grid.cells_z, &self.active_end)
+            .collect()
+    }
+
+    /// Lumped nodal masses: a quarter of each adjacent cell's mass.
+    pub fn node_masses(&self) -> Vec<f64> {
+        node_masses_of(&self.cell_masses(), self.grid.cells_r, self.grid.cells_z)
     }
 
     /// The mass below which each node counts as light: [`LIGHT_NODE_FRACTION`] of the mass
@@ -956,23 +965,14 @@ pub fn cycle_budget(multiple: f64, duration: f64, first_time_step: f64) -> u64 {
 }
 
 /// Lumped nodal masses of a `cells_r x cells_z` grid whose cells hold `cell_mass`: a quarter
-/// of each adjacent cell's (zero, not summed, at nodes outside the cycle's work,
-/// [`node_in_work`]; `active_end` empty: every node).
-pub fn node_masses_of(
-    cell_mass: &[f64],
-    cells_r: usize,
-    cells_z: usize,
-    active_end: &[usize],
-) -> Vec<f64> {
+/// of each adjacent cell's.
+pub fn node_masses_of(cell_mass: &[f64], cells_r: usize, cells_z: usize) -> Vec<f64> {
     use rayon::prelude::*;
     let nodes_r = cells_r + 1;
     (0..nodes_r * (cells_z + 1))
         .into_par_iter()
         .map(|n| {
             let (i, j) = (n % nodes_r, n / nodes_r);
-            if !node_in_work(active_end, i, j) {
-                return 0.0;
-            }
             let mut m = 0.0;
             for (ci, cj) in [
                 (i.wrapping_sub(1), j.wrapping_sub(1)),

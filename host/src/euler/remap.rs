@@ -149,7 +149,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             .enumerate()
             .map(|(c, v)| {
                 let mut f = [0.0; MAX_PHASES];
-                if !super::in_work(&self.active_end, c % cells_r, c / cells_r) {
+                if !super::cell_in_work(&self.active_end, cells_r, c) {
                     // Pure void, as `v / total` gives it.
                     f[MAX_PHASES - 1] = 1.0;
                     return f;
@@ -449,16 +449,7 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
         .with_max_len(super::CELLS_PER_TASK)
         .for_each(|(f, (t, out))| match face_cells(f) {
             (Some(low), Some(high), swept) => {
-                let in_work =
-                    |c: usize| super::in_work(&solver.active_end, c % cells_r, c / cells_r);
-                if in_work(low) || in_work(high) {
-                    solver.transfer(&reconstruction, direction, (low, high, swept), t, out)
-                } else {
-                    // Void beside void moves no material (what `transfer` gives at rest).
-                    t.donor = if swept > 0.0 { low } else { high };
-                    t.volume = [0.0; MAX_PHASES];
-                    t.mass = [0.0; MAX_MATERIALS];
-                }
+                solver.transfer(&reconstruction, direction, (low, high, swept), t, out)
             }
             _ => {
                 t.volume = [0.0; MAX_PHASES];
@@ -476,19 +467,8 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
     };
     let material_count = s.materials.len();
     let densities: Vec<f64> = s.materials.iter().map(|m| m.model.density()).collect();
+    let old_mass = s.cell_masses();
     let active_end = &s.active_end;
-    let old_mass: Vec<f64> = s
-        .mass
-        .par_chunks(MAX_MATERIALS)
-        .enumerate()
-        .map(|(c, m)| {
-            if super::in_work(active_end, c % cells_r, c / cells_r) {
-                m.iter().sum()
-            } else {
-                0.0
-            }
-        })
-        .collect();
     // In place: a cell reads only its own state and its faces' moves and carried values.
     s.volume
         .par_chunks_mut(MAX_PHASES)
@@ -498,7 +478,7 @@ fn sweep<P: PointModel + Sync + Send + Clone>(
         .enumerate()
         .with_max_len(super::CELLS_PER_TASK)
         .for_each(|(c, (((volumes, masses), states), waves))| {
-            if !super::in_work(active_end, c % cells_r, c / cells_r) {
+            if !super::cell_in_work(active_end, cells_r, c) {
                 return;
             }
             let (below, above) = faces_of(c);
@@ -657,7 +637,7 @@ fn remap_momentum<P: PointModel + Sync + Send + Clone>(
             }
         })
         .collect();
-    let node_mass = super::node_masses_of(old_mass, cells_r, cells_z, &s.active_end);
+    let node_mass = super::node_masses_of(old_mass, cells_r, cells_z);
     let active_end = &s.active_end;
     let node_in_work = |n: usize| super::node_in_work(active_end, n % nodes_r, n / nodes_r);
     // Flux from node n to its neighbour along the sweep (n, n + stride): the quarter-sum of
