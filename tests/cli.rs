@@ -362,6 +362,7 @@ fn validate_runs_its_analytic_rows_and_refuses_unknown_rows_by_name() {
             }
             stoss::validate::Measure::EulerStrength { .. }
             | stoss::validate::Measure::EulerCrater { .. }
+            | stoss::validate::Measure::RigidRod { .. }
             | stoss::validate::Measure::LagrangeStrength { .. } => {
                 stoss::validate::semi_infinite::shot(fixtures)
                     .unwrap_or_else(|e| panic!("{}: {e}", row.name));

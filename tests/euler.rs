@@ -1346,3 +1346,29 @@ fn a_material_interface_inside_one_material_leaves_its_flow_unchanged() {
     let two = steel_jet_tracer(0.0, true, 1e-3, 20e-6);
     assert_depths_agree(("one material", &one), ("two", &two), 0.002);
 }
+
+#[test]
+fn tates_rigid_body_regime_flags_a_rod_that_does_not_erode() {
+    // GOAL: the Eulerian penetration warns of a rod that does not erode (docs/euler.md, "A rod
+    //       that does not erode") by Tate's regime, decided before the run.
+    // SETUP: seed 000's 1250 m/s shot (WHA rod, A 1.5 GPa, into HzB-W), then the same rod
+    //        kept elastic (A 20 GPa), then that rod just above its bound.
+    // REFERENCE: Tate (1967): a rod penetrates rigidly while Yp >= Rt + rho_t V0^2 / 2, i.e.
+    //            up to V0 = sqrt(2 (Yp - Rt) / rho_t).
+    use stoss::validate::semi_infinite::{perfectly_plastic, shot};
+    use stoss_kernel::PartMaterial;
+    let shot = shot(&fixture("")).unwrap();
+    let target: PartMaterial = shot.target.material().unwrap().into();
+    assert_eq!(shot.spec.rigid_in_tates_model(&target), None);
+    let mut spec = shot.spec.clone();
+    spec.rod = Some(Box::new(
+        perfectly_plastic(shot.rod, 20.0e9, None).unwrap().into(),
+    ));
+    let bound = spec.rigid_in_tates_model(&target).unwrap();
+    let case = spec.cross_check(target.j2().unwrap()).unwrap().case;
+    let tate = (2.0 * (case.rod_strength - case.target_resistance) / case.target_density).sqrt();
+    assert!((bound / tate - 1.0).abs() < 1e-14, "{bound} {tate}");
+    assert!(bound > spec.velocity, "{bound}");
+    spec.velocity = 1.01 * bound;
+    assert_eq!(spec.rigid_in_tates_model(&target), None);
+}

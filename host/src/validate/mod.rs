@@ -145,6 +145,15 @@ pub enum Measure {
         /// The target's yield stress (Pa).
         target_yield: f64,
     },
+    /// A rod kept elastic, with a hemispherical nose, into the perfectly plastic semi-infinite
+    /// target at 800 m/s: its nose depth at 40 us over the rigid-projectile cavity-expansion
+    /// model's ([`semi_infinite::rigid_rod`]).
+    RigidRod {
+        /// The Eulerian solver (else the eroding Lagrangian one).
+        euler: bool,
+        /// Cell or element size (m).
+        element: f64,
+    },
     /// One of FOI's ballistic tables predicted with a core identified from table 3.4
     /// ([`foi_tables::predict`]): the RMS exit difference from FOI's (`limit: false`) or
     /// stoss' Lambert–Jonas limit (`true`), m/s (one run per table, core and mesh in a
@@ -537,6 +546,26 @@ const fn euler_strength(
             velocity,
             target_yield,
         },
+    }
+}
+
+/// A row of the elastic-rod comparison (docs/euler.md, "A rod that does not erode").
+const fn rigid_rod(
+    name: &'static str,
+    figure: &'static str,
+    stated: f64,
+    (euler, element): (bool, f64),
+) -> Row {
+    Row {
+        name,
+        figure,
+        quoted_in: "docs/euler.md, A rod that does not erode",
+        stated,
+        tolerance: 0.005,
+        unit: "-",
+        scale: 1.0,
+        speed: Speed::Slow,
+        measure: Measure::RigidRod { euler, element },
     }
 }
 
@@ -1215,6 +1244,18 @@ pub const ROWS: &[Row] = &[
         (1250.0, 4.0e9),
         Speed::Fast,
     ),
+    rigid_rod(
+        "euler-rigid-rod",
+        "Elastic hemispherical-nosed rod into a perfectly plastic target, 800 m/s: Eulerian nose depth at 40 us over the rigid-projectile model's, 0.4 mm",
+        0.784,
+        (true, 0.4e-3),
+    ),
+    rigid_rod(
+        "lagrange-rigid-rod",
+        "Elastic hemispherical-nosed rod into a perfectly plastic target, 800 m/s: eroding Lagrangian nose depth at 40 us over the rigid-projectile model's, 0.4 mm",
+        1.059,
+        (false, 0.4e-3),
+    ),
     euler_strength(
         "euler-strength-0.5-1700",
         "Eulerian penetration rate 10-30 us over Walker-Anderson's, 1700 m/s, perfectly plastic rod and target, target A 0.5 GPa, 0.4 mm",
@@ -1848,6 +1889,15 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
             velocity,
             target_yield,
         } => semi_infinite::strength_ratio(fixtures, velocity, target_yield, threads),
+        Measure::RigidRod { euler, element } => {
+            let solver = if euler {
+                crate::experiment::penetration::PenetrationSolver::Euler
+            } else {
+                crate::experiment::penetration::PenetrationSolver::Lagrange
+            };
+            semi_infinite::rigid_rod(fixtures, solver, element, threads)
+                .map(|r| r.depth / r.analytic)
+        }
         Measure::FoiCore {
             experiment,
             core,

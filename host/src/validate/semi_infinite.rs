@@ -264,3 +264,91 @@ pub fn lagrange_strength(
         energy_error: run.energy().error_percent(),
     })
 }
+
+/// A rod that stays elastic, striking with a hemispherical nose, against the rigid-projectile
+/// cavity-expansion model (docs/euler.md, "A rod that does not erode").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RigidRod {
+    /// The FE nose depth at [`RIGID_ROD_TIME`] (m).
+    pub depth: f64,
+    /// The model's depth at the same time (m).
+    pub analytic: f64,
+}
+
+/// Striking velocity of [`rigid_rod`] (m/s).
+pub const RIGID_ROD_VELOCITY: f64 = 800.0;
+/// Time after impact at which [`rigid_rod`] compares the depths (s).
+pub const RIGID_ROD_TIME: f64 = 40.0e-6;
+/// The yield stress that keeps [`rigid_rod`]'s tungsten rod elastic (Pa): above any stress of
+/// the shot.
+const ELASTIC_ROD_YIELD: f64 = 20.0e9;
+
+/// The [`shot`] set-up (80 mm target) with the rod made elastic ([`ELASTIC_ROD_YIELD`]), a
+/// hemispherical nose, [`RIGID_ROD_VELOCITY`], the target perfectly plastic at its own `A`
+/// (1.5 GPa) and isothermal, on `solver` with `element` cells; and the depth of Forrestal's
+/// rigid projectile of the rod's mass in that target (`sigma_s` Hill's static cavity pressure
+/// of the target's `A`, `K` and `G`; `B` = 3/2; `N` = 1/2).
+pub fn rigid_rod(
+    fixtures: &Path,
+    solver: PenetrationSolver,
+    element: f64,
+    threads: Option<usize>,
+) -> Result<RigidRod, String> {
+    use crate::analytic::penetration::{
+        nose_factor, rigid_projectile_history, spherical_cavity_pressure, RigidProjectile,
+        INCOMPRESSIBLE_INERTIAL_COEFFICIENT,
+    };
+    let shot = shot(fixtures)?;
+    let target_yield = shot
+        .target
+        .strength
+        .constant_named("yield_stress")
+        .ok_or("the target has no yield stress A")?;
+    let rod = perfectly_plastic(shot.rod, ELASTIC_ROD_YIELD, None)?;
+    let target = perfectly_plastic(shot.target, target_yield, None)?;
+    let mut spec = shot.spec;
+    spec.solver = solver;
+    spec.element_size = element;
+    spec.velocity = RIGID_ROD_VELOCITY;
+    spec.nose = crate::experiment::penetration::Nose::Hemispherical;
+    spec.end_time = RIGID_ROD_TIME;
+    let a = 0.5 * spec.rod_diameter;
+    let rod_volume = std::f64::consts::PI * a * a * (spec.rod_length - a)
+        + 2.0 / 3.0 * std::f64::consts::PI * a * a * a;
+    spec.rod = Some(Box::new(rod.into()));
+    let (bulk, shear) = crate::experiment::penetration::moduli(&target, spec.temperature)?;
+    let projectile = RigidProjectile {
+        mass: rod.density * rod_volume,
+        radius: a,
+        nose_factor: nose_factor(spec.nose, 0.0),
+        target_density: target.density,
+        static_resistance: spherical_cavity_pressure(target_yield, bulk, shear),
+        inertial_coefficient: INCOMPRESSIBLE_INERTIAL_COEFFICIENT,
+        striking_velocity: RIGID_ROD_VELOCITY,
+    };
+    let analytic =
+        rigid_projectile_history(&projectile, RIGID_ROD_TIME, 1.0e-6).map_err(|e| e.to_string())?;
+    let settings = SolverSettings {
+        threads,
+        ..SolverSettings::default()
+    };
+    let target = PartMaterial::from(target);
+    let history = match solver {
+        PenetrationSolver::Euler => {
+            spec.run_euler(&target, &settings)
+                .map_err(|e| e.to_string())?
+                .result
+                .nose_depth
+        }
+        PenetrationSolver::Lagrange => {
+            spec.run(&target, &settings)
+                .map_err(|e| e.to_string())?
+                .0
+                .nose_depth
+        }
+    };
+    Ok(RigidRod {
+        depth: interpolate(&history, RIGID_ROD_TIME),
+        analytic: depth_at(&analytic, RIGID_ROD_TIME),
+    })
+}

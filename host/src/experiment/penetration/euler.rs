@@ -390,6 +390,18 @@ impl PenetrationSpec {
         let predicted = result.predictions(recording);
         let last = |h: &[(f64, f64)]| h.last().map_or(f64::NAN, |p| p.1);
         let s = &run.solver;
+        let mut report = result.report(self, material, recording);
+        if let Some(velocity) = self.rigid_in_tates_model(material) {
+            report.text.push_str(&format!(
+                "WARNING: Tate's model has this rod penetrate as a rigid body (at striking \
+                 velocities up to {velocity:.0} m/s), without eroding. On the Eulerian grid such \
+                 a rod needs fine cells: an elastic hemispherical-nosed rod striking a \
+                 perfectly plastic steel at 800 m/s reaches 0.78 of the rigid-projectile \
+                 model's depth at 40 us on 0.4 mm cells (6 across its radius), where the \
+                 Lagrangian solver reaches 1.06 (docs/euler.md, \"A rod that does not \
+                 erode\"). The Lagrangian solver (solver = \"lagrange\") suits it better.\n"
+            ));
+        }
         Ok(super::super::Outcome {
             field_3d: None,
             predicted,
@@ -405,9 +417,24 @@ impl PenetrationSpec {
             energy: Some(run.energy()),
             states: run.tracked.clone(),
             element_cycles: s.material_updates,
-            report: Some(result.report(self, material, recording)),
+            report: Some(report),
             field: Some(field(&run.solver)),
         })
+    }
+}
+
+impl PenetrationSpec {
+    /// Whether Tate's model has this rod penetrate `target` rigidly at impact
+    /// (`Yp >= Rt + rho_t V0^2 / 2`, Tate 1967; the strengths of [`Self::cross_check`]):
+    /// `Some(v)`, `v = sqrt(2 (Yp - Rt) / rho_t)` the striking velocity up to which it does;
+    /// `None` if the rod erodes from impact or the model cannot be evaluated for these
+    /// materials (not J2 metals).
+    pub fn rigid_in_tates_model(&self, target: &PartMaterial) -> Option<f64> {
+        let check = self.cross_check(target.j2()?).ok()?;
+        let case = check.case;
+        let margin = case.rod_strength - case.target_resistance;
+        (margin >= 0.5 * case.target_density * self.velocity * self.velocity)
+            .then(|| (2.0 * margin / case.target_density).sqrt())
     }
 }
 

@@ -1079,7 +1079,9 @@ pub struct CrossCheck {
 }
 
 /// Elastic moduli `(K, G)` of a material at rest, `K` from the kernel's wave speed.
-fn moduli(material: &Material, temperature: f64) -> Result<(f64, f64), String> {
+/// The bulk and shear moduli `(K, G)` of `material` at rest at `temperature` (Pa), `K` from
+/// the kernel's longitudinal wave speed.
+pub(crate) fn moduli(material: &Material, temperature: f64) -> Result<(f64, f64), String> {
     let mut state = stoss_kernel::MaterialState::initial(temperature);
     state.eos_history = material.eos.initial_history();
     let output = stoss_kernel::update(
