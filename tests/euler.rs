@@ -177,6 +177,51 @@ fn a_closed_grid_conserves_mass_and_axial_momentum_to_round_off_and_books_its_en
 }
 
 #[test]
+fn sliding_interfaces_keep_mass_and_momentum_exact_and_the_bits_thread_independent() {
+    // GOAL: the frictionless interface (EulerSettings::sliding_interfaces) changes only the
+    //       materials' updates in the interface's cells: mass and axial momentum stay exact,
+    //       the energy balanced, the run the same to the bit on one and two threads, and
+    //       different from the welded run (the release acts).
+    // SETUP: the colliding blocks of the conservation test, with the setting on.
+    let run = |sliding: bool, threads: usize| {
+        let mut solver = colliding_blocks(
+            colliding_grid(),
+            EulerSettings {
+                threads: Some(threads),
+                sliding_interfaces: sliding,
+                ..EulerSettings::default()
+            },
+        );
+        let masses = [solver.material_mass(0), solver.material_mass(1)];
+        let momentum = solver.momentum()[1];
+        solver
+            .run(4e-6, 1e-6, &mut |_| std::ops::ControlFlow::Continue(()))
+            .unwrap();
+        for (k, m0) in masses.iter().enumerate() {
+            let m = solver.material_mass(k);
+            assert!(
+                (m - m0).abs() <= 1e-13 * m0,
+                "material {k}: {m} against {m0}"
+            );
+        }
+        let p = solver.momentum()[1];
+        assert!(
+            (p - momentum).abs() <= 1e-12 * momentum.abs(),
+            "{p:e} against {momentum:e}"
+        );
+        let error = solver.energy.relative_error();
+        assert!(error.abs() < 0.01, "energy error {error}");
+        (solver.velocity.clone(), solver.volume.clone())
+    };
+    let sliding = run(true, 1);
+    assert!(
+        run(true, 2) == sliding,
+        "two threads changed the sliding run"
+    );
+    assert!(run(false, 1) != sliding, "the release changed nothing");
+}
+
+#[test]
 fn a_time_step_below_its_floor_ends_the_run_with_a_typed_error_naming_both_steps() {
     // GOAL: a run whose stable step falls below its floor (a fraction of the first cycle's)
     // stops with `TimeStepCollapse` instead of running on; a run that stays above it is not
@@ -839,23 +884,25 @@ fn an_eulerian_penetration_refuses_lagrangian_only_options_and_oversized_grids_b
             "{field}: {error}"
         );
     }
-    // The Eulerian-only option on the Lagrangian solver.
-    let path = folder.join("void_insertion.toml");
-    std::fs::write(
-        &path,
-        base.replace(
-            "solver = \"euler\"",
-            "solver = \"lagrange\"\nvoid_insertion = true",
-        ),
-    )
-    .unwrap();
-    let error = stoss::experiment::Experiment::load(&path)
-        .unwrap_err()
-        .to_string();
-    assert!(
-        error.contains("void_insertion") && error.contains("Eulerian"),
-        "{error}"
-    );
+    // The Eulerian-only options on the Lagrangian solver.
+    for field in ["void_insertion", "sliding_interface"] {
+        let path = folder.join(format!("{field}.toml"));
+        std::fs::write(
+            &path,
+            base.replace(
+                "solver = \"euler\"",
+                &format!("solver = \"lagrange\"\n{field} = true"),
+            ),
+        )
+        .unwrap();
+        let error = stoss::experiment::Experiment::load(&path)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains(field) && error.contains("Eulerian"),
+            "{error}"
+        );
+    }
     let path = folder.join("cells.toml");
     std::fs::write(
         &path,

@@ -490,20 +490,14 @@ pub fn spherical_cavity_pressure(yield_stress: f64, bulk_modulus: f64, shear_mod
 /// 55 (1988) 275-279). A compressible target's is somewhat smaller.
 pub const INCOMPRESSIBLE_INERTIAL_COEFFICIENT: f64 = 1.5;
 
-/// Nose shape factor `N` of a rigid projectile in a spherical-cavity-expansion target: the
-/// axial force is `pi a^2 (sigma_s + N B rho_t V^2)`. A hemispherical nose has `N = 1/2`; a
-/// tangent ogive of caliber-radius-head `psi` has `N = (8 psi - 1) / (24 psi^2)` (Forrestal,
-/// Okajima & Luk, J. Appl. Mech. 55 (1988) 755-760); a flat nose `N = 1`. Frictionless.
-pub fn nose_factor(nose: crate::experiment::penetration::Nose, caliber_radius_head: f64) -> f64 {
-    use crate::experiment::penetration::Nose;
-    match nose {
-        Nose::Flat => 1.0,
-        Nose::Hemispherical => 0.5,
-        Nose::Ogive => {
-            let psi = caliber_radius_head;
-            (8.0 * psi - 1.0) / (24.0 * psi * psi)
-        }
-    }
+/// Nose shape factor `N` of a tangent-ogive nose of caliber-radius-head `psi` on a rigid
+/// projectile in a spherical-cavity-expansion target, `N = (8 psi - 1) / (24 psi^2)`
+/// (Forrestal, Okajima & Luk, J. Appl. Mech. 55 (1988) 755-760; frictionless): the axial
+/// force is `pi a^2 (sigma_s + N B rho_t V^2)`. At `psi = 1/2` the ogive is the hemisphere,
+/// `N = 1/2`; a flat nose has `N = 1`.
+pub fn ogive_nose_factor(caliber_radius_head: f64) -> f64 {
+    let psi = caliber_radius_head;
+    (8.0 * psi - 1.0) / (24.0 * psi * psi)
 }
 
 /// A rigid projectile striking a semi-infinite target normally.
@@ -513,7 +507,7 @@ pub struct RigidProjectile {
     pub mass: f64,
     /// Shank radius `a` (m).
     pub radius: f64,
-    /// Nose shape factor `N` ([`nose_factor`]).
+    /// Nose shape factor `N` ([`ogive_nose_factor`]).
     pub nose_factor: f64,
     /// Target density `rho_t` (kg/m³).
     pub target_density: f64,
@@ -1479,7 +1473,7 @@ mod tests {
         let projectile = RigidProjectile {
             mass: 0.017,
             radius: 2.5e-3,
-            nose_factor: nose_factor(crate::experiment::penetration::Nose::Hemispherical, 0.0),
+            nose_factor: ogive_nose_factor(0.5),
             target_density: 7850.0,
             static_resistance: 5.15e9,
             inertial_coefficient: INCOMPRESSIBLE_INERTIAL_COEFFICIENT,
@@ -1510,17 +1504,15 @@ mod tests {
 
     #[test]
     fn a_half_caliber_ogive_is_a_hemisphere_and_bad_projectiles_are_refused() {
-        // GOAL: the nose factors agree where the shapes do; bad inputs give typed errors.
-        // SETUP: an ogive of caliber-radius-head 1/2 (its arc is the hemisphere), a flat nose;
-        //        a zero mass, a negative velocity, no inertial term.
-        // REFERENCE: N = (8 psi - 1) / (24 psi^2) = 1/2 at psi = 1/2 (Forrestal, Okajima & Luk
-        //            1988); a flat nose sees the full inertial term, N = 1.
-        use crate::experiment::penetration::Nose;
-        assert!(
-            (nose_factor(Nose::Ogive, 0.5) - nose_factor(Nose::Hemispherical, 0.0)).abs() < 1e-15
-        );
-        assert_eq!(nose_factor(Nose::Flat, 3.0), 1.0);
-        assert!(nose_factor(Nose::Ogive, 3.0) < 0.5);
+        // GOAL: the ogive's nose factor is the hemisphere's where the shapes agree and falls
+        //       as the nose sharpens; bad inputs give typed errors.
+        // SETUP: caliber-radius-heads 1/2 (the arc is the hemisphere), 3 and 30; a zero mass, a
+        //        negative velocity, a NaN resistance, no inertial term.
+        // REFERENCE: N = (8 psi - 1) / (24 psi^2) (Forrestal, Okajima & Luk 1988): 1/2 at
+        //            psi = 1/2, 23/216 at 3, about 1/(3 psi) for a slender nose.
+        assert_eq!(ogive_nose_factor(0.5), 0.5);
+        assert!((ogive_nose_factor(3.0) - 23.0 / 216.0).abs() < 1e-15);
+        assert!((ogive_nose_factor(30.0) * 90.0 - 1.0).abs() < 0.01);
         let good = RigidProjectile {
             mass: 0.017,
             radius: 2.5e-3,

@@ -178,6 +178,25 @@ pub struct Interface {
     pub level: f64,
 }
 
+/// The cells of the 3 x 3 block about cell `(i, j)` as [`youngs_normal`] reads it (`[dz][dr]`,
+/// the cell at `[1][1]`): across the axis (or a symmetry edge) at `i = 0` the mirror cell,
+/// beyond the grid's other edges the cell itself.
+pub fn block_cells(i: usize, j: usize, cells_r: usize, cells_z: usize) -> [[usize; 3]; 3] {
+    let c = j * cells_r + i;
+    core::array::from_fn(|dz| {
+        core::array::from_fn(|dr| {
+            let (ni, nj) = ((i + dr).wrapping_sub(1), (j + dz).wrapping_sub(1));
+            if ni < cells_r && nj < cells_z {
+                nj * cells_r + ni
+            } else if ni >= cells_r && i == 0 && nj < cells_z {
+                nj * cells_r + i
+            } else {
+                c
+            }
+        })
+    })
+}
+
 /// Youngs' normal `-grad f` from the 3 x 3 block of volume fractions `f[dz][dr]` (`dr`, `dz`
 /// in `0..3`, the cell at `[1][1]`), for cells `spacing_r x spacing_z`; `None` where the
 /// gradient vanishes.

@@ -16,6 +16,7 @@
 //! Lagrange step and the remap agree to round-off.
 
 use super::closure::{self, Phase};
+use super::interface::{block_cells, youngs_normal};
 use super::CavityDrive;
 use super::{EulerError, EulerSolver, Wall, MAX_MATERIALS, MAX_PHASES};
 use crate::solver::axisymmetric::rotate_jaumann;
@@ -292,6 +293,67 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
     }
 }
 
+/// Remove the shear on the interface plane of normal `n` (in `(r, z)`) from a strain
+/// increment and a stress (`rr, zz, tt, rz`, tensor components): with `t = (-n_z, n_r)`, the
+/// component `x_nt = t . X . n` is taken off as `X - x_nt (t n + n t)`, which leaves the
+/// trace, the normal component `n . X . n` and the hoop component unchanged. A material in an
+/// interface's boundary layer then neither resists nor dissipates sliding along it: a
+/// frictionless interface ([`super::EulerSettings::sliding_interfaces`]).
+fn release_interface_shear(increment: &mut [f64; 6], stress: &mut [f64; 6], n: [f64; 2]) {
+    let t = [-n[1], n[0]];
+    for x in [increment, stress] {
+        let x_nt = t[0] * n[0] * x[0] + t[1] * n[1] * x[1] + (t[0] * n[1] + t[1] * n[0]) * x[3];
+        x[0] -= 2.0 * x_nt * t[0] * n[0];
+        x[1] -= 2.0 * x_nt * t[1] * n[1];
+        x[3] -= x_nt * (t[0] * n[1] + t[1] * n[0]);
+    }
+}
+
+impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
+    /// With [`super::EulerSettings::sliding_interfaces`], each cell's materials' interface
+    /// normals where they slide: a material in a cell whose 3 x 3 block holds another material
+    /// (its boundary layer) takes Youngs' normal of its own fractions there (the block the
+    /// remap's reconstruction reads); `None` elsewhere. Empty without the setting or with one
+    /// material.
+    fn slip_normals(&self) -> Vec<[Option<[f64; 2]>; MAX_MATERIALS]> {
+        if !self.settings.sliding_interfaces || self.materials.len() < 2 {
+            return Vec::new();
+        }
+        let (cells_r, cells_z) = (self.grid.cells_r, self.grid.cells_z);
+        let (h_r, h_z) = (self.grid.spacing_r, self.grid.spacing_z);
+        let count = self.materials.len();
+        let present = |c: usize, k: usize| {
+            self.mass[c * MAX_MATERIALS + k] > 0.0 && self.fraction(c, k) >= super::ACTIVE_FRACTION
+        };
+        (0..self.grid.cell_count())
+            .into_par_iter()
+            .with_max_len(super::CELLS_PER_TASK)
+            .map(|c| {
+                let mut normals = [None; MAX_MATERIALS];
+                let (i, j) = (c % cells_r, c / cells_r);
+                if !super::in_work(&self.active_end, i, j) {
+                    return normals;
+                }
+                let block = block_cells(i, j, cells_r, cells_z);
+                for (k, normal) in normals.iter_mut().enumerate().take(count) {
+                    let beside_another = block
+                        .iter()
+                        .flatten()
+                        .any(|&n| (0..count).any(|m| m != k && present(n, m)));
+                    if present(c, k) && beside_another {
+                        *normal = youngs_normal(
+                            block.map(|row| row.map(|n| self.fraction(n, k))),
+                            h_r,
+                            h_z,
+                        );
+                    }
+                }
+                normals
+            })
+            .collect()
+    }
+}
+
 /// Fraction of a cell's volume below which a face's swept volume is taken as zero, by the
 /// Lagrange step and the remap alike. The explicit scheme's numerical precursor sends
 /// velocities of 1e-300 m/s and below ahead of every wave; carried as fluxes, their masses
@@ -321,6 +383,7 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
     let axisymmetric = s.axisymmetric();
     let time = s.time;
     let length = h_r.min(h_z);
+    let slip = s.slip_normals();
     let velocity = &s.velocity;
     let materials = &s.materials;
     let settings = &s.settings;
@@ -394,6 +457,10 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
                 // Advanced in place (no copy); on an error the run ends.
                 let state = &mut states[k];
                 rotate_jaumann(&mut state.stress, rate.spin, dt);
+                let mut increment = increment;
+                if let Some(n) = slip.get(c).and_then(|normals| normals[k]) {
+                    release_interface_shear(&mut increment, &mut state.stress, n);
+                }
                 let output = model
                     .update(
                         state,
@@ -449,4 +516,40 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
     s.energy.viscous += viscous * factor;
     s.energy.hourglass += hourglass * factor;
     Ok(fluxes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn releasing_the_interface_shear_leaves_the_normal_and_volumetric_parts() {
+        // GOAL: the sliding interface removes only the shear on the interface plane.
+        // SETUP: a full strain increment and stress, interface normals at 0, 30, 90 and 135
+        //        degrees in (r, z).
+        // REFERENCE: X' = X - x_nt (t n + n t), t = (-n_z, n_r): t.X'.n = 0, and n.X'.n,
+        //            t.X'.t, the trace and the hoop component are X's.
+        for degrees in [0.0_f64, 30.0, 90.0, 135.0] {
+            let angle = degrees.to_radians();
+            let n = [angle.cos(), angle.sin()];
+            let t = [-n[1], n[0]];
+            let mut increment = [1.0e-3, -2.5e-3, 0.7e-3, 1.9e-3, 0.0, 0.0];
+            let mut stress = [-1.2e9, 0.4e9, -0.3e9, 0.8e9, 0.0, 0.0];
+            let (x0, s0) = (increment, stress);
+            release_interface_shear(&mut increment, &mut stress, n);
+            let along = |x: &[f64; 6], a: [f64; 2], b: [f64; 2]| {
+                a[0] * b[0] * x[0] + a[1] * b[1] * x[1] + (a[0] * b[1] + a[1] * b[0]) * x[3]
+            };
+            for (after, before, scale) in [(&increment, &x0, 1e-3), (&stress, &s0, 1e9)] {
+                assert!(
+                    along(after, t, n).abs() < 1e-15 * scale,
+                    "{degrees}: shear left"
+                );
+                assert!((along(after, n, n) - along(before, n, n)).abs() < 1e-15 * scale);
+                assert!((along(after, t, t) - along(before, t, t)).abs() < 1e-15 * scale);
+                assert!(((after[0] + after[1]) - (before[0] + before[1])).abs() < 1e-15 * scale);
+                assert_eq!(after[2], before[2]);
+            }
+        }
+    }
 }

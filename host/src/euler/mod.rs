@@ -244,6 +244,15 @@ pub struct EulerSettings {
     /// results are the same to the bit either way (`false`: every cell every cycle, the
     /// reference the skip is tested against, `tests/euler.rs`).
     pub skip_far_void: bool,
+    /// Frictionless sliding between materials (default `false`: welded, the one velocity
+    /// field's own interface). In each cell whose 3 x 3 block holds another material (the
+    /// interface's boundary layer), every material's strain increment and stress lose their
+    /// shear on the plane of its interface (Youngs' normal of its fractions), so it neither
+    /// resists nor heats by sliding past the other; normal stress and pressure still act.
+    /// **Simplified:** the materials still share the nodes' velocity and move with it in the
+    /// remap; the slip is released in the constitutive update only (docs/euler.md, "A rod that
+    /// does not erode").
+    pub sliding_interfaces: bool,
 }
 
 /// Cycles every run may take beyond its [`EulerSettings::cycle_budget`] multiple, so that a
@@ -261,6 +270,7 @@ impl Default for EulerSettings {
             minimum_time_step_fraction: 1e-2,
             cycle_budget: 10.0,
             skip_far_void: true,
+            sliding_interfaces: false,
         }
     }
 }

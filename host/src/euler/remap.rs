@@ -18,7 +18,7 @@
 // Cells hold fixed-size arrays per phase, indexed together across several of them.
 #![allow(clippy::needless_range_loop)]
 
-use super::interface::{line_level, youngs_normal, Interface, Polygon};
+use super::interface::{block_cells, line_level, youngs_normal, Interface, Polygon};
 use super::lagrange::{apply_walls, FaceFluxes};
 use super::{EulerSolver, ACTIVE_FRACTION, MAX_MATERIALS, MAX_PHASES};
 use rayon::prelude::*;
@@ -207,20 +207,8 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                 let rectangle_volume = remaining.volume(planar);
                 for slot in 0..r.count - 1 {
                     let p = r.phases[slot];
-                    let mut block = [[0.0; 3]; 3];
-                    for (dz, row) in block.iter_mut().enumerate() {
-                        for (dr, value) in row.iter_mut().enumerate() {
-                            let (ni, nj) = ((i + dr).wrapping_sub(1), (j + dz).wrapping_sub(1));
-                            *value = if ni < cells_r && nj < cells_z {
-                                fraction(nj * cells_r + ni, p)
-                            } else if ni >= cells_r && i == 0 && nj < cells_z {
-                                // Across the axis (or a symmetry edge): the mirror cell.
-                                fraction(nj * cells_r + i, p)
-                            } else {
-                                fraction(c, p)
-                            };
-                        }
-                    }
+                    let block =
+                        block_cells(i, j, cells_r, cells_z).map(|row| row.map(|n| fraction(n, p)));
                     let normal = youngs_normal(block, h_r, h_z).unwrap_or([0.0, 1.0]);
                     let level = line_level(
                         &remaining,

@@ -356,6 +356,7 @@ impl BallisticLimitSpec {
             hourglass: self.hourglass,
             bulk_viscosity: self.bulk_viscosity,
             void_insertion: false,
+            sliding_interface: false,
             end_time: self.end_time,
             temperature: self.temperature,
             rod: self.projectile.clone(),

@@ -153,6 +153,8 @@ pub enum Measure {
         euler: bool,
         /// Cell or element size (m).
         element: f64,
+        /// The Eulerian solver's sliding interface (`sliding_interface`).
+        sliding: bool,
     },
     /// One of FOI's ballistic tables predicted with a core identified from table 3.4
     /// ([`foi_tables::predict`]): the RMS exit difference from FOI's (`limit: false`) or
@@ -554,7 +556,7 @@ const fn rigid_rod(
     name: &'static str,
     figure: &'static str,
     stated: f64,
-    (euler, element): (bool, f64),
+    (euler, element, sliding): (bool, f64, bool),
 ) -> Row {
     Row {
         name,
@@ -565,7 +567,11 @@ const fn rigid_rod(
         unit: "-",
         scale: 1.0,
         speed: Speed::Slow,
-        measure: Measure::RigidRod { euler, element },
+        measure: Measure::RigidRod {
+            euler,
+            element,
+            sliding,
+        },
     }
 }
 
@@ -1248,13 +1254,25 @@ pub const ROWS: &[Row] = &[
         "euler-rigid-rod",
         "Elastic hemispherical-nosed rod into a perfectly plastic target, 800 m/s: Eulerian nose depth at 40 us over the rigid-projectile model's, 0.4 mm",
         0.784,
-        (true, 0.4e-3),
+        (true, 0.4e-3, false),
+    ),
+    rigid_rod(
+        "euler-rigid-rod-sliding",
+        "Elastic hemispherical-nosed rod into a perfectly plastic target, 800 m/s: Eulerian nose depth at 40 us over the rigid-projectile model's, 0.4 mm, sliding interface",
+        0.948,
+        (true, 0.4e-3, true),
+    ),
+    rigid_rod(
+        "euler-rigid-rod-sliding-fine",
+        "Elastic hemispherical-nosed rod into a perfectly plastic target, 800 m/s: Eulerian nose depth at 40 us over the rigid-projectile model's, 0.2 mm, sliding interface",
+        0.990,
+        (true, 0.2e-3, true),
     ),
     rigid_rod(
         "lagrange-rigid-rod",
         "Elastic hemispherical-nosed rod into a perfectly plastic target, 800 m/s: eroding Lagrangian nose depth at 40 us over the rigid-projectile model's, 0.4 mm",
         1.059,
-        (false, 0.4e-3),
+        (false, 0.4e-3, false),
     ),
     euler_strength(
         "euler-strength-0.5-1700",
@@ -1889,13 +1907,17 @@ fn measure(measure: &Measure, fixtures: &Path, threads: Option<usize>) -> Result
             velocity,
             target_yield,
         } => semi_infinite::strength_ratio(fixtures, velocity, target_yield, threads),
-        Measure::RigidRod { euler, element } => {
+        Measure::RigidRod {
+            euler,
+            element,
+            sliding,
+        } => {
             let solver = if euler {
                 crate::experiment::penetration::PenetrationSolver::Euler
             } else {
                 crate::experiment::penetration::PenetrationSolver::Lagrange
             };
-            semi_infinite::rigid_rod(fixtures, solver, element, threads)
+            semi_infinite::rigid_rod(fixtures, solver, element, sliding, threads)
                 .map(|r| r.depth / r.analytic)
         }
         Measure::FoiCore {

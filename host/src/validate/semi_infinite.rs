@@ -285,17 +285,19 @@ const ELASTIC_ROD_YIELD: f64 = 20.0e9;
 
 /// The [`shot`] set-up (80 mm target) with the rod made elastic ([`ELASTIC_ROD_YIELD`]), a
 /// hemispherical nose, [`RIGID_ROD_VELOCITY`], the target perfectly plastic at its own `A`
-/// (1.5 GPa) and isothermal, on `solver` with `element` cells; and the depth of Forrestal's
+/// (1.5 GPa) and isothermal, on `solver` with `element` cells (the Eulerian interface sliding
+/// if `sliding`); and the depth of Forrestal's
 /// rigid projectile of the rod's mass in that target (`sigma_s` Hill's static cavity pressure
 /// of the target's `A`, `K` and `G`; `B` = 3/2; `N` = 1/2).
 pub fn rigid_rod(
     fixtures: &Path,
     solver: PenetrationSolver,
     element: f64,
+    sliding: bool,
     threads: Option<usize>,
 ) -> Result<RigidRod, String> {
     use crate::analytic::penetration::{
-        nose_factor, rigid_projectile_history, spherical_cavity_pressure, RigidProjectile,
+        ogive_nose_factor, rigid_projectile_history, spherical_cavity_pressure, RigidProjectile,
         INCOMPRESSIBLE_INERTIAL_COEFFICIENT,
     };
     let shot = shot(fixtures)?;
@@ -312,6 +314,7 @@ pub fn rigid_rod(
     spec.velocity = RIGID_ROD_VELOCITY;
     spec.nose = crate::experiment::penetration::Nose::Hemispherical;
     spec.end_time = RIGID_ROD_TIME;
+    spec.sliding_interface = sliding;
     let a = 0.5 * spec.rod_diameter;
     let rod_volume = std::f64::consts::PI * a * a * (spec.rod_length - a)
         + 2.0 / 3.0 * std::f64::consts::PI * a * a * a;
@@ -320,7 +323,8 @@ pub fn rigid_rod(
     let projectile = RigidProjectile {
         mass: rod.density * rod_volume,
         radius: a,
-        nose_factor: nose_factor(spec.nose, 0.0),
+        // The hemisphere is the ogive of caliber-radius-head 1/2.
+        nose_factor: ogive_nose_factor(0.5),
         target_density: target.density,
         static_resistance: spherical_cavity_pressure(target_yield, bulk, shear),
         inertial_coefficient: INCOMPRESSIBLE_INERTIAL_COEFFICIENT,

@@ -232,6 +232,13 @@ pub struct PenetrationSpec {
     /// Eulerian counterpart of erosion by spall). Default `false`.
     #[serde(default)]
     pub void_insertion: bool,
+    /// Frictionless sliding between rod and target on the Eulerian grid (`solver = "euler"`
+    /// only): in the cells along their interface each material's shear on the interface plane
+    /// is released, so neither resists nor heats by sliding past the other
+    /// ([`crate::euler::EulerSettings::sliding_interfaces`]; docs/euler.md, "A rod that does
+    /// not erode"). Default `false`: the one velocity field welds them.
+    #[serde(default)]
+    pub sliding_interface: bool,
     /// End of the simulated time after impact (s).
     pub end_time: f64,
     /// Initial temperature (K).
@@ -533,6 +540,12 @@ impl PenetrationSpec {
             !self.void_insertion,
             "applies to the Eulerian solver only (solver = \"euler\"): the Lagrangian model \
              fails and erodes elements instead",
+        )?;
+        check(
+            "sliding_interface",
+            !self.sliding_interface,
+            "applies to the Eulerian solver only (solver = \"euler\"): the Lagrangian model's \
+             contact slides already (with `friction`)",
         )?;
         // A run must stay affordable: the element count at the given size, and the steps to
         // `end_time` at the undeformed stable step (distortion near the erosion strain makes
@@ -1205,6 +1218,7 @@ mod tests {
             hourglass: default_hourglass(),
             bulk_viscosity: None,
             void_insertion: false,
+            sliding_interface: false,
             end_time: 1.0e-6,
             temperature: 298.0,
             rod: None,
