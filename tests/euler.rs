@@ -865,6 +865,19 @@ fn an_eulerian_penetration_refuses_lagrangian_only_options_and_oversized_grids_b
             "{field}: {error}"
         );
     }
+    // A spec edited in code gets the same up-front checks when its model is built.
+    {
+        let shot = stoss::validate::semi_infinite::shot(&fixture("")).unwrap();
+        let mut spec = shot.spec.clone();
+        spec.solver = stoss::experiment::penetration::PenetrationSolver::Euler;
+        spec.element_size = 0.4e-5;
+        let target: stoss_kernel::PartMaterial = shot.target.material().unwrap().into();
+        let error = spec
+            .euler_model(&target, &stoss::solver::SolverSettings::default())
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("element_size"), "{error}");
+    }
     // The Eulerian-only options on the Lagrangian solver.
     for field in ["void_insertion", "sliding_interface"] {
         let path = folder.join(format!("{field}.toml"));
@@ -1393,7 +1406,7 @@ fn tates_rigid_body_regime_flags_a_rod_that_does_not_erode() {
         perfectly_plastic(shot.rod, 20.0e9, None).unwrap().into(),
     ));
     let bound = spec.rigid_in_tates_model(&target).unwrap();
-    let case = spec.cross_check(target.j2().unwrap()).unwrap().case;
+    let case = spec.rod_target(target.j2().unwrap()).unwrap();
     let tate = (2.0 * (case.rod_strength - case.target_resistance) / case.target_density).sqrt();
     assert!((bound / tate - 1.0).abs() < 1e-14, "{bound} {tate}");
     assert!(bound > spec.velocity, "{bound}");

@@ -128,6 +128,10 @@ impl PenetrationSpec {
         target: &PartMaterial,
         settings: &SolverSettings,
     ) -> Result<EulerSolver<PartMaterial>, EulerError> {
+        // Every Eulerian run builds here, so a spec edited in code (a validation row, a
+        // coarse fidelity) gets a file's up-front checks (grid bound, run budget) too.
+        self.validate(&super::in_code("penetration spec"))
+            .map_err(|error| EulerError::Setup(error.to_string()))?;
         let rod = self.rod.as_deref().copied().ok_or_else(|| {
             EulerError::Setup(format!(
                 "the rod material `{}` was not loaded",
@@ -429,13 +433,12 @@ impl PenetrationSpec {
 
 impl PenetrationSpec {
     /// Whether Tate's model has this rod penetrate `target` rigidly at impact
-    /// (`Yp >= Rt + rho_t V0^2 / 2`, Tate 1967; the strengths of [`Self::cross_check`]):
+    /// (`Yp >= Rt + rho_t V0^2 / 2`, Tate 1967; the strengths of [`Self::rod_target`]):
     /// `Some(v)`, `v = sqrt(2 (Yp - Rt) / rho_t)` the striking velocity up to which it does;
     /// `None` if the rod erodes from impact or the model cannot be evaluated for these
     /// materials (not J2 metals).
     pub fn rigid_in_tates_model(&self, target: &PartMaterial) -> Option<f64> {
-        let check = self.cross_check(target.j2()?).ok()?;
-        let case = check.case;
+        let case = self.rod_target(target.j2()?).ok()?;
         let margin = case.rod_strength - case.target_resistance;
         (margin >= 0.5 * case.target_density * self.velocity * self.velocity)
             .then(|| (2.0 * margin / case.target_density).sqrt())

@@ -1123,6 +1123,20 @@ impl PenetrationSpec {
     /// Walker–Anderson and Tate histories for this test with `target` as the target material,
     /// sampled every [`SAMPLING`] to `end_time`.
     pub fn cross_check(&self, target: &Material) -> Result<CrossCheck, String> {
+        let case = self.rod_target(target)?;
+        let walker_anderson = walker_anderson_history(&case, None, self.end_time, SAMPLING)
+            .map_err(|e| e.to_string())?;
+        let tate = tate_history(&case, self.end_time, SAMPLING).map_err(|e| e.to_string())?;
+        Ok(CrossCheck {
+            case,
+            walker_anderson,
+            tate,
+        })
+    }
+
+    /// The Tate and Walker–Anderson inputs of this test with `target` as the target material:
+    /// each material's flow stress at zero strain and rate, its moduli and Hugoniot.
+    pub fn rod_target(&self, target: &Material) -> Result<RodTarget, String> {
         let rod =
             self.rod.as_deref().copied().ok_or_else(|| {
                 format!("the rod material `{}` was not loaded", self.rod_material)
@@ -1159,14 +1173,7 @@ impl PenetrationSpec {
             target_hugoniot: hugoniot(target, STEEL_HUGONIOT),
             striking_velocity: self.velocity,
         };
-        let walker_anderson = walker_anderson_history(&case, None, self.end_time, SAMPLING)
-            .map_err(|e| e.to_string())?;
-        let tate = tate_history(&case, self.end_time, SAMPLING).map_err(|e| e.to_string())?;
-        Ok(CrossCheck {
-            case,
-            walker_anderson,
-            tate,
-        })
+        Ok(case)
     }
 }
 
