@@ -43,6 +43,7 @@ use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::interpolate;
 use crate::mesh::{Grading, QuadMesh};
+use crate::solver::springback::{springback, SpringbackSettings};
 use crate::solver::{
     shared, Amplitude, AxisymmetricModel, DampingStart, NodalDamping, PlasticSettle,
     PressureHistory, PressureLoad, SharedPressure, SolverError, SolverSettings, VelocityConstraint,
@@ -83,6 +84,13 @@ pub const YIELDING_UNDER_DAMPING: f64 = 1.0e-5;
 /// (5 000-5 500 m/s), so the estimated end is late.
 pub const BUDGET_PLATE_SPEED: f64 = 4000.0;
 
+/// The springback's Newton iterations stop when the largest correction is below this fraction
+/// of the steady tolerance.
+pub const SPRINGBACK_TOLERANCE_FRACTION: f64 = 1.0e-3;
+
+/// Newton iterations the springback may take.
+pub const SPRINGBACK_ITERATIONS: usize = 40;
+
 /// Interval at which the run is observed (s).
 pub const OBSERVATION_INTERVAL: f64 = 2.0e-6;
 
@@ -122,6 +130,9 @@ fn default_damping_start() -> f64 {
 }
 fn one() -> f64 {
     1.0
+}
+fn yes() -> bool {
+    true
 }
 
 /// How the blast load and the plate are coupled.
@@ -314,6 +325,16 @@ pub struct BlastPlateSpec {
     /// (m); default [`STEADY_FRACTION`] of the recording's smallest deflection uncertainty.
     #[serde(default)]
     pub steady_tolerance: Option<f64>,
+    /// Find the final shape by a static springback ([`crate::solver::springback`]) once the
+    /// damped plate has gone [`BlastPlateSpec::springback_quiet`] without yielding (default);
+    /// `false` runs the damped ring-down out to the steady criterion.
+    #[serde(default = "yes")]
+    pub springback: bool,
+    /// Time the damped plate must go without any element yielding before the springback
+    /// (s); default the steady window ([`BlastPlateSpec::steady_window`], half the flat
+    /// plate's fundamental period).
+    #[serde(default)]
+    pub springback_quiet: Option<f64>,
     /// Folder of the blast-load cache (relative to the experiment file); default
     /// [`cache::default_folder`].
     #[serde(default)]
@@ -358,6 +379,23 @@ pub struct BlastPlateResult {
     pub load_source: (Option<cache::Source>, f64),
     /// Impulse the load delivered to the exposed plate (N s).
     pub load_impulse: f64,
+    /// The static springback that found the final shape (`None`: the ring-down was run out).
+    pub springback: Option<SpringbackFigures>,
+}
+
+/// How the static springback found a plate's final shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpringbackFigures {
+    /// End of the explicit run it started from (s).
+    pub from: f64,
+    /// The time the plate had gone without yielding then (s).
+    pub quiet: f64,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// The largest nodal displacement from the run's end to the final shape (m).
+    pub displacement: f64,
+    /// Kinetic and internal energy the ring-down would have dissipated, booked as damping (J).
+    pub energy: f64,
 }
 
 impl BlastPlateResult {
@@ -407,6 +445,9 @@ impl BlastPlateSpec {
         }
         if let Some(tolerance) = self.steady_tolerance {
             check_positive(check, "steady_tolerance", tolerance, "m")?;
+        }
+        if let Some(quiet) = self.springback_quiet {
+            check_positive(check, "springback_quiet", quiet, "s")?;
         }
         let time_step = self.plate_time_step();
         match self.end_time {
@@ -490,6 +531,16 @@ impl BlastPlateSpec {
     pub fn steady_window(&self, material: &Material) -> f64 {
         let omega = self.fundamental_frequency(Self::plate_speed(material));
         std::f64::consts::PI / omega * (self.damping(material) / (2.0 * omega)).max(1.0)
+    }
+
+    /// The time the damped plate must go without yielding before the springback (s):
+    /// `springback_quiet`, else the steady window. Half a period holds a turning point of the
+    /// plate's slowest motion, where it is strained furthest from its final shape: a damped
+    /// plate that passed one without yielding has smaller swings ahead of it. (An eighth of a
+    /// period let the small test plate of tests/blast.rs yield again on its next swing.)
+    pub fn springback_quiet(&self, material: &Material) -> f64 {
+        self.springback_quiet
+            .unwrap_or_else(|| self.steady_window(material))
     }
 
     /// The latest end of a run (s): `end_time`, else [`Self::cap_at`] the material's plate
@@ -714,11 +765,16 @@ impl BlastPlateSpec {
         };
         let mut plastic_at_damping: Option<f64> = None;
         let mut damping_from = f64::INFINITY;
+        // The springback's start: the last observation at which the plastic sum grew.
+        let quiet = self.springback_quiet(material);
+        let mut last_plastic = f64::NEG_INFINITY;
+        let mut last_yield = f64::NEG_INFINITY;
+        let mut quiet_enough = false;
         let mut deflections: Vec<(f64, f64)> = Vec::new();
         let mut last_check = f64::NEG_INFINITY;
         let mut steady = false;
         let mut failure = None;
-        let run = model.run_observed(&mut |snapshot| {
+        let mut run = model.run_observed(&mut |snapshot| {
             if let Some(load) = coupled.as_mut() {
                 let velocities: Vec<f64> = top.iter().map(|&n| snapshot.velocities[n][1]).collect();
                 if let Err(error) = load.follow(snapshot.time, &top_radii, &velocities) {
@@ -733,6 +789,17 @@ impl BlastPlateSpec {
                 damping_from = snapshot.damping_from;
             }
             let damping_start = snapshot.damping_from;
+            if self.springback {
+                let plastic = plastic_sum(snapshot.states);
+                if plastic > last_plastic {
+                    last_yield = snapshot.time;
+                    last_plastic = plastic;
+                }
+                if snapshot.time - last_yield.max(damping_start) >= quiet {
+                    quiet_enough = true;
+                    return ControlFlow::Break(());
+                }
+            }
             // Checked at most every OBSERVATION_INTERVAL (a coupled run observes far more
             // often), once the window lies after the damping start.
             let start = snapshot.time - window;
@@ -759,6 +826,36 @@ impl BlastPlateSpec {
         if let Some(error) = failure {
             return Err(error);
         }
+        let springback = if quiet_enough {
+            let found = springback(
+                &model,
+                &run,
+                &SpringbackSettings {
+                    tolerance: SPRINGBACK_TOLERANCE_FRACTION * tolerance,
+                    iterations: SPRINGBACK_ITERATIONS,
+                    pseudo_step: quiet,
+                },
+            )?;
+            let figures = SpringbackFigures {
+                from: run.final_time(),
+                quiet,
+                iterations: found.iterations,
+                displacement: found.displacement,
+                energy: found.kinetic_discarded + found.internal_released,
+            };
+            let mut energy = run.energy();
+            energy.kinetic = 0.0;
+            energy.internal -= found.internal_released;
+            energy.damping += figures.energy;
+            run.energy_history.push(energy);
+            run.positions = found.positions;
+            run.states = found.states;
+            run.velocities.iter_mut().for_each(|v| *v = [0.0; 3]);
+            steady = true;
+            Some(figures)
+        } else {
+            None
+        };
         let load_seconds = match &coupled {
             Some(load) => load.seconds,
             None => load_source.1,
@@ -795,6 +892,7 @@ impl BlastPlateSpec {
                 deflection_at_load_time,
                 load_source: (load_source.0, load_seconds),
                 load_impulse: total_impulse(&wall, self.exposed_radius) * self.impulse_scale,
+                springback,
             },
             run,
             model,
@@ -926,6 +1024,16 @@ impl BlastPlateSpec {
             self.charge.standoff * 1e3
         ));
         text.push_str(&self.damping_line(result));
+        if let Some(found) = &result.springback {
+            text.push_str(&format!(
+                "final shape by static springback from {:.3} ms, once no element had yielded for {:.3} ms: {} Newton iterations, largest displacement {:.3} mm, {:.1} J of the ring-down booked as damping\n",
+                found.from * 1e3,
+                found.quiet * 1e3,
+                found.iterations,
+                found.displacement * 1e3,
+                found.energy
+            ));
+        }
         text.push_str("  r (mm)   deflection (mm)   recorded (mm)\n");
         let radii = [
             0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 100.0, 120.0, 140.0,

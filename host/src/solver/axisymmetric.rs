@@ -27,12 +27,12 @@ pub type AxisymmetricModel = ExplicitModel<QuadMesh>;
 pub type AxisymmetricRun = ExplicitRun;
 
 /// Geometry of a quad: area, mean radius, gradient operators.
-struct Geometry {
-    area: f64,
-    mean_radius: f64,
-    b_r: [f64; 4],
-    b_z: [f64; 4],
-    longest_diagonal: f64,
+pub(crate) struct Geometry {
+    pub(crate) area: f64,
+    pub(crate) mean_radius: f64,
+    pub(crate) b_r: [f64; 4],
+    pub(crate) b_z: [f64; 4],
+    pub(crate) longest_diagonal: f64,
 }
 
 /// Area, mean radius and gradient operators of a quad, without its diagonals.
@@ -55,7 +55,7 @@ fn gradients(p: [Vector; 4]) -> (f64, f64, [f64; 4], [f64; 4]) {
     (area, 0.25 * (p0[0] + p1[0] + p2[0] + p3[0]), b_r, b_z)
 }
 
-fn geometry(p: [Vector; 4]) -> Geometry {
+pub(crate) fn geometry(p: [Vector; 4]) -> Geometry {
     let [p0, p1, p2, p3] = p;
     let (area, mean_radius, b_r, b_z) = gradients(p);
     let d1 = ((p2[0] - p0[0]).powi(2) + (p2[1] - p0[1]).powi(2)).sqrt();
@@ -67,6 +67,49 @@ fn geometry(p: [Vector; 4]) -> Geometry {
         b_z,
         longest_diagonal: d1.max(d2),
     }
+}
+
+/// The nodal forces per radian of a quad whose stress is `[rr, zz, tt, rz]`, written into
+/// the first four entries of `forces`: `f_r,k = -(s_rr b_r,k + s_rz b_z,k) V - s_tt A/4`,
+/// `f_z,k = -(s_rz b_r,k + s_zz b_z,k) V` with `V = A r_bar` (the module's formulation).
+#[inline(always)]
+pub(crate) fn stress_forces(
+    geom: &Geometry,
+    [s_rr, s_zz, s_tt, s_rz]: [f64; 4],
+    forces: &mut [Vector],
+) {
+    let volume = geom.area * geom.mean_radius;
+    for (k, force) in forces.iter_mut().take(4).enumerate() {
+        force[0] = -(s_rr * geom.b_r[k] + s_rz * geom.b_z[k]) * volume - s_tt * geom.area * 0.25;
+        force[1] = -(s_rz * geom.b_r[k] + s_zz * geom.b_z[k]) * volume;
+    }
+}
+
+/// The Flanagan-Belytschko hourglass shape vector of a quad with corners `p` and geometry
+/// `geom`: `gamma_k = h_k - (h . r) b_r,k - (h . z) b_z,k`, `h = (1, -1, 1, -1)`, orthogonal
+/// to the linear field.
+#[inline(always)]
+pub(crate) fn hourglass_shape(p: &[Vector; 4], geom: &Geometry) -> [f64; 4] {
+    let h = [1.0, -1.0, 1.0, -1.0];
+    let hr: f64 = (0..4).map(|k| h[k] * p[k][0]).sum();
+    let hz: f64 = (0..4).map(|k| h[k] * p[k][1]).sum();
+    core::array::from_fn(|k| h[k] - hr * geom.b_r[k] - hz * geom.b_z[k])
+}
+
+/// The stiffness form's stiffness on a quad's hourglass mode, `QH rho c^2 V sum_k |b_k|^2`
+/// (a fraction `QH` of the element's longitudinal stiffness on it; [`HourglassControl`]).
+#[inline(always)]
+pub(crate) fn hourglass_stiffness(
+    coefficient: f64,
+    density: f64,
+    wave_speed: f64,
+    volume: f64,
+    geom: &Geometry,
+) -> f64 {
+    let gradients: f64 = (0..4)
+        .map(|k| geom.b_r[k] * geom.b_r[k] + geom.b_z[k] * geom.b_z[k])
+        .sum();
+    coefficient * density * wave_speed * wave_speed * volume * gradients
 }
 
 /// Jaumann rotation of the stress over one step with in-plane spin `w = (dv_r/dz - dv_z/dr)/2`.
@@ -86,8 +129,9 @@ struct PrincipalStretches {
 }
 
 impl QuadMesh {
+    /// The positions of element `e`'s corners in `x`.
     #[inline]
-    fn corners(&self, e: usize, x: &[Vector]) -> [Vector; 4] {
+    pub(crate) fn corners(&self, e: usize, x: &[Vector]) -> [Vector; 4] {
         self.elements[e].map(|n| x[n])
     }
 
@@ -286,15 +330,9 @@ impl Discretisation for QuadMesh {
             s[3],
         );
         let volume = new.area * new.mean_radius;
-        for (k, force) in forces.iter_mut().take(4).enumerate() {
-            force[0] = -(s_rr * new.b_r[k] + s_rz * new.b_z[k]) * volume - s_tt * new.area * 0.25;
-            force[1] = -(s_rz * new.b_r[k] + s_zz * new.b_z[k]) * volume;
-        }
+        stress_forces(&new, [s_rr, s_zz, s_tt, s_rz], forces);
         // Flanagan-Belytschko hourglass control.
-        let h = [1.0, -1.0, 1.0, -1.0];
-        let hr: f64 = (0..4).map(|k| h[k] * nodes_new[k][0]).sum();
-        let hz: f64 = (0..4).map(|k| h[k] * nodes_new[k][1]).sum();
-        let gamma: [f64; 4] = core::array::from_fn(|k| h[k] - hr * new.b_r[k] - hz * new.b_z[k]);
+        let gamma = hourglass_shape(&nodes_new, &new);
         let q_r: f64 = (0..4).map(|k| gamma[k] * vel[k][0]).sum();
         let q_z: f64 = (0..4).map(|k| gamma[k] * vel[k][1]).sum();
         let (hourglass_r, hourglass_z, hourglass_power, carried) = hourglass_step(
@@ -364,15 +402,13 @@ fn hourglass_step(
             )
         }
         HourglassControl::Stiffness => {
-            let gradients: f64 = (0..4)
-                .map(|k| new.b_r[k] * new.b_r[k] + new.b_z[k] * new.b_z[k])
-                .sum();
-            let stiffness = settings.hourglass_coefficient
-                * density
-                * wave_speed
-                * wave_speed
-                * volume
-                * gradients;
+            let stiffness = hourglass_stiffness(
+                settings.hourglass_coefficient,
+                density,
+                wave_speed,
+                volume,
+                new,
+            );
             // Turned with the element (Q' = W Q dt), then incremented.
             let (old_r, old_z) = (hourglass[0], hourglass[1]);
             carried[0] = old_r + wdt * old_z + stiffness * q_r * dt;

@@ -21,6 +21,7 @@ pub mod hexahedral;
 pub mod loads;
 pub mod moving_wall;
 pub mod nonlocal;
+pub mod springback;
 pub mod truss;
 
 pub use axisymmetric::{AxisymmetricModel, AxisymmetricRun};
