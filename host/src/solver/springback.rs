@@ -531,7 +531,7 @@ impl Banded {
                     sum -= self.values[self.at(i, k)] * self.values[self.at(j, k)];
                 }
                 if j == i {
-                    if !(sum > 0.0) {
+                    if sum.is_nan() || sum <= 0.0 {
                         return Err(i);
                     }
                     let at = self.at(i, i);
@@ -546,6 +546,7 @@ impl Banded {
     }
 
     /// Solve `L L^T y = b` in place (after [`Self::factorise`]).
+    #[allow(clippy::needless_range_loop)] // the band's indices address `values` and `b` alike
     fn solve(&self, b: &mut [f64]) {
         let w = self.bandwidth;
         for i in 0..self.size {
