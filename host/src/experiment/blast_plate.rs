@@ -43,13 +43,18 @@ use crate::input::recording::RecordedPoint;
 use crate::input::InputError;
 use crate::measure::interpolate;
 use crate::mesh::{Grading, QuadMesh};
-use crate::solver::springback::{springback, SpringbackSettings};
+use crate::solver::springback::{self, springback, SpringbackSettings};
 use crate::solver::{
     shared, Amplitude, AxisymmetricModel, DampingStart, NodalDamping, PlasticSettle,
-    PressureHistory, PressureLoad, SharedPressure, SolverError, SolverSettings, VelocityConstraint,
+    PressureHistory, PressureLoad, SharedPressure, Snapshot, SolverError, SolverSettings,
+    VelocityConstraint,
 };
 use serde::{Deserialize, Serialize};
 use stoss_kernel::Material;
+
+/// How often, per half period of the flat plate, the deformed plate's quiet time before the
+/// springback is worked out again ([`BlastPlateSpec::deformed_quiet`]).
+const QUIET_UPDATES: f64 = 8.0;
 
 /// Quantities a blast-plate test records.
 pub const QUANTITIES: &[&str] = &["deflection", "peak_deflection"];
@@ -331,8 +336,9 @@ pub struct BlastPlateSpec {
     #[serde(default = "yes")]
     pub springback: bool,
     /// Time the damped plate must go without any element yielding before the springback
-    /// (s); default the steady window ([`BlastPlateSpec::steady_window`], half the flat
-    /// plate's fundamental period).
+    /// (s); default half the damped period of the deformed plate's slowest vibration
+    /// ([`BlastPlateSpec::deformed_quiet`]), else the steady window
+    /// ([`BlastPlateSpec::steady_window`], half the flat plate's fundamental period).
     #[serde(default)]
     pub springback_quiet: Option<f64>,
     /// Folder of the blast-load cache (relative to the experiment file); default
@@ -390,6 +396,9 @@ pub struct SpringbackFigures {
     pub from: f64,
     /// The time the plate had gone without yielding then (s).
     pub quiet: f64,
+    /// The circular frequency of the deformed plate's slowest vibration that set `quiet`
+    /// (rad/s; `None`: the flat plate's period or `springback_quiet` set it).
+    pub frequency: Option<f64>,
     /// Newton iterations.
     pub iterations: usize,
     /// The largest nodal displacement from the run's end to the final shape (m).
@@ -533,14 +542,52 @@ impl BlastPlateSpec {
         std::f64::consts::PI / omega * (self.damping(material) / (2.0 * omega)).max(1.0)
     }
 
-    /// The time the damped plate must go without yielding before the springback (s):
-    /// `springback_quiet`, else the steady window. Half a period holds a turning point of the
-    /// plate's slowest motion, where it is strained furthest from its final shape: a damped
-    /// plate that passed one without yielding has smaller swings ahead of it. (An eighth of a
-    /// period let the small test plate of tests/blast.rs yield again on its next swing.)
+    /// The time the damped plate must go without yielding before the springback (s), where
+    /// the deformed plate's own vibration is not known: `springback_quiet`, else the steady
+    /// window. Half a period holds a turning point of the plate's slowest motion, where it is
+    /// strained furthest from its final shape: a damped plate that passed one without
+    /// yielding has smaller swings ahead of it. (An eighth of a period let the small test
+    /// plate of tests/blast.rs yield again on its next swing.)
     pub fn springback_quiet(&self, material: &Material) -> f64 {
         self.springback_quiet
             .unwrap_or_else(|| self.steady_window(material))
+    }
+
+    /// The quiet time of the plate as it is at `time` (s), and the circular frequency of its
+    /// slowest vibration (rad/s): half the damped period `pi / (omega sqrt(1 - zeta^2))`,
+    /// `zeta = c / (2 omega)`, of the slowest free vibration about the deformed, stressed
+    /// plate ([`springback::fundamental_frequency`]: the springback's own tangent, so its
+    /// membrane and initial-stress stiffness, and the lumped masses) under the nodal damping
+    /// `c`. The flat plate's period, which [`Self::springback_quiet`] takes, overstates a
+    /// dished plate's several times: its membrane carries the bending. `None` where
+    /// `springback_quiet` is given, where the slowest vibration is not found (a state that
+    /// buckles), or where it is damped beyond `zeta = 1/sqrt(2)` (the damped period
+    /// lengthens without bound towards critical damping): the caller keeps
+    /// [`Self::springback_quiet`].
+    pub fn deformed_quiet(
+        &self,
+        model: &AxisymmetricModel,
+        material: &Material,
+        snapshot: &Snapshot,
+    ) -> Option<(f64, f64)> {
+        if self.springback_quiet.is_some() {
+            return None;
+        }
+        let omega = springback::fundamental_frequency(
+            model,
+            snapshot.positions,
+            snapshot.states,
+            snapshot.eroded,
+            snapshot.time,
+        )
+        .ok()??;
+        let zeta = self.damping(material) / (2.0 * omega);
+        (zeta <= std::f64::consts::FRAC_1_SQRT_2).then(|| {
+            (
+                std::f64::consts::PI / (omega * libm::sqrt(1.0 - zeta * zeta)),
+                omega,
+            )
+        })
     }
 
     /// The latest end of a run (s): `end_time`, else [`Self::cap_at`] the material's plate
@@ -765,8 +812,15 @@ impl BlastPlateSpec {
         };
         let mut plastic_at_damping: Option<f64> = None;
         let mut damping_from = f64::INFINITY;
-        // The springback's start: the last observation at which the plastic sum grew.
-        let quiet = self.springback_quiet(material);
+        // The springback's start: the last observation at which the plastic sum grew, once
+        // the plate has gone the quiet time since without yielding; the deformed plate's
+        // quiet time is worked out again every QUIET_UPDATES-th of the flat plate's (the
+        // moving plate's slowest vibration changes with its stresses: 1 531 rad/s at the
+        // damping start on the coarse 57.5 g plate, 3 544 rad/s two milliseconds on).
+        let flat_quiet = self.springback_quiet(material);
+        let mut quiet = flat_quiet;
+        let mut deformed: Option<(f64, f64)> = None;
+        let mut quiet_found_at = f64::NEG_INFINITY;
         let mut last_plastic = f64::NEG_INFINITY;
         let mut last_yield = f64::NEG_INFINITY;
         let mut quiet_enough = false;
@@ -794,6 +848,13 @@ impl BlastPlateSpec {
                 if plastic > last_plastic {
                     last_yield = snapshot.time;
                     last_plastic = plastic;
+                }
+                if snapshot.time >= damping_start
+                    && snapshot.time - quiet_found_at >= flat_quiet / QUIET_UPDATES
+                {
+                    quiet_found_at = snapshot.time;
+                    deformed = self.deformed_quiet(&model, material, snapshot);
+                    quiet = deformed.map_or(flat_quiet, |(window, _)| window);
                 }
                 if snapshot.time - last_yield.max(damping_start) >= quiet {
                     quiet_enough = true;
@@ -839,6 +900,7 @@ impl BlastPlateSpec {
             let figures = SpringbackFigures {
                 from: run.final_time(),
                 quiet,
+                frequency: deformed.map(|(_, omega)| omega),
                 iterations: found.iterations,
                 displacement: found.displacement,
                 energy: found.kinetic_discarded + found.internal_released,
@@ -1026,9 +1088,19 @@ impl BlastPlateSpec {
         text.push_str(&self.damping_line(result));
         if let Some(found) = &result.springback {
             text.push_str(&format!(
-                "final shape by static springback from {:.3} ms, once no element had yielded for {:.3} ms: {} Newton iterations, largest displacement {:.3} mm, {:.1} J of the ring-down booked as damping\n",
+                "final shape by static springback from {:.3} ms, once no element had yielded for {:.3} ms ({}): {} Newton iterations, largest displacement {:.3} mm, {:.1} J of the ring-down booked as damping\n",
                 found.from * 1e3,
                 found.quiet * 1e3,
+                match found.frequency {
+                    Some(omega) => format!(
+                        "half the damped period of the deformed plate's slowest vibration, {:.1} Hz",
+                        omega / (2.0 * std::f64::consts::PI)
+                    ),
+                    None => match self.springback_quiet {
+                        Some(_) => "springback_quiet".to_string(),
+                        None => "half the flat plate's fundamental period".to_string(),
+                    },
+                },
                 found.iterations,
                 found.displacement * 1e3,
                 found.energy

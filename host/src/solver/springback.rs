@@ -104,48 +104,22 @@ pub fn springback(
             settings.tolerance, settings.pseudo_step, settings.iterations
         )));
     }
-    let mesh = &model.mesh;
-    let nodes = run.positions.len();
-    let dofs = 2 * nodes;
-    let reference = mesh.reference_positions();
-    let reference_volume: Vec<f64> = (0..mesh.element_count())
-        .map(|e| mesh.element_volume(e, &reference))
-        .collect();
-    let material = |e: usize| &model.materials[mesh.element_material(e).0];
-    let active: Vec<bool> = (0..mesh.element_count())
-        .map(|e| !run.eroded.get(e).copied().unwrap_or(false))
-        .collect();
-    let mut fixed = vec![false; dofs];
-    for constraint in &model.constraints {
-        for &n in &constraint.nodes {
-            fixed[2 * n + constraint.dof] = true;
-        }
-    }
-    let bandwidth = (0..mesh.element_count())
-        .filter(|&e| active[e])
-        .map(|e| {
-            let n = mesh.element_nodes(e);
-            let (lo, hi) = (n.iter().min(), n.iter().max());
-            match (lo, hi) {
-                (Some(lo), Some(hi)) => 2 * (hi - lo) + 1,
-                _ => 0,
-            }
-        })
-        .max()
-        .unwrap_or(0);
-    if dofs.saturating_mul(bandwidth + 1) > MAX_BAND_ENTRIES {
-        return Err(SolverError::Model(format!(
-            "springback: {dofs} degrees of freedom with a bandwidth of {bandwidth} exceed the \
-             {MAX_BAND_ENTRIES} entries the banded solve allows"
-        )));
-    }
+    let time = run.final_time();
+    let structure = Structure::at(model, &run.positions, &run.states, &run.eroded, time)?;
+    let Structure {
+        fixed,
+        active,
+        reference_volume,
+        springs,
+        ..
+    } = &structure;
     let measure = <crate::mesh::QuadMesh as Discretisation>::MEASURE;
     let internal = |states: &[MaterialState]| -> f64 {
         measure
             * states
                 .iter()
-                .zip(&reference_volume)
-                .zip(&active)
+                .zip(reference_volume.iter())
+                .zip(active.iter())
                 .filter(|(_, a)| **a)
                 .map(|((s, v0), _)| s.internal_energy * v0)
                 .sum::<f64>()
@@ -153,22 +127,8 @@ pub fn springback(
     let mut x = run.positions.clone();
     let mut states = run.states.clone();
     let internal_before = internal(&states);
-    let time = run.final_time();
-    // Each element's hourglass spring, from its state at the run's end.
-    let mut springs = vec![0.0; mesh.element_count()];
-    for e in (0..mesh.element_count()).filter(|&e| active[e]) {
-        let (longitudinal, _) = elastic_moduli(model, e, &states[e], material(e), time)?;
-        let geom = geometry(mesh.corners(e, &x));
-        springs[e] = hourglass_stiffness(
-            HOURGLASS_SPRING,
-            1.0,
-            1.0,
-            geom.area * geom.mean_radius,
-            &geom,
-        ) * longitudinal;
-    }
     let start = run.positions.as_slice();
-    let mut residual = internal_forces(model, &x, start, &states, &active, &springs);
+    let mut residual = internal_forces(model, &x, start, &states, active, springs);
     let mut iterations = 0;
     loop {
         if iterations == settings.iterations {
@@ -176,35 +136,12 @@ pub fn springback(
                 "springback did not converge in {} iterations (largest residual force {:.3e} N \
                  per radian)",
                 settings.iterations,
-                largest_free(&residual, &fixed)
+                largest_free(&residual, fixed)
             )));
         }
         iterations += 1;
-        let mut stiffness = Banded::new(dofs, bandwidth);
-        for e in (0..mesh.element_count()).filter(|&e| active[e]) {
-            let k = element_stiffness(model, e, &x, &states[e], material(e), time, springs[e])?;
-            let n = mesh.element_nodes(e);
-            for (a, row) in k.iter().enumerate() {
-                for (b, &value) in row.iter().enumerate() {
-                    let (i, j) = (2 * n[a / 2] + a % 2, 2 * n[b / 2] + b % 2);
-                    if j <= i && !fixed[i] && !fixed[j] {
-                        stiffness.add(i, j, value);
-                    }
-                }
-            }
-        }
-        for i in (0..dofs).filter(|&i| fixed[i]) {
-            stiffness.add(i, i, 1.0);
-        }
-        stiffness.factorise().map_err(|dof| {
-            SolverError::Model(format!(
-                "springback: the stiffness is not positive definite at node {} ({}; the \
-                 structure is unsupported or buckles)",
-                dof / 2,
-                if dof % 2 == 0 { "r" } else { "z" }
-            ))
-        })?;
-        let mut correction: Vec<f64> = (0..dofs)
+        let stiffness = structure.tangent(model, &x, &states, time)?;
+        let mut correction: Vec<f64> = (0..structure.dofs)
             .map(|i| if fixed[i] { 0.0 } else { residual[i] })
             .collect();
         stiffness.solve(&mut correction);
@@ -219,12 +156,12 @@ pub fn springback(
             &mut x,
             &mut states,
             &correction,
-            &active,
-            &reference_volume,
+            active,
+            reference_volume,
             settings.pseudo_step,
             time,
         )?;
-        residual = internal_forces(model, &x, start, &states, &active, &springs);
+        residual = internal_forces(model, &x, start, &states, active, springs);
         if largest < settings.tolerance {
             break;
         }
@@ -235,7 +172,7 @@ pub fn springback(
         .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt())
         .fold(0.0, f64::max);
     Ok(Springback {
-        residual: largest_free(&residual, &fixed),
+        residual: largest_free(&residual, fixed),
         internal_released: internal_before - internal(&states),
         kinetic_discarded: run.energy().kinetic,
         positions: x,
@@ -243,6 +180,205 @@ pub fn springback(
         iterations,
         displacement,
     })
+}
+
+/// The circular frequency (rad/s) of the slowest free vibration of `model` about the state
+/// `positions`, `states` (`eroded` elements left out) at `time`: the smallest `omega^2` of
+/// `K phi = omega^2 M phi` with the springback's tangent `K` (elastic, initial-stress and
+/// hourglass-spring parts, module documentation) and the lumped nodal masses `M` (each
+/// element's reference mass shared equally by its nodes, as the explicit solver lumps them),
+/// both per radian, on the free degrees of freedom. Found by inverse iteration (Bathe,
+/// *Finite Element Procedures*, 1996, sec. 11.2.1) from a uniform axial motion, with the
+/// Rayleigh quotient `y.M.x / y.M.y` of each iterate `y = K^-1 M x`, an upper bound of
+/// `omega^2` that falls to it; converged when it changes by less than
+/// [`FREQUENCY_TOLERANCE`] relative. `None` if it does not converge in
+/// [`FREQUENCY_ITERATIONS`], or if the tangent is not positive definite (a state that buckles
+/// has no slowest vibration). A prescribed motion, walls, contact and the other features a
+/// springback refuses are errors, as there.
+pub fn fundamental_frequency(
+    model: &AxisymmetricModel,
+    positions: &[Vector],
+    states: &[MaterialState],
+    eroded: &[bool],
+    time: f64,
+) -> Result<Option<f64>, SolverError> {
+    check_model(model, time)?;
+    let mesh = &model.mesh;
+    let structure = Structure::at(model, positions, states, eroded, time)?;
+    let Ok(stiffness) = structure.tangent(model, positions, states, time) else {
+        return Ok(None);
+    };
+    let mut mass = vec![0.0; structure.dofs];
+    for e in (0..mesh.element_count()).filter(|&e| structure.active[e]) {
+        let density = model.materials[mesh.element_material(e).0].density();
+        let nodes = mesh.element_nodes(e);
+        let share = density * structure.reference_volume[e] / nodes.len() as f64;
+        for &n in nodes {
+            for d in 0..2 {
+                if !structure.fixed[2 * n + d] {
+                    mass[2 * n + d] += share;
+                }
+            }
+        }
+    }
+    let dot_mass = |a: &[f64], b: &[f64]| -> f64 {
+        a.iter()
+            .zip(b)
+            .zip(&mass)
+            .map(|((a, b), m)| a * m * b)
+            .sum::<f64>()
+    };
+    let mut x: Vec<f64> = (0..structure.dofs)
+        .map(|i| {
+            if i % 2 == 1 && mass[i] > 0.0 {
+                1.0
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let mut previous = f64::INFINITY;
+    for _ in 0..FREQUENCY_ITERATIONS {
+        let mut y: Vec<f64> = x.iter().zip(&mass).map(|(x, m)| m * x).collect();
+        stiffness.solve(&mut y);
+        let (across, norm) = (dot_mass(&y, &x), dot_mass(&y, &y));
+        if !(across > 0.0 && norm > 0.0 && norm.is_finite()) {
+            return Ok(None);
+        }
+        let quotient = across / norm;
+        let scale = 1.0 / norm.sqrt();
+        x = y.iter().map(|y| y * scale).collect();
+        if (previous - quotient).abs() <= FREQUENCY_TOLERANCE * quotient {
+            return Ok(Some(quotient.sqrt()));
+        }
+        previous = quotient;
+    }
+    Ok(None)
+}
+
+/// Inverse iterations [`fundamental_frequency`] allows.
+pub const FREQUENCY_ITERATIONS: usize = 200;
+
+/// Relative change of the Rayleigh quotient at which [`fundamental_frequency`] has converged.
+pub const FREQUENCY_TOLERANCE: f64 = 1.0e-9;
+
+/// What a static solve about a state of an axisymmetric model needs: its degrees of freedom
+/// (two a node, `r` then `z`), which of them the model's constraints fix, the band of its
+/// stiffness, its live elements with their reference volumes, and each element's hourglass
+/// spring ([`HOURGLASS_SPRING`]) at that state.
+struct Structure {
+    dofs: usize,
+    fixed: Vec<bool>,
+    bandwidth: usize,
+    active: Vec<bool>,
+    reference_volume: Vec<f64>,
+    springs: Vec<f64>,
+}
+
+impl Structure {
+    /// The structure of `model` at `positions` and `states` (`eroded` elements left out) at
+    /// `time`.
+    fn at(
+        model: &AxisymmetricModel,
+        positions: &[Vector],
+        states: &[MaterialState],
+        eroded: &[bool],
+        time: f64,
+    ) -> Result<Self, SolverError> {
+        let mesh = &model.mesh;
+        let dofs = 2 * positions.len();
+        let reference = mesh.reference_positions();
+        let reference_volume: Vec<f64> = (0..mesh.element_count())
+            .map(|e| mesh.element_volume(e, &reference))
+            .collect();
+        let active: Vec<bool> = (0..mesh.element_count())
+            .map(|e| !eroded.get(e).copied().unwrap_or(false))
+            .collect();
+        let mut fixed = vec![false; dofs];
+        for constraint in &model.constraints {
+            for &n in &constraint.nodes {
+                fixed[2 * n + constraint.dof] = true;
+            }
+        }
+        let bandwidth = (0..mesh.element_count())
+            .filter(|&e| active[e])
+            .map(|e| {
+                let n = mesh.element_nodes(e);
+                let (lo, hi) = (n.iter().min(), n.iter().max());
+                match (lo, hi) {
+                    (Some(lo), Some(hi)) => 2 * (hi - lo) + 1,
+                    _ => 0,
+                }
+            })
+            .max()
+            .unwrap_or(0);
+        if dofs.saturating_mul(bandwidth + 1) > MAX_BAND_ENTRIES {
+            return Err(SolverError::Model(format!(
+                "springback: {dofs} degrees of freedom with a bandwidth of {bandwidth} exceed the \
+                 {MAX_BAND_ENTRIES} entries the banded solve allows"
+            )));
+        }
+        let mut springs = vec![0.0; mesh.element_count()];
+        for e in (0..mesh.element_count()).filter(|&e| active[e]) {
+            let material = &model.materials[mesh.element_material(e).0];
+            let (longitudinal, _) = elastic_moduli(model, e, &states[e], material, time)?;
+            let geom = geometry(mesh.corners(e, positions));
+            springs[e] = hourglass_stiffness(
+                HOURGLASS_SPRING,
+                1.0,
+                1.0,
+                geom.area * geom.mean_radius,
+                &geom,
+            ) * longitudinal;
+        }
+        Ok(Self {
+            dofs,
+            fixed,
+            bandwidth,
+            active,
+            reference_volume,
+            springs,
+        })
+    }
+
+    /// The tangent stiffness per radian at `x` and `states`, assembled over the live elements
+    /// (unit diagonal on the fixed degrees of freedom) and factorised.
+    fn tangent(
+        &self,
+        model: &AxisymmetricModel,
+        x: &[Vector],
+        states: &[MaterialState],
+        time: f64,
+    ) -> Result<Banded, SolverError> {
+        let mesh = &model.mesh;
+        let fixed = &self.fixed;
+        let mut stiffness = Banded::new(self.dofs, self.bandwidth);
+        for e in (0..mesh.element_count()).filter(|&e| self.active[e]) {
+            let material = &model.materials[mesh.element_material(e).0];
+            let k = element_stiffness(model, e, x, &states[e], material, time, self.springs[e])?;
+            let n = mesh.element_nodes(e);
+            for (a, row) in k.iter().enumerate() {
+                for (b, &value) in row.iter().enumerate() {
+                    let (i, j) = (2 * n[a / 2] + a % 2, 2 * n[b / 2] + b % 2);
+                    if j <= i && !fixed[i] && !fixed[j] {
+                        stiffness.add(i, j, value);
+                    }
+                }
+            }
+        }
+        for i in (0..self.dofs).filter(|&i| fixed[i]) {
+            stiffness.add(i, i, 1.0);
+        }
+        stiffness.factorise().map_err(|dof| {
+            SolverError::Model(format!(
+                "springback: the stiffness is not positive definite at node {} ({}; the \
+                 structure is unsupported or buckles)",
+                dof / 2,
+                if dof % 2 == 0 { "r" } else { "z" }
+            ))
+        })?;
+        Ok(stiffness)
+    }
 }
 
 /// Refuse what the springback does not model (module documentation).
