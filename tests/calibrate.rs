@@ -37,6 +37,7 @@ fn options(budget: usize, polish: usize, leave_one_out: bool) -> RunOptions {
         }),
         polish: Some(polish),
         least_squares: None,
+        outcomes: false,
     }
 }
 
@@ -58,6 +59,7 @@ fn calibrate_quietly(campaign: &Campaign, output: &Path, options: &RunOptions) -
         &mut quiet,
     )
     .unwrap()
+    .results
 }
 
 #[test]
@@ -292,6 +294,7 @@ fn warm_started_leave_one_out_runs_for_the_selected_model_only() {
         leave_one_out: None,
         polish: Some(0),
         least_squares: None,
+        outcomes: false,
     };
     let results = calibrate_quietly(&campaign, &output, &run);
     let jc = results.iter().find(|r| r.model == "jc").unwrap();
@@ -1261,7 +1264,8 @@ fn calibration_does_not_depend_on_the_order_tasks_finish_in() {
             &factory,
             &mut progress,
         )
-        .unwrap();
+        .unwrap()
+        .results;
         let mut lines: Vec<serde_json::Value> = log_lines(&output)
             .iter()
             .map(|line| {

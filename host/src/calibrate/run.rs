@@ -5,6 +5,7 @@
 //! as it ends, and a resumed run replays the log instead of simulating again.
 
 use super::polish::NelderMead;
+use crate::experiment::Outcome;
 use crate::fit::campaign::{Campaign, LeaveOneOut, UncertaintyFor};
 use crate::fit::executor::{Batch, Candidate, Executor, ExecutorError, Origin};
 use crate::fit::fidelity::{Correction, Fidelity, FidelitySummary};
@@ -93,6 +94,10 @@ pub struct RunOptions {
     pub polish: Option<usize>,
     /// Override of the least-squares finish's iterations.
     pub least_squares: Option<usize>,
+    /// Also simulate what the report draws (every model's selected constants on every
+    /// experiment, its starting constants on the held-out ones) in the pool of the
+    /// intervals' forward differences ([`Calibration::simulated`]).
+    pub outcomes: bool,
 }
 
 /// Where an instance's candidates go: its model space, fold, number, experiments, seed and
@@ -821,7 +826,7 @@ pub fn calibrate<'a>(
     executor: &'a mut dyn Executor,
     factory: &'a ProposerFactory<'a>,
     progress: &'a mut Progress<'a>,
-) -> Result<Vec<ModelResult>, CalibrateError> {
+) -> Result<Calibration, CalibrateError> {
     let optimiser = &campaign.file.optimiser;
     let log = SimulationLog::open(&output.join("simulations.jsonl"))?;
     let sizes = super::cost::Sizes::of(campaign, options);
@@ -895,15 +900,238 @@ pub fn calibrate<'a>(
         }
     }
     let mut results = Vec::new();
+    let mut searched = Vec::new();
+    let mut wants_intervals = Vec::new();
     for (k, run) in runs.into_iter().enumerate() {
-        let intervals = match optimiser.uncertainty {
+        wants_intervals.push(match optimiser.uncertainty {
             UncertaintyFor::Every => true,
             UncertaintyFor::Selected => selected_model == Some(k),
             UncertaintyFor::None => false,
-        };
-        results.push(runner.conclude(run, &fitted, &holdouts, intervals)?);
+        });
+        let (result, seen) = runner.conclude(run, &fitted, &holdouts)?;
+        results.push(result);
+        searched.push(seen);
     }
-    Ok(results)
+    let simulated = after_search(
+        campaign,
+        &mut results,
+        &searched,
+        &wants_intervals,
+        options.outcomes,
+    );
+    Ok(Calibration { results, simulated })
+}
+
+/// A calibration's results, and (if asked for, [`RunOptions::outcomes`]) the simulations
+/// of its selected and starting constants that the report draws.
+pub struct Calibration {
+    /// One result per model, in the campaign's order.
+    pub results: Vec<ModelResult>,
+    /// The report's simulations (`None` unless asked for).
+    pub simulated: Option<Simulated>,
+}
+
+/// Every model's selected constants simulated on every campaign experiment, and its starting
+/// constants on the held-out ones (the report's overlays, histograms and validity range);
+/// `None` where a simulation failed or was not wanted. Indexed `[model][experiment]`.
+pub struct Simulated {
+    /// The selected constants' outcomes.
+    pub selected: Vec<Vec<Option<Outcome>>>,
+    /// The starting constants' outcomes on the held-out experiments (`None` elsewhere).
+    pub starting: Vec<Vec<Option<Outcome>>>,
+}
+
+/// What a job of [`after_search`] is for.
+#[derive(Clone, Copy)]
+enum AfterSearch {
+    /// Model `k`'s selected constants: the report's overlay and the forward differences'
+    /// base point.
+    Selected(usize),
+    /// Model `k`'s starting constants on a held-out experiment: the report's comparison.
+    Starting(usize),
+    /// Model `k`'s forward-difference point `i` (1-based: constant `i - 1` stepped).
+    Stepped(usize, usize),
+}
+
+/// What a job of [`after_search`] keeps: the whole outcome for the report, the predictions
+/// alone for a forward difference.
+enum Kept {
+    Whole(Box<Outcome>),
+    Predicted(Result<Vec<f64>, String>),
+}
+
+/// After the searches: the linearised intervals and posterior of the models in `intervals`
+/// (their forward differences about the selected constants) and, if `outcomes`, the report's
+/// simulations, all in one pool of simulations (`fit::outcomes`), so that the selected
+/// constants' simulations serve both and the cores stay busy to the last simulation.
+/// `searched` is each model's logged candidates (the intervals are held against them).
+fn after_search(
+    campaign: &Campaign,
+    results: &mut [ModelResult],
+    searched: &[Vec<Evaluation>],
+    intervals: &[bool],
+    outcomes: bool,
+) -> Option<Simulated> {
+    use crate::fit::outcomes::{simulate_all, Job};
+    use crate::fit::uncertainty::{
+        against_search, difference_points, finite_predictions, from_linearisation, Linearisation,
+    };
+    let experiments = campaign.experiments.len();
+    let all: Vec<usize> = (0..experiments).collect();
+    let fitted = campaign.fitted();
+    let spaces: Vec<Option<ModelSpace>> = results
+        .iter()
+        .map(|r| campaign.model(&r.model).map(|m| campaign.space(m)))
+        .collect();
+    let points: Vec<Vec<Vec<f64>>> = results
+        .iter()
+        .zip(&spaces)
+        .zip(intervals)
+        .map(|((result, space), &wanted)| match space {
+            Some(space) if wanted => difference_points(space, &result.selected.values),
+            _ => Vec::new(),
+        })
+        .collect();
+    let mut jobs: Vec<(AfterSearch, Job<'_>)> = Vec::new();
+    for (k, (result, space)) in results.iter().zip(&spaces).enumerate() {
+        let Some(space) = space else { continue };
+        if outcomes || !points[k].is_empty() {
+            let values = &result.selected.values;
+            for &experiment in &all {
+                let job = Job {
+                    space,
+                    values,
+                    experiment,
+                };
+                jobs.push((AfterSearch::Selected(k), job));
+            }
+        }
+        for (i, values) in points[k].iter().enumerate().skip(1) {
+            for &experiment in &all {
+                let job = Job {
+                    space,
+                    values,
+                    experiment,
+                };
+                jobs.push((AfterSearch::Stepped(k, i), job));
+            }
+        }
+        if let (true, Some(baseline)) = (outcomes, &result.baseline) {
+            let values = &baseline.evaluation.values;
+            for &experiment in &all {
+                if campaign.file.experiments[experiment].holdout {
+                    let job = Job {
+                        space,
+                        values,
+                        experiment,
+                    };
+                    jobs.push((AfterSearch::Starting(k), job));
+                }
+            }
+        }
+    }
+    let only_jobs: Vec<Job<'_>> = jobs.iter().map(|(_, job)| *job).collect();
+    let done = simulate_all(campaign, &only_jobs, |n, outcome| match jobs[n].0 {
+        AfterSearch::Stepped(..) => {
+            Kept::Predicted(finite_predictions(campaign, jobs[n].1.experiment, &outcome))
+        }
+        _ => Kept::Whole(Box::new(outcome)),
+    });
+    // The simulations by model, purpose, point and experiment.
+    let empty = || -> Vec<Vec<Option<Result<Outcome, String>>>> {
+        (0..results.len())
+            .map(|_| (0..experiments).map(|_| None).collect())
+            .collect()
+    };
+    let (mut selected, mut starting) = (empty(), empty());
+    let mut stepped: BTreeMap<(usize, usize, usize), Result<Vec<f64>, String>> = BTreeMap::new();
+    for ((purpose, job), result) in jobs.iter().zip(done) {
+        let e = job.experiment;
+        match (*purpose, result) {
+            (AfterSearch::Selected(k), Ok(Kept::Whole(outcome))) => {
+                selected[k][e] = Some(Ok(*outcome))
+            }
+            (AfterSearch::Starting(k), Ok(Kept::Whole(outcome))) => {
+                starting[k][e] = Some(Ok(*outcome))
+            }
+            (AfterSearch::Selected(k), Err(error)) => selected[k][e] = Some(Err(error)),
+            (AfterSearch::Stepped(k, i), Ok(Kept::Predicted(predicted))) => {
+                stepped.insert((k, i, e), predicted);
+            }
+            (AfterSearch::Stepped(k, i), Err(error)) => {
+                stepped.insert((k, i, e), Err(error));
+            }
+            _ => {}
+        }
+    }
+    for (k, result) in results.iter_mut().enumerate() {
+        let Some(space) = &spaces[k] else { continue };
+        if points[k].is_empty() {
+            continue;
+        }
+        let predicted = |on: &[usize], i: usize, e: usize| -> Result<Vec<f64>, String> {
+            let experiment = on[e];
+            let missing = || {
+                Err(format!(
+                    "{}: not simulated",
+                    campaign.experiments[experiment].file.name
+                ))
+            };
+            if i == 0 {
+                match &selected[k][experiment] {
+                    Some(Ok(outcome)) => finite_predictions(campaign, experiment, outcome),
+                    Some(Err(error)) => Err(error.clone()),
+                    None => missing(),
+                }
+            } else {
+                stepped
+                    .get(&(k, i, experiment))
+                    .cloned()
+                    .unwrap_or_else(missing)
+            }
+        };
+        // On every experiment (the held-out ones get their bands), else on the fitted ones.
+        let linearisation =
+            Linearisation::assemble(campaign, &points[k], &all, |i, e| predicted(&all, i, e))
+                .or_else(|_| {
+                    Linearisation::assemble(campaign, &points[k], &fitted, |i, e| {
+                        predicted(&fitted, i, e)
+                    })
+                });
+        let Ok(linearisation) = linearisation else {
+            continue;
+        };
+        result.uncertainty = from_linearisation(campaign, &linearisation, &fitted)
+            .ok()
+            .map(|mut uncertainty| {
+                uncertainty.search_check = against_search(
+                    campaign,
+                    &linearisation,
+                    &uncertainty,
+                    &result.selected,
+                    &searched[k],
+                    &fitted,
+                );
+                uncertainty
+            });
+        result.posterior = crate::fit::posterior::sample(
+            campaign,
+            space,
+            &linearisation,
+            &fitted,
+            campaign.file.optimiser.seed,
+        )
+        .ok();
+    }
+    let kept = |rows: Vec<Vec<Option<Result<Outcome, String>>>>| -> Vec<Vec<Option<Outcome>>> {
+        rows.into_iter()
+            .map(|row| row.into_iter().map(|o| o.and_then(Result::ok)).collect())
+            .collect()
+    };
+    outcomes.then(|| Simulated {
+        selected: kept(selected),
+        starting: kept(starting),
+    })
 }
 
 impl Runner<'_> {
@@ -979,15 +1207,14 @@ impl Runner<'_> {
     }
 
     /// The model's result: the finalist with the lowest fitted error, its held-out error, the
-    /// starting constants scored as a baseline, constants at bounds and (if `intervals`) the
-    /// linearised uncertainty.
+    /// starting constants scored as a baseline and constants at bounds (the uncertainty is
+    /// [`after_search`]'s); with the candidates the search logged.
     fn conclude(
         &mut self,
         run: ModelRun,
         fitted: &[usize],
         holdouts: &[usize],
-        intervals: bool,
-    ) -> Result<ModelResult, CalibrateError> {
+    ) -> Result<(ModelResult, Vec<Evaluation>), CalibrateError> {
         let campaign = self.campaign;
         let all: Vec<usize> = (0..campaign.experiments.len()).collect();
         let space = run.space;
@@ -1029,41 +1256,6 @@ impl Runner<'_> {
             None => None,
         };
         let at_bounds = constants_at_bounds(&space, &selected.values);
-        // The linearised intervals and the sampled posterior with its prediction bands, on
-        // every experiment (held-out ones too: their bands), else on the fitted ones.
-        let (uncertainty, posterior) = if intervals {
-            use crate::fit::uncertainty::{against_search, from_linearisation, linearise};
-            let linearisation = linearise(campaign, &space, &selected.values, &all)
-                .or_else(|_| linearise(campaign, &space, &selected.values, fitted));
-            match linearisation {
-                Ok(linearisation) => (
-                    from_linearisation(campaign, &linearisation, fitted)
-                        .ok()
-                        .map(|mut uncertainty| {
-                            uncertainty.search_check = against_search(
-                                campaign,
-                                &linearisation,
-                                &uncertainty,
-                                &selected,
-                                &run.seen,
-                                fitted,
-                            );
-                            uncertainty
-                        }),
-                    crate::fit::posterior::sample(
-                        campaign,
-                        &space,
-                        &linearisation,
-                        fitted,
-                        campaign.file.optimiser.seed,
-                    )
-                    .ok(),
-                ),
-                Err(_) => (None, None),
-            }
-        } else {
-            (None, None)
-        };
         let mut constants: Vec<NamedConstant> = space
             .names
             .iter()
@@ -1076,20 +1268,23 @@ impl Runner<'_> {
             })
             .collect();
         let setup = constants.split_off(space.constant_count());
-        Ok(ModelResult {
-            uncertainty,
-            posterior,
-            baseline,
-            at_bounds,
-            constants,
-            setup,
-            model: space.name.clone(),
-            instances: run.instances,
-            finalists: run.finalists,
-            selected,
-            fit_error,
-            holdout_error,
-        })
+        Ok((
+            ModelResult {
+                uncertainty: None,
+                posterior: None,
+                baseline,
+                at_bounds,
+                constants,
+                setup,
+                model: space.name.clone(),
+                instances: run.instances,
+                finalists: run.finalists,
+                selected,
+                fit_error,
+                holdout_error,
+            },
+            run.seen,
+        ))
     }
 }
 

@@ -120,6 +120,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             .then_some(crate::fit::campaign::LeaveOneOut::Every),
         polish: args.polish,
         least_squares: args.least_squares,
+        outcomes: true,
     };
     // What the run will cost, before anything is written (issue 52: every size bounded by
     // what it costs).
@@ -263,7 +264,7 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
         super::output::get().quiet,
     )?;
     let factory = crate::calibrate::proposer::bayesian_factory(campaign.file.optimiser.design);
-    let results = calibrate(
+    let crate::calibrate::run::Calibration { results, simulated } = calibrate(
         &campaign,
         &output,
         &options,
@@ -325,8 +326,8 @@ fn run_calibration(args: &CalibrateArgs) -> Result<(), String> {
             );
         }
     }
-    let outcomes = calibration::selected_outcomes(&campaign, &results);
-    let starting = calibration::starting_outcomes(&campaign, &results);
+    let (outcomes, starting) =
+        simulated.map_or_else(Default::default, |s| (s.selected, s.starting));
     let report = output.join("report");
     write_folder(&report, Leftovers::Clean, |folder| {
         calibration::write(

@@ -17,7 +17,9 @@
 //! - [`result`]: what a calibration returns per model (`result.json`), read back by the
 //!   diagnosis and the report;
 //! - [`uncertainty`]: the linearised uncertainty of fitted constants;
-//! - [`posterior`]: their sampled posterior and the prediction bands it gives.
+//! - [`posterior`]: their sampled posterior and the prediction bands it gives;
+//! - [`outcomes`]: the simulations after a search (forward differences, the report's
+//!   overlays), pooled outside the executor.
 //!
 //! It may import the experiment layer and everything below it (experiment, solver, input,
 //! journal, hash, the kernel); it imports neither `calibrate` nor `diagnose`
@@ -33,6 +35,7 @@ pub mod least_squares;
 pub mod linear;
 pub mod log;
 pub mod objective;
+pub mod outcomes;
 pub mod posterior;
 pub mod result;
 pub mod space;

@@ -18,9 +18,8 @@
 //! noise floor. Read them as the recordings' information near the selected point.
 
 use super::campaign::Campaign;
+use super::outcomes::{simulate_all, Job};
 use crate::fit::ModelSpace;
-use crate::solver::SolverSettings;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Correlation above which two constants are reported as not separately identifiable.
@@ -174,34 +173,6 @@ pub fn search_check(
     })
 }
 
-/// The predictions at every recorded point of each experiment of `experiments` at `values`
-/// (`None` for a campaign experiment not in the list).
-fn predictions(
-    campaign: &Campaign,
-    space: &ModelSpace,
-    values: &[f64],
-    experiments: &[usize],
-    settings: &SolverSettings,
-) -> Result<Vec<Option<Vec<f64>>>, String> {
-    let (_, material) = space.material(&campaign.base, values)?;
-    let setup = space.setup_values(values);
-    let mut out = vec![None; campaign.experiments.len()];
-    for &e in experiments {
-        let experiment = super::space::with_setup(&campaign.experiments[e], &setup)?;
-        let outcome = experiment
-            .simulate(&material, settings)
-            .map_err(|error| format!("{}: {error}", experiment.file.name))?;
-        if !outcome.predicted.iter().all(|p| p.is_finite()) {
-            return Err(format!(
-                "{}: a prediction is not finite",
-                experiment.file.name
-            ));
-        }
-        out[e] = Some(outcome.predicted);
-    }
-    Ok(out)
-}
-
 /// The predictions of a model about its selected constants and their forward-difference
 /// slopes (step [`STEP`] of each constant's search range, towards the inside of the range):
 /// what the linearised intervals and the posterior's surrogate ([`super::posterior`]) are
@@ -218,6 +189,48 @@ pub struct Linearisation {
 }
 
 impl Linearisation {
+    /// The linearisation from the predictions at each of `points` ([`difference_points`]:
+    /// the selected constants, then one step per constant) on `experiments`; `predicted(i,
+    /// e)` gives point `i`'s predictions on the `e`-th of `experiments`. The first failed
+    /// simulation, in point and then experiment order, is the error.
+    pub fn assemble(
+        campaign: &Campaign,
+        points: &[Vec<f64>],
+        experiments: &[usize],
+        predicted: impl Fn(usize, usize) -> Result<Vec<f64>, String>,
+    ) -> Result<Self, String> {
+        let values = points.first().ok_or("no evaluation")?;
+        let at_point = |i: usize| -> Result<Vec<Option<Vec<f64>>>, String> {
+            let mut out = vec![None; campaign.experiments.len()];
+            for (e, &experiment) in experiments.iter().enumerate() {
+                out[experiment] = Some(predicted(i, e)?);
+            }
+            Ok(out)
+        };
+        let base = at_point(0)?;
+        let mut slopes: Vec<Option<Vec<Vec<f64>>>> = base
+            .iter()
+            .map(|p| p.as_ref().map(|p| vec![vec![0.0; values.len()]; p.len()]))
+            .collect();
+        for (i, point) in points.iter().enumerate().skip(1) {
+            let shifted = at_point(i)?;
+            let constant = i - 1;
+            let h = point[constant] - values[constant];
+            for (e, (at, moved)) in base.iter().zip(&shifted).enumerate() {
+                if let (Some(at), Some(moved), Some(slope)) = (at, moved, &mut slopes[e]) {
+                    for (k, row) in slope.iter_mut().enumerate() {
+                        row[constant] = (moved[k] - at[k]) / h;
+                    }
+                }
+            }
+        }
+        Ok(Self {
+            values: values.clone(),
+            predictions: base,
+            slopes,
+        })
+    }
+
     /// The weighted residuals `r_k = sqrt(w_e) (y_k - m_k) / sigma_k` of `experiments` and
     /// their Jacobian `dr/dtheta` (rows in the same order).
     pub fn residuals(
@@ -246,60 +259,65 @@ impl Linearisation {
     }
 }
 
-/// Linearise `values` (the selected constants of `space`) on `experiments`: `p + 1`
-/// simulations of each, in parallel; the result does not depend on the thread count.
+/// The points of the forward differences about `values`: `values` itself, then each constant
+/// stepped by [`STEP`] of its search range, towards the inside of the range (so that a
+/// constant at its bound stays in it).
+pub fn difference_points(space: &ModelSpace, values: &[f64]) -> Vec<Vec<f64>> {
+    std::iter::once(values.to_vec())
+        .chain((0..values.len()).map(|i| {
+            let step = STEP * (space.upper[i] - space.lower[i]);
+            let mut shifted = values.to_vec();
+            shifted[i] += if values[i] + step <= space.upper[i] {
+                step
+            } else {
+                -step
+            };
+            shifted
+        }))
+        .collect()
+}
+
+/// The predictions of `outcome`, the simulation of `experiment`, if every one is finite.
+pub fn finite_predictions(
+    campaign: &Campaign,
+    experiment: usize,
+    outcome: &crate::experiment::Outcome,
+) -> Result<Vec<f64>, String> {
+    if outcome.predicted.iter().all(|p| p.is_finite()) {
+        Ok(outcome.predicted.clone())
+    } else {
+        Err(format!(
+            "{}: a prediction is not finite",
+            campaign.experiments[experiment].file.name
+        ))
+    }
+}
+
+/// [`Linearisation`] of the constants `values` (`points[0]`) of `space` on `experiments`, by
+/// forward differences: every point of [`difference_points`] simulated on every experiment in
+/// one pool ([`super::outcomes::simulate_all`], one solver thread per simulation).
 pub fn linearise(
     campaign: &Campaign,
     space: &ModelSpace,
     values: &[f64],
     experiments: &[usize],
 ) -> Result<Linearisation, String> {
-    let p = values.len();
-    let settings = SolverSettings {
-        threads: Some(1),
-        ..SolverSettings::default()
-    };
-    let steps: Vec<f64> = (0..p)
-        .map(|i| STEP * (space.upper[i] - space.lower[i]))
-        .collect();
-    // Step towards the inside of the range, so that a constant at its bound stays in it.
-    let points: Vec<Vec<f64>> = std::iter::once(values.to_vec())
-        .chain((0..p).map(|i| {
-            let mut shifted = values.to_vec();
-            let h = if values[i] + steps[i] <= space.upper[i] {
-                steps[i]
-            } else {
-                -steps[i]
-            };
-            shifted[i] += h;
-            shifted
-        }))
-        .collect();
-    let runs: Vec<Result<Vec<Option<Vec<f64>>>, String>> = points
-        .par_iter()
-        .map(|point| predictions(campaign, space, point, experiments, &settings))
-        .collect();
-    let mut runs = runs.into_iter();
-    let base = runs.next().ok_or("no evaluation")??;
-    let mut slopes: Vec<Option<Vec<Vec<f64>>>> = base
+    let points = difference_points(space, values);
+    let jobs: Vec<Job<'_>> = points
         .iter()
-        .map(|p| p.as_ref().map(|p| vec![vec![0.0; values.len()]; p.len()]))
+        .flat_map(|point| {
+            experiments.iter().map(move |&experiment| Job {
+                space,
+                values: point,
+                experiment,
+            })
+        })
         .collect();
-    for (i, run) in runs.enumerate() {
-        let shifted = run?;
-        let h = points[i + 1][i] - values[i];
-        for (e, (at, moved)) in base.iter().zip(&shifted).enumerate() {
-            if let (Some(at), Some(moved), Some(slope)) = (at, moved, &mut slopes[e]) {
-                for (k, row) in slope.iter_mut().enumerate() {
-                    row[i] = (moved[k] - at[k]) / h;
-                }
-            }
-        }
-    }
-    Ok(Linearisation {
-        values: values.to_vec(),
-        predictions: base,
-        slopes,
+    let results = simulate_all(campaign, &jobs, |k, outcome| {
+        finite_predictions(campaign, jobs[k].experiment, &outcome)
+    });
+    Linearisation::assemble(campaign, &points, experiments, |point, e| {
+        results[point * experiments.len() + e].clone()?
     })
 }
 

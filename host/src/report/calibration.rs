@@ -17,7 +17,6 @@ use crate::fit::result::{recommend, ModelResult, SetScore};
 use crate::fit::{Campaign, Evaluation, ModelSpace};
 use crate::input::material::AnyMaterialFile;
 use crate::measure::StateSample;
-use crate::solver::SolverSettings;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use stoss_kernel::drivers::{uniaxial_stress, UniaxialStressLoading};
@@ -84,7 +83,7 @@ fn errors_row(campaign: &Campaign, evaluation: &Evaluation) -> String {
 
 /// Write the report into `directory` (figures in `figures/`, cards in `cards/`). `outcomes[m]`
 /// holds model `m`'s selected simulation of every campaign experiment, `starting[m]` its
-/// starting constants' simulation of the held-out ones ([`starting_outcomes`]).
+/// starting constants' simulation of the held-out ones (`calibrate::run::Simulated`).
 ///
 /// The cards are written as `card_options` says (unit system, material id, name).
 pub fn write(
@@ -1381,65 +1380,4 @@ fn write_cards(
         }
     }
     Ok(written)
-}
-
-/// Every model's selected constants simulated on every campaign experiment (the report's
-/// overlays, histograms and validity range).
-pub fn selected_outcomes(
-    campaign: &Campaign,
-    results: &[ModelResult],
-) -> Vec<Vec<Option<Outcome>>> {
-    results
-        .iter()
-        .map(|r| simulate_set(campaign, &r.model, &r.selected.values, |_| true))
-        .collect()
-}
-
-/// Every model's starting constants simulated on the held-out experiments (drawn beside the
-/// calibrated simulation: which set predicts them better); `None` elsewhere.
-pub fn starting_outcomes(
-    campaign: &Campaign,
-    results: &[ModelResult],
-) -> Vec<Vec<Option<Outcome>>> {
-    results
-        .iter()
-        .map(|r| match &r.baseline {
-            Some(baseline) => simulate_set(campaign, &r.model, &baseline.evaluation.values, |i| {
-                campaign.file.experiments[i].holdout
-            }),
-            None => Vec::new(),
-        })
-        .collect()
-}
-
-/// Model `model` with `values` simulated on the campaign experiments `wanted` accepts, with
-/// the set-up those values hold; `None` for the others and for a failed simulation.
-fn simulate_set(
-    campaign: &Campaign,
-    model: &str,
-    values: &[f64],
-    wanted: impl Fn(usize) -> bool,
-) -> Vec<Option<Outcome>> {
-    let Some(model) = campaign.file.models.iter().find(|e| e.name == model) else {
-        return Vec::new();
-    };
-    let space = campaign.space(model);
-    let Ok((_, material)) = space.material(&campaign.base, values) else {
-        return Vec::new();
-    };
-    let setup = space.setup_values(values);
-    campaign
-        .experiments
-        .iter()
-        .enumerate()
-        .map(|(i, e)| {
-            if !wanted(i) {
-                return None;
-            }
-            crate::fit::space::with_setup(e, &setup)
-                .ok()?
-                .simulate(&material, &SolverSettings::default())
-                .ok()
-        })
-        .collect()
 }

@@ -164,11 +164,13 @@ pub fn identification(
                 leave_one_out: Some(LeaveOneOut::Off),
                 polish: Some(polish),
                 least_squares: None,
+                outcomes: false,
             },
             &mut executor,
             &factory,
             &mut progress,
-        );
+        )
+        .map(|calibration| calibration.results);
         let _ = std::fs::remove_dir_all(&output);
         let results = results.map_err(|e| format!("{case}, noise seed {noise_seed}: {e}"))?;
         let model = results
