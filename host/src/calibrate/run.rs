@@ -870,35 +870,38 @@ pub fn calibrate<'a>(
     // Leave-one-out: fit on n-1, score the fold's best on all n (seed 000 sec. 4.2), for
     // every model or for the selected one: the model whose calibrated constants the report
     // recommends (held-out prediction, a margin inside the noise decided by the information
-    // criterion; `fit::result::recommend`).
-    let sets: Vec<crate::fit::result::SetScore> = runs
-        .iter()
-        .filter_map(|run| {
-            let (_, all_experiment) = run.finalists.first()?;
-            crate::fit::result::SetScore::of(&run.space.name, false, all_experiment, campaign, 0)
-        })
-        .collect();
-    let selected_name = crate::fit::result::selected_model(&sets);
-    let selected_model = runs
-        .iter()
-        .position(|run| Some(&run.space.name) == selected_name.as_ref());
+    // criterion; `fit::result::recommend`). A fold's best, scored on all n, joins its model's
+    // finalists and becomes the model's constants if it fits better; that can move the
+    // selection to another model (a better fit that predicts the held-out tests worse), whose
+    // folds then run too, so the model recommended at the end is the one validated.
+    let mut folded = vec![false; runs.len()];
     if fitted.len() > 1 {
-        for (k, run) in runs.iter_mut().enumerate() {
-            let wanted = match leave_one_out {
-                LeaveOneOut::Off => false,
-                LeaveOneOut::Every => true,
-                LeaveOneOut::Selected => selected_model == Some(k),
-            };
-            if !wanted {
-                continue;
+        loop {
+            let selected_model = select_model(&runs, campaign, &fitted);
+            let wanted: Vec<usize> = (0..runs.len())
+                .filter(|&k| {
+                    !folded[k]
+                        && match leave_one_out {
+                            LeaveOneOut::Off => false,
+                            LeaveOneOut::Every => true,
+                            LeaveOneOut::Selected => selected_model == Some(k),
+                        }
+                })
+                .collect();
+            if wanted.is_empty() {
+                break;
             }
-            for &left in &fitted {
-                let rest: Vec<usize> = fitted.iter().copied().filter(|&i| i != left).collect();
-                let fold = campaign.file.experiments[left].file.clone();
-                runner.fold(run, Some(fold), &rest, instances)?;
+            for k in wanted {
+                for &left in &fitted {
+                    let rest: Vec<usize> = fitted.iter().copied().filter(|&i| i != left).collect();
+                    let fold = campaign.file.experiments[left].file.clone();
+                    runner.fold(&mut runs[k], Some(fold), &rest, instances)?;
+                }
+                folded[k] = true;
             }
         }
     }
+    let selected_model = select_model(&runs, campaign, &fitted);
     let mut results = Vec::new();
     let mut searched = Vec::new();
     let mut wants_intervals = Vec::new();
@@ -1134,6 +1137,34 @@ fn after_search(
     })
 }
 
+/// A model's constants: the finalist (the best of a fold's instances, scored on every
+/// experiment) with the lowest error over `fitted`, and that error.
+fn best_finalist<'r>(
+    run: &'r ModelRun,
+    campaign: &Campaign,
+    fitted: &[usize],
+) -> Option<(&'r Evaluation, f64)> {
+    run.finalists
+        .iter()
+        .filter_map(|(_, e)| e.total(campaign, fitted).map(|t| (e, t)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// The model the report will recommend among `runs` as they stand
+/// (`fit::result::selected_model` on each model's [`best_finalist`]).
+fn select_model(runs: &[ModelRun], campaign: &Campaign, fitted: &[usize]) -> Option<usize> {
+    let sets: Vec<crate::fit::result::SetScore> = runs
+        .iter()
+        .filter_map(|run| {
+            let (constants, _) = best_finalist(run, campaign, fitted)?;
+            let at_bounds = constants_at_bounds(&run.space, &constants.values).len();
+            crate::fit::result::SetScore::of(&run.space.name, false, constants, campaign, at_bounds)
+        })
+        .collect();
+    let name = crate::fit::result::selected_model(&sets)?;
+    runs.iter().position(|run| run.space.name == name)
+}
+
 impl Runner<'_> {
     /// Run one fold's instances on `experiments` and add its best, scored on every
     /// experiment, to the model's finalists. The all-experiment fold (`None`) records its
@@ -1217,13 +1248,10 @@ impl Runner<'_> {
     ) -> Result<(ModelResult, Vec<Evaluation>), CalibrateError> {
         let campaign = self.campaign;
         let all: Vec<usize> = (0..campaign.experiments.len()).collect();
+        let (selected, fit_error) = best_finalist(&run, campaign, fitted)
+            .map(|(e, t)| (e.clone(), t))
+            .ok_or_else(|| CalibrateError::NoFeasibleCandidate(run.space.name.clone(), None))?;
         let space = run.space;
-        let (selected, fit_error) = run
-            .finalists
-            .iter()
-            .filter_map(|(_, e)| e.total(campaign, fitted).map(|t| (e.clone(), t)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .ok_or_else(|| CalibrateError::NoFeasibleCandidate(space.name.clone(), None))?;
         let holdout_error = if holdouts.is_empty() {
             None
         } else {
