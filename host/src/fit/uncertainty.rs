@@ -18,7 +18,6 @@
 //! noise floor. Read them as the recordings' information near the selected point.
 
 use super::campaign::Campaign;
-use super::outcomes::{simulate_all, Job};
 use crate::fit::ModelSpace;
 use serde::{Deserialize, Serialize};
 
@@ -291,49 +290,6 @@ pub fn finite_predictions(
             campaign.experiments[experiment].file.name
         ))
     }
-}
-
-/// [`Linearisation`] of the constants `values` (`points[0]`) of `space` on `experiments`, by
-/// forward differences: every point of [`difference_points`] simulated on every experiment in
-/// one pool ([`super::outcomes::simulate_all`], one solver thread per simulation).
-pub fn linearise(
-    campaign: &Campaign,
-    space: &ModelSpace,
-    values: &[f64],
-    experiments: &[usize],
-) -> Result<Linearisation, String> {
-    let points = difference_points(space, values);
-    let jobs: Vec<Job<'_>> = points
-        .iter()
-        .flat_map(|point| {
-            experiments.iter().map(move |&experiment| Job {
-                space,
-                values: point,
-                experiment,
-            })
-        })
-        .collect();
-    let results = simulate_all(campaign, &jobs, |k, outcome| {
-        finite_predictions(campaign, jobs[k].experiment, &outcome)
-    });
-    Linearisation::assemble(campaign, &points, experiments, |point, e| {
-        results[point * experiments.len() + e].clone()?
-    })
-}
-
-/// The uncertainty of `values` (the selected constants of `space`) from the recordings of
-/// `experiments` (the fitted ones): [`linearise`] then [`from_linearisation`].
-pub fn linearised(
-    campaign: &Campaign,
-    space: &ModelSpace,
-    values: &[f64],
-    experiments: &[usize],
-) -> Result<Uncertainty, String> {
-    from_linearisation(
-        campaign,
-        &linearise(campaign, space, values, experiments)?,
-        experiments,
-    )
 }
 
 /// The uncertainty of the linearised constants from the recordings of `experiments` (the
