@@ -395,116 +395,130 @@ pub fn step<P: PointModel + Sync + Send + Clone>(
         .zip(s.volume.par_chunks_mut(MAX_PHASES))
         .zip(s.wave_speed.par_chunks_mut(MAX_MATERIALS))
         .zip(s.viscous_pressure.par_iter_mut())
+        .zip(s.viscous_speed.par_iter_mut())
         .zip(s.mass.par_chunks(MAX_MATERIALS))
         .enumerate()
         .with_max_len(super::CELLS_PER_TASK)
-        .map(|(c, ((((states, volumes), waves), q), masses))| {
-            let (i, j) = (c % cells_r, c / cells_r);
-            if !super::in_work(active_end, i, j) {
-                return Ok(CellWork::default());
-            }
-            let change = fluxes.r[j * nodes_r + i + 1] - fluxes.r[j * nodes_r + i]
-                + fluxes.z[(j + 1) * cells_r + i]
-                - fluxes.z[j * cells_r + i];
-            if masses.iter().all(|&m| m == 0.0) {
-                volumes[MAX_PHASES - 1] += change;
-                *q = 0.0;
-                return Ok(CellWork::default());
-            }
-            let v: [[f64; 2]; 4] = cell_nodes(nodes_r, i, j).map(|n| velocity[n]);
-            let r_c = (i as f64 + 0.5) * h_r;
-            let rate = rates(&v, h_r, h_z, axisymmetric.then_some(r_c));
-            let total: f64 = volumes.iter().sum();
-            let mut phases = [Phase::default(); MAX_PHASES];
-            for k in 0..materials.len() {
-                let f = volumes[k] / total;
-                let model = &materials[k].model;
-                let stiffness = model.density() / states[k].relative_volume * waves[k] * waves[k];
-                // The kernel's wave speed is sqrt((B + 4G V/3) / rho0): take the shear part off.
-                let bulk = stiffness - 4.0 / 3.0 * model.shear_modulus();
-                phases[k] = Phase {
-                    volume: volumes[k],
-                    stiffness,
-                    pressure: -(states[k].stress[0] + states[k].stress[1] + states[k].stress[2])
-                        / 3.0,
-                    active: masses[k] > 0.0 && f >= super::ACTIVE_FRACTION,
-                    bulk_modulus: if bulk > 0.0 { bulk } else { stiffness },
-                    fracture_pressure: materials[k].fracture_pressure.unwrap_or(f64::NEG_INFINITY),
-                };
-            }
-            phases[MAX_PHASES - 1].volume = volumes[MAX_PHASES - 1];
-            let shares = closure::share(change, &phases, materials.len());
-            let increment = [
-                rate.rr * dt,
-                rate.zz * dt,
-                rate.tt * dt,
-                rate.rz * dt,
-                0.0,
-                0.0,
-            ];
-            let mut work = CellWork::default();
-            let mut material_change = 0.0;
-            let mut material_volume = 0.0;
-            let mut mass = 0.0;
-            let mut wave = 0.0_f64;
-            for k in 0..materials.len() {
-                if !phases[k].active {
-                    continue;
+        .map(
+            |(c, (((((states, volumes), waves), q), q_speed), masses))| {
+                let (i, j) = (c % cells_r, c / cells_r);
+                if !super::in_work(active_end, i, j) {
+                    return Ok(CellWork::default());
                 }
-                let model = &materials[k].model;
-                let new_volume = volumes[k] + shares[k];
-                let relative_volume = model.density() * new_volume / masses[k];
-                // Advanced in place (no copy); on an error the run ends.
-                let state = &mut states[k];
-                rotate_jaumann(&mut state.stress, rate.spin, dt);
-                let mut increment = increment;
-                if let Some(n) = slip.get(c).and_then(|normals| normals[k]) {
-                    release_interface_shear(&mut increment, &mut state.stress, n);
+                let change = fluxes.r[j * nodes_r + i + 1] - fluxes.r[j * nodes_r + i]
+                    + fluxes.z[(j + 1) * cells_r + i]
+                    - fluxes.z[j * cells_r + i];
+                if masses.iter().all(|&m| m == 0.0) {
+                    volumes[MAX_PHASES - 1] += change;
+                    *q = 0.0;
+                    *q_speed = 0.0;
+                    return Ok(CellWork::default());
                 }
-                let output = model
-                    .update(
-                        state,
-                        &StepInput {
-                            strain_increment: increment,
-                            dt,
-                            relative_volume,
-                        },
-                    )
-                    .map_err(|error| {
-                        Box::new(EulerError::Update {
-                            material: materials[k].name.clone(),
-                            i,
-                            j,
-                            r: r_c,
-                            z: origin_z + (j as f64 + 0.5) * h_z,
-                            time,
-                            relative_volume,
-                            error,
-                        })
-                    })?;
-                waves[k] = output.wave_speed;
-                volumes[k] = new_volume;
-                material_change += shares[k];
-                material_volume += new_volume;
-                mass += masses[k];
-                wave = wave.max(output.wave_speed);
-                work.updates += 1;
-            }
-            volumes[MAX_PHASES - 1] += change - material_change;
-            if material_volume > 0.0 {
-                let volumetric_rate = material_change / (material_volume * dt);
-                *q = settings.bulk_viscosity.pressure(
-                    mass / material_volume,
-                    length,
-                    volumetric_rate,
-                    wave,
-                );
-                work.viscous = -*q * material_change;
-            } else {
-                *q = 0.0;
-            }
-            Ok(work)
-        })
+                let v: [[f64; 2]; 4] = cell_nodes(nodes_r, i, j).map(|n| velocity[n]);
+                let r_c = (i as f64 + 0.5) * h_r;
+                let rate = rates(&v, h_r, h_z, axisymmetric.then_some(r_c));
+                let total: f64 = volumes.iter().sum();
+                let mut phases = [Phase::default(); MAX_PHASES];
+                for k in 0..materials.len() {
+                    let f = volumes[k] / total;
+                    let model = &materials[k].model;
+                    let stiffness =
+                        model.density() / states[k].relative_volume * waves[k] * waves[k];
+                    // The kernel's wave speed is sqrt((B + 4G V/3) / rho0): take the shear part off.
+                    let bulk = stiffness - 4.0 / 3.0 * model.shear_modulus();
+                    phases[k] = Phase {
+                        volume: volumes[k],
+                        stiffness,
+                        pressure: -(states[k].stress[0]
+                            + states[k].stress[1]
+                            + states[k].stress[2])
+                            / 3.0,
+                        active: masses[k] > 0.0 && f >= super::ACTIVE_FRACTION,
+                        bulk_modulus: if bulk > 0.0 { bulk } else { stiffness },
+                        fracture_pressure: materials[k]
+                            .fracture_pressure
+                            .unwrap_or(f64::NEG_INFINITY),
+                    };
+                }
+                phases[MAX_PHASES - 1].volume = volumes[MAX_PHASES - 1];
+                let shares = closure::share(change, &phases, materials.len());
+                let increment = [
+                    rate.rr * dt,
+                    rate.zz * dt,
+                    rate.tt * dt,
+                    rate.rz * dt,
+                    0.0,
+                    0.0,
+                ];
+                let mut work = CellWork::default();
+                let mut material_change = 0.0;
+                let mut material_volume = 0.0;
+                let mut mass = 0.0;
+                let mut wave = 0.0_f64;
+                for k in 0..materials.len() {
+                    if !phases[k].active {
+                        continue;
+                    }
+                    let model = &materials[k].model;
+                    let new_volume = volumes[k] + shares[k];
+                    let relative_volume = model.density() * new_volume / masses[k];
+                    // Advanced in place (no copy); on an error the run ends.
+                    let state = &mut states[k];
+                    rotate_jaumann(&mut state.stress, rate.spin, dt);
+                    let mut increment = increment;
+                    if let Some(n) = slip.get(c).and_then(|normals| normals[k]) {
+                        release_interface_shear(&mut increment, &mut state.stress, n);
+                    }
+                    let output = model
+                        .update(
+                            state,
+                            &StepInput {
+                                strain_increment: increment,
+                                dt,
+                                relative_volume,
+                            },
+                        )
+                        .map_err(|error| {
+                            Box::new(EulerError::Update {
+                                material: materials[k].name.clone(),
+                                i,
+                                j,
+                                r: r_c,
+                                z: origin_z + (j as f64 + 0.5) * h_z,
+                                time,
+                                relative_volume,
+                                error,
+                            })
+                        })?;
+                    waves[k] = output.wave_speed;
+                    volumes[k] = new_volume;
+                    material_change += shares[k];
+                    material_volume += new_volume;
+                    mass += masses[k];
+                    wave = wave.max(output.wave_speed);
+                    work.updates += 1;
+                }
+                volumes[MAX_PHASES - 1] += change - material_change;
+                if material_volume > 0.0 {
+                    let volumetric_rate = material_change / (material_volume * dt);
+                    *q = settings.bulk_viscosity.pressure(
+                        mass / material_volume,
+                        length,
+                        volumetric_rate,
+                        wave,
+                    );
+                    *q_speed =
+                        settings
+                            .bulk_viscosity
+                            .time_step_speed(length, wave, volumetric_rate);
+                    work.viscous = -*q * material_change;
+                } else {
+                    *q = 0.0;
+                    *q_speed = 0.0;
+                }
+                Ok(work)
+            },
+        )
         .collect();
     let mut viscous = 0.0;
     for result in results {

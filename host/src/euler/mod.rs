@@ -209,10 +209,16 @@ pub struct Walls {
     pub top: Wall,
 }
 
+/// The default Courant number, 2/3: Autodyn's default time-step safety factor. On the
+/// stable-step formula of [`EulerSolver::stable_time_step`] it keeps a square cell's acoustic
+/// number below the 2D Lagrange step's limit `1/sqrt(2)` and a remap sweep's below one cell;
+/// the long-rod depths move by 0.1-0.2 % between it and 0.25 (docs/euler.md, "Time step").
+pub const DEFAULT_COURANT: f64 = 2.0 / 3.0;
+
 /// Numerical settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EulerSettings {
-    /// Courant number on `min(h) / (c + |v|)` (default 0.5).
+    /// Courant number on `min(h) / (c + |v|)` (default [`DEFAULT_COURANT`]).
     pub courant: f64,
     /// Bulk viscosity (LS-DYNA's 1.5 / 0.06 by default).
     pub bulk_viscosity: BulkViscosity,
@@ -262,7 +268,7 @@ pub const CYCLE_BUDGET_ALLOWANCE: u64 = 100;
 impl Default for EulerSettings {
     fn default() -> Self {
         Self {
-            courant: 0.5,
+            courant: DEFAULT_COURANT,
             bulk_viscosity: BulkViscosity::default(),
             hourglass_coefficient: 0.1,
             threads: None,
@@ -381,6 +387,9 @@ pub struct EulerSolver<P> {
     pub wave_speed: Vec<f64>,
     /// Bulk-viscosity pressure of each cell from the last step (Pa).
     pub viscous_pressure: Vec<f64>,
+    /// The speed the bulk viscosity adds to each cell's stable-step formula, from the last
+    /// step (m/s; [`BulkViscosity::time_step_speed`], 0 where the cell expands).
+    pub viscous_speed: Vec<f64>,
     /// Nodal velocities `(v_r, v_z)`, node `(i, j)` at `j (cells_r + 1) + i`.
     pub velocity: Vec<[f64; 2]>,
     /// Time (s).
@@ -428,6 +437,7 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
             state: vec![MaterialState::initial(293.0); cells * MAX_MATERIALS],
             wave_speed: vec![0.0; cells * MAX_MATERIALS],
             viscous_pressure: vec![0.0; cells],
+            viscous_speed: vec![0.0; cells],
             velocity: vec![[0.0; 2]; nodes],
             time: 0.0,
             cycles: 0,
@@ -859,7 +869,9 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
         })
     }
 
-    /// `courant * min(h) / (c + |v|)` over cells holding material.
+    /// `courant * min(h) / (c' + |v|)` over cells holding material, with `c' = Q + sqrt(Q^2 +
+    /// c^2)` where the cell compresses (`Q` the bulk viscosity's speed, LS-DYNA's stable-step
+    /// form) and `c' = c` elsewhere.
     pub fn stable_time_step(&self) -> f64 {
         use rayon::prelude::*;
         let h = self.grid.spacing_r.min(self.grid.spacing_z);
@@ -884,6 +896,12 @@ impl<P: PointModel + Sync + Send + Clone> EulerSolver<P> {
                 }
                 if c_max == 0.0 {
                     return 0.0;
+                }
+                // A compressing cell's bulk viscosity shortens its step as in the Lagrangian
+                // solver, `L / (Q + sqrt(Q^2 + c^2))` (LS-DYNA's form; Q from the last step).
+                let q = self.viscous_speed[c];
+                if q > 0.0 {
+                    c_max = BulkViscosity::signal_speed(q, c_max);
                 }
                 let mut v_max = 0.0_f64;
                 for n in [

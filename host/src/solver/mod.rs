@@ -116,6 +116,12 @@ impl BulkViscosity {
         1.0 / (self.linear + (self.linear * self.linear + 1.0).sqrt())
     }
 
+    /// The speed that sets the stable step `L / (Q + sqrt(Q^2 + c^2))` of an element with wave
+    /// speed `c` and viscous speed `Q` ([`Self::time_step_speed`]; LS-DYNA's form).
+    pub fn signal_speed(viscous_speed: f64, wave_speed: f64) -> f64 {
+        viscous_speed + (viscous_speed * viscous_speed + wave_speed * wave_speed).sqrt()
+    }
+
     /// The speed the viscosity adds to the stable-step formula, `Q = C1 c + C0 L |d_v|` while
     /// compressing, else 0 (LS-DYNA's form).
     pub fn time_step_speed(&self, length: f64, wave_speed: f64, volumetric_rate: f64) -> f64 {
@@ -273,7 +279,7 @@ impl SolverSettings {
         let q = self
             .bulk_viscosity
             .time_step_speed(length, wave_speed, volumetric_rate);
-        length / (q + (q * q + wave_speed * wave_speed).sqrt())
+        length / BulkViscosity::signal_speed(q, wave_speed)
     }
 }
 
