@@ -874,10 +874,12 @@ pub fn calibrate<'a>(
     // finalists and becomes the model's constants if it fits better; that can move the
     // selection to another model (a better fit that predicts the held-out tests worse), whose
     // folds then run too, so the model recommended at the end is the one validated.
-    let mut folded = vec![false; runs.len()];
+    // The selection is made once at the start and again after each round of folds (only
+    // the folds change the finalists), so the loop ends with the final one.
+    let mut selected_model = select_model(&runs, campaign, &fitted);
     if fitted.len() > 1 {
+        let mut folded = vec![false; runs.len()];
         loop {
-            let selected_model = select_model(&runs, campaign, &fitted);
             let wanted: Vec<usize> = (0..runs.len())
                 .filter(|&k| {
                     !folded[k]
@@ -899,9 +901,9 @@ pub fn calibrate<'a>(
                 }
                 folded[k] = true;
             }
+            selected_model = select_model(&runs, campaign, &fitted);
         }
     }
-    let selected_model = select_model(&runs, campaign, &fitted);
     let mut results = Vec::new();
     let mut searched = Vec::new();
     let mut wants_intervals = Vec::new();
