@@ -17,7 +17,7 @@ use super::near_field::{BlastError, BlastRun, NearFieldBlast};
 use crate::solver::PressureHistory;
 
 /// Bumped whenever the Euler solver's results change, so stale entries are not reused.
-pub const SOLVER_VERSION: u32 = 1;
+pub const SOLVER_VERSION: u32 = 2;
 
 /// Where a load came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -16,6 +16,7 @@ use super::euler::{
     Boundaries, Boundary, Conserved, EulerError, EulerSolver, Floors, Geometry, Grid,
 };
 use super::fluid::Fluids;
+use super::record::WallRecorder;
 use crate::solver::PressureHistory;
 
 /// The explosive's products.
@@ -504,7 +505,7 @@ impl NearFieldBlast {
     }
 
     /// Run the Euler calculation to `euler.end_time` and record the wall overpressure.
-    /// `progress(time)` is called at every record.
+    /// `progress(time)` is called after every step.
     pub fn solve(
         &self,
         plate_radius: f64,
@@ -524,22 +525,13 @@ impl NearFieldBlast {
             .map(|i| solver.grid.centre(i, 0).0)
             .collect();
         let mut overpressure = Vec::with_capacity(records);
-        let mut previous = solver.bottom_impulse.clone();
+        let mut recorder = WallRecorder::new(&solver, e.output_interval, self.air.pressure);
         let mut cell_updates = 0u64;
-        for k in 0..records {
-            let end = (k + 1) as f64 * e.output_interval;
-            while solver.time < end * (1.0 - 1e-12) {
-                solver.step(e.courant, end - solver.time)?;
-                cell_updates += solver.grid.cell_count() as u64;
-            }
-            let row: Vec<f64> = solver
-                .bottom_impulse
-                .iter()
-                .zip(&previous)
-                .map(|(now, before)| (now - before) / e.output_interval - self.air.pressure)
-                .collect();
-            previous.copy_from_slice(&solver.bottom_impulse);
-            overpressure.push(row);
+        while recorder.made() < records {
+            recorder.step(&mut solver, e.courant, records, &mut |row| {
+                overpressure.push(row)
+            })?;
+            cell_updates += solver.grid.cell_count() as u64;
             progress(solver.time);
         }
         Ok(BlastRun {

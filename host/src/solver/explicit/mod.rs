@@ -404,6 +404,8 @@ fn kinetic(v: &[Vector], mass: &[f64], measure: f64, dimension: usize) -> f64 {
 pub struct Snapshot<'a> {
     /// Time (s).
     pub time: f64,
+    /// The step the solver takes next (s).
+    pub time_step: f64,
     /// Nodal positions.
     pub positions: &'a [Vector],
     /// Nodal velocities (`v_{n+1/2}` of the last step).

@@ -839,6 +839,7 @@ impl<'m, M: Discretisation, P: PointModel + Sync> Run<'m, M, P> {
         self.watch_plastic_event(time);
         let decision = observer(&Snapshot {
             time,
+            time_step: self.dt,
             positions: &self.x,
             velocities: &self.v,
             states: &self.states,
