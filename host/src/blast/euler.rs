@@ -135,6 +135,70 @@ pub struct Floors {
     pub pressure: f64,
 }
 
+/// A cell is quiescent when it differs from the ambient state by at most this fraction: its
+/// density and total energy relative to the ambient's, its momenta relative to the ambient
+/// density times sound speed, its products' density relative to the ambient density. At
+/// 101 kPa that is 1e-4 Pa of pressure.
+pub const QUIESCENT_TOLERANCE: f64 = 1.0e-9;
+
+/// Cells computed around the last cell that is not quiescent: a cell's update reads the cells
+/// up to two away (the neighbours' reconstructions), and a disturbance spreads at most one
+/// cell per step.
+const ACTIVE_MARGIN: usize = 3;
+
+/// The columns `lo <= i < hi` of one row that are computed (none when `lo >= hi`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Span {
+    lo: usize,
+    hi: usize,
+}
+
+impl Span {
+    const EMPTY: Span = Span { lo: 0, hi: 0 };
+
+    fn is_empty(self) -> bool {
+        self.lo >= self.hi
+    }
+
+    /// The smallest span holding both.
+    fn hull(self, other: Span) -> Span {
+        match (self.is_empty(), other.is_empty()) {
+            (true, _) => other,
+            (_, true) => self,
+            _ => Span {
+                lo: self.lo.min(other.lo),
+                hi: self.hi.max(other.hi),
+            },
+        }
+    }
+}
+
+/// `spans` (one per row of the `width`-column grid) grown by `margin` cells in every
+/// direction, as spans of padded rows and columns (`GHOSTS` added; rows and columns outside
+/// `[GHOSTS - limit, GHOSTS + n + limit)` dropped, so `limit = 0` keeps the interior and
+/// `limit = 1` the first ghost layer).
+fn grown(spans: &[Span], width: usize, margin: usize, limit: usize) -> Vec<Span> {
+    let rows = spans.len();
+    let mut padded = vec![Span::EMPTY; rows + 2 * GHOSTS];
+    for (j, span) in spans.iter().enumerate() {
+        if span.is_empty() {
+            continue;
+        }
+        let widened = Span {
+            lo: (GHOSTS + span.lo)
+                .saturating_sub(margin)
+                .max(GHOSTS - limit),
+            hi: (GHOSTS + span.hi + margin).min(GHOSTS + width + limit),
+        };
+        let first = (GHOSTS + j).saturating_sub(margin).max(GHOSTS - limit);
+        let last = (GHOSTS + j + margin).min(GHOSTS + rows + limit - 1);
+        for row in &mut padded[first..=last] {
+            *row = row.hull(widened);
+        }
+    }
+    padded
+}
+
 /// The state of an Euler calculation and its work arrays.
 #[derive(Clone, Debug)]
 pub struct EulerSolver {
@@ -152,6 +216,16 @@ pub struct EulerSolver {
     pub burn_duration: f64,
     /// When the last cell of explosive has burned (s; `-inf` without explosive).
     burn_end: f64,
+    /// The quiescent state (the initial state of the last cell, if it is air at rest), or
+    /// `None` when every cell is computed every step.
+    ambient: Option<(Conserved, [f64; 5])>,
+    /// The cells computed each step, a span per row: every cell outside has been quiescent
+    /// since the start, and so have the cells around it, so its update would leave it within
+    /// [`QUIESCENT_TOLERANCE`] of where it is. The spans only grow.
+    active: Vec<Span>,
+    /// Whether the work arrays have been filled over the whole grid once (the first step),
+    /// so that the quiescent cells' entries are in place.
+    filled: bool,
     /// Floors.
     pub floors: Floors,
     /// Time (s).
@@ -265,6 +339,33 @@ impl EulerSolver {
             .iter()
             .filter(|t| t.is_finite())
             .fold(f64::NEG_INFINITY, |end, &t| end.max(t + burn_duration));
+        let last = cells[cells.len() - 1];
+        let ambient = (burn_time[cells.len() - 1] == f64::NEG_INFINITY
+            && last[1] == 0.0
+            && last[2] == 0.0
+            && last[4] == 0.0)
+            .then(|| {
+                let (_, c2) = fluids.state(last[0], last[3] / last[0], 0.0, 1.0);
+                let momentum = last[0] * c2.sqrt();
+                let t = QUIESCENT_TOLERANCE;
+                (
+                    last,
+                    [
+                        t * last[0],
+                        t * momentum,
+                        t * momentum,
+                        t * last[3].abs(),
+                        t * last[0],
+                    ],
+                )
+            });
+        let whole = vec![
+            Span {
+                lo: 0,
+                hi: grid.cells_r
+            };
+            grid.cells_z
+        ];
         Ok(Self {
             grid,
             boundaries,
@@ -275,6 +376,9 @@ impl EulerSolver {
             burn_time,
             burn_duration,
             burn_end,
+            ambient,
+            active: whole,
+            filled: false,
             floors,
             time: 0.0,
             steps: 0,
@@ -291,6 +395,89 @@ impl EulerSolver {
 
     fn padded_width(&self) -> usize {
         self.grid.cells_r + 2 * GHOSTS
+    }
+
+    /// The spans of the cells computed this step (the whole grid until the work arrays are
+    /// filled), grown by `margin` as [`grown`] does.
+    fn computed(&self, margin: usize, limit: usize) -> Vec<Span> {
+        let whole;
+        let spans = if self.filled {
+            &self.active
+        } else {
+            whole = vec![
+                Span {
+                    lo: 0,
+                    hi: self.grid.cells_r
+                };
+                self.grid.cells_z
+            ];
+            &whole
+        };
+        grown(spans, self.grid.cells_r, margin, limit)
+    }
+
+    /// Whether some cell is outside the active spans.
+    fn partly_active(&self) -> bool {
+        self.filled
+            && self
+                .active
+                .iter()
+                .any(|s| s.lo > 0 || s.hi < self.grid.cells_r)
+    }
+
+    /// Grow the active spans around the cells that are no longer quiescent and the columns
+    /// whose wall moves (after the first step, shrink them from the whole grid to those).
+    fn update_active(&mut self) {
+        let Some((ambient, bounds)) = self.ambient else {
+            return;
+        };
+        let grid = self.grid;
+        if !self.filled {
+            self.filled = true;
+            self.active = vec![Span::EMPTY; grid.cells_z];
+            // Scan the whole grid this once.
+            let whole = vec![
+                Span {
+                    lo: 0,
+                    hi: grid.cells_r
+                };
+                grid.cells_z
+            ];
+            self.grow_active(&whole, ambient, bounds);
+        } else {
+            let scan = self.active.clone();
+            self.grow_active(&scan, ambient, bounds);
+        }
+    }
+
+    fn grow_active(&mut self, scan: &[Span], ambient: Conserved, bounds: [f64; 5]) {
+        let grid = self.grid;
+        let mut disturbed = vec![Span::EMPTY; grid.cells_z];
+        for (j, span) in scan.iter().enumerate() {
+            for i in span.lo..span.hi {
+                let k = grid.index(i, j);
+                let cell = &self.cells[k];
+                let quiet = self.burn_time[k] == f64::NEG_INFINITY
+                    && (0..5).all(|q| (cell[q] - ambient[q]).abs() <= bounds[q]);
+                if !quiet {
+                    disturbed[j] = disturbed[j].hull(Span { lo: i, hi: i + 1 });
+                }
+            }
+        }
+        for (i, &wall) in self.bottom_wall_velocity.iter().enumerate() {
+            if wall != 0.0 {
+                disturbed[0] = disturbed[0].hull(Span { lo: i, hi: i + 1 });
+            }
+        }
+        let around = grown(&disturbed, grid.cells_r, ACTIVE_MARGIN, 0);
+        for (active, add) in self.active.iter_mut().zip(&around[GHOSTS..]) {
+            if !add.is_empty() {
+                *active = active.hull(Span {
+                    lo: add.lo - GHOSTS,
+                    hi: add.hi - GHOSTS,
+                });
+            }
+        }
     }
 
     /// Burn fraction of cell `k` at time `t`.
@@ -344,16 +531,23 @@ impl EulerSolver {
         let mut primitive = std::mem::take(&mut self.primitive);
         let mut sound = std::mem::take(&mut self.sound);
         let mut burn = std::mem::take(&mut self.burn);
+        // Every cell the computed region's reconstructions read; the others are quiescent
+        // and their entries stand from the first step.
+        let spans = self.computed(GHOSTS, 0);
         let this = &*self;
         primitive
             .par_chunks_mut(width)
             .zip(sound.par_chunks_mut(width))
             .zip(burn.par_chunks_mut(width))
+            .zip(&spans)
             .skip(GHOSTS)
             .take(grid.cells_z)
             .enumerate()
-            .for_each(|(j, ((primitive, sound), burn))| {
-                for i in 0..grid.cells_r {
+            .for_each(|(j, (((primitive, sound), burn), span))| {
+                if span.is_empty() {
+                    return;
+                }
+                for i in span.lo - GHOSTS..span.hi - GHOSTS {
                     let k = grid.index(i, j);
                     let fraction = this.burn_fraction(k, time);
                     let (w, c) = this.primitive_of(&this.cells[k], fraction);
@@ -434,16 +628,27 @@ impl EulerSolver {
         self.burn[ghost] = self.burn[source];
     }
 
-    /// Largest stable time step: `cfl / max((|u| + c)/dr + (|v| + c)/dz)` over the interior.
+    /// Largest stable time step: `cfl / max((|u| + c)/dr + (|v| + c)/dz)` over the interior
+    /// (over the cells whose primitives are fresh, and the ambient state for the quiescent
+    /// rest).
     fn stable_time_step(&self, cfl: f64) -> f64 {
         let grid = self.grid;
         let width = self.padded_width();
+        let spans = self.computed(GHOSTS, 0);
+        let quiescent_rate = match self.ambient {
+            Some((ambient, _)) if self.partly_active() => {
+                let (w, c) = self.primitive_of(&ambient, 1.0);
+                (w[1].abs() + c) / grid.spacing_r + (w[2].abs() + c) / grid.spacing_z
+            }
+            _ => 0.0,
+        };
         let rate = (0..grid.cells_z)
             .into_par_iter()
             .map(|j| {
                 let mut rate: f64 = 0.0;
-                for i in 0..grid.cells_r {
-                    let at = (j + GHOSTS) * width + i + GHOSTS;
+                let span = spans[j + GHOSTS];
+                for ip in span.lo..span.hi.max(span.lo) {
+                    let at = (j + GHOSTS) * width + ip;
                     let w = self.primitive[at];
                     let c = self.sound[at];
                     rate = rate
@@ -451,7 +656,8 @@ impl EulerSolver {
                 }
                 rate
             })
-            .reduce(|| 0.0, f64::max);
+            .reduce(|| 0.0, f64::max)
+            .max(quiescent_rate);
         cfl / rate
     }
 
@@ -482,6 +688,9 @@ impl EulerSolver {
         let height = grid.cells_z + 2 * GHOSTS;
         let axisymmetric = grid.geometry == Geometry::Axisymmetric;
         let half = 0.5 * dt;
+        // The computed cells and their neighbours (in padded indices; at the edges, the
+        // first ghost layer).
+        let spans = self.computed(1, 1);
         // The faces and predicted pressures are filled in place, a row per task (taken out of
         // `self` while the rows read the primitives).
         let mut faces = std::mem::take(&mut self.faces);
@@ -490,11 +699,12 @@ impl EulerSolver {
         faces
             .par_chunks_mut(width)
             .zip(predicted_pressure.par_chunks_mut(width))
+            .zip(&spans)
             .enumerate()
             .skip(1)
             .take(height - 2)
-            .for_each(|(jp, (face_row, pressure_row))| {
-                for ip in 1..width - 1 {
+            .for_each(|(jp, ((face_row, pressure_row), span))| {
+                for ip in span.lo..span.hi.max(span.lo) {
                     let cell = || {
                         let at = jp * width + ip;
                         let w = this.primitive[at];
@@ -591,12 +801,22 @@ impl EulerSolver {
         let width = self.padded_width();
         let (nr, nz) = (grid.cells_r, grid.cells_z);
         let faces = &self.faces;
+        let spans = &self.computed(0, 0)[GHOSTS..GHOSTS + nz];
         self.flux_r
             .par_chunks_mut(nr + 1)
+            .zip(spans)
             .enumerate()
-            .for_each(|(j, row)| {
+            .for_each(|(j, (row, span))| {
+                if span.is_empty() {
+                    return;
+                }
                 let jp = j + GHOSTS;
-                for (f, flux) in row.iter_mut().enumerate() {
+                for (f, flux) in row
+                    .iter_mut()
+                    .enumerate()
+                    .take(span.hi - GHOSTS + 1)
+                    .skip(span.lo - GHOSTS)
+                {
                     // Face between cells i = f - 1 and i = f.
                     let left = &faces[jp * width + f + GHOSTS - 1][EAST];
                     let right = &faces[jp * width + f + GHOSTS][WEST];
@@ -607,8 +827,19 @@ impl EulerSolver {
             .par_chunks_mut(nr)
             .enumerate()
             .for_each(|(f, row)| {
-                // Faces between rows j = f - 1 and j = f.
-                for (i, flux) in row.iter_mut().enumerate() {
+                // Faces between rows j = f - 1 and j = f: those of the computed cells.
+                let below = if f > 0 { spans[f - 1] } else { Span::EMPTY };
+                let above = spans.get(f).copied().unwrap_or(Span::EMPTY);
+                let span = below.hull(above);
+                if span.is_empty() {
+                    return;
+                }
+                for (i, flux) in row
+                    .iter_mut()
+                    .enumerate()
+                    .take(span.hi - GHOSTS)
+                    .skip(span.lo - GHOSTS)
+                {
                     let ip = i + GHOSTS;
                     let below = &faces[(f + GHOSTS - 1) * width + ip][NORTH];
                     let above = &faces[(f + GHOSTS) * width + ip][SOUTH];
@@ -621,6 +852,9 @@ impl EulerSolver {
     /// Advance one step of at most `max_dt`, with time step `cfl` times the stable one.
     /// Returns the step taken.
     pub fn step(&mut self, cfl: f64, max_dt: f64) -> Result<f64, EulerError> {
+        if self.filled {
+            self.update_active();
+        }
         self.fill_primitives();
         let stable = self.stable_time_step(cfl);
         let dt = if self.time < self.burn_end {
@@ -650,13 +884,24 @@ impl EulerSolver {
         let burn_time = &self.burn_time;
         let burn_duration = self.burn_duration;
         let time = self.time + dt;
+        let spans = self.computed(0, 0);
+        let spans = &spans[GHOSTS..GHOSTS + grid.cells_z];
         let floor_counts: Vec<u64> = self
             .cells
             .par_chunks_mut(nr)
+            .zip(spans)
             .enumerate()
-            .map(|(j, row)| {
+            .map(|(j, (row, span))| {
                 let mut floored = 0;
-                for (i, cell) in row.iter_mut().enumerate() {
+                if span.is_empty() {
+                    return floored;
+                }
+                for (i, cell) in row
+                    .iter_mut()
+                    .enumerate()
+                    .take(span.hi - GHOSTS)
+                    .skip(span.lo - GHOSTS)
+                {
                     let (area_w, area_e, area_z, volume) = if axisymmetric {
                         let r = (i as f64 + 0.5) * spacing_r;
                         (
@@ -722,15 +967,19 @@ impl EulerSolver {
         }
         self.time += dt;
         self.steps += 1;
-        if let Some(cell) = self
-            .cells
-            .iter()
-            .position(|c| !c.iter().all(|v| v.is_finite()))
-        {
-            return Err(EulerError::NonFinite {
-                cell,
-                time: self.time,
-            });
+        for (j, span) in spans.iter().enumerate() {
+            for i in span.lo.saturating_sub(GHOSTS)..span.hi.saturating_sub(GHOSTS) {
+                let cell = grid.index(i, j);
+                if !self.cells[cell].iter().all(|v| v.is_finite()) {
+                    return Err(EulerError::NonFinite {
+                        cell,
+                        time: self.time,
+                    });
+                }
+            }
+        }
+        if !self.filled {
+            self.update_active();
         }
         Ok(dt)
     }
