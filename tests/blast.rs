@@ -589,8 +589,8 @@ mod plate {
 /// (10.5 across the charge), grid radius 0.25 m, detonated at the centre; the impulse on the
 /// wall cell at the axis to 3.5 ms.
 /// REFERENCE: UFC 3-340-02 Fig. 2-7 (`blast::kingery_bulmash`): Ir = 559 Pa s at Z = 1
-/// (normal reflection). Measured: 531 Pa s (-5.0 %), asserted within 10 % (the 15 %
-/// is the bound at 1-3 m; the bench measures 2 and 3 m on a wider grid, -5.4 and -9.8 %: at 2
+/// (normal reflection). Measured: 529 Pa s (-5.3 %), asserted within 10 % (the 15 %
+/// is the bound at 1-3 m; the bench measures 2 and 3 m on a wider grid, -5.2 and -9.6 %: at 2
 /// m this narrow grid does not yet give the impulse; docs/solver.md, "Blast load").
 #[test]
 fn tnt_reflected_impulse_matches_kingery_bulmash() {

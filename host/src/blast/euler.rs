@@ -266,7 +266,7 @@ const NORTH: usize = 3;
 /// steps per burn: the 37.5 g, 13 mm shot's peak deflection (coarse plate, two-way) is
 /// 27.46 / 27.39 / 27.30 / 27.28 / 27.26 mm at 1 / 7 / 20 / 40 / 80 steps per burn, against
 /// 27.57 mm without the bound, so 20 steps is within 0.2 % of the limit (docs/solver.md,
-/// "The blast load's time step").
+/// "The blast load's time step and coupling").
 pub const BURN_STEPS: f64 = 20.0;
 
 /// van Leer's harmonic limiter of the one-sided differences `a` and `b`.

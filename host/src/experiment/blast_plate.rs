@@ -166,9 +166,10 @@ pub enum Coupling {
 /// The gas runs ahead of the plate, so the wall velocity of each gas step is the plate's
 /// loaded-face velocity extrapolated from the plate's last two observations to the middle of
 /// the step (a linear predictor, as in the staggered coupling schemes of Piperno & Farhat
-/// 2001). Holding the last observed velocity instead lags the wall by about 1.5 records, a
-/// first-order error: +1.5 % in the peak deflection of seed 000's 37.5 g plate at 0.25 us
-/// records (docs/solver.md, "Two-way coupling").
+/// 2001). Holding the last observed velocity instead lagged the wall by about 1.5 records, a
+/// first-order error: +1.2 % in the peak deflection of seed 000's coarse 37.5 g plate at
+/// 0.25 us records, 0.02 % with the predictor (docs/solver.md, "The blast load's time step
+/// and coupling").
 struct CoupledLoad {
     euler: crate::blast::euler::EulerSolver,
     recorder: WallRecorder,
