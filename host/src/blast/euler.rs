@@ -173,6 +173,17 @@ impl Span {
     }
 }
 
+/// Every cell of `grid`, a span per row.
+fn whole_spans(grid: &Grid) -> Vec<Span> {
+    vec![
+        Span {
+            lo: 0,
+            hi: grid.cells_r
+        };
+        grid.cells_z
+    ]
+}
+
 /// `spans` (one per row of the `width`-column grid) grown by `margin` cells in every
 /// direction, as spans of padded rows and columns (`GHOSTS` added; rows and columns outside
 /// `[GHOSTS - limit, GHOSTS + n + limit)` dropped, so `limit = 0` keeps the interior and
@@ -359,13 +370,7 @@ impl EulerSolver {
                     ],
                 )
             });
-        let whole = vec![
-            Span {
-                lo: 0,
-                hi: grid.cells_r
-            };
-            grid.cells_z
-        ];
+        let whole = whole_spans(&grid);
         Ok(Self {
             grid,
             boundaries,
@@ -404,13 +409,7 @@ impl EulerSolver {
         let spans = if self.filled {
             &self.active
         } else {
-            whole = vec![
-                Span {
-                    lo: 0,
-                    hi: self.grid.cells_r
-                };
-                self.grid.cells_z
-            ];
+            whole = whole_spans(&self.grid);
             &whole
         };
         grown(spans, self.grid.cells_r, margin, limit)
@@ -436,14 +435,7 @@ impl EulerSolver {
             self.filled = true;
             self.active = vec![Span::EMPTY; grid.cells_z];
             // Scan the whole grid this once.
-            let whole = vec![
-                Span {
-                    lo: 0,
-                    hi: grid.cells_r
-                };
-                grid.cells_z
-            ];
-            self.grow_active(&whole, ambient, bounds);
+            self.grow_active(&whole_spans(&grid), ambient, bounds);
         } else {
             let scan = self.active.clone();
             self.grow_active(&scan, ambient, bounds);
