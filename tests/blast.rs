@@ -535,9 +535,10 @@ mod plate {
         let _ = std::fs::remove_dir_all(&folder);
     }
 
-    /// GOAL: bad blast inputs are refused with the field named, never a silent zero load.
+    /// GOAL: bad blast inputs are refused with the field named, never a silent zero load or
+    /// a runaway.
     /// SETUP: a charge overlapping the plate, a negative mass, a grid with fewer than 10 cells
-    /// across the charge, a cache folder that cannot be created.
+    /// across the charge, a burn front 1e-9 cells wide, a cache folder that cannot be created.
     /// REFERENCE: the bad-input list.
     #[test]
     fn bad_blast_input_is_refused() {
@@ -562,6 +563,12 @@ mod plate {
             error.contains("euler.cell_size") && error.contains("cells across"),
             "{error}"
         );
+        // A burn width slip (cells read as metres the other way) would make the burn's
+        // bounded steps a runaway: refused up front, naming the field.
+        let mut thin_burn = blast;
+        thin_burn.euler.burn_width = 1.0e-9;
+        let error = thin_burn.validate(0.0625).unwrap_err().to_string();
+        assert!(error.contains("euler.burn_width"), "{error}");
         let sphere_with_diameter = NearFieldBlast {
             charge: Charge {
                 diameter: Some(0.02),

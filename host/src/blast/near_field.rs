@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use stoss_kernel::eos::Jwl;
 
 use super::euler::{
-    Boundaries, Boundary, Conserved, EulerError, EulerSolver, Floors, Geometry, Grid,
+    Boundaries, Boundary, Conserved, EulerError, EulerSolver, Floors, Geometry, Grid, BURN_STEPS,
 };
 use super::fluid::Fluids;
 use super::record::WallRecorder;
@@ -388,16 +388,28 @@ impl NearFieldBlast {
             ));
         }
         // The step is at most courant dx / (2 (|u| + c)); behind the detonation front
-        // |u| + c is the detonation speed D, and the gas never outruns it much.
+        // |u| + c is the detonation speed D, and the gas never outruns it much. While the
+        // charge burns (until the front has crossed it, `2 r + h` at most, and the last cell
+        // has burned) it is also at most the burn duration over `BURN_STEPS`.
         let speed = c.explosive.jwl().chapman_jouguet().detonation_velocity;
-        let steps = e.end_time / (e.courant * e.cell_size / (2.0 * speed));
+        let flow_steps = e.end_time / (e.courant * e.cell_size / (2.0 * speed));
+        let burn_duration = e.burn_width * e.cell_size / speed;
+        let burning = ((2.0 * radius + height) / speed + burn_duration).min(e.end_time);
+        let burn_steps = burning / (burn_duration / BURN_STEPS);
+        let steps = flow_steps + burn_steps;
         if steps > MAXIMUM_STEPS || steps * cells > MAXIMUM_CELL_STEPS {
+            let field = if burn_steps > flow_steps {
+                "euler.burn_width"
+            } else {
+                "euler.end_time"
+            };
             return Err(invalid(
-                "euler.end_time",
+                field,
                 format!(
-                    "needs at least {steps:.0} steps of {cells:.0} cells ({:.1e} cell-steps; at \
-                     most {MAXIMUM_STEPS:.0} steps and {MAXIMUM_CELL_STEPS:.0e} cell-steps, \
-                     about 45 minutes on 2 cores): check the units (s)",
+                    "needs at least {steps:.0} steps of {cells:.0} cells ({:.1e} cell-steps, \
+                     {burn_steps:.0} of the steps while the charge burns; at most \
+                     {MAXIMUM_STEPS:.0} steps and {MAXIMUM_CELL_STEPS:.0e} cell-steps, about \
+                     45 minutes on 2 cores): check the units (s) and the burn width (cells)",
                     steps * cells
                 ),
             ));
